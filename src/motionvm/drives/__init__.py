@@ -1,0 +1,1 @@
+"""drives package."""

@@ -1,0 +1,216 @@
+"""The byte-addressed memory of an HMPL program: typed views, objects, stacks, checks.
+
+Arrays, strings, unions, structs, Timers and every variable whose address is taken
+live here; pointers are plain integer addresses into `buf`. Each live object's bytes
+are marked valid in a shadow map and objects are separated by red zones of invalid
+bytes, so a load or store through a pointer that walks off its object, or through a
+null pointer, is caught with one shadow lookup (`extent` finds the bytes left in an
+object with one search of the shadow map).
+
+Layout: [0, NULL_GUARD) is never valid (null page); static objects (globals, task
+variables, string literals, system variables) are bump-allocated after it; each task
+owns a stack region for the memory-resident locals of its function frames.
+"""
+
+from __future__ import annotations
+
+import struct
+
+from motionvm.runtime.errors import RuntimeFault
+
+NULL_GUARD = 64
+RED_ZONE = 8
+ALIGN = 8
+DEFAULT_STACK_SIZE = 64 * 1024
+
+# struct/memoryview format letter and size of each scalar kind
+SCALAR_FORMATS = {
+    "i8": ("b", 1),
+    "u8": ("B", 1),
+    "i16": ("h", 2),
+    "u16": ("H", 2),
+    "i32": ("i", 4),
+    "u32": ("I", 4),
+    "i64": ("q", 8),
+    "u64": ("Q", 8),
+    "f32": ("f", 4),
+    "f64": ("d", 8),
+}
+
+_F32 = struct.Struct("<f")
+
+
+def to_f32(x: float) -> float:
+    """Round a double to the nearest float (32-bit) value, as C does on storing a float."""
+    try:
+        return _F32.unpack(_F32.pack(x))[0]
+    except OverflowError:
+        return float("inf") if x > 0 else float("-inf")
+
+
+def _round_up(n: int, a: int) -> int:
+    return (n + a - 1) // a * a
+
+
+class Memory:
+    """One program's memory.
+
+    Attributes `i8 ... f64` are memoryviews of the whole buffer with that element
+    type; element k of view `i32` is at byte address 4*k. Library code should use
+    the checked accessors (`load`, `store`, `read_cstr`, `write_bytes`, `extent`).
+    """
+
+    def __init__(self, size: int) -> None:
+        size = _round_up(max(size, NULL_GUARD + ALIGN), ALIGN)
+        self.size = size
+        self.buf = bytearray(size)
+        self.shadow = bytearray(size)
+        mv = memoryview(self.buf)
+        for kind, (fmt, _) in SCALAR_FORMATS.items():
+            setattr(self, kind, mv.cast(fmt))
+        self.u8 = mv  # plain byte view
+        self._static_top = NULL_GUARD
+        self._static_limit = size
+        self.names: dict[int, str] = {}
+
+    # ------------------------------------------------------------ allocation
+
+    def reserve_static(self, limit: int) -> None:
+        """Static allocations may not pass byte `limit` (stacks live above it)."""
+        self._static_limit = limit
+
+    def alloc_static(self, size: int, name: str = "", align: int = ALIGN) -> int:
+        """Allocate a zeroed object of `size` bytes for the whole run; return its address."""
+        addr = _round_up(self._static_top, max(align, ALIGN))
+        end = addr + max(size, 1)
+        if end + RED_ZONE > self._static_limit:
+            raise MemoryError(f"out of static memory allocating {size} bytes for {name or 'object'}")
+        self.shadow[addr : addr + size] = b"\x01" * size
+        self._static_top = _round_up(end, ALIGN) + RED_ZONE
+        if name:
+            self.names[addr] = name
+        return addr
+
+    @property
+    def static_top(self) -> int:
+        return self._static_top
+
+    # ------------------------------------------------------------ checks
+
+    def extent(self, addr: int) -> int:
+        """Bytes from `addr` to the end of the live object holding it; 0 if none does."""
+        if addr <= 0 or addr >= self.size or not self.shadow[addr]:
+            return 0
+        end = self.shadow.find(0, addr)
+        return (self.size if end < 0 else end) - addr
+
+    def check(self, addr: int, n: int, what: str = "pointer") -> None:
+        """Raise a RuntimeFault unless bytes [addr, addr+n) all lie inside one live object."""
+        if addr == 0:
+            raise RuntimeFault(f"null {what} dereferenced")
+        if n <= 0:
+            return
+        if not (0 < addr < self.size) or self.extent(addr) < n:
+            raise RuntimeFault(f"{what} 0x{addr:x} points outside its object ({n} bytes accessed)")
+
+    # ------------------------------------------------------------ scalar access
+
+    def load(self, addr: int, kind: str):
+        """Checked load of one scalar of `kind` ('i32', 'f64', ...) at `addr`."""
+        fmt, n = SCALAR_FORMATS[kind]
+        self.check(addr, n)
+        if addr % n == 0:
+            return getattr(self, kind)[addr // n]
+        return struct.unpack_from("<" + fmt, self.buf, addr)[0]
+
+    def store(self, addr: int, kind: str, value) -> None:
+        """Checked store of one scalar; integers wrap to the width, floats round for f32."""
+        fmt, n = SCALAR_FORMATS[kind]
+        self.check(addr, n)
+        value = wrap_scalar(kind, value)
+        if addr % n == 0:
+            getattr(self, kind)[addr // n] = value
+        else:
+            struct.pack_into("<" + fmt, self.buf, addr, value)
+
+    # ------------------------------------------------------------ bytes and strings
+
+    def read_bytes(self, addr: int, n: int) -> bytes:
+        self.check(addr, n)
+        return bytes(self.buf[addr : addr + n])
+
+    def write_bytes(self, addr: int, data: bytes, what: str = "destination") -> None:
+        """Write raw bytes; a write past the end of the object is a fault and writes nothing."""
+        n = len(data)
+        if addr == 0:
+            raise RuntimeFault(f"null {what} pointer")
+        room = self.extent(addr)
+        if room < n:
+            raise RuntimeFault(
+                f"{what} overflow: {n} bytes written into an object with {room} bytes left"
+            )
+        self.buf[addr : addr + n] = data
+
+    def read_cstr(self, addr: int, what: str = "string") -> bytes:
+        """The NUL-terminated string at `addr` (without the NUL); unterminated is a fault."""
+        if addr == 0:
+            raise RuntimeFault(f"null {what} pointer")
+        room = self.extent(addr)
+        if room == 0:
+            raise RuntimeFault(f"{what} pointer 0x{addr:x} points outside any object")
+        end = self.buf.find(0, addr, addr + room)
+        if end < 0:
+            raise RuntimeFault(f"{what} is not terminated by '\\0' within its {room} bytes")
+        return bytes(self.buf[addr:end])
+
+    def write_cstr(self, addr: int, data: bytes, what: str = "destination") -> None:
+        """Write `data` plus a terminating NUL; overflow is a fault and writes nothing."""
+        self.write_bytes(addr, data + b"\x00", what)
+
+
+def wrap_scalar(kind: str, value):
+    """Convert a Python number to what C stores in a scalar of `kind`."""
+    if kind == "f64":
+        return float(value)
+    if kind == "f32":
+        return to_f32(float(value))
+    v = int(value)
+    bits = SCALAR_FORMATS[kind][1] * 8
+    mask = (1 << bits) - 1
+    v &= mask
+    if kind[0] == "i" and v >> (bits - 1):
+        v -= 1 << bits
+    return v
+
+
+class TaskStack:
+    """A task's stack region for memory-resident locals; frames push and pop in LIFO order."""
+
+    def __init__(self, mem: Memory, base: int, size: int) -> None:
+        self.mem = mem
+        self.base = base
+        self.limit = base + size
+        self.top = base
+
+    def push(self, size: int, valid: bytes) -> int:
+        """Allocate a frame of `size` bytes, zeroed, with `valid` as its shadow pattern."""
+        fp = self.top
+        end = fp + size
+        if end > self.limit:
+            raise RuntimeFault(
+                f"stack overflow: task stack of {self.limit - self.base} bytes exhausted"
+            )
+        self.mem.buf[fp:end] = bytes(size)
+        self.mem.shadow[fp:end] = valid
+        self.top = end
+        return fp
+
+    def pop(self, fp: int) -> None:
+        """Release the frame at `fp` and every frame above it."""
+        if fp < self.top:
+            n = self.top - fp
+            self.mem.shadow[fp : self.top] = bytes(n)
+        self.top = fp
+
+    def reset(self) -> None:
+        self.pop(self.base)

@@ -1,0 +1,349 @@
+"""The HMPL abstract syntax tree: frozen, slotted dataclasses, a `pos` on every node.
+
+The parser builds these; the checker annotates them in side tables keyed by node
+identity; the lowering turns them into Python `ast`. Nothing else lives here.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from motionvm.source.files import SourcePos
+
+# ---------------------------------------------------------------- types
+
+
+@dataclass(frozen=True, slots=True)
+class TypeRef:
+    """A written type: base name plus pointer depth.
+
+    `base` is canonical: 'void', 'char', 'int8_t', 'uint8_t', 'int16_t', 'uint16_t',
+    'int32_t', 'uint32_t', 'int64_t', 'uint64_t', 'float', 'double', 'Timer', 'Data_t',
+    'struct TAG', 'union TAG', or a typedef name. `char` stays 'char' (signed 8-bit).
+    `is_const` records a leading or trailing `const` (accepted, enforced on assignment).
+    """
+
+    pos: SourcePos
+    base: str
+    pointers: int = 0
+    is_const: bool = False
+    struct_def: "StructDef | None" = None  # set when the type spells out `struct {...}`
+
+
+@dataclass(frozen=True, slots=True)
+class StructDef:
+    """`struct TAG { fields }` or `union TAG { fields }`; tag may be '' (anonymous)."""
+
+    pos: SourcePos
+    kind: str  # 'struct' | 'union'
+    tag: str
+    fields: tuple["VarDecl", ...]
+
+
+@dataclass(frozen=True, slots=True)
+class Typedef:
+    """`typedef TYPE NAME[dims];`"""
+
+    pos: SourcePos
+    name: str
+    type: TypeRef
+    dims: tuple["Expr | None", ...] = ()
+
+
+# ---------------------------------------------------------------- declarations
+
+
+@dataclass(frozen=True, slots=True)
+class InitList:
+    """A brace initializer `{a, b, {c, d}}`."""
+
+    pos: SourcePos
+    items: tuple["Expr | InitList", ...]
+
+
+@dataclass(frozen=True, slots=True)
+class VarDecl:
+    """One declared variable; `dims` holds one entry per `[...]`, None for `[]`."""
+
+    pos: SourcePos
+    type: TypeRef
+    name: str
+    dims: tuple["Expr | None", ...] = ()
+    init: "Expr | InitList | None" = None
+
+
+@dataclass(frozen=True, slots=True)
+class Param:
+    """A function parameter; `int a[]` arrives with dims=(None,) and decays to a pointer."""
+
+    pos: SourcePos
+    type: TypeRef
+    name: str
+    dims: tuple["Expr | None", ...] = ()
+
+
+@dataclass(frozen=True, slots=True)
+class FuncDef:
+    """A function definition (body) or prototype (body None); `autorun` marks `_AUTORUN_`."""
+
+    pos: SourcePos
+    ret: TypeRef
+    name: str
+    params: tuple[Param, ...]
+    body: "Block | None"
+    autorun: bool = False
+
+
+@dataclass(frozen=True, slots=True)
+class TranslationUnit:
+    """One task's program after preprocessing: declarations and functions in order."""
+
+    pos: SourcePos
+    items: tuple["VarDecl | FuncDef | StructDef | Typedef | DeclStmt", ...]
+
+
+# ---------------------------------------------------------------- statements
+
+
+@dataclass(frozen=True, slots=True)
+class Block:
+    pos: SourcePos
+    items: tuple["Stmt", ...]
+
+
+@dataclass(frozen=True, slots=True)
+class DeclStmt:
+    """`int a = 1, b[3];` — one statement declaring several variables."""
+
+    pos: SourcePos
+    decls: tuple[VarDecl, ...]
+
+
+@dataclass(frozen=True, slots=True)
+class ExprStmt:
+    pos: SourcePos
+    expr: "Expr"
+
+
+@dataclass(frozen=True, slots=True)
+class If:
+    pos: SourcePos
+    cond: "Expr"
+    then: "Stmt"
+    else_: "Stmt | None" = None
+
+
+@dataclass(frozen=True, slots=True)
+class While:
+    pos: SourcePos
+    cond: "Expr"
+    body: "Stmt"
+
+
+@dataclass(frozen=True, slots=True)
+class DoWhile:
+    pos: SourcePos
+    body: "Stmt"
+    cond: "Expr"
+
+
+@dataclass(frozen=True, slots=True)
+class For:
+    """`for (init; cond; step) body`; init is a DeclStmt, ExprStmt or None."""
+
+    pos: SourcePos
+    init: "DeclStmt | ExprStmt | None"
+    cond: "Expr | None"
+    step: "Expr | None"
+    body: "Stmt"
+
+
+@dataclass(frozen=True, slots=True)
+class Switch:
+    pos: SourcePos
+    expr: "Expr"
+    body: "Stmt"
+
+
+@dataclass(frozen=True, slots=True)
+class Case:
+    """`case VALUE:` label; the statements after it are siblings in the enclosing block."""
+
+    pos: SourcePos
+    value: "Expr"
+
+
+@dataclass(frozen=True, slots=True)
+class Default:
+    pos: SourcePos
+
+
+@dataclass(frozen=True, slots=True)
+class Break:
+    pos: SourcePos
+
+
+@dataclass(frozen=True, slots=True)
+class Continue:
+    pos: SourcePos
+
+
+@dataclass(frozen=True, slots=True)
+class Return:
+    pos: SourcePos
+    value: "Expr | None" = None
+
+
+@dataclass(frozen=True, slots=True)
+class Empty:
+    pos: SourcePos
+
+
+Stmt = (
+    Block | DeclStmt | ExprStmt | If | While | DoWhile | For | Switch | Case | Default
+    | Break | Continue | Return | Empty
+)
+
+# ---------------------------------------------------------------- expressions
+
+
+@dataclass(frozen=True, slots=True)
+class IntLit:
+    """Integer constant; `suffix` is the lower-cased C suffix ('', 'u', 'l', 'ul', 'll', 'ull')."""
+
+    pos: SourcePos
+    value: int
+    suffix: str = ""
+
+
+@dataclass(frozen=True, slots=True)
+class FloatLit:
+    """Floating constant; `is_float` for an `f` suffix."""
+
+    pos: SourcePos
+    value: float
+    is_float: bool = False
+
+
+@dataclass(frozen=True, slots=True)
+class CharLit:
+    """Character constant 'a', already converted to its (signed char) int value."""
+
+    pos: SourcePos
+    value: int
+
+
+@dataclass(frozen=True, slots=True)
+class StrLit:
+    """String literal; adjacent literals are concatenated; escapes decoded; no trailing NUL."""
+
+    pos: SourcePos
+    value: bytes
+
+
+@dataclass(frozen=True, slots=True)
+class Name:
+    pos: SourcePos
+    id: str
+
+
+@dataclass(frozen=True, slots=True)
+class Unary:
+    """Prefix operator: '-', '+', '!', '~', '*' (deref), '&' (address), '++', '--'."""
+
+    pos: SourcePos
+    op: str
+    operand: "Expr"
+
+
+@dataclass(frozen=True, slots=True)
+class Postfix:
+    """Postfix '++' or '--'."""
+
+    pos: SourcePos
+    op: str
+    operand: "Expr"
+
+
+@dataclass(frozen=True, slots=True)
+class Binary:
+    """Binary operator incl. '&&' and '||': + - * / % << >> < > <= >= == != & | ^ && ||."""
+
+    pos: SourcePos
+    op: str
+    left: "Expr"
+    right: "Expr"
+
+
+@dataclass(frozen=True, slots=True)
+class Assign:
+    """'=' or a compound '+=', '-=', '*=', '/=', '%=', '<<=', '>>=', '&=', '|=', '^='."""
+
+    pos: SourcePos
+    op: str
+    target: "Expr"
+    value: "Expr"
+
+
+@dataclass(frozen=True, slots=True)
+class Cond:
+    """`cond ? then : else_`."""
+
+    pos: SourcePos
+    cond: "Expr"
+    then: "Expr"
+    else_: "Expr"
+
+
+@dataclass(frozen=True, slots=True)
+class Comma:
+    pos: SourcePos
+    items: tuple["Expr", ...]
+
+
+@dataclass(frozen=True, slots=True)
+class Call:
+    """`func(args)`; `func` is a Name for every call HMPL allows."""
+
+    pos: SourcePos
+    func: "Expr"
+    args: tuple["Expr", ...]
+
+
+@dataclass(frozen=True, slots=True)
+class Index:
+    pos: SourcePos
+    base: "Expr"
+    index: "Expr"
+
+
+@dataclass(frozen=True, slots=True)
+class Member:
+    """`base.name` or, with arrow, `base->name`."""
+
+    pos: SourcePos
+    base: "Expr"
+    name: str
+    arrow: bool = False
+
+
+@dataclass(frozen=True, slots=True)
+class Cast:
+    pos: SourcePos
+    type: TypeRef
+    expr: "Expr"
+
+
+@dataclass(frozen=True, slots=True)
+class SizeOf:
+    """`sizeof(TYPE)` (target is a TypeRef, dims for `sizeof(int[3])`) or `sizeof expr`."""
+
+    pos: SourcePos
+    target: "TypeRef | Expr"
+    dims: tuple["Expr", ...] = ()
+
+
+Expr = (
+    IntLit | FloatLit | CharLit | StrLit | Name | Unary | Postfix | Binary | Assign | Cond
+    | Comma | Call | Index | Member | Cast | SizeOf
+)

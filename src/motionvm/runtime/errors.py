@@ -1,0 +1,19 @@
+"""Run-time fault types shared by every language's run time."""
+
+from __future__ import annotations
+
+
+class RuntimeFault(Exception):
+    """A user program's fault: stops the task that raised it, never the controller.
+
+    The kernel reports it as `FILE:LINE: runtime error in task N: MESSAGE`, taking the
+    line from the deepest frame of the user's code.
+    """
+
+
+class TaskExit(BaseException):
+    """Raised inside a task to end it at once without an error (StopTask on itself)."""
+
+
+class InternalError(Exception):
+    """A bug in motionvm itself, reported as such with a hint to file it."""

@@ -1,0 +1,76 @@
+"""Compiler diagnostics: one format for every language, `path:line:col: error: message`."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from motionvm.source.files import SourceFile, SourcePos
+
+MAX_ERRORS_PER_FILE = 20
+
+
+@dataclass(frozen=True, slots=True)
+class Diagnostic:
+    """One compile message with the place it points at."""
+
+    pos: SourcePos
+    message: str
+    severity: str = "error"  # "error" | "warning" | "note"
+
+    def headline(self) -> str:
+        return f"{self.pos.file}:{self.pos.line}:{self.pos.col}: {self.severity}: {self.message}"
+
+
+def render_diagnostic(d: Diagnostic) -> str:
+    """The headline, then the source line and a caret under the column."""
+    out = [d.headline()]
+    sf = SourceFile.lookup(d.pos.file)
+    if sf is not None:
+        text = sf.line(d.pos.line)
+        if text:
+            shown = text.replace("\t", " ")
+            out.append(shown)
+            out.append(" " * max(0, d.pos.col - 1) + "^")
+    return "\n".join(out)
+
+
+class CompileError(Exception):
+    """Raised to abandon a compilation; carries every diagnostic collected so far."""
+
+    def __init__(self, diagnostics: list[Diagnostic]) -> None:
+        super().__init__(diagnostics[0].headline() if diagnostics else "compile error")
+        self.diagnostics = diagnostics
+
+
+class TooManyErrors(Exception):
+    """Raised by a sink once it holds MAX_ERRORS_PER_FILE errors of one file."""
+
+
+class DiagnosticSink:
+    """Collects diagnostics, at most MAX_ERRORS_PER_FILE errors per file."""
+
+    def __init__(self) -> None:
+        self.items: list[Diagnostic] = []
+        self._per_file: dict[str, int] = {}
+
+    def error(self, pos: SourcePos, message: str) -> None:
+        n = self._per_file.get(pos.file, 0)
+        if n >= MAX_ERRORS_PER_FILE:
+            raise TooManyErrors()
+        self._per_file[pos.file] = n + 1
+        self.items.append(Diagnostic(pos, message))
+        if n + 1 >= MAX_ERRORS_PER_FILE:
+            raise TooManyErrors()
+
+    def warning(self, pos: SourcePos, message: str) -> None:
+        self.items.append(Diagnostic(pos, message, "warning"))
+
+    def note(self, pos: SourcePos, message: str) -> None:
+        self.items.append(Diagnostic(pos, message, "note"))
+
+    @property
+    def has_errors(self) -> bool:
+        return any(d.severity == "error" for d in self.items)
+
+    def errors(self) -> list[Diagnostic]:
+        return [d for d in self.items if d.severity == "error"]
