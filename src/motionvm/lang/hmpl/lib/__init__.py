@@ -1,1 +1,40 @@
 """The HMPL built-in functions, one module per chapter group of the manual."""
+
+from __future__ import annotations
+
+import importlib
+
+from motionvm.lang.hmpl.lib.base import Library
+
+# modules holding Library subclasses, in registration order
+_MODULES = (
+    "motionvm.lang.hmpl.lib.system",
+    "motionvm.lang.hmpl.lib.strings",
+    "motionvm.lang.hmpl.lib.mathlib",
+    "motionvm.lang.hmpl.lib.usertable",
+)
+
+
+def library_classes() -> list[type[Library]]:
+    """Every Library subclass of the modules above, in a fixed order."""
+    out: list[type[Library]] = []
+    for modname in _MODULES:
+        try:
+            mod = importlib.import_module(modname)
+        except ModuleNotFoundError as exc:  # a library still being written
+            if exc.name != modname:
+                raise
+            continue
+        for obj in vars(mod).values():
+            if isinstance(obj, type) and issubclass(obj, Library) and obj is not Library and obj.__module__ == modname:
+                out.append(obj)
+    return out
+
+
+def implemented_builtins() -> dict[str, bool]:
+    """HMPL name -> blocking, for every built-in that has an implementation."""
+    out: dict[str, bool] = {}
+    for cls in library_classes():
+        for hname, (_attr, blocking) in cls.builtin_methods().items():
+            out[hname] = blocking
+    return out

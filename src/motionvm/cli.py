@@ -1,0 +1,134 @@
+"""The `motionvm` command: run | check | compile | builtins | dump (DESIGN.md's CLI contract).
+
+Exit codes: 0 ok; 1 a task stopped with a runtime error; 2 compile errors (nothing
+runs); 3 bad command line or machine file; 4 an internal error of motionvm itself.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import traceback
+from pathlib import Path
+
+EXIT_OK, EXIT_RUNTIME, EXIT_COMPILE, EXIT_USAGE, EXIT_INTERNAL = 0, 1, 2, 3, 4
+
+
+class UsageError(Exception):
+    """A bad command line: message printed, exit code 3."""
+
+
+def _parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(prog="motionvm", description="A virtual motion controller for HMPL, PDL and GDL programs.")
+    sub = p.add_subparsers(dest="cmd", required=True)
+    r = sub.add_parser("run", help="compile and run programs on the simulated machine")
+    r.add_argument("files", nargs="*", metavar="FILE")
+    r.add_argument("--machine", metavar="FILE.toml", help="machine file (default: the built-in machine)")
+    r.add_argument("--until", type=float, metavar="SECONDS", help="stop after this much simulated time")
+    r.add_argument("--stamp", action="store_true", help="prefix messages with [t=SECONDS][task N]")
+    r.add_argument("--task", action="append", default=[], metavar="N=FILE", help="put FILE on task N")
+    r.add_argument("--realtime", action="store_true", help="pace the simulation to the wall clock")
+    r.add_argument("--scenario", metavar="FILE.toml", help="GDL: timed input changes")
+    c = sub.add_parser("check", help="compile only; report errors")
+    c.add_argument("files", nargs="+", metavar="FILE")
+    c.add_argument("--task", action="append", default=[], metavar="N=FILE")
+    k = sub.add_parser("compile", help="compile and show the generated Python")
+    k.add_argument("files", nargs="+", metavar="FILE")
+    k.add_argument("--emit-python", action="store_true", help="print the generated Python code")
+    k.add_argument("--task", action="append", default=[], metavar="N=FILE")
+    b = sub.add_parser("builtins", help="list every HMPL built-in and whether it is implemented")
+    b.add_argument("--json", action="store_true")
+    d = sub.add_parser("dump", help="show a compiler stage")
+    d.add_argument("--stage", choices=["tokens", "ast", "py"], required=True)
+    d.add_argument("file", metavar="FILE")
+    d.add_argument("--task-id", type=int, default=0)
+    return p
+
+
+def main(argv: list[str] | None = None) -> int:
+    try:
+        args = _parser().parse_args(argv)
+    except SystemExit as exc:  # argparse already printed its message
+        return EXIT_OK if exc.code == 0 else EXIT_USAGE
+    try:
+        if args.cmd == "builtins":
+            return cmd_builtins(args)
+        if args.cmd == "dump":
+            return cmd_dump(args)
+        return _dispatch(args)
+    except UsageError as exc:
+        print(f"motionvm: error: {exc}", file=sys.stderr)
+        return EXIT_USAGE
+    except KeyboardInterrupt:
+        print("motionvm: interrupted", file=sys.stderr)
+        return EXIT_RUNTIME
+    except Exception:  # noqa: BLE001 — a bug of ours, reported as such
+        print("motionvm: internal error (a bug in motionvm, not in your program); please file an issue "
+              "with this output and the program attached:", file=sys.stderr)
+        traceback.print_exc()
+        return EXIT_INTERNAL
+
+
+def _dispatch(args) -> int:
+    files = list(args.files)
+    langs = {Path(f).suffix.lower() for f in files} | {Path(t.partition("=")[2]).suffix.lower() for t in args.task}
+    if not files and not args.task:
+        raise UsageError("no input files")
+    unknown = langs - {".hmpl", ".pdl", ".gdl"}
+    if unknown:
+        raise UsageError(f"unknown file type '{sorted(unknown)[0]}' (expected .hmpl, .pdl or .gdl)")
+    if langs == {".gdl"}:
+        return _gdl(args, files)
+    if ".gdl" in langs:
+        raise UsageError("GDL files cannot be mixed with HMPL or PDL files in one run")
+    if ".pdl" in langs:
+        raise UsageError("the PDL run time is not available yet (issue 4)")
+    from motionvm.hmpl_cli import hmpl_command
+
+    return hmpl_command(args)
+
+
+def _gdl(args, files: list[str]) -> int:
+    try:
+        from motionvm.lang.gdl import cli as gdl_cli
+    except ImportError:
+        raise UsageError("the GDL run time is not available yet (issue 5)") from None
+    if args.cmd == "check":
+        return gdl_cli.main_check(files, sys.stdout, sys.stderr)
+    if args.cmd == "run":
+        return gdl_cli.main_run(files, getattr(args, "scenario", None), args.until, sys.stdout, sys.stderr)
+    raise UsageError("'compile' supports HMPL files only")
+
+
+def cmd_builtins(args) -> int:
+    from motionvm.lang.hmpl.catalog import builtin_signatures
+    from motionvm.lang.hmpl.lib import implemented_builtins
+
+    impl = implemented_builtins()
+    special = {"_TASKID_", "_AUTORUN_", "Till", "HIMC_GPI", "HIMC_GPO"}
+    rows = []
+    for name, sig in builtin_signatures().items():
+        rows.append({"name": name, "prototype": sig.prototype, "section": sig.section,
+                     "implemented": name in impl or name in special})
+    if args.json:
+        json.dump(rows, sys.stdout, indent=1)
+        sys.stdout.write("\n")
+    else:
+        width = max(len(r["name"]) for r in rows)
+        for r in rows:
+            mark = "yes" if r["implemented"] else "no "
+            sys.stdout.write(f"{r['name']:<{width}}  {mark}  {r['section']:<7} {r['prototype']}\n")
+        done = sum(r["implemented"] for r in rows)
+        sys.stdout.write(f"{done} of {len(rows)} built-ins implemented\n")
+    return EXIT_OK
+
+
+def cmd_dump(args) -> int:
+    from motionvm.hmpl_cli import dump_stage
+
+    return dump_stage(args.file, args.stage, args.task_id)
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

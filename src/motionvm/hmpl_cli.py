@@ -1,0 +1,125 @@
+"""`motionvm run|check|compile|dump` for HMPL programs: task assignment, diagnostics, the run."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+from motionvm.cli import EXIT_COMPILE, EXIT_OK, EXIT_RUNTIME, EXIT_USAGE, UsageError
+from motionvm.source.diagnostics import DiagnosticSink, render_diagnostic
+
+
+def assign_tasks(files: list[str], task_opts: list[str]) -> list[tuple[int, str]]:
+    """Positional files take tasks 0, 1, 2, ... skipping ids given with --task N=FILE."""
+    placed: dict[int, str] = {}
+    for opt in task_opts:
+        num, eq, path = opt.partition("=")
+        if not eq or not num.strip().isdigit() or not path:
+            raise UsageError(f"--task expects N=FILE, got '{opt}'")
+        tid = int(num)
+        if not 0 <= tid < 64:
+            raise UsageError(f"--task {tid}: task ids are 0..63")
+        if tid in placed:
+            raise UsageError(f"task {tid} given twice ({placed[tid]} and {path})")
+        placed[tid] = path
+    nxt = 0
+    for f in files:
+        while nxt in placed:
+            nxt += 1
+        if nxt >= 64:
+            raise UsageError("more than 64 task files")
+        placed[nxt] = f
+        nxt += 1
+    for tid, path in placed.items():
+        if not Path(path).is_file():
+            raise UsageError(f"{path}: no such file")
+        if Path(path).suffix.lower() != ".hmpl":
+            raise UsageError(f"{path}: not an HMPL file")
+    return sorted(placed.items())
+
+
+def _compile(args):
+    from motionvm.lang.hmpl.compiler import TaskFile, compile_tasks
+
+    tasks = assign_tasks(list(args.files), list(args.task))
+    sink = DiagnosticSink()
+    prog, mem = compile_tasks([TaskFile(t, p) for t, p in tasks], sink)
+    for d in sink.items:
+        print(render_diagnostic(d), file=sys.stderr)
+    return prog, mem, sink
+
+
+def hmpl_command(args) -> int:
+    if args.cmd == "check":
+        prog, _mem, _sink = _compile(args)
+        return EXIT_OK if prog is not None else EXIT_COMPILE
+    if args.cmd == "compile":
+        prog, _mem, _sink = _compile(args)
+        if prog is None:
+            return EXIT_COMPILE
+        if args.emit_python:
+            sys.stdout.write(prog.python_source())
+        return EXIT_OK
+    return run(args)
+
+
+def run(args) -> int:
+    from motionvm.lang.hmpl.rtapi import HmplRuntime, data_dir_default
+    from motionvm.sim.controller import Controller
+    from motionvm.sim.machine import DEFAULT_MACHINE, MachineFileError, load_machine
+
+    if args.until is not None and not args.until >= 0:
+        raise UsageError(f"--until must be a non-negative number of seconds, got {args.until}")
+    if args.machine:
+        try:
+            machine = load_machine(args.machine)
+        except MachineFileError as exc:
+            print(str(exc), file=sys.stderr)
+            return EXIT_USAGE
+    else:
+        machine = DEFAULT_MACHINE
+    prog, mem, _sink = _compile(args)
+    if prog is None:
+        return EXIT_COMPILE
+    out = sys.stdout
+
+    def emit(line: str) -> None:
+        out.write(line + "\n")
+
+    def report(line: str) -> None:
+        out.flush()
+        print(line, file=sys.stderr)
+
+    ctl = Controller(machine.cycle_time)
+    data_dir = machine.data_dir or data_dir_default(machine.path.parent if machine.path else None)
+    rt = HmplRuntime(ctl, prog, mem, emit=emit, report=report, data_dir=data_dir, task_slice=machine.task_slice)
+    rt.stamp = bool(args.stamp)
+    ctl.clients.append(rt)
+    rt.boot()
+    ctl.run(args.until)
+    out.flush()
+    return EXIT_RUNTIME if rt.faults else EXIT_OK
+
+
+def dump_stage(path: str, stage: str, task_id: int) -> int:
+    from motionvm.lang.hmpl import dump
+    from motionvm.lang.hmpl.preprocess import preprocess
+    from motionvm.lang.hmpl.parser import parse
+
+    if not Path(path).is_file():
+        raise UsageError(f"{path}: no such file")
+    sink = DiagnosticSink()
+    if stage == "py":
+        from argparse import Namespace
+
+        ns = Namespace(files=[path], task=[], emit_python=True, cmd="compile")
+        return hmpl_command(ns)
+    toks = preprocess(path, task_id=task_id, sink=sink)
+    if stage == "tokens":
+        sys.stdout.write(dump.dump_tokens(toks) + "\n")
+    else:
+        tu = parse(toks, sink)
+        sys.stdout.write(dump.dump_ast(tu) + "\n")
+    for d in sink.items:
+        print(render_diagnostic(d), file=sys.stderr)
+    return EXIT_COMPILE if sink.has_errors else EXIT_OK

@@ -1,0 +1,220 @@
+"""The GDL run-time support (RTS): object state, activators, the ready queue, the clock.
+
+Model (GDL.md 9.5, text 3.3):
+- Every state variable of every object element holds a value; values start from the
+  declaration (INITIAL$VALUE, VALUE) or the type default. Initial values are not events.
+- A change of a state variable that is an activator *triggers*: every procedure whose
+  expanded list holds it is appended to one FIFO ready queue, once per change, in link
+  order (files as given, modules and procedures in textual order). This is the fixed,
+  documented order for procedures sharing an activator; programs needing an order
+  chain through a DIGITAL$FLAG [T]. Writing the value a variable already has is no
+  change (G18).
+- Procedures run one at a time to completion, in zero simulated time; a change during
+  a run (its own activator, an injected input) queues one more run behind it [T].
+- Forcing (`f` access, the debugger): a forced value hides every write until released;
+  forcing and releasing are changes like any other (G20).
+- The clock counts cycles of `DT` = 1 ms. Per cycle: devices step (motion), then the
+  scenario events of that cycle are applied one at a time, each followed by running the
+  ready queue empty. When nothing moves, the clock jumps to the next event, which gives
+  the same output as stepping because idle devices change nothing.
+
+Output, one line each, in order: `t=S input REF = V` (scenario), `t=S run PROC`,
+`t=S set REF = V` (a procedure changed it), `t=S update REF = V` (the RTS changed a
+digital or set variable: a motor stopping, a home switch), `t=S force REF = V`,
+`t=S release REF = V` (the value underneath). Run-time errors: `FILE:LINE: runtime error in procedure P: MSG`.
+"""
+
+from __future__ import annotations
+
+from collections import deque
+from typing import TextIO
+
+from motionvm.lang.gdl.app import App, ObjectInfo, ProcInfo
+from motionvm.lang.gdl.devices import Device, GdlFault, create_device
+from motionvm.lang.gdl.interp import ProcedureRun
+from motionvm.lang.gdl.objects import format_value
+
+DT_MS = 1
+"""Cycle length [ms]: the RTS clock is an integer count of these."""
+DT = DT_MS / 1000.0
+"""Cycle length [s]."""
+MAX_RUNS_PER_CYCLE = 10_000
+"""Procedure runs allowed in one cycle before the ready queue is declared runaway."""
+
+
+def format_time(cycle: int) -> str:
+    """Simulated time of `cycle` as seconds with 3 decimals, from integers (no float drift)."""
+    ms = cycle * DT_MS
+    return f"{ms // 1000}.{ms % 1000:03d}"
+
+
+class Rts:
+    """State and scheduling of one application run."""
+
+    def __init__(self, app: App, out: TextIO, err: TextIO) -> None:
+        self.app = app
+        self.out = out
+        self.err = err
+        self.cycle = 0
+        self.values: dict[tuple[str, str], list[object]] = {}
+        self.forced: dict[tuple[str, str, int], object] = {}
+        self.ready: deque[ProcInfo] = deque()
+        self.current: ProcedureRun | None = None
+        self.runs_this_cycle = 0
+        self.error_count = 0
+        self.injections: list[object] = []  # scenario events waiting for an instruction
+        self.apply_injection = None  # set by the scenario runner
+        self.devices: dict[str, Device] = {k: create_device(o) for k, o in app.objects.items()}
+        for obj in app.objects.values():
+            for spec in obj.type.states:
+                init = obj.params.get(spec.init_param) if spec.init_param else None
+                value = init if init is not None else spec.default
+                self.values[(obj.key, spec.keyword)] = [value] * len(obj.elements)
+        for dev in self.devices.values():
+            dev.start(self)
+
+    # ------------------------------------------------------------ state access
+
+    def device(self, obj: ObjectInfo) -> Device:
+        return self.devices[obj.key]
+
+    @staticmethod
+    def _slot(obj: ObjectInfo, element: int) -> int:
+        return element - 1 if obj.size is not None else 0
+
+    def read(self, obj: ObjectInfo, keyword: str, element: int) -> object:
+        """The value a procedure sees: the forced one if forced."""
+        forced = self.forced.get((obj.key, keyword, element), self)
+        if forced is not self:
+            return forced
+        return self.values[(obj.key, keyword)][self._slot(obj, element)]
+
+    def init_value(self, obj: ObjectInfo, keyword: str, element: int, value: object) -> None:
+        """Set a value before the run starts: not an event, nothing printed."""
+        self.values[(obj.key, keyword)][self._slot(obj, element)] = value
+
+    def origin(self) -> str:
+        """'set' while a procedure runs, else 'update' (the RTS itself)."""
+        return "set" if self.current is not None else "update"
+
+    def write(self, obj: ObjectInfo, keyword: str, element: int, value: object,
+              origin: str) -> bool:
+        """Store a value; on a visible change print it, run device hooks, trigger."""
+        cell = self.values[(obj.key, keyword)]
+        slot = self._slot(obj, element)
+        old = cell[slot]
+        cell[slot] = value
+        if (obj.key, keyword, element) in self.forced or old == value:
+            return False
+        self._changed(obj, keyword, element, value, origin)
+        return True
+
+    def input(self, obj: ObjectInfo, keyword: str, element: int, value: object) -> None:
+        """An external change (scenario event): always printed, triggers if it changed."""
+        spec = obj.type.state(keyword)
+        assert spec is not None
+        self.emit(f"input {obj.ref(keyword, element)} = {format_value(spec.kind, value)}")
+        cell = self.values[(obj.key, keyword)]
+        slot = self._slot(obj, element)
+        old, cell[slot] = cell[slot], value
+        if (obj.key, keyword, element) not in self.forced and old != value:
+            self._changed(obj, keyword, element, value, None)
+
+    def _changed(self, obj: ObjectInfo, keyword: str, element: int, value: object,
+                 origin: str | None) -> None:
+        """A visible change: print it (origin None: already printed), hooks, triggers."""
+        spec = obj.type.state(keyword)
+        assert spec is not None
+        if origin is not None and (origin != "update" or spec.kind != "int"):
+            self.emit(f"{origin} {obj.ref(keyword, element)} = {format_value(spec.kind, value)}")
+        self.device(obj).on_write(self, keyword, element, value)
+        if spec.activator:
+            self.trigger(obj, keyword, element)
+
+    def force(self, obj: ObjectInfo, keyword: str, element: int, value: object) -> None:
+        """Debugger force of an `f` variable: the value wins over every write until released."""
+        old = self.read(obj, keyword, element)
+        self.forced[(obj.key, keyword, element)] = value
+        spec = obj.type.state(keyword)
+        assert spec is not None
+        self.emit(f"force {obj.ref(keyword, element)} = {format_value(spec.kind, value)}")
+        if old != value:
+            self.device(obj).on_write(self, keyword, element, value)
+            if spec.activator:
+                self.trigger(obj, keyword, element)
+
+    def release(self, obj: ObjectInfo, keyword: str, element: int) -> None:
+        """End a force: the variable shows its underlying value again."""
+        key = (obj.key, keyword, element)
+        if key not in self.forced:
+            return
+        old = self.forced.pop(key)
+        value = self.read(obj, keyword, element)
+        spec = obj.type.state(keyword)
+        assert spec is not None
+        self.emit(f"release {obj.ref(keyword, element)} = {format_value(spec.kind, value)}")
+        if value != old:
+            self._changed(obj, keyword, element, value, None)
+
+    # ------------------------------------------------------------ activators and runs
+
+    def trigger(self, obj: ObjectInfo, keyword: str, element: int) -> None:
+        """Queue every procedure whose list holds this activator, in link order."""
+        for proc in self.app.procedures:
+            if any(t.matches(obj.key, keyword, element) for t in proc.triggers):
+                self.ready.append(proc)
+
+    def drain(self) -> None:
+        """Run the ready queue until it is empty."""
+        while self.ready:
+            proc = self.ready.popleft()
+            self.runs_this_cycle += 1
+            if self.runs_this_cycle > MAX_RUNS_PER_CYCLE:
+                self.ready.clear()
+                self.report(proc.node.pos.file, proc.node.pos.line, proc.name,
+                            f"more than {MAX_RUNS_PER_CYCLE} procedure runs at t="
+                            f"{format_time(self.cycle)}: procedures keep triggering each "
+                            "other (ready queue cleared)")
+                return
+            self._run(proc)
+
+    def _run(self, proc: ProcInfo) -> None:
+        self.emit(f"run {proc.name}")
+        run = ProcedureRun(self, proc)
+        self.current = run
+        try:
+            run.run()
+        except GdlFault as fault:
+            self.report(run.pos.file, run.pos.line, proc.name, str(fault))
+        finally:
+            self.current = None
+
+    def before_instruction(self, proc: ProcInfo, line: int) -> None:
+        """Instruction boundary of a running procedure: apply injected scenario events."""
+        if self.injections and self.apply_injection is not None:
+            self.apply_injection(proc, line)
+
+    # ------------------------------------------------------------ clock
+
+    def step_devices(self) -> None:
+        """One cycle of motion for every device, in declaration order, then run the queue."""
+        for dev in self.devices.values():
+            dev.step(self, DT)
+        self.drain()
+
+    @property
+    def moving(self) -> bool:
+        return any(d.busy for d in self.devices.values())
+
+    @property
+    def transient(self) -> bool:
+        return any(d.transient for d in self.devices.values())
+
+    # ------------------------------------------------------------ output
+
+    def emit(self, text: str) -> None:
+        self.out.write(f"t={format_time(self.cycle)} {text}\n")
+
+    def report(self, file: str, line: int, proc: str, message: str) -> None:
+        self.error_count += 1
+        self.err.write(f"{file}:{line}: runtime error in procedure {proc}: {message}\n")

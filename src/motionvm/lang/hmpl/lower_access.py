@@ -1,0 +1,331 @@
+"""Lower HMPL names, lvalues, indexing, members, assignments, `++`/`--` and calls.
+
+Memory-resident objects reached through names are trusted (their layout is known), so
+`a[i]` on `int a[10]` becomes `_I32[K + _ck(v_i, 10)]`: one bounds check, no shadow check.
+Accesses through pointers become checked helper calls (`_ld_i32(p)`, `_st_f64(p, v)`).
+Calls to functions that can block become `(yield from f(...))`.
+"""
+
+from __future__ import annotations
+
+import ast
+
+from motionvm.lang.hmpl import ctypes_ as ct
+from motionvm.lang.hmpl import nodes as n
+from motionvm.lang.hmpl.lower_expr import Val
+from motionvm.lang.hmpl.lvalues import (
+    AggLV,
+    GpoLV,
+    LValue,
+    MemLV,
+    NameLV,
+    PtrLV,
+    call,
+    const,
+    is_simple,
+    name,
+)
+from motionvm.lang.hmpl.symbols import FuncSym, VarSym
+from motionvm.source.suggest import did_you_mean
+
+_SHIFT = {1: 0, 2: 1, 4: 2, 8: 3}
+
+
+def _add(node: ast.expr, k: int) -> ast.expr:
+    if k == 0:
+        return node
+    if isinstance(node, ast.Constant):
+        return ast.Constant(node.value + k)
+    return ast.BinOp(left=node, op=ast.Add(), right=ast.Constant(k))
+
+
+def _scaled_index(addr: ast.expr, size: int) -> ast.expr:
+    """Index into a view of element `size` for an address known to be aligned."""
+    if isinstance(addr, ast.Constant):
+        return ast.Constant(addr.value // size)
+    if size == 1:
+        return addr
+    return ast.BinOp(left=addr, op=ast.RShift(), right=ast.Constant(_SHIFT[size]))
+
+
+def _plus(a: ast.expr, b: ast.expr) -> ast.expr:
+    if isinstance(a, ast.Constant) and a.value == 0:
+        return b
+    if isinstance(b, ast.Constant) and b.value == 0:
+        return a
+    if isinstance(a, ast.Constant) and isinstance(b, ast.Constant):
+        return ast.Constant(a.value + b.value)
+    return ast.BinOp(left=a, op=ast.Add(), right=b)
+
+
+def _trusted_lv(t: ct.CType, addr: ast.expr) -> LValue:
+    """An object at an address known to be inside a live object and aligned for `t`."""
+    if t.is_scalar:
+        return MemLV(t, _scaled_index(addr, t.size))
+    return AggLV(t, addr)
+
+
+class AccessLowering:
+    """Mixin of the function lowerer: places, assignment and calls."""
+
+    # ------------------------------------------------------------ names
+
+    def resolve(self, ident: str, pos):
+        sym = self.scope.lookup(ident)
+        if sym is None:
+            sym = self.prog.global_symbol(ident, self.task)
+        if sym is None:
+            if ident in self.prog.builtins:
+                raise self.fail(pos, f"built-in function '{ident}' used as a value (call it: {ident}(...))")
+            hint = did_you_mean(ident, self.scope.visible_names() + self.prog.global_names(self.task))
+            raise self.fail(pos, f"'{ident}' undeclared{hint}")
+        return sym
+
+    def var_lvalue(self, sym: VarSym) -> LValue:
+        t = sym.type
+        if sym.storage in ("local", "pyglobal"):
+            return NameLV(t, sym.pyname)
+        if sym.storage == "static":
+            return _trusted_lv(t, ast.Constant(sym.addr))
+        if sym.storage == "frame":
+            return _trusted_lv(t, _add(name("_fp"), sym.offset))
+        raise AssertionError(sym.storage)
+
+    def lvalue(self, e) -> LValue:
+        """The place an expression designates; an error if it designates none."""
+        if isinstance(e, n.Name):
+            sym = self.resolve(e.id, e.pos)
+            if isinstance(sym, FuncSym) or sym.const_value is not None:
+                raise self.fail(e.pos, f"'{e.id}' is not assignable")
+            if sym.storage == "pyglobal":
+                self.globals_stored.add(sym.pyname)
+            return self.var_lvalue(sym)
+        if isinstance(e, n.Unary) and e.op == "*":
+            p = self.expr(e.operand)
+            if not isinstance(p.type, ct.PtrT):
+                raise self.fail(e.pos, f"cannot dereference a value of type '{p.type}'")
+            t = p.type.target
+            if isinstance(t, ct.VoidT):
+                raise self.fail(e.pos, "cannot dereference a 'void *' pointer (cast it first)")
+            if t.is_scalar:
+                return PtrLV(t, p.node)
+            return AggLV(t, call("_chkp", p.node, ast.Constant(max(t.size, 1)), ast.Constant(t.align)))
+        if isinstance(e, n.Index):
+            return self._index_lv(e)
+        if isinstance(e, n.Member):
+            return self._member_lv(e)
+        if isinstance(e, n.Call) and isinstance(e.func, n.Name) and e.func.id == "HIMC_GPO":
+            if len(e.args) != 1:
+                raise self.fail(e.pos, f"HIMC_GPO takes 1 argument, got {len(e.args)}")
+            return GpoLV(ct.INT, self.convert(self.expr(e.args[0]), ct.INT, e.pos))
+        raise self.fail(e.pos, "expression is not assignable")
+
+    def _index_lv(self, e: n.Index) -> LValue:
+        base = self._expr(e.base)
+        idx = self.expr(e.index)
+        if not idx.type.is_integer:
+            if idx.type.is_pointer and base.type.is_integer:
+                raise self.fail(e.pos, "write the array before the index: a[i], not i[a]")
+            raise self.fail(e.index.pos, f"array subscript is not an integer (it is '{idx.type}')")
+        if isinstance(base.type, ct.ArrayT):
+            elem, count = base.type.elem, base.type.n
+            i_node = self.convert(idx, ct.I64, e.pos)
+            if count is not None:
+                if isinstance(idx.const, int):
+                    if not 0 <= idx.const < count:
+                        raise self.fail(e.index.pos, f"array index {idx.const} is out of bounds (the array has {count} elements)")
+                elif isinstance(i_node, ast.Name):
+                    chk = ast.Compare(left=ast.Constant(0), ops=[ast.LtE(), ast.Lt()],
+                                      comparators=[i_node, ast.Constant(count)])
+                    i_node = ast.IfExp(test=chk, body=i_node,
+                                       orelse=call("_oob", i_node, ast.Constant(count)))
+                else:
+                    i_node = call("_ck", i_node, ast.Constant(count))
+            # array objects are always reached through names, members or checked pointers
+            if elem.is_scalar and elem.size in _SHIFT:
+                return MemLV(elem, _plus(_scaled_index(base.node, elem.size), i_node))
+            off = i_node if elem.size == 1 else ast.BinOp(left=i_node, op=ast.Mult(), right=ast.Constant(elem.size))
+            addr = _plus(base.node, off)
+            if elem.is_scalar:
+                return PtrLV(elem, addr)
+            return AggLV(elem, addr)
+        base = self.expr(e.base)
+        if not isinstance(base.type, ct.PtrT):
+            raise self.fail(e.pos, f"subscripted value is neither array nor pointer (it is '{base.type}')")
+        elem = base.type.target
+        if isinstance(elem, ct.VoidT) or elem.size == 0:
+            raise self.fail(e.pos, f"subscript of a pointer to incomplete type '{base.type}'")
+        i_node = self.exact(idx)
+        off = i_node if elem.size == 1 else ast.BinOp(left=i_node, op=ast.Mult(), right=ast.Constant(elem.size))
+        addr = _plus(base.node, off)
+        if elem.is_scalar:
+            return PtrLV(elem, addr)
+        return AggLV(elem, call("_chkp", addr, ast.Constant(elem.size), ast.Constant(elem.align)))
+
+    def _member_lv(self, e: n.Member) -> LValue:
+        if e.arrow:
+            p = self.expr(e.base)
+            if not (isinstance(p.type, ct.PtrT) and isinstance(p.type.target, ct.StructT)):
+                raise self.fail(e.pos, f"'->' applied to '{p.type}', which is not a pointer to a struct or union")
+            st = p.type.target
+            base_addr = call("_chkp", p.node, ast.Constant(st.size), ast.Constant(st.align))
+        else:
+            b = self._expr(e.base)
+            if not isinstance(b.type, ct.StructT):
+                hint = " (use '->' for a pointer)" if isinstance(b.type, ct.PtrT) else ""
+                raise self.fail(e.pos, f"'.{e.name}' applied to '{b.type}', which is not a struct or union{hint}")
+            st = b.type
+            base_addr = b.node
+        found = st.field(e.name)
+        if found is None or e.name.startswith("_") and st.tag == "Timer":
+            names = [f for f, _, _ in st.fields if not f.startswith("_")]
+            raise self.fail(e.pos, f"'{st}' has no member '{e.name}'{did_you_mean(e.name, names)}")
+        off, ft = found
+        return _trusted_lv(ft, _add(base_addr, off))
+
+    def _x_Index(self, e: n.Index) -> Val:
+        lv = self._index_lv(e)
+        return Val(lv.load(), lv.type)
+
+    def _x_Member(self, e: n.Member) -> Val:
+        lv = self._member_lv(e)
+        return Val(lv.load(), lv.type)
+
+    def address_of(self, operand, pos) -> Val:
+        if isinstance(operand, n.Name):
+            sym = self.resolve(operand.id, operand.pos)
+            if isinstance(sym, FuncSym):
+                return Val(name(sym.pyname), ct.pointer_to(sym.type))
+        if isinstance(operand, n.Call):
+            raise self.fail(pos, "cannot take the address of a call result")
+        lv = self.lvalue(operand)
+        a = lv.addr()
+        if a is None:
+            raise self.fail(pos, "cannot take the address of this expression")
+        return Val(a, ct.pointer_to(lv.type))
+
+    # ------------------------------------------------------------ assignment
+
+    def _check_const(self, e, lv: LValue) -> None:
+        if isinstance(e, n.Name):
+            sym = self.scope.lookup(e.id) or self.prog.global_symbol(e.id, self.task)
+            if isinstance(sym, VarSym) and sym.is_const:
+                raise self.fail(e.pos, f"assignment of read-only variable '{e.id}'")
+        if isinstance(lv.type, ct.ArrayT):
+            raise self.fail(e.pos, "assignment to an array (copy arrays with MemoryCopy or StringCopy)")
+
+    def assignment(self, e: n.Assign, as_stmt: bool):
+        """Lower `target op= value`; a list of statements, or a Val when used as a value."""
+        lv = self.lvalue(e.target)
+        self._check_const(e.target, lv)
+        if e.op == "=":
+            v = self.expr(e.value)
+            node = self.assign_convert(v, lv.type, e.pos, " in assignment")
+            if as_stmt:
+                return lv.store(node)
+            return Val(lv.store_expr(node), lv.type)
+        op = e.op[:-1]
+        pre, blv = lv.bind(self.temp)
+        cur = Val(blv.load(), lv.type)
+        if isinstance(lv.type, ct.StructT):
+            raise self.fail(e.pos, f"invalid operands to '{e.op}' ('{lv.type}')")
+        res = self.binary(op, cur, self.expr(e.value), e.pos)
+        node = self.convert(res, lv.type, e.pos)
+        if as_stmt:
+            return [ast.Expr(value=p) for p in pre] + blv.store(node)
+        return Val(self._seq(pre, blv.store_expr(node)), lv.type)
+
+    def _x_Assign(self, e: n.Assign) -> Val:
+        return self.assignment(e, as_stmt=False)
+
+    @staticmethod
+    def _seq(pre: list[ast.expr], last: ast.expr) -> ast.expr:
+        if not pre:
+            return last
+        tup = ast.Tuple(elts=pre + [last], ctx=ast.Load())
+        return ast.Subscript(value=tup, slice=const(-1), ctx=ast.Load())
+
+    def incdec(self, operand, op: str, prefix: bool, pos, as_stmt: bool = False):
+        lv = self.lvalue(operand)
+        self._check_const(operand, lv)
+        if not lv.type.is_scalar:
+            raise self.fail(pos, f"cannot apply '{op}' to a value of type '{lv.type}'")
+        pre, blv = lv.bind(self.temp)
+        one = Val(ast.Constant(1), ct.INT, True, 1)
+        bop = "+" if op == "++" else "-"
+        if as_stmt:
+            res = self.binary(bop, Val(blv.load(), lv.type), one, pos)
+            return [ast.Expr(value=p) for p in pre] + blv.store(self.convert(res, lv.type, pos))
+        if prefix:
+            res = self.binary(bop, Val(blv.load(), lv.type), one, pos)
+            return Val(self._seq(pre, blv.store_expr(self.convert(res, lv.type, pos))), lv.type)
+        t = self.temp()
+        grab = ast.NamedExpr(target=name(t, True), value=blv.load())
+        res = self.binary(bop, Val(name(t), lv.type), one, pos)
+        store = blv.store_expr(self.convert(res, lv.type, pos))
+        tup = ast.Tuple(elts=pre + [grab, store], ctx=ast.Load())
+        return Val(ast.Subscript(value=tup, slice=ast.Constant(len(pre)), ctx=ast.Load()), lv.type)
+
+    # ------------------------------------------------------------ calls
+
+    def _x_Call(self, e: n.Call) -> Val:
+        if not isinstance(e.func, n.Name):
+            raise self.fail(e.pos, "called object is not a function")
+        fname = e.func.id
+        if fname == "Till":
+            raise self.fail(e.pos, "Till(condition) is a statement; it has no value")
+        if fname in ("HIMC_GPI", "HIMC_GPO"):
+            if len(e.args) != 1:
+                raise self.fail(e.pos, f"{fname} takes 1 argument ({'gpi' if fname == 'HIMC_GPI' else 'gpo'}_idx), got {len(e.args)}")
+            idx = self.convert(self.expr(e.args[0]), ct.INT, e.pos)
+            return Val(call("_gpi" if fname == "HIMC_GPI" else "_gpo", idx), ct.INT)
+        sym = self.scope.lookup(fname) or self.prog.global_symbol(fname, self.task)
+        if isinstance(sym, VarSym):
+            raise self.fail(e.pos, f"'{fname}' is a variable, not a function")
+        if isinstance(sym, FuncSym):
+            args = self._call_args(e, fname, [(pn, pt) for pn, pt in zip(sym.param_names, sym.type.params)], False)
+            node = call(sym.pyname, *args)
+            if sym.is_generator:
+                node = ast.YieldFrom(value=node)
+            return Val(node, sym.type.ret)
+        sig = self.prog.builtins.get(fname)
+        if sig is None:
+            cands = self.prog.function_names(self.task)
+            raise self.fail(e.func.pos, f"call to undeclared function '{fname}'{did_you_mean(fname, cands)}")
+        args = self._call_args(e, fname, list(sig.params), sig.variadic)
+        impl = self.prog.builtin_impl.get(fname)
+        if impl is None:
+            node = call("_notimpl", ast.Constant(fname), *args)
+        else:
+            node = call("b_" + fname, *args)
+            if impl:  # blocking
+                node = ast.YieldFrom(value=node)
+        return Val(node, sig.ret)
+
+    def _call_args(self, e: n.Call, fname: str, params, variadic: bool) -> list[ast.expr]:
+        nargs, nparams = len(e.args), len(params)
+        if nargs < nparams or (nargs > nparams and not variadic):
+            few = "few" if nargs < nparams else "many"
+            expect = f"at least {nparams}" if variadic else str(nparams)
+            proto = self.prog.prototype(fname, self.task)
+            raise self.fail(e.pos, f"too {few} arguments to '{fname}' (expected {expect}, got {nargs}){proto}")
+        out: list[ast.expr] = []
+        for i, a in enumerate(e.args):
+            v = self.expr(a)
+            if i < nparams:
+                pname, ptype = params[i]
+                what = f" (argument {i + 1} '{pname}' of '{fname}')"
+                out.append(self.assign_convert(v, ptype, a.pos, what))
+            else:
+                out.append(self._vararg(v, a.pos))
+        return out
+
+    def _vararg(self, v: Val, pos) -> ast.expr:
+        t = v.type
+        if isinstance(t, ct.IntT):
+            return self.convert(v, ct.promote(t), pos)
+        if isinstance(t, ct.FloatT):
+            return v.node
+        if isinstance(t, (ct.PtrT, ct.FuncT)):
+            return v.node
+        raise self.fail(pos, f"cannot pass a value of type '{t}' as a variadic argument")

@@ -1,0 +1,466 @@
+"""Type-check HMPL expressions and lower them to Python `ast` expressions.
+
+Integers are Python ints kept in the range of their C type. Ring operations (+ - * << & | ^ ~)
+may defer that reduction: a `Val` with `exact=False` is only known modulo 2**bits, and is
+wrapped once, where an exact value is needed (a store, a comparison, a division, a call).
+Example: `int x = a * b + c;` lowers to
+`v_x = (v_a * v_b + v_c + 2147483648 & 4294967295) - 2147483648`.
+"""
+
+from __future__ import annotations
+
+import ast
+import math
+from dataclasses import dataclass
+
+from motionvm.lang.hmpl import ctypes_ as ct
+from motionvm.lang.hmpl import nodes as n
+from motionvm.lang.hmpl.lvalues import (
+    AggLV,
+    GpoLV,
+    LValue,
+    MemLV,
+    NameLV,
+    PtrLV,
+    call,
+    const,
+    is_simple,
+    name,
+)
+from motionvm.lang.hmpl.symbols import FuncSym, VarSym
+from motionvm.source.suggest import did_you_mean
+
+_BINOPS = {
+    "+": ast.Add,
+    "-": ast.Sub,
+    "*": ast.Mult,
+    "<<": ast.LShift,
+    ">>": ast.RShift,
+    "&": ast.BitAnd,
+    "|": ast.BitOr,
+    "^": ast.BitXor,
+}
+_CMPOPS = {"<": ast.Lt, ">": ast.Gt, "<=": ast.LtE, ">=": ast.GtE, "==": ast.Eq, "!=": ast.NotEq}
+_RING_OPS = frozenset("+-*&|^") | {"<<"}
+
+
+class SemanticError(Exception):
+    """Abandon lowering of the current statement after reporting to the sink."""
+
+
+@dataclass
+class Val:
+    """A lowered rvalue: Python expression, C type, whether in range, folded constant."""
+
+    node: ast.expr
+    type: ct.CType
+    exact: bool = True
+    const: int | float | None = None
+
+
+def wrap_node(node: ast.expr, t: ct.IntT) -> ast.expr:
+    bits = t.bits
+    mask = (1 << bits) - 1
+    if t.signed:
+        half = 1 << (bits - 1)
+        inner = ast.BinOp(left=node, op=ast.Add(), right=ast.Constant(half))
+        masked = ast.BinOp(left=inner, op=ast.BitAnd(), right=ast.Constant(mask))
+        return ast.BinOp(left=masked, op=ast.Sub(), right=ast.Constant(half))
+    return ast.BinOp(left=node, op=ast.BitAnd(), right=ast.Constant(mask))
+
+
+def _fold_int(v: int, t: ct.CType) -> int:
+    return ct.wrap_int(v, t) if isinstance(t, ct.IntT) else v
+
+
+class ExprLowering:
+    """Mixin of the function lowerer: everything about expressions."""
+
+    # provided by the host class
+    sink: object
+    scope: object
+    prog: object
+
+    # ------------------------------------------------------------ diagnostics
+
+    def fail(self, pos, message: str) -> SemanticError:
+        self.sink.error(pos, message)
+        return SemanticError(message)
+
+    # ------------------------------------------------------------ conversions
+
+    def exact(self, v: Val) -> ast.expr:
+        """The value's Python expression reduced to the range of its type."""
+        if v.exact or not isinstance(v.type, ct.IntT):
+            return v.node
+        return wrap_node(v.node, v.type)
+
+    def convert(self, v: Val, to: ct.CType, pos=None, what: str = "") -> ast.expr:
+        """Lower an implicit or explicit conversion of `v` to type `to` (exact result)."""
+        src = v.type
+        if isinstance(to, ct.VoidT):
+            return v.node
+        if isinstance(to, ct.IntT):
+            if v.const is not None and isinstance(v.const, (int, float)):
+                c = v.const
+                if isinstance(c, float):
+                    if math.isnan(c) or math.isinf(c):
+                        c = 0
+                    c = int(c)
+                return const(ct.wrap_int(int(c), to))
+            if isinstance(src, ct.IntT):
+                if v.exact and src.min >= to.min and src.max <= to.max:
+                    return v.node
+                if v.exact or src.size >= to.size:
+                    return wrap_node(v.node, to)  # a modular reduction suffices
+                exact = self.exact(v)  # sign- or zero-extend the narrower value first
+                return exact if src.min >= to.min and src.max <= to.max else wrap_node(exact, to)
+            if isinstance(src, ct.FloatT):
+                return call("_f2i", v.node, ast.Constant(to.bits), ast.Constant(to.signed))
+            if isinstance(src, ct.PtrT):
+                return wrap_node(v.node, to) if to.size < 8 else v.node
+            raise self.fail(pos, f"cannot convert '{src}' to '{to}'{what}")
+        if isinstance(to, ct.FloatT):
+            if isinstance(src, (ct.IntT, ct.FloatT)):
+                if v.const is not None:
+                    f = float(v.const)
+                    return ast.Constant(self._to_f32(f) if to == ct.FLOAT else f)
+                node = self.exact(v) if isinstance(src, ct.IntT) else v.node
+                if to == ct.FLOAT and src != ct.FLOAT:
+                    return call("_f32", node)
+                if isinstance(src, ct.IntT):
+                    return call("float", node)
+                return node
+            raise self.fail(pos, f"cannot convert '{src}' to '{to}'{what}")
+        if isinstance(to, ct.PtrT):
+            if isinstance(src, ct.PtrT) or isinstance(src, ct.FuncT):
+                return v.node
+            if isinstance(src, ct.IntT):
+                return self.exact(v)
+            raise self.fail(pos, f"cannot convert '{src}' to '{to}'{what}")
+        if isinstance(to, ct.StructT):
+            if src == to:
+                return v.node
+            raise self.fail(pos, f"cannot convert '{src}' to '{to}'{what}")
+        raise self.fail(pos, f"cannot convert '{src}' to '{to}'{what}")
+
+    @staticmethod
+    def _to_f32(f: float) -> float:
+        from motionvm.lang.hmpl.cmemory import to_f32
+
+        return to_f32(f)
+
+    def assign_convert(self, v: Val, to: ct.CType, pos, what: str) -> ast.expr:
+        """Conversion as by assignment: checks pointer/integer compatibility like C."""
+        src = v.type
+        if isinstance(to, ct.PtrT):
+            if isinstance(src, ct.PtrT):
+                if not ct.same_pointee_family(src.target, to.target):
+                    raise self.fail(pos, f"incompatible pointer type: '{src}' given, '{to}' expected{what}")
+            elif isinstance(src, ct.IntT):
+                if v.const != 0:
+                    raise self.fail(pos, f"'{src}' given where a pointer '{to}' is expected{what}")
+            elif isinstance(src, ct.FuncT):
+                pass
+            else:
+                raise self.fail(pos, f"'{src}' given where a pointer '{to}' is expected{what}")
+        elif isinstance(to, (ct.IntT, ct.FloatT)):
+            if isinstance(src, ct.PtrT):
+                raise self.fail(pos, f"pointer '{src}' given where '{to}' is expected{what}")
+            if isinstance(src, (ct.StructT, ct.VoidT, ct.FuncT)):
+                raise self.fail(pos, f"'{src}' given where '{to}' is expected{what}")
+        elif isinstance(to, ct.StructT):
+            if src != to:
+                raise self.fail(pos, f"'{src}' given where '{to}' is expected{what}")
+        return self.convert(v, to, pos, what)
+
+    # ------------------------------------------------------------ rvalues
+
+    def expr(self, e) -> Val:
+        """Lower an expression used for its value (arrays decay to pointers)."""
+        v = self._expr(e)
+        if isinstance(v.type, ct.ArrayT):
+            return Val(v.node, ct.pointer_to(v.type.elem))
+        return v
+
+    def _expr(self, e) -> Val:
+        method = getattr(self, "_x_" + type(e).__name__, None)
+        if method is None:
+            raise self.fail(e.pos, f"unsupported expression '{type(e).__name__}'")
+        return method(e)
+
+    def cond(self, e) -> ast.expr:
+        """Lower an expression used as a condition (any truthy Python value)."""
+        if isinstance(e, n.Binary) and e.op in ("&&", "||"):
+            op = ast.And() if e.op == "&&" else ast.Or()
+            return ast.BoolOp(op=op, values=[self.cond(e.left), self.cond(e.right)])
+        if isinstance(e, n.Unary) and e.op == "!":
+            return ast.UnaryOp(op=ast.Not(), operand=self.cond(e.operand))
+        v = self.expr(e)
+        if isinstance(v.type, (ct.StructT, ct.VoidT)):
+            raise self.fail(e.pos, f"'{v.type}' used where a condition is required")
+        return self.exact(v)
+
+    def _x_IntLit(self, e: n.IntLit) -> Val:
+        v = e.value
+        s = e.suffix
+        if "u" in s:
+            t = ct.U32 if v <= 0xFFFFFFFF and "l" not in s.replace("u", "")[:2] else ct.U64
+            if "ll" in s:
+                t = ct.U64
+        elif "ll" in s:
+            t = ct.I64
+        elif v <= 0x7FFFFFFF:
+            t = ct.INT
+        elif v <= 0xFFFFFFFF and e.pos is not None and getattr(e, "suffix", "") == "" and v >= 0:
+            t = ct.U32 if self._is_hex_literal(e) else ct.I64
+        elif v <= 0x7FFFFFFFFFFFFFFF:
+            t = ct.I64
+        else:
+            t = ct.U64
+        v = _fold_int(v, t)
+        return Val(const(v), t, True, v)
+
+    def _is_hex_literal(self, e: n.IntLit) -> bool:
+        return False  # decimal literals above INT_MAX are long long; hex ones are unsigned
+
+    def _x_FloatLit(self, e: n.FloatLit) -> Val:
+        if e.is_float:
+            f = self._to_f32(e.value)
+            return Val(ast.Constant(f), ct.FLOAT, True, f)
+        return Val(ast.Constant(e.value), ct.DOUBLE, True, e.value)
+
+    def _x_CharLit(self, e: n.CharLit) -> Val:
+        return Val(const(e.value), ct.INT, True, e.value)
+
+    def _x_StrLit(self, e: n.StrLit) -> Val:
+        addr = self.prog.string_literal(e.value)
+        return Val(ast.Constant(addr), ct.array_of(ct.CHAR, len(e.value) + 1))
+
+    def _x_Name(self, e: n.Name) -> Val:
+        sym = self.resolve(e.id, e.pos)
+        if isinstance(sym, FuncSym):
+            return Val(name(sym.pyname), sym.type)
+        if sym.const_value is not None:
+            v = sym.const_value
+            return Val(const(v), sym.type, True, v)
+        lv = self.var_lvalue(sym)
+        return Val(lv.load(), sym.type)
+
+    def _x_SizeOf(self, e: n.SizeOf) -> Val:
+        if isinstance(e.target, n.TypeRef):
+            t = self.resolve_type(e.target)
+            for d in reversed(e.dims):
+                t = ct.array_of(t, self.const_int(d))
+        else:
+            t = self._type_only(e.target)
+        if isinstance(t, ct.VoidT) or t.size == 0 and not isinstance(t, ct.ArrayT):
+            raise self.fail(e.pos, f"sizeof applied to incomplete type '{t}'")
+        return Val(ast.Constant(t.size), ct.U32, True, t.size)
+
+    def _type_only(self, e) -> ct.CType:
+        """The type of an expression without generating code (sizeof operand)."""
+        saved = self.sink.items[:]
+        try:
+            return self._expr(e).type
+        finally:
+            self.sink.items[:] = saved
+
+    def _x_Cast(self, e: n.Cast) -> Val:
+        to = self.resolve_type(e.type)
+        v = self.expr(e.expr)
+        if isinstance(to, ct.VoidT):
+            return Val(v.node, ct.VOID)
+        if isinstance(to, ct.StructT) or isinstance(v.type, ct.StructT):
+            raise self.fail(e.pos, f"cannot cast '{v.type}' to '{to}'")
+        node = self.convert(v, to, e.pos)
+        c = None
+        if v.const is not None and isinstance(to, (ct.IntT, ct.FloatT)):
+            c = node.value if isinstance(node, ast.Constant) else None
+            if isinstance(node, ast.UnaryOp) and isinstance(node.operand, ast.Constant):
+                c = -node.operand.value
+        return Val(node, to, True, c)
+
+    def _x_Comma(self, e: n.Comma) -> Val:
+        parts = [self.expr(x) for x in e.items]
+        last = parts[-1]
+        tup = ast.Tuple(elts=[p.node for p in parts[:-1]] + [self.exact(last)], ctx=ast.Load())
+        return Val(ast.Subscript(value=tup, slice=const(-1), ctx=ast.Load()), last.type)
+
+    def _x_Cond(self, e: n.Cond) -> Val:
+        c = self.cond(e.cond)
+        a, b = self.expr(e.then), self.expr(e.else_)
+        if a.type.is_arith and b.type.is_arith:
+            t = ct.common_arith(a.type, b.type)
+            an, bn = self.convert(a, t, e.pos), self.convert(b, t, e.pos)
+        elif a.type.is_pointer or b.type.is_pointer:
+            t = a.type if a.type.is_pointer else b.type
+            an, bn = self.exact(a), self.exact(b)
+        else:
+            if a.type != b.type:
+                raise self.fail(e.pos, f"mismatched types '{a.type}' and '{b.type}' in '?:'")
+            t, an, bn = a.type, a.node, b.node
+        return Val(ast.IfExp(test=c, body=an, orelse=bn), t)
+
+    # ------------------------------------------------------------ operators
+
+    def _x_Unary(self, e: n.Unary) -> Val:
+        op = e.op
+        if op in ("++", "--"):
+            return self.incdec(e.operand, op, prefix=True, pos=e.pos)
+        if op == "&":
+            return self.address_of(e.operand, e.pos)
+        if op == "*":
+            lv = self.lvalue(e)
+            return Val(lv.load(), lv.type)
+        if op == "!":
+            return Val(ast.UnaryOp(op=ast.Not(), operand=self.cond(e.operand)), ct.INT)
+        v = self.expr(e.operand)
+        if not v.type.is_arith:
+            raise self.fail(e.pos, f"invalid operand of type '{v.type}' to unary '{op}'")
+        if op == "~":
+            if not v.type.is_integer:
+                raise self.fail(e.pos, f"invalid operand of type '{v.type}' to unary '~'")
+            t = ct.promote(v.type)
+            node = self.convert(v, t, e.pos)
+            c = ct.wrap_int(~v.const, t) if isinstance(v.const, int) else None
+            return Val(ast.UnaryOp(op=ast.Invert(), operand=node), t, t.signed, c)
+        t = ct.promote(v.type)
+        node = self.convert(v, t, e.pos)
+        if op == "+":
+            return Val(node, t, True, v.const)
+        if v.const is not None:
+            c = _fold_int(-v.const, t) if t.is_integer else -v.const
+            return Val(const(c), t, True, c)
+        return Val(ast.UnaryOp(op=ast.USub(), operand=node), t, not t.is_integer)
+
+    def _x_Postfix(self, e: n.Postfix) -> Val:
+        return self.incdec(e.operand, e.op, prefix=False, pos=e.pos)
+
+    def _x_Binary(self, e: n.Binary) -> Val:
+        op = e.op
+        if op in ("&&", "||"):
+            test = self.cond(e)
+            return Val(ast.IfExp(test=test, body=ast.Constant(1), orelse=ast.Constant(0)), ct.INT)
+        a, b = self.expr(e.left), self.expr(e.right)
+        return self.binary(op, a, b, e.pos)
+
+    def binary(self, op: str, a: Val, b: Val, pos) -> Val:
+        ta, tb = a.type, b.type
+        if op in _CMPOPS:
+            return self._compare(op, a, b, pos)
+        if op in ("+", "-") and (ta.is_pointer or tb.is_pointer):
+            return self._pointer_arith(op, a, b, pos)
+        if not (ta.is_arith and tb.is_arith):
+            raise self.fail(pos, f"invalid operands to binary '{op}' ('{ta}' and '{tb}')")
+        if op in ("<<", ">>"):
+            if not (ta.is_integer and tb.is_integer):
+                raise self.fail(pos, f"invalid operands to binary '{op}' ('{ta}' and '{tb}')")
+            t = ct.promote(ta)
+            bn = self.exact(b)
+            if op == ">>":
+                an = self.convert(a, t, pos)
+                if isinstance(a.const, int) and isinstance(b.const, int):
+                    c = ct.wrap_int(ct.wrap_int(a.const, t) >> (b.const % t.bits), t)
+                    return Val(const(c), t, True, c)
+                return Val(ast.BinOp(left=an, op=ast.RShift(), right=bn), t, True)
+            an = self.convert(a, t, pos) if a.type != t else a.node
+            if isinstance(a.const, int) and isinstance(b.const, int):
+                c = ct.wrap_int(a.const << (b.const % t.bits), t)
+                return Val(const(c), t, True, c)
+            if b.const is None:
+                # a run-time shift count: keep the count in range so Python never builds huge ints
+                bn = ast.BinOp(left=bn, op=ast.BitAnd(), right=ast.Constant(t.bits - 1))
+            return Val(ast.BinOp(left=an, op=ast.LShift(), right=bn), t, False)
+        if op == "%" and not (ta.is_integer and tb.is_integer):
+            raise self.fail(pos, f"invalid operands to binary '%' ('{ta}' and '{tb}')")
+        if op in ("&", "|", "^") and not (ta.is_integer and tb.is_integer):
+            raise self.fail(pos, f"invalid operands to binary '{op}' ('{ta}' and '{tb}')")
+        t = ct.common_arith(ta, tb)
+        if t.is_float:
+            return self._float_op(op, a, b, t, pos)
+        return self._int_op(op, a, b, t, pos)
+
+    def _ring_operand(self, v: Val, t: ct.IntT) -> tuple[ast.expr, bool]:
+        """(node, exact in t) of an operand of a ring operation computed in type t."""
+        if isinstance(v.const, int):
+            return const(ct.wrap_int(v.const, t)), True
+        assert isinstance(v.type, ct.IntT)
+        if v.type.size == t.size:
+            return v.node, v.exact and v.type.signed == t.signed
+        return self.exact(v), True  # a narrower exact value fits in t
+
+    def _int_op(self, op: str, a: Val, b: Val, t: ct.IntT, pos) -> Val:
+        if op in _RING_OPS:
+            if isinstance(a.const, int) and isinstance(b.const, int):
+                pyop = {"+": int.__add__, "-": int.__sub__, "*": int.__mul__, "&": int.__and__,
+                        "|": int.__or__, "^": int.__xor__}[op]
+                c = ct.wrap_int(pyop(ct.wrap_int(a.const, t), ct.wrap_int(b.const, t)), t)
+                return Val(const(c), t, True, c)
+            an, a_ok = self._ring_operand(a, t)
+            bn, b_ok = self._ring_operand(b, t)
+            exact = op in ("&", "|", "^") and a_ok and b_ok
+            return Val(ast.BinOp(left=an, op=_BINOPS[op](), right=bn), t, exact)
+        an, bn = self.convert(a, t, pos), self.convert(b, t, pos)
+        if isinstance(b.const, int) and ct.wrap_int(b.const, t) == 0:
+            raise self.fail(pos, "division by zero" if op == "/" else "modulo by zero")
+        if isinstance(a.const, int) and isinstance(b.const, int):
+            x, y = ct.wrap_int(a.const, t), ct.wrap_int(b.const, t)
+            q = abs(x) // abs(y) * (1 if (x >= 0) == (y >= 0) else -1)
+            c = ct.wrap_int(q if op == "/" else x - q * y, t)
+            return Val(const(c), t, True, c)
+        fn = "_idiv" if op == "/" else "_imod"
+        return Val(call(fn, an, bn), t, op == "%")
+
+    def _float_op(self, op: str, a: Val, b: Val, t: ct.FloatT, pos) -> Val:
+        an, bn = self.convert(a, t, pos), self.convert(b, t, pos)
+        if a.const is not None and b.const is not None and op != "/":
+            pyop = {"+": float.__add__, "-": float.__sub__, "*": float.__mul__}[op]
+            c = pyop(float(a.const), float(b.const))
+            c = self._to_f32(c) if t == ct.FLOAT else c
+            return Val(ast.Constant(c), t, True, c)
+        if op == "/":
+            if b.const is not None and b.const != 0:
+                node = ast.BinOp(left=an, op=ast.Div(), right=bn)
+            else:
+                node = call("_fdiv", an, bn)
+        else:
+            node = ast.BinOp(left=an, op=_BINOPS[op](), right=bn)
+        if t == ct.FLOAT:
+            node = call("_f32", node)
+        return Val(node, t)
+
+    def _compare(self, op: str, a: Val, b: Val, pos) -> Val:
+        ta, tb = a.type, b.type
+        if ta.is_arith and tb.is_arith:
+            t = ct.common_arith(ta, tb)
+            an, bn = self.convert(a, t, pos), self.convert(b, t, pos)
+        elif ta.is_pointer or tb.is_pointer or isinstance(ta, ct.FuncT) or isinstance(tb, ct.FuncT):
+            if (ta.is_integer and a.const != 0) or (tb.is_integer and b.const != 0):
+                raise self.fail(pos, f"comparison between pointer and integer ('{ta}' and '{tb}')")
+            an, bn = self.exact(a), self.exact(b)
+        else:
+            raise self.fail(pos, f"invalid operands to binary '{op}' ('{ta}' and '{tb}')")
+        node = ast.Compare(left=an, ops=[_CMPOPS[op]()], comparators=[bn])
+        return Val(node, ct.INT)
+
+    def _pointer_arith(self, op: str, a: Val, b: Val, pos) -> Val:
+        ta, tb = a.type, b.type
+        if op == "-" and ta.is_pointer and tb.is_pointer:
+            size = max(1, ta.target.size)
+            diff = ast.BinOp(left=a.node, op=ast.Sub(), right=b.node)
+            return Val(ast.BinOp(left=diff, op=ast.FloorDiv(), right=ast.Constant(size)), ct.I64)
+        if ta.is_pointer and tb.is_integer:
+            p, i = a, b
+        elif op == "+" and tb.is_pointer and ta.is_integer:
+            p, i = b, a
+        else:
+            raise self.fail(pos, f"invalid operands to binary '{op}' ('{ta}' and '{tb}')")
+        size = p.type.target.size if not isinstance(p.type.target, ct.VoidT) else 1
+        if size == 0:
+            raise self.fail(pos, f"arithmetic on a pointer to incomplete type '{p.type}'")
+        off = self.exact(i)
+        if size != 1:
+            off = ast.BinOp(left=off, op=ast.Mult(), right=ast.Constant(size))
+        pyop = ast.Add() if op == "+" else ast.Sub()
+        return Val(ast.BinOp(left=p.node, op=pyop, right=off), p.type)

@@ -1,0 +1,403 @@
+"""Lower HMPL statements and function bodies to Python `ast` statements.
+
+Loops get a budgeted back-edge so a busy loop yields to the scheduler:
+    while (x < 10) x++;
+becomes
+    while v_x < 10:
+        v_x = (v_x + 1 + 2147483648 & 4294967295) - 2147483648
+        _budget -= 1
+        if _budget < 0:
+            yield
+`continue` repeats the loop's step and back-edge before jumping. A `switch` becomes a
+one-pass `while True:` whose groups test `matched or value == case`, so C fall-through and
+`break` keep their meaning. Locals whose address is taken live in a stack frame pushed
+on entry and popped in a `finally`.
+"""
+
+from __future__ import annotations
+
+import ast
+from dataclasses import dataclass, field
+
+from motionvm.lang.hmpl import ctypes_ as ct
+from motionvm.lang.hmpl import nodes as n
+from motionvm.lang.hmpl.cmemory import RED_ZONE
+from motionvm.lang.hmpl.lower_access import AccessLowering
+from motionvm.lang.hmpl.lower_expr import ExprLowering, SemanticError, Val
+from motionvm.lang.hmpl.lvalues import call, const, name
+from motionvm.lang.hmpl.symbols import FuncSym, Scope, VarSym
+
+
+@dataclass
+class _LoopCtx:
+    kind: str  # 'loop' | 'switch'
+    cont: list = field(default_factory=list)  # statements a `continue` runs (loops)
+    flag: str = ""  # switch: temp set when a `continue` leaves the switch
+    flag_used: bool = False
+
+
+def _backedge() -> list[ast.stmt]:
+    dec = ast.AugAssign(target=name("_budget", True), op=ast.Sub(), value=ast.Constant(1))
+    test = ast.Compare(left=name("_budget"), ops=[ast.Lt()], comparators=[ast.Constant(0)])
+    return [dec, ast.If(test=test, body=[ast.Expr(value=ast.Yield(value=None))], orelse=[])]
+
+
+def _at(stmts: list[ast.stmt], pos) -> list[ast.stmt]:
+    for s in stmts:
+        for node in ast.walk(s):
+            if "lineno" in node._attributes and not hasattr(node, "lineno"):
+                node.lineno = pos.line
+                node.col_offset = max(0, pos.col - 1)
+                node.end_lineno = pos.line
+                node.end_col_offset = max(0, pos.col - 1)
+    return stmts
+
+
+class FunctionLowerer(ExprLowering, AccessLowering):
+    """Lowers one function body (or one task's global initializers) of one task."""
+
+    def __init__(self, prog, task: int, scope: Scope, func: FuncSym | None, addr_taken: set[str]) -> None:
+        self.prog = prog
+        self.sink = prog.sink
+        self.task = task
+        self.scope = scope
+        self.func = func
+        self.addr_taken = addr_taken
+        self.globals_stored: set[str] = set()
+        self.loops: list[_LoopCtx] = []
+        self.frame_size = 0
+        self.frame_valid = bytearray()
+        self._ntemp = 0
+        self._pynames: set[str] = set()
+        self.in_init = func is None
+
+    # ------------------------------------------------------------ helpers
+
+    def temp(self) -> str:
+        self._ntemp += 1
+        return f"_t{self._ntemp}"
+
+    def unique_local(self, base: str) -> str:
+        cand = f"v_{base}"
+        k = 1
+        while cand in self._pynames:
+            k += 1
+            cand = f"v_{base}_{k}"
+        self._pynames.add(cand)
+        return cand
+
+    def frame_alloc(self, t: ct.CType) -> int:
+        align = max(8, t.align)
+        off = (self.frame_size + align - 1) // align * align
+        size = max(t.size, 1)
+        self.frame_valid.extend(b"\x00" * (off - len(self.frame_valid)))
+        self.frame_valid.extend(b"\x01" * size)
+        self.frame_valid.extend(b"\x00" * RED_ZONE)
+        self.frame_size = off + size + RED_ZONE
+        return off
+
+    # ------------------------------------------------------------ declarations
+
+    def declare_local(self, d: n.VarDecl, is_param: bool = False) -> list[ast.stmt]:
+        t = self.prog.decl_type(d, self.scope, self.task)
+        if d.name in self.scope.names:
+            raise self.fail(d.pos, f"redefinition of '{d.name}'")
+        if isinstance(t, ct.VoidT):
+            raise self.fail(d.pos, f"variable '{d.name}' declared void")
+        in_mem = not t.is_scalar or d.name in self.addr_taken
+        if in_mem:
+            sym = VarSym(d.name, t, "frame", d.pos, offset=self.frame_alloc(t), is_const=d.type.is_const)
+        else:
+            sym = VarSym(d.name, t, "local", d.pos, pyname=self.unique_local(d.name), is_const=d.type.is_const)
+        out = self.init_var(sym, d.init, d.pos, zero_default=not is_param)
+        self.scope.names[d.name] = sym
+        return out
+
+    def init_var(self, sym: VarSym, init, pos, zero_default: bool = True) -> list[ast.stmt]:
+        """Statements giving a variable its initial value (0 when there is no initializer)."""
+        lv = self.var_lvalue(sym)
+        t = sym.type
+        if init is None:
+            if sym.storage in ("local", "pyglobal") and zero_default:
+                zero = ast.Constant(0.0 if t.is_float else 0)
+                return lv.store(zero)
+            return []
+        if t.is_scalar:
+            if isinstance(init, n.InitList):
+                if len(init.items) != 1 or isinstance(init.items[0], n.InitList):
+                    raise self.fail(init.pos, f"a scalar '{sym.name}' takes one initializer")
+                init = init.items[0]
+            v = self.expr(init)
+            return lv.store(self.assign_convert(v, t, init.pos, f" in the initializer of '{sym.name}'"))
+        addr = lv.addr()
+        image, stores = self.prog.aggregate_init(self, t, init, addr, sym.name)
+        out: list[ast.stmt] = [ast.Expr(value=call("_fill", addr, ast.Constant(bytes(image))))]
+        return out + stores
+
+    # ------------------------------------------------------------ statements
+
+    def stmts(self, items) -> list[ast.stmt]:
+        out: list[ast.stmt] = []
+        for s in items:
+            try:
+                out.extend(_at(self.stmt(s), s.pos))
+            except SemanticError:
+                pass
+        return out
+
+    def stmt(self, s) -> list[ast.stmt]:
+        return getattr(self, "_s_" + type(s).__name__)(s)
+
+    def block(self, s, kind: str = "block") -> list[ast.stmt]:
+        saved = self.scope
+        self.scope = Scope(saved, kind)
+        try:
+            items = s.items if isinstance(s, n.Block) else (s,)
+            return self.stmts(items)
+        finally:
+            self.scope = saved
+
+    def _s_Block(self, s: n.Block) -> list[ast.stmt]:
+        return self.block(s)
+
+    def _s_DeclStmt(self, s: n.DeclStmt) -> list[ast.stmt]:
+        out: list[ast.stmt] = []
+        for d in s.decls:
+            try:
+                out.extend(_at(self.declare_local(d), d.pos))
+            except SemanticError:
+                pass
+        return out
+
+    def _s_VarDecl(self, s: n.VarDecl) -> list[ast.stmt]:
+        return self.declare_local(s)
+
+    def _s_Empty(self, s) -> list[ast.stmt]:
+        return []
+
+    def _s_ExprStmt(self, s: n.ExprStmt) -> list[ast.stmt]:
+        e = s.expr
+        if isinstance(e, n.Assign):
+            return self.assignment(e, as_stmt=True)
+        if isinstance(e, (n.Postfix, n.Unary)) and e.op in ("++", "--"):
+            return self.incdec(e.operand, e.op, prefix=True, pos=e.pos, as_stmt=True)
+        if isinstance(e, n.Call) and isinstance(e.func, n.Name) and e.func.id == "Till":
+            return self._till(e)
+        v = self.expr(e)
+        return [ast.Expr(value=v.node)]
+
+    def _till(self, e: n.Call) -> list[ast.stmt]:
+        if len(e.args) != 1:
+            raise self.fail(e.pos, f"Till takes 1 argument (condition), got {len(e.args)}")
+        if self.in_init:
+            raise self.fail(e.pos, "Till cannot be used in a global initializer")
+        test = ast.UnaryOp(op=ast.Not(), operand=self.cond(e.args[0]))
+        return [ast.While(test=test, body=[ast.Expr(value=ast.Yield(value=None))], orelse=[])]
+
+    def _s_If(self, s: n.If) -> list[ast.stmt]:
+        test = self.cond(s.cond)
+        body = self.block(s.then) or [ast.Pass()]
+        orelse = self.block(s.else_) if s.else_ is not None else []
+        return [ast.If(test=test, body=body, orelse=orelse)]
+
+    def _loop_body(self, body, cont: list[ast.stmt]) -> list[ast.stmt]:
+        self.loops.append(_LoopCtx("loop", cont))
+        try:
+            return self.block(body)
+        finally:
+            self.loops.pop()
+
+    def _s_While(self, s: n.While) -> list[ast.stmt]:
+        test = self.cond(s.cond)
+        cont = _backedge() + [ast.Continue()]
+        body = self._loop_body(s.body, cont) + _backedge()
+        return [ast.While(test=test, body=body, orelse=[])]
+
+    def _s_DoWhile(self, s: n.DoWhile) -> list[ast.stmt]:
+        exit_ = [ast.If(test=ast.UnaryOp(op=ast.Not(), operand=self.cond(s.cond)), body=[ast.Break()], orelse=[])]
+        cont = _at(exit_, s.cond.pos) + _backedge() + [ast.Continue()]
+        body = self._loop_body(s.body, cont)
+        exit2 = [ast.If(test=ast.UnaryOp(op=ast.Not(), operand=self.cond(s.cond)), body=[ast.Break()], orelse=[])]
+        return [ast.While(test=ast.Constant(True), body=body + _at(exit2, s.cond.pos) + _backedge(), orelse=[])]
+
+    def _s_For(self, s: n.For) -> list[ast.stmt]:
+        saved = self.scope
+        self.scope = Scope(saved, "block")
+        try:
+            out: list[ast.stmt] = []
+            if s.init is not None:
+                out.extend(_at(self.stmt(s.init), s.init.pos))
+            test = self.cond(s.cond) if s.cond is not None else ast.Constant(True)
+            step = _at(self._s_ExprStmt(n.ExprStmt(s.step.pos, s.step)), s.step.pos) if s.step is not None else []
+            cont = step + _backedge() + [ast.Continue()]
+            body = self._loop_body(s.body, cont)
+            step2 = _at(self._s_ExprStmt(n.ExprStmt(s.step.pos, s.step)), s.step.pos) if s.step is not None else []
+            out.append(ast.While(test=test, body=body + step2 + _backedge(), orelse=[]))
+            return out
+        finally:
+            self.scope = saved
+
+    def _s_Break(self, s: n.Break) -> list[ast.stmt]:
+        if not self.loops:
+            raise self.fail(s.pos, "'break' outside a loop or switch")
+        return [ast.Break()]
+
+    def _s_Continue(self, s: n.Continue) -> list[ast.stmt]:
+        return self._continue_from(len(self.loops) - 1, s.pos)
+
+    def _continue_from(self, level: int, pos) -> list[ast.stmt]:
+        while level >= 0 and self.loops[level].kind == "switch":
+            sw = self.loops[level]
+            sw.flag_used = True
+            return [ast.Assign(targets=[name(sw.flag, True)], value=ast.Constant(True)), ast.Break()]
+        if level < 0:
+            raise self.fail(pos, "'continue' outside a loop")
+        return [self._clone(x) for x in self.loops[level].cont]
+
+    @staticmethod
+    def _clone(node: ast.stmt) -> ast.stmt:
+        return ast.parse(ast.unparse(node)).body[0] if False else _deepcopy(node)
+
+    def _s_Switch(self, s: n.Switch) -> list[ast.stmt]:
+        v = self.expr(s.expr)
+        if not v.type.is_integer:
+            raise self.fail(s.expr.pos, f"switch quantity is not an integer (it is '{v.type}')")
+        t = ct.promote(v.type)
+        sw, matched, flag = self.temp(), self.temp(), self.temp()
+        out: list[ast.stmt] = [
+            ast.Assign(targets=[name(sw, True)], value=self.convert(v, t, s.pos)),
+            ast.Assign(targets=[name(matched, True)], value=ast.Constant(False)),
+        ]
+        items = s.body.items if isinstance(s.body, n.Block) else (s.body,)
+        groups: list[tuple[list, list]] = []  # (labels, statements)
+        values: dict[int, object] = {}
+        for it in items:
+            if isinstance(it, (n.Case, n.Default)):
+                if groups and not groups[-1][1]:
+                    groups[-1][0].append(it)
+                else:
+                    groups.append(([it], []))
+                if isinstance(it, n.Case):
+                    try:
+                        cv = ct.wrap_int(self.const_int(it.value), t)
+                    except SemanticError:
+                        continue
+                    if cv in values:
+                        self.sink.error(it.pos, f"duplicate case value {cv}")
+                    values[cv] = it
+            elif groups:
+                groups[-1][1].append(it)
+            elif not isinstance(it, n.Empty):
+                self.sink.warning(it.pos, "statement before the first case label is never executed")
+        ctx = _LoopCtx("switch", flag=flag)
+        self.loops.append(ctx)
+        saved = self.scope
+        self.scope = Scope(saved, "block")
+        try:
+            body: list[ast.stmt] = []
+            for labels, stmts in groups:
+                tests: list[ast.expr] = [name(matched)]
+                for lab in labels:
+                    if isinstance(lab, n.Default):
+                        others = ast.Tuple(elts=[const(k) for k in values], ctx=ast.Load())
+                        tests.append(ast.Compare(left=name(sw), ops=[ast.NotIn()], comparators=[others]))
+                    else:
+                        try:
+                            cv = ct.wrap_int(self.const_int(lab.value), t)
+                        except SemanticError:
+                            continue
+                        tests.append(ast.Compare(left=name(sw), ops=[ast.Eq()], comparators=[const(cv)]))
+                inner = [ast.Assign(targets=[name(matched, True)], value=ast.Constant(True))]
+                inner += self.stmts(stmts)
+                body.extend(_at([ast.If(test=ast.BoolOp(op=ast.Or(), values=tests), body=inner, orelse=[])], labels[0].pos))
+        finally:
+            self.scope = saved
+            self.loops.pop()
+        body.append(ast.Break())
+        if ctx.flag_used:
+            out.append(ast.Assign(targets=[name(flag, True)], value=ast.Constant(False)))
+        out.append(ast.While(test=ast.Constant(True), body=body, orelse=[]))
+        if ctx.flag_used:
+            out.append(ast.If(test=name(flag), body=self._continue_from(len(self.loops) - 1, s.pos), orelse=[]))
+        return out
+
+    def _s_Case(self, s: n.Case) -> list[ast.stmt]:
+        raise self.fail(s.pos, "'case' label not directly inside a switch")
+
+    def _s_Default(self, s: n.Default) -> list[ast.stmt]:
+        raise self.fail(s.pos, "'default' label not directly inside a switch")
+
+    def _s_Return(self, s: n.Return) -> list[ast.stmt]:
+        if self.func is None:
+            raise self.fail(s.pos, "'return' outside a function")
+        ret = self.func.type.ret
+        if s.value is None:
+            if not isinstance(ret, ct.VoidT):
+                raise self.fail(s.pos, f"'return' with no value in function '{self.func.name}' returning '{ret}'")
+            return [ast.Return(value=None)]
+        v = self.expr(s.value)
+        if isinstance(ret, ct.VoidT):
+            if not isinstance(v.type, ct.VoidT):
+                raise self.fail(s.pos, f"'return' with a value in void function '{self.func.name}'")
+            return [ast.Expr(value=v.node), ast.Return(value=None)]
+        return [ast.Return(value=self.assign_convert(v, ret, s.value.pos, f" in the return value of '{self.func.name}'"))]
+
+    # ------------------------------------------------------------ constants
+
+    def const_int(self, e) -> int:
+        v = self.expr(e)
+        if not isinstance(v.const, int):
+            raise self.fail(e.pos, "expression is not an integer constant")
+        return v.const
+
+    def resolve_type(self, tr: n.TypeRef) -> ct.CType:
+        return self.prog.resolve_typeref(tr, self.scope, self.task)
+
+    # ------------------------------------------------------------ functions
+
+    def function(self, f: n.FuncDef, sym: FuncSym) -> ast.FunctionDef:
+        params: list[ast.arg] = []
+        copies: list[ast.stmt] = []
+        for p, pt in zip(f.params, sym.type.params):
+            if not p.name:
+                continue
+            if p.name in self.scope.names:
+                self.sink.error(p.pos, f"redefinition of parameter '{p.name}'")
+                continue
+            pyname = self.unique_local(p.name)
+            params.append(ast.arg(arg=pyname))
+            if p.name in self.addr_taken and pt.is_scalar:
+                sym_p = VarSym(p.name, pt, "frame", p.pos, offset=self.frame_alloc(pt))
+                copies.extend(_at(self.var_lvalue(sym_p).store(name(pyname)), p.pos))
+            else:
+                sym_p = VarSym(p.name, pt, "local", p.pos, pyname=pyname, is_const=p.type.is_const)
+            self.scope.names[p.name] = sym_p
+        body = copies + self.block(f.body, "function")
+        if not isinstance(sym.type.ret, ct.VoidT):
+            zero = ast.Constant(0.0 if sym.type.ret.is_float else 0)
+            body.append(_at([ast.Return(value=zero)], f.pos)[0])
+        if self.frame_size:
+            push = ast.parse(
+                f"_s = _stack\n_fp = _s.push({self.frame_size}, {bytes(self.frame_valid)!r})"
+            ).body
+            body = push + [ast.Try(body=body or [ast.Pass()], handlers=[], orelse=[],
+                                   finalbody=ast.parse("_s.pop(_fp)").body)]
+        gl = sorted(self.globals_stored | ({"_budget"} if sym.is_generator else set()))
+        if gl:
+            body.insert(0, ast.Global(names=gl))
+        if sym.is_generator and not _contains_yield(body):
+            body.append(ast.If(test=ast.Constant(False), body=[ast.Expr(value=ast.Yield(value=None))], orelse=[]))
+        fn = ast.FunctionDef(name=sym.pyname, args=ast.arguments(posonlyargs=[], args=params, vararg=None,
+                             kwonlyargs=[], kw_defaults=[], kwarg=None, defaults=[]),
+                             body=_at(body or [ast.Pass()], f.pos), decorator_list=[], returns=None)
+        return _at([fn], f.pos)[0]
+
+
+def _contains_yield(body: list[ast.stmt]) -> bool:
+    return any(isinstance(x, (ast.Yield, ast.YieldFrom)) for s in body for x in ast.walk(s))
+
+
+def _deepcopy(node):
+    import copy
+
+    return copy.deepcopy(node)

@@ -1,0 +1,205 @@
+"""Places a value can be stored (C lvalues) and how generated Python reads and writes them.
+
+Each kind knows three things: the Python expression that loads it, the statement(s)
+that store into it, and (if it lives in memory) the expression of its address.
+`bind()` moves side-effecting sub-expressions (an index, a pointer) into temporaries so
+a compound assignment or `x++` evaluates them exactly once, as C requires.
+"""
+
+from __future__ import annotations
+
+import ast
+from dataclasses import dataclass
+from typing import Callable
+
+from motionvm.lang.hmpl import ctypes_ as ct
+
+VIEW_NAMES = {
+    "i8": "_I8",
+    "u8": "_U8",
+    "i16": "_I16",
+    "u16": "_U16",
+    "i32": "_I32",
+    "u32": "_U32",
+    "i64": "_I64",
+    "u64": "_U64",
+    "f32": "_F32",
+    "f64": "_F64",
+}
+
+
+def view_code(t: ct.CType) -> str:
+    """The memory view used for a scalar type; pointers are stored as 64-bit integers."""
+    if isinstance(t, (ct.IntT, ct.FloatT)):
+        return t.code
+    if isinstance(t, ct.PtrT):
+        return "i64"
+    raise TypeError(f"no scalar view for {t}")
+
+
+def name(id_: str, store: bool = False) -> ast.Name:
+    return ast.Name(id=id_, ctx=ast.Store() if store else ast.Load())
+
+
+def const(v) -> ast.expr:
+    if isinstance(v, int) and v < 0:
+        return ast.UnaryOp(op=ast.USub(), operand=ast.Constant(-v))
+    return ast.Constant(v)
+
+
+def call(fn: str, *args: ast.expr) -> ast.Call:
+    return ast.Call(func=name(fn), args=list(args), keywords=[])
+
+
+def is_simple(e: ast.expr) -> bool:
+    """True for expressions that are cheap and side-effect free to evaluate twice."""
+    if isinstance(e, (ast.Name, ast.Constant)):
+        return True
+    if isinstance(e, ast.UnaryOp) and isinstance(e.operand, ast.Constant):
+        return True
+    if isinstance(e, ast.BinOp):
+        return is_simple(e.left) and is_simple(e.right)
+    return False
+
+
+TempMaker = Callable[[], str]
+
+
+@dataclass
+class LValue:
+    type: ct.CType
+
+    def load(self) -> ast.expr:
+        raise NotImplementedError
+
+    def store(self, value: ast.expr) -> list[ast.stmt]:
+        raise NotImplementedError
+
+    def store_expr(self, value: ast.expr) -> ast.expr:
+        """An expression that stores `value` and evaluates to it."""
+        raise NotImplementedError
+
+    def addr(self) -> ast.expr | None:
+        return None
+
+    def bind(self, temp: TempMaker) -> tuple[list[ast.expr], "LValue"]:
+        """(walrus expressions to evaluate first, an equivalent LValue using temporaries)."""
+        return [], self
+
+
+@dataclass
+class NameLV(LValue):
+    """A Python local or global variable."""
+
+    pyname: str = ""
+
+    def load(self) -> ast.expr:
+        return name(self.pyname)
+
+    def store(self, value: ast.expr) -> list[ast.stmt]:
+        return [ast.Assign(targets=[name(self.pyname, True)], value=value)]
+
+    def store_expr(self, value: ast.expr) -> ast.expr:
+        return ast.NamedExpr(target=name(self.pyname, True), value=value)
+
+
+@dataclass
+class MemLV(LValue):
+    """Element `index` of the typed view of this scalar type (address = index * size)."""
+
+    index: ast.expr | None = None
+
+    @property
+    def view(self) -> str:
+        return VIEW_NAMES[view_code(self.type)]
+
+    def load(self) -> ast.expr:
+        return ast.Subscript(value=name(self.view), slice=self.index, ctx=ast.Load())
+
+    def store(self, value: ast.expr) -> list[ast.stmt]:
+        tgt = ast.Subscript(value=name(self.view), slice=self.index, ctx=ast.Store())
+        return [ast.Assign(targets=[tgt], value=value)]
+
+    def store_expr(self, value: ast.expr) -> ast.expr:
+        return call("_stv", name(self.view), self.index, value)
+
+    def addr(self) -> ast.expr:
+        size = self.type.size
+        if isinstance(self.index, ast.Constant):
+            return ast.Constant(self.index.value * size)
+        return ast.BinOp(left=self.index, op=ast.Mult(), right=ast.Constant(size))
+
+    def bind(self, temp: TempMaker) -> tuple[list[ast.expr], LValue]:
+        if is_simple(self.index):
+            return [], self
+        t = temp()
+        pre = [ast.NamedExpr(target=name(t, True), value=self.index)]
+        return pre, MemLV(self.type, name(t))
+
+
+@dataclass
+class PtrLV(LValue):
+    """A scalar at a run-time address (through a pointer): checked loads and stores."""
+
+    address: ast.expr | None = None
+
+    def load(self) -> ast.expr:
+        return call("_ld_" + view_code(self.type), self.address)
+
+    def store(self, value: ast.expr) -> list[ast.stmt]:
+        return [ast.Expr(value=self.store_expr(value))]
+
+    def store_expr(self, value: ast.expr) -> ast.expr:
+        return call("_st_" + view_code(self.type), self.address, value)
+
+    def addr(self) -> ast.expr:
+        return self.address
+
+    def bind(self, temp: TempMaker) -> tuple[list[ast.expr], LValue]:
+        if is_simple(self.address):
+            return [], self
+        t = temp()
+        pre = [ast.NamedExpr(target=name(t, True), value=self.address)]
+        return pre, PtrLV(self.type, name(t))
+
+
+@dataclass
+class AggLV(LValue):
+    """An array, struct, union or Timer in memory: its value is its address."""
+
+    address: ast.expr | None = None
+
+    def load(self) -> ast.expr:
+        return self.address
+
+    def addr(self) -> ast.expr:
+        return self.address
+
+    def store(self, value: ast.expr) -> list[ast.stmt]:
+        # struct assignment: copy the bytes of the source object
+        return [ast.Expr(value=call("_copy", self.address, value, ast.Constant(self.type.size)))]
+
+    def store_expr(self, value: ast.expr) -> ast.expr:
+        return call("_copy", self.address, value, ast.Constant(self.type.size))
+
+
+@dataclass
+class GpoLV(LValue):
+    """HIMC_GPO(i): a controller general-purpose output, readable and assignable."""
+
+    index: ast.expr | None = None
+
+    def load(self) -> ast.expr:
+        return call("_gpo", self.index)
+
+    def store(self, value: ast.expr) -> list[ast.stmt]:
+        return [ast.Expr(value=self.store_expr(value))]
+
+    def store_expr(self, value: ast.expr) -> ast.expr:
+        return call("_gpo_set", self.index, value)
+
+    def bind(self, temp: TempMaker) -> tuple[list[ast.expr], LValue]:
+        if is_simple(self.index):
+            return [], self
+        t = temp()
+        return [ast.NamedExpr(target=name(t, True), value=self.index)], GpoLV(self.type, name(t))

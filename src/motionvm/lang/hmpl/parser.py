@@ -1,0 +1,958 @@
+"""HMPL parser: preprocessed tokens to the AST of `nodes.py`, by recursive descent.
+
+One `_parse_<rule>` method per grammar rule, each with its `# BNF:` line (the
+language reference in docs/lang/hmpl.md is generated from them). Syntax errors are
+reported to the sink and the parser resynchronises at the next statement or
+declaration boundary, so one run reports many errors and never raises for bad input.
+
+Node positions: statements and declarations sit at their first token; `Binary`,
+`Assign`, `Unary`, `Postfix` and `Cond` at their operator; `Index` at '[';
+`Member` at the member name; `Call` at the callee; `Cast` at its '('.
+Struct/union definitions are allowed at file scope only; an anonymous one has
+tag '' and a TypeRef base of plain 'struct'/'union' with `struct_def` set.
+`extern` variable declarations declare nothing (task 0's globals are visible
+everywhere) and are left out of the tree.
+"""
+
+from __future__ import annotations
+
+import sys
+
+from motionvm.lang.hmpl import nodes as n
+from motionvm.lang.hmpl.preprocess import preprocess
+from motionvm.lang.hmpl.tokens import Token
+from motionvm.source.diagnostics import DiagnosticSink, TooManyErrors
+from motionvm.source.files import SourceFile, SourcePos
+from motionvm.source.suggest import did_you_mean
+
+PREDEFINED_TYPES = ("Timer", "Data_t")
+INTN_TYPES = frozenset(
+    "int8_t uint8_t int16_t uint16_t int32_t uint32_t int64_t uint64_t".split()
+)
+BASIC_WORDS = frozenset("void char short int long float double signed unsigned".split())
+QUALIFIERS = frozenset(("const", "volatile"))
+STORAGE = frozenset(("static", "extern"))
+DECL_START = BASIC_WORDS | INTN_TYPES | QUALIFIERS | STORAGE | {"struct", "union", "typedef"}
+TYPE_START = BASIC_WORDS | INTN_TYPES | QUALIFIERS | {"struct", "union"}
+
+BINARY_PREC = {
+    "||": 1,
+    "&&": 2,
+    "|": 3,
+    "^": 4,
+    "&": 5,
+    "==": 6,
+    "!=": 6,
+    "<": 7,
+    ">": 7,
+    "<=": 7,
+    ">=": 7,
+    "<<": 8,
+    ">>": 8,
+    "+": 9,
+    "-": 9,
+    "*": 10,
+    "/": 10,
+    "%": 10,
+}
+ASSIGN_OPS = frozenset("= += -= *= /= %= <<= >>= &= |= ^=".split())
+UNARY_OPS = frozenset("- + ! ~ * &".split())
+POSTFIX_START = frozenset("[ ( . -> ++ --".split())
+MAX_NESTING = 256
+
+
+def _canonical_table() -> dict[tuple[str, ...], str]:
+    spellings = {
+        "char": ("char", "signed char"),
+        "uint8_t": ("unsigned char",),
+        "int16_t": ("short", "short int", "signed short", "signed short int"),
+        "uint16_t": ("unsigned short", "unsigned short int"),
+        "int32_t": ("int", "signed", "signed int", "long", "long int", "signed long",
+                    "signed long int"),
+        "uint32_t": ("unsigned", "unsigned int", "unsigned long", "unsigned long int"),
+        "int64_t": ("long long", "long long int", "signed long long", "signed long long int"),
+        "uint64_t": ("unsigned long long", "unsigned long long int"),
+        "float": ("float",),
+        "double": ("double", "long double"),
+        "void": ("void",),
+    }
+    return {tuple(sorted(s.split())): base for base, ss in spellings.items() for s in ss}
+
+
+CANONICAL = _canonical_table()
+
+
+class _Fail(Exception):
+    """A syntax error was reported; unwind to the nearest recovery point."""
+
+
+def parse_file(
+    path: str, *, task_id: int, sink: DiagnosticSink, text: str | None = None
+) -> n.TranslationUnit | None:
+    """Preprocess and parse one task file; None when the file cannot be read."""
+    if text is None:
+        try:
+            text = SourceFile.read(path).text
+        except OSError as e:
+            sink.error(SourcePos(path, 1, 1), f"cannot read '{path}': {e.strerror or e}")
+            return None
+    tokens = preprocess(path, task_id=task_id, sink=sink, text=text)
+    return parse(tokens, sink)
+
+
+def parse(tokens: list[Token], sink: DiagnosticSink) -> n.TranslationUnit:
+    """Parse preprocessed tokens (ending with 'eof'); errors go to `sink`."""
+    return Parser(tokens, sink).run()
+
+
+def _end_of(t: Token) -> SourcePos:
+    """The position just after a token (where a missing ';' belongs)."""
+    return SourcePos(t.pos.file, t.pos.line, t.pos.col + len(t.text))
+
+
+def _describe(t: Token) -> str:
+    return "end of file" if t.kind == "eof" else f"'{t.text}'"
+
+
+class Parser:
+    """Recursive-descent parser over a token list; `run` parses a whole task."""
+
+    def __init__(self, tokens: list[Token], sink: DiagnosticSink) -> None:
+        if not tokens or tokens[-1].kind != "eof":
+            last = tokens[-1].pos if tokens else SourcePos("<input>", 1, 1)
+            tokens = [*tokens, Token("eof", "", last)]
+        self.toks = tokens
+        # what the grammar looks at: punctuators and keywords by text, others by kind
+        # ('<name', '<int', ...: never a keyword, so the literal 1 is not the type int)
+        self.keys = [t.text if t.kind in ("punct", "keyword") else "<" + t.kind for t in tokens]
+        self.i = 0
+        self.sink = sink
+        self.typedefs: set[str] = set(PREDEFINED_TYPES)
+        self.items: list = []
+        self.new_structs: list[n.StructDef] = []
+        self.depth = 0
+
+    def run(self) -> n.TranslationUnit:
+        old_limit = sys.getrecursionlimit()
+        sys.setrecursionlimit(max(old_limit, 20 * MAX_NESTING + 2000))
+        try:
+            self._parse_translation_unit()
+        except TooManyErrors:
+            pass
+        except RecursionError:  # pragma: no cover - MAX_NESTING keeps us well below
+            self.sink.error(self.toks[min(self.i, len(self.toks) - 1)].pos, "program nested too deeply")
+        finally:
+            sys.setrecursionlimit(old_limit)
+        return n.TranslationUnit(self.toks[0].pos, tuple(self.items))
+
+    # ------------------------------------------------------------ token helpers
+
+    def _tok(self) -> Token:
+        return self.toks[self.i]
+
+    def _peek_key(self, k: int = 1) -> str:
+        j = self.i + k
+        return self.keys[j] if j < len(self.keys) else "<eof"
+
+    def _advance(self) -> Token:
+        t = self.toks[self.i]
+        if self.keys[self.i] != "<eof":
+            self.i += 1
+        return t
+
+    def _accept(self, key: str) -> bool:
+        if self.keys[self.i] == key:
+            self.i += 1
+            return True
+        return False
+
+    def _expect(self, key: str, context: str = "") -> Token:
+        if self.keys[self.i] == key:
+            t = self.toks[self.i]
+            self.i += 1
+            return t
+        if key == ";" and self.i > 0:
+            self._error(_end_of(self.toks[self.i - 1]), f"expected ';' {context}".rstrip())
+        else:
+            t = self._tok()
+            self._error(t.pos, f"expected '{key}' {context or 'before ' + _describe(t)}")
+        raise _Fail
+
+    def _error(self, pos: SourcePos, message: str) -> None:
+        self.sink.error(pos, message)
+
+    def _fail_here(self, message: str) -> _Fail:
+        self._error(self._tok().pos, message)
+        return _Fail()
+
+    def _enter(self) -> None:
+        self.depth += 1
+        if self.depth > MAX_NESTING:
+            raise self._fail_here(f"nesting deeper than {MAX_NESTING} levels")
+
+    def _is_type_start(self, j: int) -> bool:
+        k = self.keys[j]
+        return k in TYPE_START or (k == "<name" and self.toks[j].text in self.typedefs)
+
+    def _starts_declaration(self) -> bool:
+        k = self.keys[self.i]
+        return k in DECL_START or (k == "<name" and self.toks[self.i].text in self.typedefs)
+
+    # ------------------------------------------------------------ recovery
+
+    def _skip_braces(self) -> None:
+        """Skip a balanced '{ ... }' starting at the current '{'."""
+        depth = 0
+        keys = self.keys
+        while keys[self.i] != "<eof":
+            k = keys[self.i]
+            self.i += 1
+            if k == "{":
+                depth += 1
+            elif k == "}":
+                depth -= 1
+                if depth == 0:
+                    return
+
+    def _sync_statement(self) -> None:
+        """Skip to the end of the broken statement: after ';', before '}', or over a block."""
+        keys = self.keys
+        parens = 0
+        while True:
+            k = keys[self.i]
+            if k == "<eof" or k == "}":
+                return
+            if k == "{":
+                self._skip_braces()
+                return
+            if k == ";":
+                nxt = self.toks[self.i + 1] if self.i + 1 < len(self.toks) else None
+                self.i += 1
+                if parens <= 0 or nxt is None or nxt.pos.line != self.toks[self.i - 1].pos.line:
+                    return
+                continue
+            if k == "(":
+                parens += 1
+            elif k == ")":
+                parens -= 1
+            self.i += 1
+
+    def _sync_top(self) -> None:
+        """Skip to the next file-scope declaration."""
+        keys = self.keys
+        while True:
+            k = keys[self.i]
+            if k == "<eof":
+                return
+            if k == ";" or k == "}":
+                self.i += 1
+                return
+            if k == "{":
+                self._skip_braces()
+                if keys[self.i] == ";":
+                    self.i += 1
+                return
+            self.i += 1
+
+    # ------------------------------------------------------------ file scope
+
+    # BNF: translation_unit = { external_declaration } EOF
+    def _parse_translation_unit(self) -> None:
+        while self.keys[self.i] != "<eof":
+            start = self.i
+            try:
+                self._parse_external_declaration()
+            except _Fail:
+                self.new_structs.clear()
+                self._sync_top()
+            self.depth = 0
+            if self.i == start:
+                self.i += 1
+
+    # BNF: external_declaration = ";" | typedef_declaration
+    # BNF:     | [ "_AUTORUN_" ] declaration_specifiers ( ";" | function_definition | init_declarator { "," init_declarator } ";" )
+    def _parse_external_declaration(self) -> None:
+        k = self.keys[self.i]
+        if k == ";":
+            self.i += 1
+            return
+        if k == "typedef":
+            self.items.append(self._parse_typedef_declaration())
+            return
+        autorun = None
+        if k == "_AUTORUN_":
+            autorun = self._advance()
+        if not self._starts_declaration():
+            raise self._unknown_start(file_scope=True)
+        spec, storage = self._parse_declaration_specifiers("file")
+        self._flush_structs()
+        if self._accept(";"):
+            if autorun is not None:
+                self._error(autorun.pos, "_AUTORUN_ must be followed by a function definition")
+            elif spec.struct_def is None:
+                self.sink.warning(spec.pos, "declaration does not declare anything")
+            return
+        decls: list[n.VarDecl] = []
+        first = True
+        while True:
+            pointers, name_tok, dims = self._parse_declarator()
+            if first and self.keys[self.i] == "(":
+                self.items.append(self._parse_function_definition(spec, pointers, name_tok, autorun))
+                return
+            if autorun is not None:
+                self._error(autorun.pos, "_AUTORUN_ must be followed by a function definition")
+                autorun = None
+            decls.append(self._finish_var_decl(spec, pointers, name_tok, dims))
+            first = False
+            if not self._accept(","):
+                break
+        self._expect(";", "after declaration")
+        if storage != "extern":
+            self.items.extend(decls)
+
+    def _flush_structs(self) -> None:
+        self.items.extend(self.new_structs)
+        self.new_structs.clear()
+
+    def _unknown_start(self, file_scope: bool) -> _Fail:
+        """Tailored message for a declaration or statement that starts wrongly."""
+        t = self._tok()
+        nxt = self._peek_key()
+        if t.kind == "name" and (nxt == "<name" or (nxt == "*" and self._peek_key(2) == "<name"
+                                                   and file_scope)):
+            known = [*sorted(BASIC_WORDS | INTN_TYPES), *sorted(self.typedefs)]
+            return self._fail_here(f"unknown type name '{t.text}'" + did_you_mean(t.text, known))
+        if file_scope and t.kind == "name" and nxt == "(":
+            return self._fail_here(
+                f"missing return type of function '{t.text}' (write e.g. 'void {t.text}(...)')"
+            )
+        if file_scope:
+            return self._fail_here(
+                f"expected a declaration or function definition before {_describe(t)}"
+            )
+        return self._fail_here(f"expected statement before {_describe(t)}")
+
+    # BNF: function_definition = parameter_list ( compound_statement | ";" )
+    def _parse_function_definition(
+        self, spec: n.TypeRef, pointers: int, name_tok: Token, autorun: Token | None
+    ) -> n.FuncDef:
+        params = self._parse_parameter_list()
+        ret = _with_pointers(spec, pointers)
+        if self.keys[self.i] == "{":
+            body = self._parse_compound_statement()
+            return n.FuncDef(name_tok.pos, ret, name_tok.text, params, body, autorun is not None)
+        self._expect(";", "after function declaration")
+        if autorun is not None:
+            self._error(autorun.pos, "_AUTORUN_ must be followed by a function definition")
+        return n.FuncDef(name_tok.pos, ret, name_tok.text, params, None, False)
+
+    # BNF: parameter_list = "(" [ "void" | parameter_declaration { "," parameter_declaration } ] ")"
+    def _parse_parameter_list(self) -> tuple[n.Param, ...]:
+        self._expect("(")
+        if self._accept(")"):
+            return ()
+        if self.keys[self.i] == "void" and self._peek_key() == ")":
+            self.i += 2
+            return ()
+        params: list[n.Param] = []
+        while True:
+            params.append(self._parse_parameter_declaration())
+            if not self._accept(","):
+                break
+        self._expect(")", "after parameters" if self.keys[self.i] == "<eof" else "")
+        return tuple(params)
+
+    # BNF: parameter_declaration = declaration_specifiers { "*" [ "const" ] } [ NAME ] { "[" [ conditional_expression ] "]" }
+    def _parse_parameter_declaration(self) -> n.Param:
+        t = self._tok()
+        if self.keys[self.i] == "...":
+            raise self._fail_here("variadic functions ('...') are not supported in HMPL")
+        if not self._is_type_start(self.i) and self.keys[self.i] not in STORAGE:
+            if t.kind == "name" and self._peek_key() == "<name":
+                raise self._unknown_start(file_scope=False)
+            raise self._fail_here(f"expected parameter type before {_describe(t)}")
+        spec, _ = self._parse_declaration_specifiers("param")
+        pointers, name_tok, dims = self._parse_declarator(abstract=True)
+        name = name_tok.text if name_tok is not None else ""
+        pos = name_tok.pos if name_tok is not None else t.pos
+        return n.Param(pos, _with_pointers(spec, pointers), name, dims)
+
+    # BNF: typedef_declaration = "typedef" declaration_specifiers declarator { "," declarator } ";"
+    def _parse_typedef_declaration(self) -> n.Typedef:
+        kw = self._advance()
+        spec, _ = self._parse_declaration_specifiers("file")
+        self._flush_structs()
+        result = None
+        while True:
+            pointers, name_tok, dims = self._parse_declarator()
+            assert name_tok is not None
+            if name_tok.text in PREDEFINED_TYPES:
+                self._error(name_tok.pos, f"'{name_tok.text}' is a built-in type of HMPL")
+            td = n.Typedef(kw.pos, name_tok.text, _with_pointers(spec, pointers), dims)
+            self.typedefs.add(name_tok.text)
+            if result is None:
+                result = td
+            else:
+                self.items.append(result)
+                result = td
+            if not self._accept(","):
+                break
+        self._expect(";", "after typedef")
+        return result
+
+    # ------------------------------------------------------------ types and declarators
+
+    # BNF: declaration_specifiers = { "const" | "volatile" | "static" | "extern" | type_specifier }+
+    # BNF: type_specifier = "void" | "char" | "short" | "int" | "long" | "float" | "double"
+    # BNF:     | "signed" | "unsigned" | INTN_T | struct_or_union_specifier | TYPEDEF_NAME
+    def _parse_declaration_specifiers(self, scope: str) -> tuple[n.TypeRef, str | None]:
+        start = self._tok()
+        words: list[str] = []
+        named: str | None = None
+        struct_def: n.StructDef | None = None
+        is_const = False
+        storage: str | None = None
+        keys = self.keys
+        while True:
+            k = keys[self.i]
+            if k in BASIC_WORDS:
+                words.append(k)
+                self.i += 1
+            elif k in QUALIFIERS:
+                is_const = is_const or k == "const"
+                self.i += 1
+            elif k in STORAGE:
+                t = self._advance()
+                if scope == "block" and k == "static":
+                    self._error(t.pos, "'static' local variables are not supported in HMPL "
+                                "(use a task variable outside the function)")
+                elif scope in ("param", "block", "field", "type") and k == "extern":
+                    self._error(t.pos, f"'extern' is not allowed here")
+                storage = k
+            elif k in INTN_TYPES or (k == "<name" and named is None and not words
+                                     and self.toks[self.i].text in self.typedefs):
+                if named is not None or words:
+                    raise self._fail_here(f"invalid combination of type specifiers before {_describe(self._tok())}")
+                named = self.toks[self.i].text
+                self.i += 1
+            elif k in ("struct", "union"):
+                if named is not None or words:
+                    raise self._fail_here("invalid combination of type specifiers")
+                named, struct_def = self._parse_struct_or_union_specifier(scope)
+            else:
+                break
+        if named is None:
+            if not words:
+                raise self._fail_here(f"expected a type before {_describe(self._tok())}")
+            base = CANONICAL.get(tuple(sorted(words)))
+            if base is None:
+                self._error(start.pos, f"invalid type '{' '.join(words)}'")
+                base = "int32_t"
+        else:
+            base = named
+        return n.TypeRef(start.pos, base, 0, is_const, struct_def), storage
+
+    # BNF: struct_or_union_specifier = ( "struct" | "union" ) ( NAME [ "{" struct_declaration_list "}" ] | "{" struct_declaration_list "}" )
+    def _parse_struct_or_union_specifier(self, scope: str) -> tuple[str, n.StructDef | None]:
+        kw = self._advance()
+        tag = ""
+        if self.keys[self.i] == "<name" or self.keys[self.i] in INTN_TYPES:
+            tag = self._advance().text
+        if self.keys[self.i] != "{":
+            if not tag:
+                raise self._fail_here(f"expected a tag name or '{{' after '{kw.text}'")
+            return f"{kw.text} {tag}", None
+        if scope != "file" and scope != "field":
+            self._error(kw.pos, f"{kw.text} definitions are only allowed at file scope in HMPL")
+        fields = self._parse_struct_declaration_list()
+        sd = n.StructDef(kw.pos, kw.text, tag, fields)
+        if tag:
+            self.new_structs.append(sd)
+            return f"{kw.text} {tag}", sd
+        return kw.text, sd
+
+    # BNF: struct_declaration_list = "{" { declaration_specifiers declarator { "," declarator } ";" } "}"
+    def _parse_struct_declaration_list(self) -> tuple[n.VarDecl, ...]:
+        lbrace = self._expect("{")
+        fields: list[n.VarDecl] = []
+        names: set[str] = set()
+        while self.keys[self.i] not in ("}", "<eof"):
+            if not self._is_type_start(self.i):
+                raise self._unknown_start(file_scope=False) if self._tok().kind == "name" and \
+                    self._peek_key() == "<name" else self._fail_here(
+                        f"expected a member declaration before {_describe(self._tok())}")
+            spec, _ = self._parse_declaration_specifiers("field")
+            while True:
+                pointers, name_tok, dims = self._parse_declarator()
+                assert name_tok is not None
+                if self.keys[self.i] == ":":
+                    raise self._fail_here("bit-fields are not supported in HMPL")
+                if self.keys[self.i] == "=":
+                    raise self._fail_here("struct members cannot have initializers")
+                if name_tok.text in names:
+                    self._error(name_tok.pos, f"duplicate member '{name_tok.text}'")
+                names.add(name_tok.text)
+                fields.append(n.VarDecl(name_tok.pos, _with_pointers(spec, pointers),
+                                        name_tok.text, dims))
+                if not self._accept(","):
+                    break
+            self._expect(";", "after struct member")
+        if self.keys[self.i] != "}":
+            self._error(self._tok().pos, "expected '}' at end of input")
+            self.sink.note(lbrace.pos, "to match this '{'")
+            raise _Fail
+        self.i += 1
+        if not fields:
+            self._error(lbrace.pos, "a struct or union needs at least one member")
+        return tuple(fields)
+
+    # BNF: declarator = { "*" { "const" | "volatile" } } NAME { "[" [ conditional_expression ] "]" }
+    def _parse_declarator(
+        self, abstract: bool = False
+    ) -> tuple[int, Token | None, tuple[n.Expr | None, ...]]:
+        keys = self.keys
+        pointers = 0
+        while keys[self.i] == "*":
+            self.i += 1
+            pointers += 1
+            while keys[self.i] in QUALIFIERS:
+                self.i += 1
+        name_tok: Token | None = None
+        if keys[self.i] == "<name":
+            name_tok = self._advance()
+        elif keys[self.i] == "(":
+            raise self._fail_here("function pointers and parenthesised declarators are not supported in HMPL")
+        elif not abstract:
+            t = self._tok()
+            if t.kind == "keyword":
+                raise self._fail_here(f"'{t.text}' is a keyword and cannot be used as a name")
+            raise self._fail_here(f"expected a name before {_describe(t)}")
+        dims: list[n.Expr | None] = []
+        while keys[self.i] == "[":
+            self.i += 1
+            if self._accept("]"):
+                dims.append(None)
+                continue
+            dims.append(self._parse_conditional_expression())
+            self._expect("]", "after array size")
+        return pointers, name_tok, tuple(dims)
+
+    # BNF: type_name = declaration_specifiers { "*" [ "const" ] } { "[" conditional_expression "]" }
+    def _parse_type_name(self) -> tuple[n.TypeRef, tuple[n.Expr, ...]]:
+        spec, _ = self._parse_declaration_specifiers("type")
+        pointers, name_tok, dims = self._parse_declarator(abstract=True)
+        if name_tok is not None:
+            self._error(name_tok.pos, f"unexpected name '{name_tok.text}' in a type name")
+        if any(d is None for d in dims):
+            self._error(spec.pos, "array size missing in a type name")
+        return _with_pointers(spec, pointers), tuple(d for d in dims if d is not None)
+
+    def _finish_var_decl(
+        self, spec: n.TypeRef, pointers: int, name_tok: Token | None,
+        dims: tuple[n.Expr | None, ...],
+    ) -> n.VarDecl:
+        assert name_tok is not None
+        init = None
+        if self._accept("="):
+            init = self._parse_initializer()
+        if spec.base == "void" and pointers == 0:
+            self._error(name_tok.pos, f"variable '{name_tok.text}' declared void")
+        return n.VarDecl(name_tok.pos, _with_pointers(spec, pointers), name_tok.text,
+                         _infer_first_dim(dims, init), init)
+
+    # BNF: initializer = assignment_expression | "{" [ initializer { "," initializer } [ "," ] ] "}"
+    def _parse_initializer(self) -> n.Expr | n.InitList:
+        if self.keys[self.i] != "{":
+            return self._parse_assignment_expression()
+        lbrace = self._advance()
+        self._enter()
+        items: list[n.Expr | n.InitList] = []
+        while self.keys[self.i] != "}":
+            if self.keys[self.i] in (".", "["):
+                raise self._fail_here("designated initializers are not supported in HMPL")
+            items.append(self._parse_initializer())
+            if not self._accept(","):
+                break
+        self._expect("}", "at end of initializer list" if self.keys[self.i] == "<eof" else "")
+        self.depth -= 1
+        return n.InitList(lbrace.pos, tuple(items))
+
+    # ------------------------------------------------------------ statements
+
+    # BNF: compound_statement = "{" { block_item } "}"
+    def _parse_compound_statement(self) -> n.Block:
+        lbrace = self._expect("{")
+        self._enter()
+        items: list[n.Stmt] = []
+        keys = self.keys
+        depth = self.depth
+        while keys[self.i] != "}" and keys[self.i] != "<eof":
+            start = self.i
+            try:
+                items.append(self._parse_block_item())
+            except _Fail:
+                self.depth = depth
+                self._sync_statement()
+                if self.i == start:
+                    self.i += 1
+        if keys[self.i] != "}":
+            self._error(self._tok().pos, "expected '}' at end of input")
+            self.sink.note(lbrace.pos, "to match this '{'")
+        else:
+            self.i += 1
+        self.depth -= 1
+        return n.Block(lbrace.pos, tuple(items))
+
+    # BNF: block_item = declaration | statement
+    def _parse_block_item(self) -> n.Stmt:
+        if self._starts_declaration():
+            return self._parse_declaration()
+        return self._parse_statement()
+
+    # BNF: declaration = declaration_specifiers init_declarator { "," init_declarator } ";"
+    # BNF: init_declarator = declarator [ "=" initializer ]
+    def _parse_declaration(self) -> n.DeclStmt:
+        start = self._tok()
+        if self.keys[self.i] == "typedef":
+            raise self._fail_here("typedef is only allowed at file scope in HMPL")
+        spec, _ = self._parse_declaration_specifiers("block")
+        self.new_structs.clear()
+        decls: list[n.VarDecl] = []
+        if self.keys[self.i] != ";":
+            while True:
+                pointers, name_tok, dims = self._parse_declarator()
+                if self.keys[self.i] == "(":
+                    raise self._fail_here("functions can only be declared at file scope")
+                decls.append(self._finish_var_decl(spec, pointers, name_tok, dims))
+                if not self._accept(","):
+                    break
+        self._expect(";", "after declaration")
+        return n.DeclStmt(start.pos, tuple(decls))
+
+    # BNF: statement = compound_statement | if_statement | while_statement | do_statement
+    # BNF:     | for_statement | switch_statement | case_label | default_label | jump_statement
+    # BNF:     | ";" | expression ";"
+    def _parse_statement(self) -> n.Stmt:
+        k = self.keys[self.i]
+        method = self._STATEMENTS.get(k)
+        if method is not None:
+            self._enter()
+            try:
+                return method(self)
+            finally:
+                self.depth -= 1
+        t = self._tok()
+        if k == ";":
+            self.i += 1
+            return n.Empty(t.pos)
+        if k == "<name":
+            nxt = self._peek_key()
+            if nxt == "<name":
+                raise self._unknown_start(file_scope=False)
+            if nxt == ":":
+                raise self._fail_here("labels are not supported in HMPL (there is no goto)")
+        elif k == "else":
+            raise self._fail_here("'else' without a previous 'if'")
+        elif k == "goto":
+            raise self._fail_here("'goto' is not supported in HMPL")
+        elif k == "<eof":
+            raise self._fail_here("expected statement before end of file")
+        expr = self._parse_expression()
+        self._expect(";", "after expression")
+        return n.ExprStmt(t.pos, expr)
+
+    # BNF: if_statement = "if" "(" expression ")" statement [ "else" statement ]
+    def _parse_if_statement(self) -> n.If:
+        kw = self._advance()
+        cond = self._parse_condition("if")
+        then = self._parse_statement()
+        else_ = self._parse_statement() if self._accept("else") else None
+        return n.If(kw.pos, cond, then, else_)
+
+    def _parse_condition(self, keyword: str) -> n.Expr:
+        """'(' expression ')' after if/while/switch."""
+        if self.keys[self.i] != "(":
+            raise self._fail_here(f"expected '(' after '{keyword}'")
+        self.i += 1
+        e = self._parse_expression()
+        self._expect(")")
+        return e
+
+    # BNF: while_statement = "while" "(" expression ")" statement
+    def _parse_while_statement(self) -> n.While:
+        kw = self._advance()
+        cond = self._parse_condition("while")
+        return n.While(kw.pos, cond, self._parse_statement())
+
+    # BNF: do_statement = "do" statement "while" "(" expression ")" ";"
+    def _parse_do_statement(self) -> n.DoWhile:
+        kw = self._advance()
+        body = self._parse_statement()
+        if self.keys[self.i] != "while":
+            raise self._fail_here(f"expected 'while' after 'do' body before {_describe(self._tok())}")
+        self.i += 1
+        cond = self._parse_condition("while")
+        self._expect(";", "after do/while statement")
+        return n.DoWhile(kw.pos, body, cond)
+
+    # BNF: for_statement = "for" "(" ( declaration | [ expression ] ";" ) [ expression ] ";" [ expression ] ")" statement
+    def _parse_for_statement(self) -> n.For:
+        kw = self._advance()
+        if self.keys[self.i] != "(":
+            raise self._fail_here("expected '(' after 'for'")
+        self.i += 1
+        init: n.DeclStmt | n.ExprStmt | None = None
+        if self._starts_declaration():
+            init = self._parse_declaration()
+        elif not self._accept(";"):
+            t = self._tok()
+            init = n.ExprStmt(t.pos, self._parse_expression())
+            self._expect(";", "in 'for' statement")
+        cond = None if self.keys[self.i] == ";" else self._parse_expression()
+        self._expect(";", "in 'for' statement")
+        step = None if self.keys[self.i] == ")" else self._parse_expression()
+        self._expect(")")
+        return n.For(kw.pos, init, cond, step, self._parse_statement())
+
+    # BNF: switch_statement = "switch" "(" expression ")" statement
+    def _parse_switch_statement(self) -> n.Switch:
+        kw = self._advance()
+        expr = self._parse_condition("switch")
+        return n.Switch(kw.pos, expr, self._parse_statement())
+
+    # BNF: case_label = "case" conditional_expression ":"
+    def _parse_case_label(self) -> n.Case:
+        kw = self._advance()
+        value = self._parse_conditional_expression()
+        if self.keys[self.i] != ":":
+            raise self._fail_here(f"expected ':' after 'case' value before {_describe(self._tok())}")
+        self.i += 1
+        return n.Case(kw.pos, value)
+
+    # BNF: default_label = "default" ":"
+    def _parse_default_label(self) -> n.Default:
+        kw = self._advance()
+        self._expect(":", "after 'default'")
+        return n.Default(kw.pos)
+
+    # BNF: jump_statement = "break" ";" | "continue" ";" | "return" [ expression ] ";"
+    def _parse_jump_statement(self) -> n.Stmt:
+        kw = self._advance()
+        if kw.text == "return":
+            value = None if self.keys[self.i] == ";" else self._parse_expression()
+            self._expect(";", "after return statement")
+            return n.Return(kw.pos, value)
+        self._expect(";", f"after '{kw.text}'")
+        return n.Break(kw.pos) if kw.text == "break" else n.Continue(kw.pos)
+
+    _STATEMENTS = {
+        "{": _parse_compound_statement,
+        "if": _parse_if_statement,
+        "while": _parse_while_statement,
+        "do": _parse_do_statement,
+        "for": _parse_for_statement,
+        "switch": _parse_switch_statement,
+        "case": _parse_case_label,
+        "default": _parse_default_label,
+        "break": _parse_jump_statement,
+        "continue": _parse_jump_statement,
+        "return": _parse_jump_statement,
+    }
+
+    # ------------------------------------------------------------ expressions
+
+    # BNF: expression = assignment_expression { "," assignment_expression }
+    def _parse_expression(self) -> n.Expr:
+        start = self._tok()
+        e = self._parse_assignment_expression()
+        if self.keys[self.i] != ",":
+            return e
+        items = [e]
+        while self._accept(","):
+            items.append(self._parse_assignment_expression())
+        return n.Comma(start.pos, tuple(items))
+
+    # BNF: assignment_expression = conditional_expression [ ASSIGN_OP assignment_expression ]
+    # BNF: ASSIGN_OP = "=" | "+=" | "-=" | "*=" | "/=" | "%=" | "<<=" | ">>=" | "&=" | "|=" | "^="
+    def _parse_assignment_expression(self) -> n.Expr:
+        left = self._parse_conditional_expression()
+        k = self.keys[self.i]
+        if k in ASSIGN_OPS:
+            op = self.toks[self.i]
+            self.i += 1
+            return n.Assign(op.pos, k, left, self._parse_assignment_expression())
+        return left
+
+    # BNF: conditional_expression = binary_expression [ "?" expression ":" conditional_expression ]
+    def _parse_conditional_expression(self) -> n.Expr:
+        c = self._parse_binary_expression(1)
+        if self.keys[self.i] != "?":
+            return c
+        q = self._advance()
+        then = self._parse_expression()
+        if self.keys[self.i] != ":":
+            raise self._fail_here(f"expected ':' in conditional expression before {_describe(self._tok())}")
+        self.i += 1
+        return n.Cond(q.pos, c, then, self._parse_conditional_expression())
+
+    # BNF: binary_expression = cast_expression { BINARY_OP cast_expression }
+    # BNF:     (C precedence, all left-associative, loosest first: || ; && ; | ; ^ ; & ;
+    # BNF:      == != ; < > <= >= ; << >> ; + - ; * / %)
+    def _parse_binary_expression(self, min_prec: int) -> n.Expr:
+        left = self._parse_cast_expression()
+        keys = self.keys
+        while True:
+            op = keys[self.i]
+            prec = BINARY_PREC.get(op)
+            if prec is None or prec < min_prec:
+                return left
+            t = self.toks[self.i]
+            self.i += 1
+            left = n.Binary(t.pos, op, left, self._parse_binary_expression(prec + 1))
+
+    # BNF: cast_expression = "(" type_name ")" cast_expression | unary_expression
+    def _parse_cast_expression(self) -> n.Expr:
+        if self.keys[self.i] == "(" and self._is_type_start(self.i + 1):
+            lp = self._advance()
+            ty, dims = self._parse_type_name()
+            if dims:
+                self._error(lp.pos, "cannot cast to an array type")
+            self._expect(")", "after type name")
+            if self.keys[self.i] == "{":
+                raise self._fail_here("compound literals are not supported in HMPL")
+            return n.Cast(lp.pos, ty, self._parse_cast_expression())
+        return self._parse_unary_expression()
+
+    # BNF: unary_expression = ( "++" | "--" ) unary_expression | ( "-" | "+" | "!" | "~" | "*" | "&" ) cast_expression
+    # BNF:     | "sizeof" ( "(" type_name ")" | unary_expression ) | postfix_expression
+    def _parse_unary_expression(self) -> n.Expr:
+        k = self.keys[self.i]
+        if k in UNARY_OPS:
+            t = self._advance()
+            self._enter()
+            e = n.Unary(t.pos, k, self._parse_cast_expression())
+            self.depth -= 1
+            return e
+        if k == "++" or k == "--":
+            t = self._advance()
+            self._enter()
+            e = n.Unary(t.pos, k, self._parse_unary_expression())
+            self.depth -= 1
+            return e
+        if k == "sizeof":
+            t = self._advance()
+            if self.keys[self.i] == "(" and self._is_type_start(self.i + 1):
+                self.i += 1
+                ty, dims = self._parse_type_name()
+                self._expect(")", "after type name")
+                return n.SizeOf(t.pos, ty, dims)
+            self._enter()
+            e = n.SizeOf(t.pos, self._parse_unary_expression())
+            self.depth -= 1
+            return e
+        return self._parse_postfix_expression()
+
+    # BNF: postfix_expression = primary_expression { "[" expression "]" | "(" [ argument_list ] ")"
+    # BNF:     | "." NAME | "->" NAME | "++" | "--" }
+    # BNF: argument_list = assignment_expression { "," assignment_expression }
+    def _parse_postfix_expression(self) -> n.Expr:
+        e = self._parse_primary_expression()
+        keys = self.keys
+        while keys[self.i] in POSTFIX_START:
+            t = self.toks[self.i]
+            k = keys[self.i]
+            self.i += 1
+            if k == "(":
+                args: list[n.Expr] = []
+                if keys[self.i] != ")":
+                    while True:
+                        args.append(self._parse_assignment_expression())
+                        if not self._accept(","):
+                            break
+                self._expect(")", "" if keys[self.i] != ";" else "before ';' (unclosed call)")
+                e = n.Call(e.pos, e, tuple(args))
+            elif k == "[":
+                idx = self._parse_expression()
+                self._expect("]", "after index")
+                e = n.Index(t.pos, e, idx)
+            elif k == "." or k == "->":
+                if keys[self.i] != "<name":
+                    raise self._fail_here(f"expected a member name after '{k}'")
+                name = self._advance()
+                e = n.Member(name.pos, e, name.text, k == "->")
+            else:
+                e = n.Postfix(t.pos, k, e)
+        return e
+
+    # BNF: primary_expression = NAME | INT | FLOAT | CHAR | STRING { STRING } | "(" expression ")"
+    def _parse_primary_expression(self) -> n.Expr:
+        t = self.toks[self.i]
+        k = t.kind
+        if k == "name":
+            self.i += 1
+            return n.Name(t.pos, t.text)
+        if k == "int":
+            self.i += 1
+            return n.IntLit(t.pos, t.value, t.suffix)  # type: ignore[arg-type]
+        if k == "float":
+            self.i += 1
+            return n.FloatLit(t.pos, t.value, t.suffix == "f")  # type: ignore[arg-type]
+        if k == "char":
+            self.i += 1
+            return n.CharLit(t.pos, t.value)  # type: ignore[arg-type]
+        if k == "string":
+            self.i += 1
+            if self.keys[self.i] != "<string":
+                return n.StrLit(t.pos, t.value)  # type: ignore[arg-type]
+            parts = [t.value]
+            while self.keys[self.i] == "<string":
+                parts.append(self.toks[self.i].value)
+                self.i += 1
+            return n.StrLit(t.pos, b"".join(parts))  # type: ignore[arg-type]
+        if self.keys[self.i] == "(":
+            self.i += 1
+            self._enter()
+            e = self._parse_expression()
+            self.depth -= 1
+            self._expect(")")
+            return e
+        if k == "keyword" and t.text in TYPE_START:
+            raise self._fail_here(f"expected expression before '{t.text}' (a type name here?)")
+        raise self._fail_here(f"expected expression before {_describe(t)}")
+
+
+def _with_pointers(spec: n.TypeRef, pointers: int) -> n.TypeRef:
+    if pointers == 0:
+        return spec
+    return n.TypeRef(spec.pos, spec.base, pointers, spec.is_const, spec.struct_def)
+
+
+def _infer_first_dim(
+    dims: tuple[n.Expr | None, ...], init: n.Expr | n.InitList | None
+) -> tuple[n.Expr | None, ...]:
+    """`T a[] = init`: the first dimension from the initializer, as C does."""
+    if not dims or dims[0] is not None or init is None:
+        return dims
+    count: int | None = None
+    if isinstance(init, n.StrLit):
+        if len(dims) == 1:
+            count = len(init.value) + 1
+    elif isinstance(init, n.InitList):
+        items = init.items
+        if len(dims) == 1:
+            if len(items) == 1 and isinstance(items[0], n.StrLit):
+                count = len(items[0].value) + 1
+            else:
+                count = len(items)
+        elif all(isinstance(x, (n.InitList, n.StrLit)) for x in items):
+            count = len(items)
+        elif not any(isinstance(x, n.InitList) for x in items) and all(
+            isinstance(d, n.IntLit) and d.value > 0 for d in dims[1:]
+        ):
+            inner = 1
+            for d in dims[1:]:
+                inner *= d.value  # type: ignore[union-attr]
+            count = -(-len(items) // inner)
+    if count is None:
+        return dims
+    return (n.IntLit(init.pos, count), *dims[1:])

@@ -1,0 +1,819 @@
+"""HMPL preprocessor: #define/#undef, #if family, #include, #error, macro expansion.
+
+Works on the tokens of `lexer.scan`: text between directive lines is macro-expanded
+as one stream (so a macro call may span lines), directive lines are interpreted.
+Macro expansion follows C's rescanning rules with hide sets (a macro is not expanded
+again inside its own expansion). Tokens coming from a macro body carry the position
+of the macro's use; tokens of macro arguments keep the position they were written at.
+`_TASKID_` is predefined as the task id.
+"""
+
+from __future__ import annotations
+
+import os
+from operator import attrgetter
+from dataclasses import dataclass, field
+
+from motionvm.lang.hmpl.lexer import Scan, end_pos, lex_fragment, scan
+from motionvm.lang.hmpl.tokens import Token
+from motionvm.source.diagnostics import DiagnosticSink, TooManyErrors
+from motionvm.source.files import SourceFile, SourcePos
+from motionvm.source.suggest import did_you_mean
+
+DIRECTIVES = (
+    "define",
+    "undef",
+    "include",
+    "if",
+    "ifdef",
+    "ifndef",
+    "elif",
+    "else",
+    "endif",
+    "error",
+    "pragma",
+)
+MAX_EXPANSIONS = 200_000  # macro expansions per text region before we give up
+MAX_NESTING = 200  # nested macro calls in arguments
+
+_EMPTY: frozenset[str] = frozenset()
+# Markers inside a substituted body: '##' to apply, and an empty argument next to it.
+_PASTE = Token("punct", "##", SourcePos("<paste>", 0, 0))
+_PLACEMARKER = Token("punct", "", SourcePos("<placemarker>", 0, 0))
+
+
+@dataclass(slots=True)
+class Macro:
+    """One macro definition; `params` is None for an object-like macro."""
+
+    name: str
+    pos: SourcePos
+    body: list[Token]
+    params: list[str] | None = None
+    variadic: bool = False
+
+
+@dataclass(slots=True)
+class _Cond:
+    """One open #if: whether the enclosing region is live, and what was taken so far."""
+
+    pos: SourcePos
+    parent_active: bool
+    taken: bool
+    else_seen: bool = False
+
+
+@dataclass(slots=True)
+class _State:
+    """Per-file state while scanning one file."""
+
+    sf: SourceFile
+    scan: Scan
+    conds: list[_Cond] = field(default_factory=list)
+    error_index: int = 0
+
+
+class _Abort(Exception):
+    """Stop interpreting the current directive (its error is already reported)."""
+
+
+def preprocess(
+    path: str,
+    *,
+    task_id: int,
+    sink: DiagnosticSink,
+    text: str | None = None,
+    include_depth_limit: int = 20,
+) -> list[Token]:
+    """The preprocessed tokens of one HMPL task file, ending with an 'eof' token.
+
+    Reads `path` (or takes `text` as its contents). Errors go to `sink`; on too many
+    errors the tokens produced so far are returned.
+    """
+    pp = Preprocessor(task_id=task_id, sink=sink, include_depth_limit=include_depth_limit)
+    if text is None:
+        try:
+            sf = SourceFile.read(path)
+        except OSError as e:
+            sink.error(SourcePos(path, 1, 1), f"cannot read '{path}': {e.strerror or e}")
+            return [Token("eof", "", SourcePos(path, 1, 1))]
+    else:
+        sf = SourceFile.register(path, text)
+    try:
+        pp.run_file(sf)
+    except TooManyErrors:
+        pass
+    pp.out.append(Token("eof", "", end_pos(sf)))
+    return pp.out
+
+
+class Preprocessor:
+    """Macro table and output of one preprocessing run (one task)."""
+
+    def __init__(self, *, task_id: int, sink: DiagnosticSink, include_depth_limit: int = 20):
+        self.sink = sink
+        self.task_id = task_id
+        self.include_depth_limit = include_depth_limit
+        self.out: list[Token] = []
+        self.files: list[str] = []  # real paths of the files being read, outermost first
+        here = SourcePos("<built-in>", 1, 1)
+        self.macros: dict[str, Macro] = {
+            "_TASKID_": Macro("_TASKID_", here, [Token("int", str(task_id), here, task_id)])
+        }
+        self._expansions = 0
+        self._nesting = 0
+
+    # ------------------------------------------------------------ files
+
+    def run_file(self, sf: SourceFile) -> None:
+        """Preprocess one file, appending its tokens to `self.out`."""
+        self.files.append(os.path.realpath(sf.path))
+        st = _State(sf, scan(sf))
+        toks = st.scan.tokens
+        active = True
+        prev = 0
+        for ds, de in st.scan.directives:
+            line = toks[ds].pos.line
+            self._flush_errors(st, line - 1, active)
+            if active and ds > prev:
+                self.out.extend(self.expand(toks[prev:ds]))
+            end_line = toks[de - 1].pos.line
+            self._flush_errors(st, end_line, active)
+            active = self._directive(st, toks[ds:de], active)
+            prev = de
+        self._flush_errors(st, 1 << 60, active)
+        if active and prev < len(toks):
+            self.out.extend(self.expand(toks[prev:]))
+        for c in st.conds:
+            self.sink.error(c.pos, "unterminated #if (no matching #endif)")
+        self.files.pop()
+
+    def _flush_errors(self, st: _State, last_line: int, active: bool) -> None:
+        """Report (when `active`) or drop the lexical errors up to `last_line`."""
+        errs = st.scan.errors
+        i = st.error_index
+        while i < len(errs) and errs[i][0].line <= last_line:
+            pos, msg, always = errs[i]
+            if active or always:
+                self.sink.error(pos, msg)
+            i += 1
+        st.error_index = i
+
+    # ------------------------------------------------------------ directives
+
+    def _directive(self, st: _State, line: list[Token], active: bool) -> bool:
+        """Interpret one directive line (line[0] is '#'); returns whether text is live after it."""
+        if len(line) == 1:
+            return active  # the null directive
+        word = line[1]
+        name = word.text
+        args = line[2:]
+        sink = self.sink
+        if name in ("if", "ifdef", "ifndef"):
+            if not active:
+                st.conds.append(_Cond(line[0].pos, False, True))
+                return False
+            if name == "if":
+                value = self._eval_if(args, word)
+            else:
+                value = self._ifdef_name(args, word) in self.macros
+                if name == "ifndef":
+                    value = not value
+            st.conds.append(_Cond(line[0].pos, True, value))
+            return value
+        if name in ("elif", "else", "endif"):
+            if not st.conds:
+                sink.error(line[0].pos, f"#{name} without #if")
+                return active
+            c = st.conds[-1]
+            if name == "endif":
+                self._no_extra(args, name, c.parent_active)
+                st.conds.pop()
+                return c.parent_active
+            if c.else_seen:
+                sink.error(line[0].pos, f"#{name} after #else")
+            if name == "else":
+                self._no_extra(args, name, c.parent_active)
+                c.else_seen = True
+                live = c.parent_active and not c.taken
+                c.taken = True
+                return live
+            if c.parent_active and not c.taken:
+                live = self._eval_if(args, word)
+                c.taken = live
+                return live
+            return False
+        if not active:
+            return False
+        try:
+            if name == "define":
+                self._define(args, word)
+            elif name == "undef":
+                n = self._ifdef_name(args, word)
+                if n is not None:
+                    self.macros.pop(n, None)
+            elif name == "include":
+                self._include(st, args, word)
+            elif name == "error":
+                msg = _spell(args) if args else ""
+                sink.error(line[0].pos, f"#error {msg}".rstrip())
+            elif name == "pragma":
+                pass  # no pragma means anything to HMPL; accepted for C compatibility
+            else:
+                sink.error(
+                    word.pos,
+                    f"invalid preprocessing directive '#{name}'" + did_you_mean(name, DIRECTIVES),
+                )
+        except _Abort:
+            pass
+        return True
+
+    def _no_extra(self, args: list[Token], name: str, live: bool) -> None:
+        if args and live:
+            self.sink.warning(args[0].pos, f"extra tokens at end of #{name} directive")
+
+    def _ifdef_name(self, args: list[Token], word: Token) -> str | None:
+        if not args or args[0].kind not in ("name", "keyword"):
+            self.sink.error(
+                args[0].pos if args else word.pos, f"#{word.text} expects a macro name"
+            )
+            return None
+        self._no_extra(args[1:], word.text, True)
+        return args[0].text
+
+    def _define(self, args: list[Token], word: Token) -> None:
+        sink = self.sink
+        if not args:
+            sink.error(word.pos, "macro name missing in #define")
+            raise _Abort
+        name_tok = args[0]
+        if name_tok.kind not in ("name", "keyword"):
+            sink.error(name_tok.pos, f"macro names must be identifiers, not '{name_tok.text}'")
+            raise _Abort
+        name = name_tok.text
+        if name == "defined":
+            sink.error(name_tok.pos, "'defined' cannot be used as a macro name")
+            raise _Abort
+        params: list[str] | None = None
+        variadic = False
+        body_start = 1
+        if len(args) > 1 and args[1].text == "(" and _adjacent(name_tok, args[1]):
+            params = []
+            i = 2
+            while True:
+                if i >= len(args):
+                    sink.error(args[-1].pos, "missing ')' in macro parameter list")
+                    raise _Abort
+                t = args[i]
+                if t.text == ")" and not params and not variadic:
+                    i += 1
+                    break
+                if t.text == "...":
+                    variadic = True
+                    params.append("__VA_ARGS__")
+                    i += 1
+                elif t.kind in ("name", "keyword"):
+                    if t.text in params:
+                        sink.error(t.pos, f"duplicate macro parameter '{t.text}'")
+                        raise _Abort
+                    params.append(t.text)
+                    i += 1
+                else:
+                    sink.error(t.pos, f"expected parameter name, found '{t.text}'")
+                    raise _Abort
+                if i < len(args) and args[i].text == ")":
+                    i += 1
+                    break
+                if i < len(args) and args[i].text == "," and not variadic:
+                    i += 1
+                    continue
+                where = args[i] if i < len(args) else args[-1]
+                sink.error(where.pos, "expected ',' or ')' in macro parameter list")
+                raise _Abort
+            body_start = i
+        body = args[body_start:]
+        if body and (body[0].text == "##" or body[-1].text == "##"):
+            t = body[0] if body[0].text == "##" else body[-1]
+            sink.error(t.pos, "'##' cannot appear at either end of a macro expansion")
+            raise _Abort
+        if params is not None:
+            for k, t in enumerate(body):
+                if t.text == "#" and t.kind == "punct":
+                    if k + 1 >= len(body) or body[k + 1].text not in params:
+                        sink.error(t.pos, "'#' is not followed by a macro parameter")
+                        raise _Abort
+        old = self.macros.get(name)
+        new = Macro(name, name_tok.pos, body, params, variadic)
+        if old is not None and not _same_definition(old, new):
+            sink.warning(name_tok.pos, f"'{name}' redefined")
+        self.macros[name] = new
+
+    def _include(self, st: _State, args: list[Token], word: Token) -> None:
+        sink = self.sink
+        if args and args[0].kind not in ("string",) and args[0].text != "<":
+            args = self.expand(args)
+        if not args:
+            sink.error(word.pos, '#include expects "FILENAME"')
+            raise _Abort
+        if args[0].kind == "string":
+            fname = bytes(args[0].value).decode("utf-8", "replace")  # type: ignore[arg-type]
+            rest = args[1:]
+        elif args[0].text == "<":
+            k = next((k for k, t in enumerate(args) if t.text == ">"), None)
+            if k is None:
+                sink.error(args[0].pos, "missing '>' in #include <FILENAME>")
+                raise _Abort
+            fname = "".join(t.text for t in args[1:k])
+            rest = args[k + 1 :]
+        else:
+            sink.error(args[0].pos, '#include expects "FILENAME"')
+            raise _Abort
+        self._no_extra(rest, "include", True)
+        base = os.path.dirname(st.sf.path)
+        full = os.path.normpath(os.path.join(base, fname))
+        if len(self.files) >= self.include_depth_limit:
+            sink.error(
+                word.pos,
+                f"#include nested {len(self.files)} deep exceeds the limit "
+                f"{self.include_depth_limit}",
+            )
+            raise _Abort
+        real = os.path.realpath(full)
+        if real in self.files:
+            sink.error(args[0].pos, f"recursive #include of '{fname}' (an include cycle)")
+            raise _Abort
+        try:
+            sf = SourceFile.read(full)
+        except OSError as e:
+            sink.error(
+                args[0].pos, f"cannot open include file '{fname}': {e.strerror or 'unreadable'}"
+            )
+            raise _Abort from None
+        self.run_file(sf)
+
+    # ------------------------------------------------------------ #if expressions
+
+    def _eval_if(self, args: list[Token], word: Token) -> bool:
+        """Evaluate a #if/#elif condition; errors count as false."""
+        if not args:
+            self.sink.error(word.pos, f"#{word.text} with no expression")
+            return False
+        pre: list[Token] = []
+        i = 0
+        n = len(args)
+        while i < n:
+            t = args[i]
+            if t.text == "defined" and t.kind == "name":
+                j = i + 1
+                paren = j < n and args[j].text == "("
+                if paren:
+                    j += 1
+                if j >= n or args[j].kind not in ("name", "keyword"):
+                    self.sink.error(t.pos, "operator 'defined' requires an identifier")
+                    return False
+                val = 1 if args[j].text in self.macros else 0
+                j += 1
+                if paren:
+                    if j >= n or args[j].text != ")":
+                        self.sink.error(t.pos, "missing ')' after 'defined'")
+                        return False
+                    j += 1
+                pre.append(Token("int", str(val), t.pos, val))
+                i = j
+                continue
+            pre.append(t)
+            i += 1
+        toks = self.expand(pre)
+        ev = _IfEval(toks, word.pos)
+        try:
+            value = ev.run()
+        except _IfError as e:
+            self.sink.error(e.pos, e.message)
+            return False
+        return value != 0
+
+    # ------------------------------------------------------------ macro expansion
+
+    def expand(self, toks: list[Token], hs_map: dict | None = None) -> list[Token]:
+        """Macro-expand a token list (C rescanning with hide sets).
+
+        Runs of tokens that cannot start an expansion are copied as slices; only
+        macro names and what their expansions rescan go through the token loop.
+        """
+        macros = self.macros
+        starts = [i for i, s in enumerate(map(_text, toks)) if s in macros]
+        if not starts:
+            return list(toks)
+        if hs_map is None:
+            hs_map = {}
+        src = _Source(toks)
+        out: list[Token] = []
+        append = out.append
+        stack = src.stack
+        k = 0
+        while True:
+            if not stack:
+                # nothing pushed back: copy up to the next possible macro name
+                while k < len(starts) and starts[k] < src.next:
+                    k += 1
+                if k == len(starts):
+                    out.extend(toks[src.next :])
+                    return out
+                out.extend(toks[src.next : starts[k]])
+                src.next = starts[k]
+            t = src.pop()
+            if t is None:
+                return out
+            m = macros.get(t.text)
+            if m is None or t.kind not in ("name", "keyword"):
+                append(t)
+                continue
+            entry = hs_map.get(id(t))
+            hs = entry[1] if entry is not None and entry[0] is t else _EMPTY
+            if t.text in hs:
+                append(t)
+                continue
+            self._expansions += 1
+            if self._expansions > MAX_EXPANSIONS:
+                self.sink.error(t.pos, f"macro expansion of '{t.text}' too large")
+                return out
+            if m.params is None:
+                body = self._subst(m, None, hs | {m.name}, t.pos, hs_map)
+                stack.extend(reversed(body))
+                continue
+            nxt = src.peek()
+            if nxt is None or nxt.text != "(" or nxt.kind != "punct":
+                append(t)  # a function-like macro name without arguments stays a name
+                continue
+            src.pop()
+            collected = self._collect_args(src, m)
+            if collected is None:
+                self.sink.error(t.pos, f"unterminated argument list invoking macro '{m.name}'")
+                return out
+            args, rparen = collected
+            if not m.params and len(args) == 1 and not args[0]:
+                args = []
+            if len(args) != len(m.params) and not (
+                m.variadic and len(args) == len(m.params) - 1
+            ):
+                want = len(m.params) - (1 if m.variadic else 0)
+                few = "only" if len(args) < want else "but"
+                self.sink.error(
+                    t.pos,
+                    f"macro '{m.name}' requires {want} argument{'s' if want != 1 else ''}, "
+                    f"{few} {len(args)} given",
+                )
+                continue
+            if len(args) < len(m.params):
+                args.append([])
+            r_entry = hs_map.get(id(rparen))
+            r_hs = r_entry[1] if r_entry is not None and r_entry[0] is rparen else _EMPTY
+            body = self._subst(m, args, (hs & r_hs) | {m.name}, t.pos, hs_map)
+            stack.extend(reversed(body))
+
+    def _collect_args(self, src: "_Source", m: Macro) -> tuple[list[list[Token]], Token] | None:
+        """Take a macro call's arguments from `src` (after its '('); None if unterminated."""
+        assert m.params is not None
+        args: list[list[Token]] = [[]]
+        depth = 0
+        nparams = len(m.params)
+        while True:
+            t = src.pop()
+            if t is None:
+                return None
+            if t.kind == "punct":
+                s = t.text
+                if s == "(":
+                    depth += 1
+                elif s == ")":
+                    if depth == 0:
+                        return args, t
+                    depth -= 1
+                elif s == "," and depth == 0 and not (m.variadic and len(args) >= nparams):
+                    args.append([])
+                    continue
+            args[-1].append(t)
+
+    def _subst(
+        self,
+        m: Macro,
+        args: list[list[Token]] | None,
+        hs: frozenset[str],
+        pos: SourcePos,
+        hs_map: dict,
+    ) -> list[Token]:
+        """The body of `m` with arguments substituted, `#` and `##` applied, tokens at `pos`."""
+        res: list[Token] = []
+        if args is None:
+            for b in m.body:
+                res.append(_PASTE if b.text == "##" and b.kind == "punct" else _at(b, pos))
+        else:
+            assert m.params is not None
+            index = {p: k for k, p in enumerate(m.params)}
+            expanded: dict[int, list[Token]] = {}
+            body = m.body
+            n = len(body)
+            i = 0
+            while i < n:
+                b = body[i]
+                if b.kind == "punct" and b.text == "#" and i + 1 < n:
+                    res.append(_stringize(args[index[body[i + 1].text]], pos))
+                    i += 2
+                    continue
+                if b.kind == "punct" and b.text == "##":
+                    res.append(_PASTE)
+                    i += 1
+                    continue
+                k = index.get(b.text) if b.kind in ("name", "keyword") else None
+                if k is None:
+                    res.append(_at(b, pos))
+                    i += 1
+                    continue
+                pasted = (i + 1 < n and body[i + 1].text == "##") or (
+                    i > 0 and body[i - 1].text == "##"
+                )
+                if pasted:
+                    arg = args[k]
+                    res.extend(arg if arg else [_PLACEMARKER])
+                else:
+                    if k not in expanded:
+                        self._nesting += 1
+                        if self._nesting > MAX_NESTING:
+                            self._nesting = 0
+                            self.sink.error(pos, f"macro arguments nested too deeply in '{m.name}'")
+                            raise _Abort
+                        try:
+                            expanded[k] = self.expand(args[k], hs_map)
+                        finally:
+                            self._nesting -= 1
+                    res.extend(expanded[k])
+                i += 1
+        if any(t is _PASTE for t in res):
+            res = self._apply_pastes(res, pos)
+        out: list[Token] = []
+        for t in res:
+            if t is _PLACEMARKER:
+                continue
+            old = hs_map.get(id(t))
+            nt = Token(t.kind, t.text, t.pos, t.value, t.suffix)
+            hs_map[id(nt)] = (nt, (old[1] | hs) if old is not None and old[0] is t else hs)
+            out.append(nt)
+        return out
+
+    def _apply_pastes(self, res: list[Token], pos: SourcePos) -> list[Token]:
+        out: list[Token] = []
+        i = 0
+        n = len(res)
+        while i < n:
+            t = res[i]
+            if t is not _PASTE:
+                out.append(t)
+                i += 1
+                continue
+            left = out.pop() if out else _PLACEMARKER
+            right = res[i + 1] if i + 1 < n else _PLACEMARKER
+            i += 2
+            if left is _PLACEMARKER:
+                out.append(right)
+            elif right is _PLACEMARKER:
+                out.append(left)
+            else:
+                glued = lex_fragment(left.text + right.text, pos)
+                if glued is None or len(glued) != 1:
+                    self.sink.error(
+                        pos,
+                        f"pasting '{left.text}' and '{right.text}' does not give a valid token",
+                    )
+                    out.extend((left, right))
+                else:
+                    out.append(glued[0])
+        return out
+
+
+class _Source:
+    """Tokens to expand: a pushback stack (rescanned expansions) over a list."""
+
+    __slots__ = ("toks", "next", "stack")
+
+    def __init__(self, toks: list[Token]) -> None:
+        self.toks = toks
+        self.next = 0
+        self.stack: list[Token] = []
+
+    def pop(self) -> Token | None:
+        if self.stack:
+            return self.stack.pop()
+        if self.next < len(self.toks):
+            self.next += 1
+            return self.toks[self.next - 1]
+        return None
+
+    def peek(self) -> Token | None:
+        if self.stack:
+            return self.stack[-1]
+        return self.toks[self.next] if self.next < len(self.toks) else None
+
+
+_text = attrgetter("text")
+
+
+def _at(t: Token, pos: SourcePos) -> Token:
+    return Token(t.kind, t.text, pos, t.value, t.suffix)
+
+
+def _adjacent(a: Token, b: Token) -> bool:
+    """True when `b` follows `a` with no white space in between."""
+    return (
+        a.pos.file == b.pos.file
+        and a.pos.line == b.pos.line
+        and a.pos.col + len(a.text) == b.pos.col
+    )
+
+
+def _spell(toks: list[Token]) -> str:
+    """Tokens written back as text, with a space wherever the source had white space."""
+    parts: list[str] = []
+    prev: Token | None = None
+    for t in toks:
+        if prev is not None and not _adjacent(prev, t):
+            parts.append(" ")
+        parts.append(t.text)
+        prev = t
+    return "".join(parts)
+
+
+def _stringize(toks: list[Token], pos: SourcePos) -> Token:
+    parts: list[str] = []
+    prev: Token | None = None
+    for t in toks:
+        if prev is not None and not _adjacent(prev, t):
+            parts.append(" ")
+        if t.kind in ("string", "char"):
+            parts.append(t.text.replace("\\", "\\\\").replace('"', '\\"'))
+        else:
+            parts.append(t.text)
+        prev = t
+    spelled = "".join(parts)
+    raw = "".join(
+        t.text if i == 0 or _adjacent(toks[i - 1], t) else " " + t.text for i, t in enumerate(toks)
+    )
+    return Token("string", '"' + spelled + '"', pos, raw.encode("utf-8"))
+
+
+def _same_definition(a: Macro, b: Macro) -> bool:
+    return (
+        a.params == b.params
+        and a.variadic == b.variadic
+        and [t.text for t in a.body] == [t.text for t in b.body]
+    )
+
+
+# ---------------------------------------------------------------- #if evaluation
+
+
+class _IfError(Exception):
+    def __init__(self, pos: SourcePos, message: str) -> None:
+        super().__init__(message)
+        self.pos = pos
+        self.message = message
+
+
+_IF_BINARY = {
+    "||": 1,
+    "&&": 2,
+    "|": 3,
+    "^": 4,
+    "&": 5,
+    "==": 6,
+    "!=": 6,
+    "<": 7,
+    ">": 7,
+    "<=": 7,
+    ">=": 7,
+    "<<": 8,
+    ">>": 8,
+    "+": 9,
+    "-": 9,
+    "*": 10,
+    "/": 10,
+    "%": 10,
+}
+
+
+def _wrap64(v: int) -> int:
+    v &= (1 << 64) - 1
+    return v - (1 << 64) if v >= 1 << 63 else v
+
+
+class _IfEval:
+    """Integer constant expression of #if, in 64-bit signed arithmetic."""
+
+    def __init__(self, toks: list[Token], pos: SourcePos) -> None:
+        self.toks = toks
+        self.i = 0
+        self.pos = pos
+
+    def run(self) -> int:
+        v = self.cond()
+        if self.i < len(self.toks):
+            t = self.toks[self.i]
+            raise _IfError(t.pos, f"missing binary operator before '{t.text}' in #if")
+        return v
+
+    def _peek(self) -> Token | None:
+        return self.toks[self.i] if self.i < len(self.toks) else None
+
+    def cond(self) -> int:
+        c = self.binary(1)
+        t = self._peek()
+        if t is not None and t.text == "?":
+            self.i += 1
+            a = self.cond()
+            t2 = self._peek()
+            if t2 is None or t2.text != ":":
+                raise _IfError(t.pos, "expected ':' in #if conditional expression")
+            self.i += 1
+            b = self.cond()
+            return a if c else b
+        return c
+
+    def binary(self, min_prec: int) -> int:
+        left = self.unary()
+        while True:
+            t = self._peek()
+            if t is None or t.kind != "punct":
+                return left
+            prec = _IF_BINARY.get(t.text)
+            if prec is None or prec < min_prec:
+                return left
+            self.i += 1
+            op = t.text
+            if op == "&&" and not left:
+                self.binary(prec + 1)
+                left = 0
+                continue
+            if op == "||" and left:
+                self.binary(prec + 1)
+                left = 1
+                continue
+            right = self.binary(prec + 1)
+            left = _wrap64(self._apply(op, left, right, t.pos))
+
+    @staticmethod
+    def _apply(op: str, a: int, b: int, pos: SourcePos) -> int:
+        if op in ("/", "%"):
+            if b == 0:
+                raise _IfError(pos, "division by zero in #if")
+            q = abs(a) // abs(b)
+            q = q if (a < 0) == (b < 0) else -q
+            return q if op == "/" else a - q * b
+        if op in ("<<", ">>"):
+            if b < 0 or b >= 64:
+                return 0
+            return a << b if op == "<<" else a >> b
+        return {
+            "||": lambda: int(bool(a or b)),
+            "&&": lambda: int(bool(a and b)),
+            "|": lambda: a | b,
+            "^": lambda: a ^ b,
+            "&": lambda: a & b,
+            "==": lambda: int(a == b),
+            "!=": lambda: int(a != b),
+            "<": lambda: int(a < b),
+            ">": lambda: int(a > b),
+            "<=": lambda: int(a <= b),
+            ">=": lambda: int(a >= b),
+            "+": lambda: a + b,
+            "-": lambda: a - b,
+            "*": lambda: a * b,
+        }[op]()
+
+    def unary(self) -> int:
+        t = self._peek()
+        if t is None:
+            last = self.toks[-1].pos if self.toks else self.pos
+            raise _IfError(last, "expected value in #if expression")
+        self.i += 1
+        if t.kind == "punct":
+            if t.text == "(":
+                v = self.cond()
+                t2 = self._peek()
+                if t2 is None or t2.text != ")":
+                    raise _IfError(t.pos, "missing ')' in #if expression")
+                self.i += 1
+                return v
+            if t.text == "-":
+                return _wrap64(-self.unary())
+            if t.text == "+":
+                return self.unary()
+            if t.text == "!":
+                return int(not self.unary())
+            if t.text == "~":
+                return _wrap64(~self.unary())
+        if t.kind in ("int", "char"):
+            return _wrap64(t.value)  # type: ignore[arg-type]
+        if t.kind in ("name", "keyword"):
+            return 0  # an identifier that is no macro counts as 0
+        if t.kind == "float":
+            raise _IfError(t.pos, "floating constant in preprocessor expression")
+        raise _IfError(t.pos, f"token '{t.text}' is not valid in #if expressions")

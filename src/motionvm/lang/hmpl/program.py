@@ -1,0 +1,491 @@
+"""Whole-program compilation of HMPL: every task's unit into one Python namespace.
+
+Steps: (1) declare types, variables and function signatures of task 0 (global scope)
+and of every other task (task scope); (2) find address-taken names and which functions
+can block (they become generators); (3) lower every function and each task's global
+initializers; (4) compile one Python module per source file with that file as the
+code's filename, so faults point at the user's lines.
+
+Names in the shared namespace: task 0's globals and functions are `g_NAME`, task k's
+are `tK_NAME`; locals are `v_NAME`; run-time helpers start with `_`; built-ins `b_NAME`.
+"""
+
+from __future__ import annotations
+
+import ast
+import dataclasses
+import struct
+from dataclasses import dataclass, field
+
+from motionvm.lang.hmpl import catalog
+from motionvm.lang.hmpl import ctypes_ as ct
+from motionvm.lang.hmpl import nodes as n
+from motionvm.lang.hmpl.cmemory import Memory
+from motionvm.lang.hmpl.lower_expr import SemanticError
+from motionvm.lang.hmpl.lower_stmt import FunctionLowerer, _at
+from motionvm.lang.hmpl.lvalues import VIEW_NAMES, call, name, view_code
+from motionvm.lang.hmpl.symbols import FuncSym, Scope, VarSym
+from motionvm.source.diagnostics import DiagnosticSink, TooManyErrors
+from motionvm.source.suggest import did_you_mean
+
+_PACK = {"i8": "b", "u8": "B", "i16": "h", "u16": "H", "i32": "i", "u32": "I",
+         "i64": "q", "u64": "Q", "f32": "f", "f64": "d"}
+
+
+@dataclass
+class Unit:
+    task: int
+    path: str
+    tu: n.TranslationUnit
+
+
+@dataclass
+class TaskInfo:
+    task: int
+    path: str
+    entry: str | None = None  # pyname of main()
+    autorun: bool = False
+    init: str = ""  # pyname of the initializer function
+    functions: dict[str, FuncSym] = field(default_factory=dict)  # callable by StartTaskFunc
+
+
+@dataclass
+class CompiledProgram:
+    tasks: dict[int, TaskInfo]
+    modules: list[tuple[str, ast.Module]]  # (filename, module)
+    codes: list[tuple[str, object]]  # (filename, code object)
+    sysvars: dict[str, VarSym]
+    globals_: dict[str, VarSym]
+
+    def python_source(self) -> str:
+        out = []
+        for fname, mod in self.modules:
+            out.append(f"# ---- {fname}\n{ast.unparse(mod)}\n")
+        return "\n".join(out)
+
+
+def _children(node):
+    if isinstance(node, (list, tuple)):
+        for x in node:
+            yield from _children(x)
+        return
+    if dataclasses.is_dataclass(node) and not isinstance(node, type):
+        for f in dataclasses.fields(node):
+            if f.name == "pos":
+                continue
+            v = getattr(node, f.name)
+            if isinstance(v, (list, tuple)) or dataclasses.is_dataclass(v):
+                yield v
+
+
+def walk(node):
+    """Every AST node under `node` (inclusive), depth first."""
+    stack = [node]
+    while stack:
+        x = stack.pop()
+        if isinstance(x, (list, tuple)):
+            stack.extend(reversed(x))
+            continue
+        if not dataclasses.is_dataclass(x):
+            continue
+        yield x
+        stack.extend(reversed(list(_children(x))))
+
+
+class ProgramCompiler:
+    """Compiles all task units of one program against one Memory."""
+
+    def __init__(self, mem: Memory, sink: DiagnosticSink, builtin_impl: dict[str, bool]) -> None:
+        self.mem = mem
+        self.sink = sink
+        self.builtins = catalog.builtin_signatures()
+        self.builtin_impl = builtin_impl  # name -> blocking, for implemented built-ins
+        self.constants = catalog.constants()
+        self.global_scope = Scope(None, "global")
+        self.global_scope.types.update({"Timer": ct.TIMER, "Data_t": ct.DATA_T})
+        self.task_scopes: dict[int, Scope] = {0: self.global_scope}
+        self.tasks: dict[int, TaskInfo] = {}
+        self._strings: dict[bytes, int] = {}
+        self.sysvars: dict[str, VarSym] = {}
+        self.addr_taken: set[str] = set()
+        self._alloc_system()
+
+    # ------------------------------------------------------------ symbols
+
+    def _alloc_system(self) -> None:
+        for sv in catalog.system_variables():
+            t = ct.array_of(sv.type, sv.n) if sv.n else sv.type
+            addr = self.mem.alloc_static(t.size, sv.name)
+            self.sysvars[sv.name] = VarSym(sv.name, t, "static", None, addr=addr)
+        self.timer_init = self.mem.alloc_static(ct.TIMER.size, "TimerInit")
+
+    def global_symbol(self, ident: str, task: int):
+        sv = self.sysvars.get(ident)
+        if sv is not None:
+            return sv
+        if ident == "TimerInit":
+            return VarSym("TimerInit", ct.TIMER, "static", None, addr=self.timer_init, is_const=True)
+        if ident == "_TASKID_":
+            return VarSym(ident, ct.INT, "const", None, const_value=task, is_const=True)
+        c = self.constants.get(ident)
+        if c is not None:
+            return VarSym(ident, c.type, "const", None, const_value=c.value, is_const=True)
+        return None
+
+    def global_names(self, task: int) -> list[str]:
+        return list(self.sysvars) + list(self.constants) + list(self.builtins) + ["TimerInit"]
+
+    def function_names(self, task: int) -> list[str]:
+        scope = self.task_scopes.get(task, self.global_scope)
+        own = [k for k, v in scope.names.items() if isinstance(v, FuncSym)]
+        glob = [k for k, v in self.global_scope.names.items() if isinstance(v, FuncSym)]
+        return own + glob + list(self.builtins)
+
+    def prototype(self, fname: str, task: int) -> str:
+        sig = self.builtins.get(fname)
+        if sig is not None:
+            return f"; prototype: {sig.prototype.rstrip(';')}"
+        return ""
+
+    def string_literal(self, data: bytes) -> int:
+        addr = self._strings.get(data)
+        if addr is None:
+            addr = self.mem.alloc_static(len(data) + 1, "string literal", align=1)
+            self.mem.buf[addr : addr + len(data)] = data
+            self._strings[data] = addr
+        return addr
+
+    # ------------------------------------------------------------ types
+
+    def resolve_typeref(self, tr: n.TypeRef, scope: Scope, task: int) -> ct.CType:
+        base = tr.base
+        t = ct.BASE_TYPES.get(base)
+        if t is None:
+            if tr.struct_def is not None:
+                t = self.define_struct(tr.struct_def, scope, task)
+            elif base.startswith(("struct ", "union ")):
+                t = scope.lookup_tag(base.split(" ", 1)[1])
+                if t is None:
+                    raise self._fail(tr.pos, f"unknown type '{base}'")
+            else:
+                t = scope.lookup_type(base)
+                if t is None:
+                    known = list(ct.BASE_TYPES) + ["Timer", "Data_t"]
+                    raise self._fail(tr.pos, f"unknown type name '{base}'{did_you_mean(base, known)}")
+        for _ in range(tr.pointers):
+            t = ct.pointer_to(t)
+        return t
+
+    def define_struct(self, sd: n.StructDef, scope: Scope, task: int) -> ct.StructT:
+        fields = []
+        off = size = 0
+        align = 1
+        for f in sd.fields:
+            ft = self.decl_type(f, scope, task)
+            if ft.size == 0:
+                raise self._fail(f.pos, f"field '{f.name}' has incomplete type '{ft}'")
+            align = max(align, ft.align)
+            if sd.kind == "union":
+                fields.append((f.name, 0, ft))
+                size = max(size, ft.size)
+            else:
+                off = (off + ft.align - 1) // ft.align * ft.align
+                fields.append((f.name, off, ft))
+                off += ft.size
+                size = off
+        size = (size + align - 1) // align * align
+        st = ct.StructT(size, align, sd.kind, sd.tag or f"<anonymous {sd.kind}>", tuple(fields))
+        if sd.tag:
+            scope.tags[sd.tag] = st
+        return st
+
+    def decl_type(self, d, scope: Scope, task: int) -> ct.CType:
+        t = self.resolve_typeref(d.type, scope, task)
+        dims = list(d.dims)
+        for i, dim in enumerate(reversed(dims)):
+            outer = i == len(dims) - 1
+            if dim is None:
+                if not outer:
+                    raise self._fail(d.pos, f"array '{d.name}' needs sizes for all but the first dimension")
+                count = self._count_from_init(getattr(d, "init", None), t)
+                if count is None:
+                    if isinstance(d, n.Param):
+                        return ct.pointer_to(t)
+                    raise self._fail(d.pos, f"array size missing in '{d.name}'")
+            else:
+                count = self._const_int(dim, scope, task)
+                if count <= 0:
+                    raise self._fail(dim.pos, f"size of array '{d.name}' must be positive (it is {count})")
+            t = ct.array_of(t, count)
+        if isinstance(d, n.Param) and isinstance(t, ct.ArrayT):
+            return ct.pointer_to(t.elem)
+        return t
+
+    @staticmethod
+    def _count_from_init(init, elem: ct.CType) -> int | None:
+        if isinstance(init, n.StrLit):
+            return len(init.value) + 1
+        if isinstance(init, n.InitList):
+            return max(1, len(init.items))
+        return None
+
+    def _const_int(self, e, scope: Scope, task: int) -> int:
+        lw = FunctionLowerer(self, task, scope, None, set())
+        return lw.const_int(e)
+
+    def _fail(self, pos, msg: str) -> SemanticError:
+        self.sink.error(pos, msg)
+        return SemanticError(msg)
+
+    # ------------------------------------------------------------ initializers
+
+    def aggregate_init(self, lw: FunctionLowerer, t: ct.CType, init, addr: ast.expr, vname: str):
+        """(constant byte image of the object, statements for non-constant parts)."""
+        image = bytearray(t.size)
+        stores: list[ast.stmt] = []
+        self._init_into(lw, t, init, 0, image, stores, addr, vname)
+        return image, stores
+
+    def _init_into(self, lw, t, init, off, image, stores, addr, vname) -> None:
+        if isinstance(t, ct.ArrayT) and isinstance(init, n.StrLit):
+            if not (isinstance(t.elem, ct.IntT) and t.elem.size == 1):
+                raise self._fail(init.pos, f"a string initializes only a char array, not '{t}'")
+            data = init.value
+            if t.n is not None and len(data) > t.n:
+                raise self._fail(init.pos, f"string of {len(data)} characters is too long for '{vname}' ({t.n} bytes)")
+            image[off : off + len(data)] = data
+            return
+        if isinstance(t, ct.ArrayT):
+            items = init.items if isinstance(init, n.InitList) else (init,)
+            if t.n is not None and len(items) > t.n:
+                raise self._fail(init.pos, f"too many initializers for '{vname}' ({len(items)} for {t.n} elements)")
+            for i, it in enumerate(items):
+                self._init_into(lw, t.elem, it, off + i * t.elem.size, image, stores, addr, vname)
+            return
+        if isinstance(t, ct.StructT):
+            if isinstance(init, n.Name) and init.id == "TimerInit" and t == ct.TIMER:
+                return
+            if not isinstance(init, n.InitList):
+                v = lw.expr(init)
+                if v.type != t:
+                    raise self._fail(init.pos, f"cannot initialize '{t}' from '{v.type}'")
+                stores.append(_at([ast.Expr(value=call("_copy", _offset(addr, off), v.node, ast.Constant(t.size)))], init.pos)[0])
+                return
+            members = t.fields[:1] if t.kind == "union" else t.fields
+            if len(init.items) > len(members):
+                raise self._fail(init.pos, f"too many initializers for '{t}'")
+            for (fname, foff, ft), it in zip(members, init.items):
+                self._init_into(lw, ft, it, off + foff, image, stores, addr, vname)
+            return
+        # scalar element
+        if isinstance(init, n.InitList):
+            if len(init.items) != 1:
+                raise self._fail(init.pos, "braces around a scalar initializer need exactly one value")
+            init = init.items[0]
+        v = lw.expr(init)
+        node = lw.assign_convert(v, t, init.pos, f" in the initializer of '{vname}'")
+        code = view_code(t)
+        if isinstance(node, ast.Constant) or (isinstance(node, ast.UnaryOp) and isinstance(node.operand, ast.Constant)):
+            value = node.value if isinstance(node, ast.Constant) else -node.operand.value
+            struct.pack_into("<" + _PACK[code], image, off, value)
+            return
+        target = ast.Subscript(value=name(VIEW_NAMES[code]), slice=_scaled(addr, off, t.size), ctx=ast.Store())
+        stores.append(_at([ast.Assign(targets=[target], value=node)], init.pos)[0])
+
+    # ------------------------------------------------------------ declarations
+
+    def declare_units(self, units: list[Unit]) -> None:
+        for u in sorted(units, key=lambda u: u.task):
+            scope = self.global_scope if u.task == 0 else self.task_scopes.setdefault(u.task, Scope(self.global_scope, "task"))
+            info = self.tasks.setdefault(u.task, TaskInfo(u.task, u.path, init=f"_init_t{u.task}"))
+            prefix = "g_" if u.task == 0 else f"t{u.task}_"
+            for item in u.tu.items:
+                try:
+                    self._declare_item(item, scope, u.task, prefix, info)
+                except SemanticError:
+                    pass
+
+    def _declare_item(self, item, scope: Scope, task: int, prefix: str, info: TaskInfo) -> None:
+        if isinstance(item, n.StructDef):
+            self.define_struct(item, scope, task)
+        elif isinstance(item, n.Typedef):
+            t = self.resolve_typeref(item.type, scope, task)
+            for dim in reversed(item.dims):
+                t = ct.array_of(t, self._const_int(dim, scope, task) if dim is not None else None)
+            scope.types[item.name] = t
+        elif isinstance(item, n.DeclStmt):
+            for d in item.decls:
+                try:
+                    self._declare_item(d, scope, task, prefix, info)
+                except SemanticError:
+                    pass
+        elif isinstance(item, n.VarDecl):
+            if item.name in scope.names:
+                raise self._fail(item.pos, f"redefinition of '{item.name}'")
+            if item.type.struct_def is not None and not item.name:
+                self.define_struct(item.type.struct_def, scope, task)
+                return
+            t = self.decl_type(item, scope, task)
+            if isinstance(t, ct.VoidT):
+                raise self._fail(item.pos, f"variable '{item.name}' declared void")
+            if t.is_scalar and item.name not in self.addr_taken:
+                sym = VarSym(item.name, t, "pyglobal", item.pos, pyname=prefix + item.name, is_const=item.type.is_const)
+            else:
+                addr = self.mem.alloc_static(t.size, item.name, align=max(8, t.align))
+                sym = VarSym(item.name, t, "static", item.pos, addr=addr, is_const=item.type.is_const)
+            scope.names[item.name] = sym
+            self._pending_inits.setdefault(task, []).append((sym, item))
+        elif isinstance(item, n.FuncDef):
+            self._declare_function(item, scope, task, prefix, info)
+
+    def _declare_function(self, f: n.FuncDef, scope: Scope, task: int, prefix: str, info: TaskInfo) -> None:
+        if f.name in self.builtins or f.name in catalog.MACRO_NAMES:
+            raise self._fail(f.pos, f"'{f.name}' is a built-in function and cannot be redefined")
+        ret = self.resolve_typeref(f.ret, scope, task)
+        ptypes = []
+        for p in f.params:
+            pt = self.decl_type(p, scope, task)
+            if isinstance(pt, ct.StructT):
+                raise self._fail(p.pos, f"parameter '{p.name}': pass structs by pointer ('{pt} *')")
+            ptypes.append(pt)
+        if len(ptypes) == 1 and isinstance(ptypes[0], ct.VoidT) and not f.params[0].name:
+            ptypes = []
+        ftype = ct.FuncT(0, 1, ret, tuple(ptypes), False)
+        old = scope.names.get(f.name)
+        if old is not None:
+            if not isinstance(old, FuncSym):
+                raise self._fail(f.pos, f"'{f.name}' redeclared as a different kind of symbol")
+            if old.type != ftype:
+                raise self._fail(f.pos, f"conflicting types for '{f.name}' (was '{old.type}')")
+            if f.body is not None and old.defined:
+                raise self._fail(f.pos, f"redefinition of function '{f.name}'")
+            sym = old
+        else:
+            sym = FuncSym(f.name, ftype, f.pos, prefix + f.name, task)
+            scope.names[f.name] = sym
+        if f.body is not None:
+            sym.defined = True
+            sym.node = f
+            sym.param_names = tuple(p.name for p in f.params)
+            info.functions[f.name] = sym
+            if f.name == "main":
+                info.entry = sym.pyname
+                info.autorun = f.autorun
+        elif f.autorun:
+            self.sink.error(f.pos, "_AUTORUN_ needs a function definition")
+        if f.autorun and f.name != "main":
+            self.sink.error(f.pos, "_AUTORUN_ applies to a task's main() function")
+        if not sym.param_names:
+            sym.param_names = tuple(p.name for p in f.params)
+
+    # ------------------------------------------------------------ analysis
+
+    def analyse(self, units: list[Unit]) -> None:
+        """Address-taken names, then which functions can block (fixpoint over calls)."""
+        for u in units:
+            for x in walk(u.tu):
+                if isinstance(x, n.Unary) and x.op == "&" and isinstance(x.operand, n.Name):
+                    self.addr_taken.add(x.operand.id)
+
+    def classify_generators(self) -> None:
+        funcs: list[FuncSym] = []
+        for scope in self.task_scopes.values():
+            funcs.extend(s for s in scope.names.values() if isinstance(s, FuncSym) and s.defined)
+        calls: dict[int, list[FuncSym]] = {}
+        for f in funcs:
+            callees: list[FuncSym] = []
+            scope = self.task_scopes.get(f.task, self.global_scope)
+            for x in walk(f.node.body):
+                if isinstance(x, (n.While, n.DoWhile, n.For)):
+                    f.is_generator = True
+                elif isinstance(x, n.Call) and isinstance(x.func, n.Name):
+                    cname = x.func.id
+                    if cname == "Till" or self.builtin_impl.get(cname):
+                        f.is_generator = True
+                    callee = scope.lookup(cname)
+                    if isinstance(callee, FuncSym):
+                        callees.append(callee)
+            calls[id(f)] = callees
+        changed = True
+        while changed:
+            changed = False
+            for f in funcs:
+                if not f.is_generator and any(c.is_generator for c in calls[id(f)]):
+                    f.is_generator = True
+                    changed = True
+
+    # ------------------------------------------------------------ lowering
+
+    def compile(self, units: list[Unit]) -> CompiledProgram | None:
+        self._pending_inits: dict[int, list] = {}
+        try:
+            self.analyse(units)
+            self.declare_units(units)
+            self.classify_generators()
+            per_file: dict[str, list[ast.stmt]] = {}
+            for u in sorted(units, key=lambda u: u.task):
+                scope = self.task_scopes[u.task]
+                per_file.setdefault(u.path, []).append(self._init_function(u, scope))
+                for item in u.tu.items:
+                    if isinstance(item, n.FuncDef) and item.body is not None:
+                        sym = scope.names.get(item.name)
+                        if not isinstance(sym, FuncSym) or sym.node is not item:
+                            continue
+                        lw = FunctionLowerer(self, u.task, Scope(scope, "function"), sym, self._local_addr_taken(item))
+                        try:
+                            fn = lw.function(item, sym)
+                        except SemanticError:
+                            continue
+                        per_file.setdefault(item.pos.file, []).append(fn)
+        except TooManyErrors:
+            return None
+        if self.sink.has_errors:
+            return None
+        modules, codes = [], []
+        for fname, body in per_file.items():
+            mod = ast.Module(body=body, type_ignores=[])
+            ast.fix_missing_locations(mod)
+            modules.append((fname, mod))
+            codes.append((fname, compile(mod, fname, "exec")))
+        globals_ = {k: v for k, v in self.global_scope.names.items() if isinstance(v, VarSym)}
+        return CompiledProgram(self.tasks, modules, codes, self.sysvars, globals_)
+
+    @staticmethod
+    def _local_addr_taken(f: n.FuncDef) -> set[str]:
+        return {x.operand.id for x in walk(f.body) if isinstance(x, n.Unary) and x.op == "&" and isinstance(x.operand, n.Name)} | {
+            x.operand.id for x in walk(f.params) if False}
+
+    def _init_function(self, u: Unit, scope: Scope) -> ast.FunctionDef:
+        lw = FunctionLowerer(self, u.task, scope, None, set())
+        body: list[ast.stmt] = []
+        for sym, item in self._pending_inits.get(u.task, []):
+            try:
+                stmts = lw.init_var(sym, item.init, item.pos)
+                if sym.storage == "pyglobal":
+                    lw.globals_stored.add(sym.pyname)
+                if any(isinstance(x, (ast.Yield, ast.YieldFrom)) for s in stmts for x in ast.walk(s)):
+                    raise self._fail(item.pos, f"the initializer of '{item.name}' must not call a function that waits")
+                body.extend(_at(stmts, item.pos))
+            except SemanticError:
+                pass
+        if lw.globals_stored:
+            body.insert(0, ast.Global(names=sorted(lw.globals_stored)))
+        fn = ast.FunctionDef(name=f"_init_t{u.task}", args=ast.arguments(posonlyargs=[], args=[], vararg=None,
+                             kwonlyargs=[], kw_defaults=[], kwarg=None, defaults=[]),
+                             body=body or [ast.Pass()], decorator_list=[], returns=None)
+        return _at([fn], u.tu.pos)[0]
+
+
+def _offset(addr: ast.expr, off: int) -> ast.expr:
+    if off == 0:
+        return addr
+    if isinstance(addr, ast.Constant):
+        return ast.Constant(addr.value + off)
+    return ast.BinOp(left=addr, op=ast.Add(), right=ast.Constant(off))
+
+
+def _scaled(addr: ast.expr, off: int, size: int) -> ast.expr:
+    a = _offset(addr, off)
+    if isinstance(a, ast.Constant):
+        return ast.Constant(a.value // size)
+    return ast.BinOp(left=a, op=ast.FloorDiv(), right=ast.Constant(size))

@@ -1,0 +1,224 @@
+"""The HMPL run time: loads a compiled program into a namespace and runs its tasks.
+
+It owns the program's memory, the namespace generated code runs in (helpers, memory
+views, built-ins bound as `b_NAME`), one memory stack per task, controller GPIO as
+HMPL sees it, message output, and fault reports in the DESIGN.md format
+`FILE:LINE: runtime error in task N: MESSAGE`.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+import traceback
+from collections.abc import Callable
+from pathlib import Path
+
+from motionvm.lang.hmpl.cmemory import Memory, TaskStack
+from motionvm.lang.hmpl.compiler import N_TASKS, STACK_SIZE, STATIC_SIZE
+from motionvm.lang.hmpl.lib import library_classes
+from motionvm.lang.hmpl.program import CompiledProgram
+from motionvm.lang.hmpl.rthelpers import make_helpers
+from motionvm.runtime.errors import RuntimeFault
+from motionvm.runtime.kernel import Kernel, Task
+
+N_GPIO = 32
+# Python's own frames per HMPL call are few; this bounds HMPL recursion depth.
+RECURSION_LIMIT = 6000
+
+
+def _plain_to_gen(fn: Callable[[], object]):
+    """Run a function that never blocks as a task body."""
+    fn()
+    return
+    yield  # pragma: no cover — makes this a generator
+
+
+class HmplRuntime:
+    """One loaded HMPL program on a controller (kernel + clock)."""
+
+    def __init__(self, controller, program: CompiledProgram, mem: Memory, *, emit: Callable[[str], None],
+                 report: Callable[[str], None], data_dir: Path, task_slice: int = 2000) -> None:
+        self.controller = controller
+        self.kernel: Kernel = controller.kernel
+        self.program = program
+        self.mem = mem
+        self._emit = emit
+        self._report = report
+        self.data_dir = Path(data_dir)
+        self.task_slice = task_slice
+        self.events: list[tuple[float, int, str, object]] = []
+        self.event_callbacks: list[Callable[[str, object], None]] = []
+        self.faults = 0
+        self.stamp = False
+        self.gpi = [0] * N_GPIO
+        self.gpo = [0] * N_GPIO
+        self.user_files = {fname for fname, _ in program.codes}
+        self.stacks = [TaskStack(mem, STATIC_SIZE + i * STACK_SIZE, STACK_SIZE) for i in range(N_TASKS)]
+        self.user_table_addr = program.sysvars["system_user_table"].addr
+        self._time_addr = program.sysvars["system_timeInMs"].addr // 4
+        self._fclk_addr = program.sysvars["system_fclk"].addr // 4
+        self.ns = make_helpers(mem)
+        self.ns["__name__"] = "hmpl_program"
+        self.ns["_gpi"] = self._gpi
+        self.ns["_gpo"] = self._gpo
+        self.ns["_gpo_set"] = self._gpo_set
+        self.libs = [cls(self) for cls in library_classes()]
+        for lib in self.libs:
+            for hname, (attr, _blocking) in lib.builtin_methods().items():
+                self.ns["b_" + hname] = getattr(lib, attr)
+        for _fname, code in program.codes:
+            exec(code, self.ns)
+        self.kernel.before_resume = self._before_resume
+        self.kernel.on_fault = self._on_fault
+        self.kernel.on_stop = self._on_stop
+        if sys.getrecursionlimit() < RECURSION_LIMIT:
+            sys.setrecursionlimit(RECURSION_LIMIT)
+
+    # ------------------------------------------------------------ clock
+
+    @property
+    def cycle(self) -> int:
+        return self.kernel.cycle
+
+    @property
+    def cycle_ms(self) -> float:
+        return self.controller.cycle_time * 1000.0
+
+    @property
+    def sim_time(self) -> float:
+        """Simulated time [s]."""
+        return self.kernel.cycle * self.controller.cycle_time
+
+    @property
+    def time_ms(self) -> int:
+        """Controller time [ms], as system_timeInMs shows it."""
+        return int(round(self.kernel.cycle * self.cycle_ms))
+
+    @property
+    def current_task_id(self) -> int:
+        t = self.kernel.current
+        return t.id if t is not None else -1
+
+    def begin_cycle(self) -> None:
+        """Update the system variables of manual 22.2 for this cycle."""
+        i32 = self.mem.i32
+        i32[self._time_addr] = self.time_ms & 0x7FFFFFFF
+        ticks = int(round(self.kernel.cycle * self.controller.cycle_time / 250e-6))
+        i32[self._fclk_addr] = ((ticks + 2**31) & 0xFFFFFFFF) - 2**31
+
+    # ------------------------------------------------------------ output
+
+    def emit(self, text: str) -> None:
+        """One message line from the current task (Print, SendMsgEvent, ...)."""
+        if self.stamp:
+            text = f"[t={self.sim_time:.3f}][task {self.current_task_id}] {text}"
+        self._emit(text)
+
+    def emit_event(self, kind: str, payload: object) -> None:
+        """Deliver a host event (SendEvent id or SendMsgEvent text) to registered callbacks."""
+        self.events.append((self.sim_time, self.current_task_id, kind, payload))
+        for cb in self.event_callbacks:
+            cb(kind, payload)
+
+    # ------------------------------------------------------------ GPIO
+
+    def _gpio_index(self, i: int, what: str) -> int:
+        if not 0 <= i < N_GPIO:
+            raise RuntimeFault(f"{what}({i}): index out of range (0..{N_GPIO - 1})")
+        return i
+
+    def _gpi(self, i: int) -> int:
+        return self.gpi[self._gpio_index(i, "HIMC_GPI")]
+
+    def _gpo(self, i: int) -> int:
+        return self.gpo[self._gpio_index(i, "HIMC_GPO")]
+
+    def _gpo_set(self, i: int, v) -> int:
+        self.gpo[self._gpio_index(i, "HIMC_GPO")] = 1 if v else 0
+        return 1 if v else 0
+
+    # ------------------------------------------------------------ tasks
+
+    def boot(self) -> None:
+        """Initialize globals (once, as at download) and start task 0 and _AUTORUN_ tasks."""
+        for tid in sorted(self.program.tasks):
+            self.ns[self.program.tasks[tid].init]()
+        for tid in sorted(self.program.tasks):
+            info = self.program.tasks[tid]
+            if info.entry is not None and (tid == 0 or info.autorun):
+                self.start_task(tid, None)
+
+    def start_task(self, task_id: int, func_name: str | None) -> int:
+        """Start `main` (or `func_name`) of a task; 0 on success, non-zero on failure."""
+        info = self.program.tasks.get(task_id)
+        if info is None or self.kernel.tasks[task_id].running:
+            return 1
+        if func_name is None:
+            if info.entry is None:
+                return 2
+            pyname = info.entry
+        else:
+            sym = info.functions.get(func_name) or self.program.tasks.get(0, info).functions.get(func_name)
+            if sym is None or sym.type.params:
+                return 3
+            pyname = sym.pyname
+        fn = self.ns[pyname]
+        sym = next((s for s in info.functions.values() if s.pyname == pyname), None)
+        if sym is None and 0 in self.program.tasks:
+            sym = next((s for s in self.program.tasks[0].functions.values() if s.pyname == pyname), None)
+        gen = fn() if sym is not None and sym.is_generator else _plain_to_gen(fn)
+        self.stacks[task_id].reset()
+        self.kernel.start(task_id, gen, func_name or "main")
+        return 0
+
+    def _before_resume(self, t: Task) -> None:
+        ns = self.ns
+        ns["_budget"] = self.task_slice
+        ns["_stack"] = self.stacks[t.id]
+
+    def _on_stop(self, t: Task) -> None:
+        self.stacks[t.id].reset()
+
+    def _on_fault(self, t: Task, exc: BaseException) -> None:
+        self.faults += 1
+        where = self._user_location(exc)
+        msg = self._fault_message(exc)
+        if msg is None:
+            detail = "".join(traceback.format_exception_only(type(exc), exc)).strip()
+            self._report(f"{where}: internal error in task {t.id}: {detail}\n"
+                         "  this is a bug in motionvm, not in your program; please file an issue with the program attached")
+            return
+        self._report(f"{where}: runtime error in task {t.id}: {msg}")
+
+    def _user_location(self, exc: BaseException) -> str:
+        tb = exc.__traceback__
+        loc = None
+        while tb is not None:
+            code = tb.tb_frame.f_code
+            if code.co_filename in self.user_files:
+                loc = (code.co_filename, tb.tb_lineno)
+            tb = tb.tb_next
+        if loc is None:
+            return "<motionvm>"
+        return f"{loc[0]}:{loc[1]}"
+
+    @staticmethod
+    def _fault_message(exc: BaseException) -> str | None:
+        if isinstance(exc, RuntimeFault):
+            return str(exc)
+        if isinstance(exc, RecursionError):
+            return "stack overflow: function calls nested too deeply (infinite recursion?)"
+        if isinstance(exc, MemoryError):
+            return "out of memory"
+        if isinstance(exc, IndexError) and "memoryview" in str(exc):
+            return "memory access outside the program's memory (bad pointer)"
+        return None
+
+
+def data_dir_default(machine_dir: Path | None) -> Path:
+    """The machine's data folder: $MOTIONVM_DATA_DIR, else ./motionvm-data."""
+    env = os.environ.get("MOTIONVM_DATA_DIR")
+    if env:
+        return Path(env)
+    return (machine_dir or Path.cwd()) / "motionvm-data"

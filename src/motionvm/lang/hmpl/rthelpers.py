@@ -1,0 +1,147 @@
+"""The run-time helpers generated HMPL code calls: C arithmetic, checked memory access.
+
+These are the only non-built-in names generated code uses (besides memory views and
+`_budget`/`_stack`); `make_helpers(mem)` binds them to one program's memory, as
+closures over the typed views so each call costs one Python function call.
+"""
+
+from __future__ import annotations
+
+import math
+
+from motionvm.lang.hmpl.cmemory import SCALAR_FORMATS, Memory, to_f32, wrap_scalar
+from motionvm.lang.hmpl.lvalues import VIEW_NAMES
+from motionvm.runtime.errors import RuntimeFault
+
+
+def _idiv(a: int, b: int) -> int:
+    """C integer division: truncates toward zero; division by zero is a fault."""
+    if b == 0:
+        raise RuntimeFault("integer division by zero")
+    if (a >= 0) == (b > 0):
+        return a // b if a >= 0 else (-a) // (-b)
+    return -(abs(a) // abs(b))
+
+
+def _imod(a: int, b: int) -> int:
+    """C remainder: takes the sign of the dividend; modulo by zero is a fault."""
+    if b == 0:
+        raise RuntimeFault("integer modulo by zero")
+    r = abs(a) % abs(b)
+    return -r if a < 0 else r
+
+
+def _fdiv(a: float, b: float) -> float:
+    """IEEE division: x/0 gives inf (or nan for 0/0), as on the controller's FPU."""
+    try:
+        return a / b
+    except ZeroDivisionError:
+        if a == 0 or math.isnan(a):
+            return math.nan
+        return math.copysign(math.inf, a) * math.copysign(1.0, b)
+
+
+def _f2i(x: float, bits: int, signed: bool) -> int:
+    """Float to integer as the controller's FPU does: truncate, saturate, NaN gives 0."""
+    if x != x:
+        return 0
+    lo, hi = (-(1 << (bits - 1)), (1 << (bits - 1)) - 1) if signed else (0, (1 << bits) - 1)
+    if x >= hi:
+        return hi
+    if x <= lo:
+        return lo
+    return int(x)
+
+
+def _oob(i: int, n: int) -> int:
+    raise RuntimeFault(f"array index {i} out of bounds (the array has {n} elements)")
+
+
+def _ck(i: int, n: int) -> int:
+    if 0 <= i < n:
+        return i
+    return _oob(i, n)
+
+
+def _stv(view, idx: int, value):
+    """Store into a typed view and give the stored value (assignment as an expression)."""
+    view[idx] = value
+    return view[idx]
+
+
+def _notimpl(name: str, *args):
+    raise RuntimeFault(f"{name} is not implemented yet")
+
+
+def make_helpers(mem: Memory) -> dict[str, object]:
+    """All helper names for one program's namespace, bound to `mem`."""
+    ns: dict[str, object] = {
+        "_idiv": _idiv,
+        "_imod": _imod,
+        "_fdiv": _fdiv,
+        "_f2i": _f2i,
+        "_f32": to_f32,
+        "_oob": _oob,
+        "_ck": _ck,
+        "_stv": _stv,
+        "_notimpl": _notimpl,
+        "_budget": 0,
+        "_stack": None,
+    }
+    for code, vname in VIEW_NAMES.items():
+        ns[vname] = getattr(mem, code)
+    sh = mem.shadow
+
+    def make_access(code: str):
+        view = getattr(mem, code)
+        size = SCALAR_FORMATS[code][1]
+        last = size - 1
+        shift = size.bit_length() - 1
+        amask = size - 1
+
+        def load(a):
+            try:
+                if a > 0 and not a & amask and sh[a] and sh[a + last]:
+                    return view[a >> shift]
+            except (IndexError, TypeError):
+                pass
+            return mem.load(a, code)
+
+        def store(a, v):
+            try:
+                if a > 0 and not a & amask and sh[a] and sh[a + last]:
+                    view[a >> shift] = v
+                    return view[a >> shift]
+            except (IndexError, TypeError):
+                pass
+            mem.store(a, code, v)
+            return mem.load(a, code)
+
+        return load, store
+
+    for code in SCALAR_FORMATS:
+        ld, st = make_access(code)
+        ns["_ld_" + code] = ld
+        ns["_st_" + code] = st
+
+    def _chkp(p, n, align=1):
+        """Check that a pointer designates n bytes of one live object, suitably aligned."""
+        mem.check(p, n)
+        if p % align:
+            raise RuntimeFault(f"misaligned pointer 0x{p:x} (needs alignment {align})")
+        return p
+
+    def _fill(addr, image):
+        mem.buf[addr : addr + len(image)] = image
+
+    def _copy(dst, src, n):
+        mem.check(src, n, "source")
+        mem.check(dst, n, "destination")
+        mem.buf[dst : dst + n] = mem.buf[src : src + n]
+        return dst
+
+    ns["_chkp"] = _chkp
+    ns["_fill"] = _fill
+    ns["_copy"] = _copy
+    ns["_wrap"] = wrap_scalar
+    return ns

@@ -1,0 +1,87 @@
+"""Symbols and scopes of an HMPL program (manual 1.5): global, task, function and block scope.
+
+Storage of a variable decides how generated code reaches it:
+- 'local'  — a Python local of the generated function (plain scalars, address never taken);
+- 'pyglobal' — a Python global of the shared program namespace (global/task scalars);
+- 'static' — a fixed address in memory (arrays, structs, address-taken globals, system vars);
+- 'frame'  — an offset in the function's stack frame (memory-resident locals).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from motionvm.lang.hmpl import ctypes_ as ct
+from motionvm.source.files import SourcePos
+
+
+@dataclass(slots=True)
+class VarSym:
+    name: str
+    type: ct.CType
+    storage: str  # 'local' | 'pyglobal' | 'static' | 'frame'
+    pos: SourcePos | None
+    pyname: str = ""  # for 'local' / 'pyglobal'
+    addr: int = 0  # for 'static'
+    offset: int = 0  # for 'frame'
+    is_const: bool = False
+    const_value: int | float | None = None  # named constants
+
+
+@dataclass(slots=True)
+class FuncSym:
+    name: str
+    type: ct.FuncT
+    pos: SourcePos
+    pyname: str
+    task: int  # owning task (0 for global functions)
+    defined: bool = False
+    is_generator: bool = False
+    param_names: tuple[str, ...] = ()
+    node: object = None  # the FuncDef with a body
+
+
+@dataclass(slots=True)
+class Scope:
+    """One level of name lookup; `parent` is the enclosing scope."""
+
+    parent: "Scope | None"
+    kind: str  # 'global' | 'task' | 'function' | 'block'
+    names: dict[str, "VarSym | FuncSym"] = field(default_factory=dict)
+    types: dict[str, ct.CType] = field(default_factory=dict)  # typedef names
+    tags: dict[str, ct.StructT] = field(default_factory=dict)  # struct/union tags
+
+    def lookup(self, name: str) -> "VarSym | FuncSym | None":
+        s: Scope | None = self
+        while s is not None:
+            found = s.names.get(name)
+            if found is not None:
+                return found
+            s = s.parent
+        return None
+
+    def lookup_type(self, name: str) -> ct.CType | None:
+        s: Scope | None = self
+        while s is not None:
+            found = s.types.get(name)
+            if found is not None:
+                return found
+            s = s.parent
+        return None
+
+    def lookup_tag(self, tag: str) -> ct.StructT | None:
+        s: Scope | None = self
+        while s is not None:
+            found = s.tags.get(tag)
+            if found is not None:
+                return found
+            s = s.parent
+        return None
+
+    def visible_names(self) -> list[str]:
+        out: list[str] = []
+        s: Scope | None = self
+        while s is not None:
+            out.extend(s.names)
+            s = s.parent
+        return out

@@ -1,0 +1,288 @@
+"""The manual's profile generator for one axis: a T-curve followed by a moving average.
+
+HIMC manual 5.1: the profile generator (PG) plans a T-curve (trapezoid in velocity)
+limited by the maximum velocity, acceleration and deceleration, and smooths it with a
+moving average of length Ts (the smooth time), so that
+
+    jerk = acceleration / Ts,     total acceleration time = Ta + Ts.
+
+Discretely, the T-curve is sampled once per controller cycle `dt` and the output is the
+mean of the last N = round(Ts/dt) samples (N <= 1: no smoothing). Consequences:
+
+* velocity and acceleration of the output never exceed those of the T-curve; the jerk
+  is at most a_max/(N*dt), or (a_max + d_max)/(N*dt) where an acceleration phase and a
+  deceleration phase lie closer than Ts (e.g. a triangular profile), and at most
+  2*max(a_max, d_max)/(N*dt) across on-the-fly reversals (the moving average of a
+  T-curve whose acceleration jumps from -d to +d within Ts);
+* a move ends exactly on its target, at cycle ceil(T/dt) + N - 1 after the command,
+  where T is the closed-form T-curve time (`rest_to_rest_time`): total move time T + Ts
+  within one cycle.
+
+On-the-fly changes (new target, new limits, velocity scale, jog velocity) replan the
+T-curve from its current state; the filter keeps running, so the output stays smooth.
+Units: positions [mm], velocities [mm/s], accelerations [mm/s^2], times [s].
+"""
+
+from __future__ import annotations
+
+import math
+
+from motionvm.motion.tcurve import TCurve, plan_position, plan_velocity
+
+IDLE, POSITION, VELOCITY, STOP = "idle", "position", "velocity", "stop"
+
+
+def _check_positive(name: str, value: float) -> float:
+    value = float(value)
+    if not (value > 0.0 and math.isfinite(value)):
+        raise ValueError(f"{name} must be a positive finite number, got {value!r}")
+    return value
+
+
+class ProfileGenerator:
+    """T-curve planner + moving-average smoothing, stepped once per controller cycle."""
+
+    __slots__ = (
+        "dt", "_inv_dt", "v_max", "a_max", "d_max", "velocity_scale", "mode", "target",
+        "_v_cmd", "_plan", "_segs", "_nseg", "_seg_i", "_n", "_tc_done", "_p_f",
+        "_n_avg", "_buf", "_j", "_sum", "_base", "_flush", "_out", "_idle",
+    )  # fmt: skip
+
+    def __init__(
+        self,
+        dt: float = 0.001,
+        v_max: float = 100.0,
+        a_max: float = 1000.0,
+        d_max: float = 1000.0,
+        t_smooth: float = 0.0,
+        position: float = 0.0,
+    ):
+        """`dt` cycle [s], limits [mm/s], [mm/s^2], `t_smooth` Ts [s], start `position` [mm]."""
+        self.dt = _check_positive("dt", dt)
+        self._inv_dt = 1.0 / self.dt
+        self.v_max = _check_positive("v_max", v_max)
+        self.a_max = _check_positive("a_max", a_max)
+        self.d_max = _check_positive("d_max", d_max)
+        self.velocity_scale = 1.0
+        """Factor [-] on v_max and on the jog velocity (manual SetVelScale / 100)."""
+        self.mode = IDLE
+        """IDLE, POSITION (move_to), VELOCITY (move_velocity) or STOP."""
+        self._n_avg = 1
+        self.set_smooth_time(t_smooth)
+        self.reset(position)
+
+    # ---- commands -------------------------------------------------------------------
+
+    def reset(self, position: float) -> None:
+        """Drop any motion and hold `position` [mm] (Disable, SetPos, follow feedback)."""
+        p = float(position)
+        self.mode = IDLE
+        self.target = p
+        """Final position [mm] of the current point-to-point move or stop."""
+        self._v_cmd = 0.0
+        self._set_plan(TCurve([], p))
+        self._tc_done = True
+        self._base = p
+        self._buf = [0.0] * self._n_avg
+        self._j = 0
+        self._sum = 0.0
+        self._flush = self._n_avg
+        self._out = (p, 0.0, 0.0)
+        self._idle = True
+
+    def move_to(self, target: float) -> None:
+        """Move to `target` [mm] and stop there (MoveAbs; replans a motion in progress)."""
+        target = float(target)
+        if not math.isfinite(target):
+            raise ValueError(f"target must be finite, got {target!r}")
+        self.mode = POSITION
+        self.target = target
+        self._replan()
+
+    def move_velocity(self, v: float) -> None:
+        """Jog at `v` [mm/s] (MoveVel): the sign is the direction; |v| is capped at v_max."""
+        v = float(v)
+        if not math.isfinite(v):
+            raise ValueError(f"velocity must be finite, got {v!r}")
+        self.mode = VELOCITY
+        self._v_cmd = v
+        self._replan()
+
+    def stop(self, decel: float | None = None) -> None:
+        """Decelerate to rest at `decel` [mm/s^2] (default d_max); clears the target."""
+        decel = self.d_max if decel is None else _check_positive("decel", decel)
+        p, v = self._tc_state()
+        self.mode = STOP
+        self._start(plan_velocity(p, v, 0.0, decel, decel))
+        self.target = self._p_f
+
+    def set_limits(
+        self, v_max: float | None = None, a_max: float | None = None, d_max: float | None = None
+    ) -> None:
+        """Change limits; a move or jog in progress is replanned with them at once."""
+        if v_max is not None:
+            self.v_max = _check_positive("v_max", v_max)
+        if a_max is not None:
+            self.a_max = _check_positive("a_max", a_max)
+        if d_max is not None:
+            self.d_max = _check_positive("d_max", d_max)
+        if self.mode in (POSITION, VELOCITY):
+            self._replan()
+
+    def set_velocity_scale(self, scale: float) -> None:
+        """Scale [0..1] of v_max and of the jog velocity; 0 brings a move to a halt."""
+        scale = float(scale)
+        if not 0.0 <= scale <= 1.0:
+            raise ValueError(f"velocity scale {scale!r} is outside 0..1")
+        self.velocity_scale = scale
+        if self.mode in (POSITION, VELOCITY):
+            self._replan()
+
+    def set_smooth_time(self, t_smooth: float) -> None:
+        """Set Ts [s] (manual SetSMTime, 0..0.5 s); only while no motion is in progress."""
+        t_smooth = float(t_smooth)
+        if not (0.0 <= t_smooth <= 10.0):
+            raise ValueError(f"smooth time {t_smooth!r} s is outside 0..10 s")
+        if getattr(self, "_idle", True) is False:
+            raise RuntimeError("the smooth time cannot change while the axis moves")
+        self._n_avg = max(1, round(t_smooth / self.dt))
+        if hasattr(self, "_out"):
+            self.reset(self._out[0])
+
+    # ---- queries --------------------------------------------------------------------
+
+    @property
+    def t_smooth(self) -> float:
+        """Effective smooth time N*dt [s] (0 if N <= 1, i.e. no smoothing)."""
+        return self._n_avg * self.dt if self._n_avg > 1 else 0.0
+
+    @property
+    def is_done(self) -> bool:
+        """True once the output is exactly on the final position: the move has ended.
+
+        Never while jogging or halted by a zero velocity scale. The velocity of that
+        cycle is still the backward difference of the last step, zero one cycle later.
+        """
+        return self._tc_done and self._out[0] == self._p_f and not self._pending()
+
+    @property
+    def is_halted(self) -> bool:
+        """True while a move or jog rests at a zero velocity scale, waiting to go on."""
+        return self._idle and self._pending()
+
+    def _pending(self) -> bool:
+        if self.mode == POSITION:
+            return self._p_f != self.target
+        return self.mode == VELOCITY and self._v_cmd != 0.0
+
+    @property
+    def output(self) -> tuple[float, float, float]:
+        """The last (ref_pos [mm], ref_vel [mm/s], ref_acc [mm/s^2])."""
+        return self._out
+
+    def planned_move_time(self) -> float:
+        """Closed-form time [s] from the last (re)plan to the end of motion: T + Ts.
+
+        0 for a move that does not move; inf for a jog.
+        """
+        if not self._segs:
+            return 0.0
+        return self._plan.duration + self.t_smooth
+
+    # ---- internals ------------------------------------------------------------------
+
+    def _tc_state(self) -> tuple[float, float]:
+        """Position [mm] and velocity [mm/s] of the T-curve at the last sample."""
+        if self._tc_done:
+            return self._p_f, 0.0
+        p, v, _ = self._plan.evaluate(self._n * self.dt)
+        return p, v
+
+    def _replan(self) -> None:
+        p, v = self._tc_state()
+        v_lim = self.v_max * self.velocity_scale
+        if self.mode == VELOCITY:
+            v_f = max(-v_lim, min(v_lim, self._v_cmd * self.velocity_scale))
+            self._start(plan_velocity(p, v, v_f, self.a_max, self.d_max))
+        elif v_lim > 0.0:
+            self._start(plan_position(p, v, self.target, v_lim, self.a_max, self.d_max))
+        else:  # halted by a zero velocity scale: stop, keep the target
+            self._start(plan_velocity(p, v, 0.0, self.a_max, self.d_max))
+
+    def _set_plan(self, plan: TCurve) -> None:
+        self._plan = plan
+        self._segs = plan.segs
+        self._nseg = len(plan.segs)
+        self._seg_i = 0
+        self._n = 0
+        self._p_f = plan.p_f
+
+    def _start(self, plan: TCurve) -> None:
+        if self._idle:
+            if not plan.segs:
+                self._set_plan(plan)
+                self.mode = IDLE
+                return
+            # From rest the filter window holds one value; store samples relative to it.
+            self._base = self._out[0]
+            self._buf = [0.0] * self._n_avg
+            self._sum = 0.0
+            self._j = 0
+        self._set_plan(plan)
+        self._tc_done = not plan.segs
+        self._flush = 0
+        self._idle = False
+
+    def step(self) -> tuple[float, float, float]:
+        """Advance one cycle; return (ref_pos [mm], ref_vel [mm/s], ref_acc [mm/s^2])."""
+        if self._idle:
+            return self._out
+        n = self._n + 1
+        self._n = n
+        if self._tc_done:
+            p = self._p_f
+        else:
+            tau = n * self.dt
+            i = self._seg_i
+            seg = self._segs[i]
+            while tau >= seg[1]:
+                i += 1
+                if i == self._nseg:
+                    break
+                seg = self._segs[i]
+            self._seg_i = i
+            if i == self._nseg:
+                self._tc_done = True
+                p = self._p_f
+            else:
+                x = tau - seg[0]
+                p = seg[2] + (seg[3] + 0.5 * seg[4] * x) * x
+        n_avg = self._n_avg
+        if n_avg > 1:
+            r = p - self._base
+            buf = self._buf
+            j = self._j
+            s = self._sum + r - buf[j]
+            buf[j] = r
+            j += 1
+            if j == n_avg:
+                j = 0
+                s = math.fsum(buf)  # bounds the drift of the running sum
+            self._j = j
+            self._sum = s
+            if self._tc_done:
+                self._flush += 1
+                out = p if self._flush >= n_avg else self._base + s / n_avg
+            else:
+                out = self._base + s / n_avg
+        else:
+            out = p
+        p_prev, v_prev, _ = self._out
+        v = (out - p_prev) * self._inv_dt
+        a = (v - v_prev) * self._inv_dt
+        self._out = res = (out, v, a)
+        if v == 0.0 and a == 0.0 and self._tc_done and out == self._p_f:
+            self._idle = True
+            if not self._pending():
+                self.mode = IDLE
+        return res

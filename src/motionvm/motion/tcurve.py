@@ -1,0 +1,166 @@
+"""Closed-form T-curve (trapezoidal velocity) planner: from any state to rest at a target.
+
+A plan is a list of constant-acceleration segments starting at t = 0 [s]. Convention of
+the manual's profile generator: the acceleration limit `a_max` applies while |v| grows,
+the deceleration limit `d_max` while |v| shrinks. A position plan ends exactly on its
+target: after the last segment the plan returns `p_f` itself, not a computed value.
+
+    plan_position(p_0, v_0, p_f, v_max, a_max, d_max)   move to p_f and stop
+    plan_velocity(p_0, v_0, v_f, a_max, d_max)          reach v_f and keep it (jog)
+    rest_to_rest_time(distance, v_max, a_max, d_max)    closed-form move time [s]
+
+Units: positions [mm], velocities [mm/s], accelerations [mm/s^2], times [s].
+"""
+
+from __future__ import annotations
+
+import math
+
+from motionvm.motion.tolerances import OVERSHOOT_REL
+
+INF = math.inf
+
+
+class TCurve:
+    """A piecewise constant-acceleration trajectory, t = 0 at the state it was planned from.
+
+    `segs` holds tuples `(t_0, t_1, p_0, v_0, a)`: on t_0 <= t < t_1 the position is
+    p_0 + v_0*(t - t_0) + a*(t - t_0)**2/2. The last segment of a velocity plan is an
+    open-ended cruise (t_1 = inf); a finite plan holds `p_f` from `duration` on.
+    """
+
+    __slots__ = ("segs", "p_f", "duration")
+
+    def __init__(self, segs: list[tuple[float, float, float, float, float]], p_f: float):
+        self.segs = segs
+        """Segments `(t_0 [s], t_1 [s], p_0 [mm], v_0 [mm/s], a [mm/s^2])`."""
+        self.p_f = p_f
+        """Final position [mm] of a finite plan (exactly the target of a position plan)."""
+        self.duration = segs[-1][1] if segs else 0.0
+        """Time [s] at which the plan comes to rest; inf for a jog."""
+
+    def evaluate(self, t: float) -> tuple[float, float, float]:
+        """State (position [mm], velocity [mm/s], acceleration [mm/s^2]) at time t [s].
+
+        Uses the same arithmetic as `ProfileGenerator.step`, so a stepped sample and a
+        direct evaluation at the same t are bit-identical.
+        """
+        for t_0, t_1, p_0, v_0, a in self.segs:
+            if t < t_1:
+                x = t - t_0 if t > t_0 else 0.0
+                return p_0 + (v_0 + 0.5 * a * x) * x, v_0 + a * x, a
+        return self.p_f, 0.0, 0.0
+
+
+class _Builder:
+    """Appends segments, carrying the state (p, v) at the end of the last one."""
+
+    __slots__ = ("segs", "t", "p", "v")
+
+    def __init__(self, p_0: float, v_0: float):
+        self.segs: list[tuple[float, float, float, float, float]] = []
+        self.t = 0.0
+        self.p = p_0
+        self.v = v_0
+
+    def add(self, duration: float, a: float) -> None:
+        if duration <= 0.0:
+            return
+        t_1 = self.t + duration
+        self.segs.append((self.t, t_1, self.p, self.v, a))
+        self.p = self.p + (self.v + 0.5 * a * duration) * duration
+        self.v = self.v + a * duration
+        self.t = t_1
+
+    def change_velocity(self, v_f: float, a_max: float, d_max: float) -> None:
+        """Go from the current velocity to v_f: brake with d_max, speed up with a_max."""
+        v = self.v
+        if v != 0.0 and (v > 0.0) != (v_f > 0.0) and v_f != 0.0:
+            self.add(abs(v) / d_max, -math.copysign(d_max, v))
+            self.v = 0.0
+            v = 0.0
+        if v_f == v:
+            return
+        rate = a_max if abs(v_f) > abs(v) else d_max
+        self.add(abs(v_f - v) / rate, math.copysign(rate, v_f - v))
+        self.v = v_f  # exact, so a following cruise starts at exactly v_f
+
+
+def rest_to_rest_time(distance: float, v_max: float, a_max: float, d_max: float) -> float:
+    """Closed-form T-curve time [s] of a move of `distance` [mm] from rest to rest."""
+    dist = abs(distance)
+    if dist == 0.0:
+        return 0.0
+    v_peak = math.sqrt(2.0 * a_max * d_max * dist / (a_max + d_max))
+    if v_peak <= v_max:
+        return v_peak / a_max + v_peak / d_max
+    d_ramps = v_max * v_max / (2.0 * a_max) + v_max * v_max / (2.0 * d_max)
+    return v_max / a_max + v_max / d_max + (dist - d_ramps) / v_max
+
+
+def plan_position(
+    p_0: float, v_0: float, p_f: float, v_max: float, a_max: float, d_max: float
+) -> TCurve:
+    """Time-optimal T-curve from (p_0, v_0) to rest at p_f.
+
+    If the axis cannot stop before p_f (too fast, or moving away) it brakes to rest
+    with d_max first and then moves back. A start faster than v_max (limits lowered
+    on the fly) is braked down to v_max with d_max.
+    """
+    b = _Builder(p_0, v_0)
+    _to_target(b, p_f, v_max, a_max, d_max, reversals=2)
+    return TCurve(b.segs, p_f)
+
+
+def _to_target(b: _Builder, p_f: float, v_max: float, a_max: float, d_max: float, reversals: int):
+    dist_signed = p_f - b.p
+    u_signed = b.v
+    if dist_signed == 0.0 and u_signed == 0.0:
+        return
+    s = 1.0 if dist_signed > 0.0 or (dist_signed == 0.0 and u_signed < 0.0) else -1.0
+    dist = s * dist_signed
+    u = s * u_signed
+    s_stop = u * u / (2.0 * d_max)
+    # A state that lies on the braking curve (replanned mid-deceleration) may miss it by
+    # rounding; accept it instead of planning a micro-reversal.
+    fits = s_stop <= dist or (dist > 0.0 and s_stop <= dist * (1.0 + OVERSHOOT_REL))
+    if u < 0.0 or not fits or reversals == 0:
+        b.add(abs(u_signed) / d_max, -math.copysign(d_max, u_signed))
+        b.v = 0.0
+        if reversals > 0:
+            _to_target(b, p_f, v_max, a_max, d_max, reversals - 1)
+        return
+    if u > v_max:
+        b.add((u - v_max) / d_max, -s * d_max)
+        v_peak = v_max
+        b.v = s * v_peak
+    else:
+        v_peak = math.sqrt((2.0 * a_max * d_max * dist + d_max * u * u) / (a_max + d_max))
+        v_peak = max(min(v_peak, v_max), u)
+        b.add((v_peak - u) / a_max, s * a_max)
+        b.v = s * v_peak
+    remaining = s * (p_f - b.p)
+    cruise = remaining - v_peak * v_peak / (2.0 * d_max)
+    if cruise > 0.0 and v_peak > 0.0:
+        b.add(cruise / v_peak, 0.0)
+        remaining = s * (p_f - b.p)
+    if v_peak > 0.0 and remaining > 0.0:
+        # Land exactly (in exact arithmetic) on p_f: the deceleration is v_peak^2 /
+        # (2*remaining), equal to d_max up to rounding.
+        t_dec = 2.0 * remaining / v_peak
+        b.add(t_dec, -s * v_peak / t_dec)
+    b.v = 0.0
+    b.p = p_f
+
+
+def plan_velocity(p_0: float, v_0: float, v_f: float, a_max: float, d_max: float) -> TCurve:
+    """T-curve from (p_0, v_0) to the velocity v_f [mm/s], then cruising at v_f forever.
+
+    With v_f == 0 the plan is finite and ends at rest (a stop); `p_f` is where it stops.
+    """
+    b = _Builder(p_0, v_0)
+    b.change_velocity(v_f, a_max, d_max)
+    if v_f != 0.0:
+        b.segs.append((b.t, INF, b.p, v_f, 0.0))
+        return TCurve(b.segs, INF)
+    return TCurve(b.segs, b.p)

@@ -1,0 +1,122 @@
+"""The cooperative task scheduler: up to 64 tasks as Python generators on the cycle clock.
+
+Each cycle the kernel resumes every ready task once, in task-id order. A task runs
+until it yields: `None` means "resume me next cycle" (a slice used up, RunScheduler,
+a wait that polls, such as Till or MutexLock); an int is the cycle to wake at (Sleep).
+A task ends when its generator returns, raises `TaskExit`, or faults; a fault stops
+only that task and is reported through `on_fault`. No wall clock, no threads: the
+same program gives the same schedule every run.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Generator
+from dataclasses import dataclass, field
+
+from motionvm.runtime.errors import TaskExit
+
+MAX_TASKS = 64
+
+
+@dataclass
+class Task:
+    """One task slot; `gen` is None while the task is stopped."""
+
+    id: int
+    gen: Generator | None = None
+    wake_cycle: int = 0
+    name: str = ""
+    mutexes: set[int] = field(default_factory=set)
+    starts: int = 0  # how many times the task was started
+    context: object = None  # language run time's per-task data (e.g. the memory stack)
+
+    @property
+    def running(self) -> bool:
+        return self.gen is not None
+
+
+class Kernel:
+    """Schedules tasks; language run times supply generators and per-task hooks."""
+
+    def __init__(self, n_tasks: int = MAX_TASKS) -> None:
+        self.tasks = [Task(i) for i in range(n_tasks)]
+        self.cycle = 0
+        self.current: Task | None = None
+        self.mutex_owner: list[int | None] = [None] * 8
+        self.on_fault: Callable[[Task, BaseException], None] = lambda task, exc: None
+        self.before_resume: Callable[[Task], None] = lambda task: None
+        self.on_stop: Callable[[Task], None] = lambda task: None
+
+    # ------------------------------------------------------------ control
+
+    def start(self, task_id: int, gen: Generator, name: str = "", context: object = None) -> None:
+        """Make a stopped task run `gen`, from the next cycle on."""
+        t = self.tasks[task_id]
+        t.gen = gen
+        t.name = name
+        t.wake_cycle = self.cycle + (1 if self.current is not None else 0)
+        t.context = context
+        t.starts += 1
+
+    def stop(self, task_id: int) -> None:
+        """Stop a task: close its generator, release its mutexes."""
+        t = self.tasks[task_id]
+        gen = t.gen
+        if gen is None:
+            return
+        t.gen = None
+        if t is not self.current:
+            try:
+                gen.close()
+            except BaseException:  # a finally clause of the user's code faulted; it is stopped anyway
+                pass
+        self._release(t)
+
+    def _release(self, t: Task) -> None:
+        for m in sorted(t.mutexes):
+            if self.mutex_owner[m] == t.id:
+                self.mutex_owner[m] = None
+        t.mutexes.clear()
+        self.on_stop(t)
+
+    @property
+    def any_running(self) -> bool:
+        return any(t.gen is not None for t in self.tasks)
+
+    def next_wake(self) -> int | None:
+        """The earliest cycle any running task wants to run, or None if none runs."""
+        wakes = [t.wake_cycle for t in self.tasks if t.gen is not None]
+        return min(wakes) if wakes else None
+
+    # ------------------------------------------------------------ one cycle
+
+    def run_cycle(self) -> None:
+        """Resume every task that is due in this cycle, once, in id order."""
+        cycle = self.cycle
+        for t in self.tasks:
+            gen = t.gen
+            if gen is None or t.wake_cycle > cycle:
+                continue
+            self.current = t
+            self.before_resume(t)
+            try:
+                y = gen.send(None)
+            except StopIteration:
+                self._finish(t)
+            except TaskExit:
+                self._finish(t)
+            except BaseException as exc:  # noqa: BLE001 — any fault stops only this task
+                if isinstance(exc, (KeyboardInterrupt, SystemExit)):
+                    raise
+                self._finish(t)
+                self.on_fault(t, exc)
+            else:
+                if t.gen is gen:
+                    t.wake_cycle = cycle + 1 if y is None else max(int(y), cycle + 1)
+            finally:
+                self.current = None
+
+    def _finish(self, t: Task) -> None:
+        if t.gen is not None:
+            t.gen = None
+            self._release(t)
