@@ -185,7 +185,7 @@ class ProfileGenerator:
 
         0 for a move that does not move; inf for a jog.
         """
-        if not self._segs:
+        if self._idle:
             return 0.0
         return self._plan.duration + self.t_smooth
 

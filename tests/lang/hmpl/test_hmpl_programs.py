@@ -177,14 +177,20 @@ def run_motionvm(files: list[str], exp: Expectations, cwd: Path, data_dir: Path)
             timeout=TIMEOUT_S,
         )
     except subprocess.TimeoutExpired as e:
-        out = e.stdout.decode("utf-8", "replace") if isinstance(e.stdout, bytes) else e.stdout
-        err = e.stderr.decode("utf-8", "replace") if isinstance(e.stderr, bytes) else e.stderr
-        pytest.fail(
-            f"timed out after {TIMEOUT_S} s: {shlex.join(cmd)}\n"
-            f"--- stdout so far ---\n{out or ''}\n--- stderr so far ---\n{err or ''}",
-            pytrace=False,
-        )
-    return RunResult(cmd, proc.returncode, proc.stdout, proc.stderr)
+        timed_out = (_text(e.stdout), _text(e.stderr))
+    else:
+        return RunResult(cmd, proc.returncode, proc.stdout, proc.stderr)
+    pytest.fail(
+        f"timed out after {TIMEOUT_S} s: {shlex.join(cmd)}\n"
+        f"--- stdout so far ---\n{timed_out[0]}\n--- stderr so far ---\n{timed_out[1]}",
+        pytrace=False,
+    )
+
+
+def _text(data: bytes | str | None) -> str:
+    if isinstance(data, bytes):
+        return data.decode("utf-8", "replace")
+    return data or ""
 
 
 def stdout_problems(expected: list[tuple[str, str]], actual: list[str]) -> str:
@@ -202,13 +208,13 @@ def stdout_problems(expected: list[tuple[str, str]], actual: list[str]) -> str:
         else:
             shown.append(f"/{v}/" if k == "regex" else v)
     diff = difflib.unified_diff(
-        [repr(s)[1:-1] for s in shown],
-        [repr(s)[1:-1] for s in actual],
+        [repr(s) for s in shown],
+        [repr(s) for s in actual],
         "expected stdout",
         "actual stdout",
         lineterm="",
     )
-    return "stdout differs (- expected, + actual):\n" + "\n".join(diff)
+    return "stdout differs (- expected, + actual; lines quoted):\n" + "\n".join(diff)
 
 
 def error_problems(exp: Expectations, program: str, stderr: str) -> list[str]:

@@ -33,8 +33,9 @@ def where(pos: SourcePos) -> str:
 class Scope:
     """The objects one module can see: its own, and those it USEs."""
 
-    def __init__(self, module: str) -> None:
+    def __init__(self, module: str, everything: dict[str, ObjectInfo]) -> None:
         self.module = module
+        self.everything = everything
         self.local: dict[str, ObjectInfo] = {}
         self.used: dict[str, ObjectInfo] = {}
 
@@ -43,6 +44,14 @@ class Scope:
 
     def names(self) -> list[str]:
         return sorted(o.name for o in [*self.local.values(), *self.used.values()])
+
+    def unknown_message(self, name: n.Name) -> str:
+        """Why `name` is not visible here: declared elsewhere (needs USE) or unknown."""
+        other = self.everything.get(name.key)
+        if other is not None:
+            return (f"'{name.text}' is declared in module {other.module}: add "
+                    f"'USE {other.type.name} {other.name};' to module {self.module}")
+        return f"unknown object '{name.text}'{did_you_mean(name.text, self.names())}"
 
 
 class AppChecker:
@@ -102,7 +111,7 @@ class AppChecker:
             self._claim(p.name, "procedure")
 
     def _build_scope(self, m: n.Module) -> Scope:
-        scope = Scope(m.name.text)
+        scope = Scope(m.name.text, self.objects)
         for decl in m.objects:
             info = self.objects.get(decl.name.key)
             if info is not None and info.pos == decl.pos:
@@ -166,14 +175,13 @@ class AppChecker:
                                 f"{spec.lo}..{spec.hi}")
                 return None
             return v.value
-        if spec.kind == "digital" and isinstance(v, n.KeywordValue) and v.word in ("ON", "OFF"):
-            return v.word == "ON"
-        if spec.kind == "config" and isinstance(v, n.KeywordValue):
-            if v.word not in spec.values:
-                self.sink.error(v.pos, f"{where} = {v.word} is not one of "
-                                f"{', '.join(spec.values)}")
+        if spec.kind in ("config", "digital") and isinstance(v, n.KeywordValue | n.NameValue):
+            word = v.word if isinstance(v, n.KeywordValue) else v.name.text
+            allowed = spec.values if spec.kind == "config" else ("ON", "OFF")
+            if word not in allowed:
+                self.sink.error(v.pos, f"{where} = {word} is not one of {', '.join(allowed)}")
                 return None
-            return v.word
+            return word if spec.kind == "config" else word == "ON"
         if spec.kind == "string" and isinstance(v, n.StringValue):
             return (v.first, v.second if v.second is not None else v.first)
         if spec.kind == "name" and isinstance(v, n.NameValue):
@@ -192,13 +200,7 @@ class AppChecker:
         return None
 
     def _unknown(self, name: n.Name, scope: Scope) -> None:
-        other = self.objects.get(name.key)
-        if other is not None:
-            self.sink.error(name.pos, f"'{name.text}' is declared in module {other.module}: "
-                            f"add 'USE {other.type.name} {other.name};' to module {scope.module}")
-        else:
-            hint = did_you_mean(name.text, scope.names())
-            self.sink.error(name.pos, f"unknown object '{name.text}'{hint}")
+        self.sink.error(name.pos, scope.unknown_message(name))
 
     # ------------------------------------------------------------ hierarchy
 

@@ -38,6 +38,10 @@ class VType:
     const: int | None = None
 
 
+def _a(word: str) -> str:
+    return ("an " if word[0] in "aeiou" else "a ") + word
+
+
 ERROR = VType("error")
 DIGITAL = VType("digital")
 
@@ -105,13 +109,8 @@ class ProcChecker:
     def _object(self, name: n.Name) -> ObjectInfo | None:
         obj = self.scope.get(name.key)
         if obj is None:
-            self.sink.error(name.pos, self._unknown_message(name))
+            self.sink.error(name.pos, self.scope.unknown_message(name))
         return obj
-
-    def _unknown_message(self, name: n.Name) -> str:
-        return f"unknown object '{name.text}' in module {self.scope.module}" + did_you_mean(
-            name.text, self.scope.names()
-        ) + " (objects of other modules need USE)"
 
     def _const_index(self, obj: ObjectInfo, index: int, pos: n.SourcePos) -> bool:
         if obj.size is None:
@@ -219,13 +218,17 @@ class ProcChecker:
             self.sink.warning(a.pos, f"procedure {self.name} assigns {target}, one of its own "
                               "activators: a change runs it once more")
 
-    def _int_limit(self, value: int, lo: int, hi: int, target: str, pos: n.SourcePos) -> None:
+    def _int_limit(self, value: int, lo: int, hi: int, target: str, pos: n.SourcePos) -> bool:
+        """Report a constant outside the integer range or lo..hi; True when it is fine."""
         if abs(value) > INT_LIMIT:
             self.sink.error(pos, f"constant {value} exceeds the integer range "
                             f"-{INT_LIMIT}..{INT_LIMIT}")
-        elif not lo <= value <= hi:
+            return False
+        if not lo <= value <= hi:
             self.sink.error(pos, f"constant {value} exceeds the static limit {lo}..{hi} of "
                             f"{target}")
+            return False
+        return True
 
     def _mismatch(self, node: n.Expr, value: VType, target: str, wanted: str) -> None:
         self.sink.error(node.pos, f"{target} takes {wanted}, not {self._describe(node, value)}")
@@ -236,7 +239,7 @@ class ProcChecker:
             return "ON" if node.value else "OFF"
         if isinstance(node, n.SetLit):
             return node.word
-        return f"a {KIND_NAMES[value.kind]} value"
+        return _a(KIND_NAMES[value.kind]) + " value"
 
     def _set_assign(self, node: n.Expr, value: VType, spec: StateSpec, target: str) -> None:
         group = "{" + ", ".join(spec.values) + "}"
@@ -279,7 +282,8 @@ class ProcChecker:
                                 f"integer, not {KIND_NAMES[t.kind]}")
             elif t.const is not None:
                 what = f"argument {spec.name} of {op.keyword}"
-                self._int_limit(t.const, spec.lo, spec.hi, what, node.pos)
+                if not self._int_limit(t.const, spec.lo, spec.hi, what, node.pos):
+                    continue
                 dyn = dynamic_limit(obj, spec.limit)
                 if dyn is not None and not dyn[0] <= t.const <= dyn[1]:
                     self.sink.error(node.pos, f"{what} = {t.const} is outside {dyn[2]} "
@@ -379,6 +383,6 @@ class ProcChecker:
             return DIGITAL
         if len(kinds) != 1:
             a, b = sorted(KIND_NAMES[k] for k in kinds)
-            self.sink.error(e.pos, f"cannot compare a {a} value with a {b} value")
+            self.sink.error(e.pos, f"cannot compare {_a(a)} value with {_a(b)} value")
             return ERROR
         return DIGITAL

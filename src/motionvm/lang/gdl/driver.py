@@ -59,8 +59,11 @@ def parse_forces(app: App, forces: list[str]) -> list[Event]:
 
 
 def run_scenario(rts: Rts, scenario: Scenario, until: float | None,
-                 forces: list[Event] = ()) -> None:  # type: ignore[assignment]
-    """Drive `rts` through the scenario (see the module docstring for when it ends)."""
+                 forces: list[Event] | None = None, *, jump: bool = True) -> None:
+    """Drive `rts` through the scenario (see the module docstring for when it ends).
+
+    `jump=False` steps every cycle even when nothing moves (tests compare the two).
+    """
     end = until if until is not None else scenario.until
     end_cycle = None if end is None else round(end * 1000)
     for target, value in scenario.initial:
@@ -77,7 +80,7 @@ def run_scenario(rts: Rts, scenario: Scenario, until: float | None,
                 _apply(rts, ev)
 
     rts.apply_injection = inject  # type: ignore[assignment]
-    for ev in forces:
+    for ev in forces or []:
         _apply(rts, ev)
         rts.drain()
     while True:
@@ -92,7 +95,7 @@ def run_scenario(rts: Rts, scenario: Scenario, until: float | None,
                 break
         elif not timed and not rts.transient:
             break
-        if rts.moving:
+        if rts.moving or not jump:
             rts.cycle += 1
         else:
             nxt = [c for c in (timed[0].cycle if timed else None, end_cycle) if c is not None]

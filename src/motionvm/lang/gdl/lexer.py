@@ -118,7 +118,7 @@ class Lexer:
                         self._newline(j + 1)
                     j += 1
                 if j >= len(text):
-                    self.sink.error(start, "unterminated comment: no closing '|'")
+                    self.sink.error(start, "unterminated comment: no closing vertical bar")
                     self.i = j
                     return
                 self.i = j + 1

@@ -11,15 +11,26 @@ from __future__ import annotations
 
 from motionvm.lang.gdl import nodes as n
 from motionvm.lang.gdl.lexer import Token
-from motionvm.lang.gdl.objects import GLOBAL_ACTIVATORS, SET_CONSTANTS, TYPE_BY_NAME
+from motionvm.lang.gdl.objects import (
+    GLOBAL_ACTIVATORS,
+    OPERATOR_WORDS,
+    SET_CONSTANTS,
+    STATE_WORDS,
+    TYPE_BY_NAME,
+)
 from motionvm.source.diagnostics import DiagnosticSink
 from motionvm.source.files import SourcePos
 from motionvm.source.suggest import did_you_mean
 
 REL_OPS = ("=", "<>", "<", ">", "<=", ">=")
+STRAY_ENDS = {"END$IF": "IF", "ELSE": "IF", "END$WHILE": "WHILE"}
 BLOCK_ENDS = frozenset(
     {"END$IF", "ELSE", "END$WHILE", "END$PROCEDURE", "END$MODULE", "PROCEDURE", "MODULE"}
 )
+
+
+def _article(word: str) -> str:
+    return ("an " if word[0] in "aeiou" else "a ") + word
 
 
 class ParseError(Exception):
@@ -33,6 +44,8 @@ class Parser:
         self.toks = tokens
         self.k = 0
         self.sink = sink
+        # Lines with a lexical error: a parse error there would only repeat it.
+        self.bad_lines = {(d.pos.file, d.pos.line) for d in sink.errors()}
 
     # ------------------------------------------------------------ token helpers
 
@@ -54,7 +67,9 @@ class Parser:
         return self._advance() if self._is(text) else None
 
     def _error(self, pos: SourcePos, message: str) -> None:
-        """Report once per position: a lexical error there already said what is wrong."""
+        """Report once per position, and not on a line that already has a lexical error."""
+        if (pos.file, pos.line) in self.bad_lines:
+            return
         if not any(d.pos == pos for d in self.sink.items):
             self.sink.error(pos, message)
 
@@ -100,8 +115,9 @@ class Parser:
         uses: list[n.UseDecl] = []
         objects: list[n.ObjectDecl] = []
         procs: list[n.Procedure] = []
-        name = self._parse_name("module")
+        name = n.Name(self.tok.pos, "?")
         try:
+            name = self._parse_name("module")
             self._expect(";", "after the module name")
         except ParseError:
             self._sync()
@@ -142,10 +158,10 @@ class Parser:
             return n.Name(t.pos, t.text)
         if t.kind == "keyword":
             self._advance()
-            self._error(t.pos, f"'{t.text}' is a reserved word and cannot be used as a "
-                        f"{what} name")
+            self._error(t.pos, f"'{t.text}' is a reserved word and cannot be used as "
+                        f"{_article(what)} name")
             return n.Name(t.pos, t.text)
-        raise self._fail(f"expected a {what} name, found {t.describe()}")
+        raise self._fail(f"expected {_article(what)} name, found {t.describe()}")
 
     # ------------------------------------------------------------ declarations
 
@@ -276,13 +292,24 @@ class Parser:
 
     def _parse_block(self, ends: tuple[str, ...]) -> list[n.Instr]:
         body: list[n.Instr] = []
+        recovering = False
         while not any(self._is(e) for e in ends):
-            if self.tok.kind == "eof" or (self.tok.kind == "keyword" and self.tok.text in BLOCK_ENDS):
+            t = self.tok
+            if t.kind == "keyword" and t.text in STRAY_ENDS:
+                # After an error inside an IF or WHILE header, its END is stray here.
+                if not recovering:
+                    self._error(t.pos, f"{t.text} without a matching {STRAY_ENDS[t.text]}")
+                self._advance()
+                self._accept(";")
+                continue
+            if t.kind == "eof" or (t.kind == "keyword" and t.text in BLOCK_ENDS):
                 return body
             try:
                 body.append(self._parse_instruction())
+                recovering = False
             except ParseError:
                 self._sync()
+                recovering = True
         return body
 
     # BNF: instruction = assignment | operator_call | if_instr | while_instr | return_instr ;
@@ -298,6 +325,9 @@ class Parser:
             return n.Return(t.pos)
         if t.kind == "keyword" and self.toks[self.k + 1].text == "OF":
             return self._parse_assignment_or_call()
+        if t.kind == "ident" and self.toks[self.k + 1].text == "OF":
+            hint = did_you_mean(t.text.upper(), sorted(STATE_WORDS | OPERATOR_WORDS))
+            raise self._fail(f"'{t.text}' is not a state-variable or operator keyword{hint}")
         if t.kind == "ident":
             raise self._fail(f"an instruction cannot start with the name '{t.text}': write a "
                              f"state variable as KEYWORD OF {t.text}")
@@ -421,6 +451,9 @@ class Parser:
             return n.StrLit(t.pos, t.value)  # type: ignore[arg-type]
         if t.kind == "ident":
             self._advance()
+            if self._is("{"):
+                raise self._fail(f"an array element is not a value: write KEYWORD OF "
+                                 f"{t.text}{{...}}", t)
             return n.NameLit(t.pos, n.Name(t.pos, t.text))
         if self._accept("("):
             inner = self._parse_expression()

@@ -132,11 +132,17 @@ class Rts:
             self.trigger(obj, keyword, element)
 
     def force(self, obj: ObjectInfo, keyword: str, element: int, value: object) -> None:
-        """Debugger force of an `f` variable: the value wins over every write until released."""
-        old = self.read(obj, keyword, element)
-        self.forced[(obj.key, keyword, element)] = value
+        """Debugger force of an `f` variable: the value wins over every write until released.
+
+        Raises ValueError for a variable without `f` access.
+        """
         spec = obj.type.state(keyword)
         assert spec is not None
+        if not spec.forceable:
+            raise ValueError(f"{keyword} of {obj.type.name} cannot be forced (access "
+                             f"{spec.access})")
+        old = self.read(obj, keyword, element)
+        self.forced[(obj.key, keyword, element)] = value
         self.emit(f"force {obj.ref(keyword, element)} = {format_value(spec.kind, value)}")
         if old != value:
             self.device(obj).on_write(self, keyword, element, value)

@@ -191,7 +191,8 @@ def _data_t() -> StructT:
         ("float_", 0, FLOAT),
         ("double_", 0, DOUBLE),
     )
-    return StructT(72, 8, "union", "Data_t", members)
+    # manual 1.4 gives Data_t 65 bytes: a packed union (members may sit unaligned in arrays)
+    return StructT(65, 1, "union", "Data_t", members)
 
 
 DATA_T = _data_t()

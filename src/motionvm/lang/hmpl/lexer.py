@@ -25,8 +25,10 @@ PUNCTUATORS = (
 _PP_NUMBER = r"\.?[0-9](?:[eEpP][+-]|[0-9A-Za-z_.])*"
 
 # Leading blanks are folded into each match: fewer iterations of the Python loop.
+# No-break and ideographic spaces and a byte-order mark count as blanks: they come
+# with code copied from the manual or written in Chinese editors.
 _MASTER = re.compile(
-    r"[ \t\f\v\r]*(?:"
+    "[ \t\f\v\r\u00a0\u3000\ufeff]*(?:"
     + "|".join(
         [
             r"(?P<name>[A-Za-z_][A-Za-z0-9_]*)",
@@ -34,6 +36,7 @@ _MASTER = re.compile(
             r"(?P<lcom>//[^\n]*)",
             r"(?P<bcom>/\*(?s:.*?)\*/)",
             r"(?P<ubcom>/\*)",
+            r"(?P<dec>(?:0|[1-9][0-9]{0,18})(?![0-9A-Za-z_.]))",  # plain decimal < 2**64
             r"(?P<num>" + _PP_NUMBER + ")",
             "(?P<punct>" + "|".join(re.escape(p) for p in PUNCTUATORS) + ")",
             r'(?P<str>"(?:[^"\\\n]|\\(?s:.))*")',
@@ -130,27 +133,35 @@ def scan(sf: SourceFile) -> Scan:
     bol = True  # no token yet on this logical line
     directive_start = -1
     new = object.__new__
+    set_file, set_line, set_col = _set_file, _set_line, _set_col
+    set_kind, set_text, set_pos, set_value, set_suffix = (
+        _set_kind, _set_text, _set_pos, _set_value, _set_suffix
+    )
     for m in _MASTER.finditer(text):
         kind = m.lastgroup
-        if kind == "name" or kind == "punct":
+        if kind == "name" or kind == "punct" or kind == "dec":
             # the hot path: build the frozen Token/SourcePos through their slot
             # descriptors, about twice as fast as the dataclass __init__
             s = m.group(kind)
             pos = new(SourcePos)
-            _set_file(pos, path)
-            _set_line(pos, line)
-            _set_col(pos, m.end() - len(s) - line_start + 1)
+            set_file(pos, path)
+            set_line(pos, line)
+            set_col(pos, m.end() - len(s) - line_start + 1)
             t = new(Token)
             if kind == "punct":
-                _set_kind(t, "punct")
+                set_kind(t, "punct")
+                set_value(t, None)
                 if bol and s == "#":
                     directive_start = len(toks)
+            elif kind == "name":
+                set_kind(t, "keyword" if s in keywords else "name")
+                set_value(t, None)
             else:
-                _set_kind(t, "keyword" if s in keywords else "name")
-            _set_text(t, s)
-            _set_pos(t, pos)
-            _set_value(t, None)
-            _set_suffix(t, "")
+                set_kind(t, "int")
+                set_value(t, int(s))
+            set_text(t, s)
+            set_pos(t, pos)
+            set_suffix(t, "")
             append(t)
             bol = False
             continue
@@ -188,7 +199,7 @@ def scan(sf: SourceFile) -> Scan:
             errors.append((pos, "unterminated comment", True))
             break
         else:  # bad
-            errors.append((pos, f"stray '{s}' in program", False))
+            errors.append((pos, _stray_message(s), False))
             continue
         if kind in ("str", "ustr", "chr", "uchr"):
             n = s.count("\n")  # escaped newlines inside the literal
@@ -199,6 +210,17 @@ def scan(sf: SourceFile) -> Scan:
     if directive_start >= 0:
         out.directives.append((directive_start, len(toks)))
     return out
+
+
+_IDEOGRAPHIC_PUNCT = {"\u3001": ",", "\u3002": ".", "\u201c": '"', "\u201d": '"', "\u2018": "'", "\u2019": "'"}
+
+
+def _stray_message(ch: str) -> str:
+    if "\uff01" <= ch <= "\uff5e":  # full-width ASCII, typed with a Chinese input method
+        return f"stray '{ch}' in program (a full-width character; did you mean '{chr(ord(ch) - 0xFEE0)}'?)"
+    if ch in _IDEOGRAPHIC_PUNCT:
+        return f"stray '{ch}' in program (a full-width character; did you mean '{_IDEOGRAPHIC_PUNCT[ch]}'?)"
+    return f"stray '{ch}' in program"
 
 
 def lex_fragment(text: str, pos: SourcePos) -> list[Token] | None:
@@ -297,7 +319,7 @@ def _char(s: str, unterminated: bool, pos: SourcePos, errors: list) -> Token:
             errors.append((pos, "empty character constant", False))
         value = 0
     else:
-        if len(data) > 1:
+        if len(data) > 1 and not unterminated:
             errors.append((pos, f"character constant {s} holds more than one byte", False))
         value = data[0] - 256 if data[0] > 127 else data[0]
     return Token("char", s, pos, value)

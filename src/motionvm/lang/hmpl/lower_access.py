@@ -118,7 +118,7 @@ class AccessLowering:
             if len(e.args) != 1:
                 raise self.fail(e.pos, f"HIMC_GPO takes 1 argument, got {len(e.args)}")
             return GpoLV(ct.INT, self.convert(self.expr(e.args[0]), ct.INT, e.pos))
-        raise self.fail(e.pos, "expression is not assignable")
+        raise self.fail(e.pos, "expression is not assignable (not an lvalue)")
 
     def _index_lv(self, e: n.Index) -> LValue:
         base = self._expr(e.base)
@@ -129,18 +129,24 @@ class AccessLowering:
             raise self.fail(e.index.pos, f"array subscript is not an integer (it is '{idx.type}')")
         if isinstance(base.type, ct.ArrayT):
             elem, count = base.type.elem, base.type.n
-            i_node = self.convert(idx, ct.I64, e.pos)
             if count is not None:
+                # a bounds-checked index needs no wrap: an overflowed value is out of bounds too
+                i_node = idx.node if isinstance(idx.type, ct.IntT) and idx.type.size >= 4 else self.exact(idx)
                 if isinstance(idx.const, int):
                     if not 0 <= idx.const < count:
                         raise self.fail(e.index.pos, f"array index {idx.const} is out of bounds (the array has {count} elements)")
-                elif isinstance(i_node, ast.Name):
-                    chk = ast.Compare(left=ast.Constant(0), ops=[ast.LtE(), ast.Lt()],
-                                      comparators=[i_node, ast.Constant(count)])
-                    i_node = ast.IfExp(test=chk, body=i_node,
-                                       orelse=call("_oob", i_node, ast.Constant(count)))
+                    i_node = const(idx.const)
                 else:
-                    i_node = call("_ck", i_node, ast.Constant(count))
+                    if isinstance(i_node, ast.Name):
+                        grab, ref = i_node, i_node
+                    else:
+                        t = self.temp()
+                        grab, ref = ast.NamedExpr(target=name(t, True), value=i_node), name(t)
+                    chk = ast.Compare(left=ast.Constant(0), ops=[ast.LtE(), ast.Lt()],
+                                      comparators=[grab, ast.Constant(count)])
+                    i_node = ast.IfExp(test=chk, body=ref, orelse=call("_oob", ref, ast.Constant(count)))
+            else:
+                i_node = self.convert(idx, ct.I64, e.pos)
             # array objects are always reached through names, members or checked pointers
             if elem.is_scalar and elem.size in _SHIFT:
                 return MemLV(elem, _plus(_scaled_index(base.node, elem.size), i_node))
@@ -181,6 +187,8 @@ class AccessLowering:
             names = [f for f, _, _ in st.fields if not f.startswith("_")]
             raise self.fail(e.pos, f"'{st}' has no member '{e.name}'{did_you_mean(e.name, names)}")
         off, ft = found
+        if st.align < ft.align and ft.is_scalar:
+            return PtrLV(ft, _add(base_addr, off))  # packed (Data_t): may be unaligned
         return _trusted_lv(ft, _add(base_addr, off))
 
     def _x_Index(self, e: n.Index) -> Val:
@@ -212,7 +220,7 @@ class AccessLowering:
             if isinstance(sym, VarSym) and sym.is_const:
                 raise self.fail(e.pos, f"assignment of read-only variable '{e.id}'")
         if isinstance(lv.type, ct.ArrayT):
-            raise self.fail(e.pos, "assignment to an array (copy arrays with MemoryCopy or StringCopy)")
+            raise self.fail(e.pos, "an array is not an assignable lvalue (copy arrays with MemoryCopy or StringCopy)")
 
     def assignment(self, e: n.Assign, as_stmt: bool):
         """Lower `target op= value`; a list of statements, or a Val when used as a value."""

@@ -59,14 +59,19 @@ class Val:
 
 
 def wrap_node(node: ast.expr, t: ct.IntT) -> ast.expr:
+    """Reduce a Python int to the range of `t`.
+
+    Signed: `(_w if LO <= (_w := x) <= HI else _wrap(_w, BITS))` — two comparisons on the
+    common path, no big-int temporaries; unsigned: `x & MASK`.
+    """
     bits = t.bits
-    mask = (1 << bits) - 1
     if t.signed:
-        half = 1 << (bits - 1)
-        inner = ast.BinOp(left=node, op=ast.Add(), right=ast.Constant(half))
-        masked = ast.BinOp(left=inner, op=ast.BitAnd(), right=ast.Constant(mask))
-        return ast.BinOp(left=masked, op=ast.Sub(), right=ast.Constant(half))
-    return ast.BinOp(left=node, op=ast.BitAnd(), right=ast.Constant(mask))
+        lo, hi = -(1 << (bits - 1)), (1 << (bits - 1)) - 1
+        grab = ast.NamedExpr(target=ast.Name(id="_w", ctx=ast.Store()), value=node)
+        test = ast.Compare(left=const(lo), ops=[ast.LtE(), ast.LtE()], comparators=[grab, ast.Constant(hi)])
+        slow = call("_wrapi", ast.Name(id="_w", ctx=ast.Load()), ast.Constant(bits))
+        return ast.IfExp(test=test, body=ast.Name(id="_w", ctx=ast.Load()), orelse=slow)
+    return ast.BinOp(left=node, op=ast.BitAnd(), right=ast.Constant((1 << bits) - 1))
 
 
 def _fold_int(v: int, t: ct.CType) -> int:

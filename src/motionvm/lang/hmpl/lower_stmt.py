@@ -17,6 +17,7 @@ on entry and popped in a `finally`.
 from __future__ import annotations
 
 import ast
+import copy
 from dataclasses import dataclass, field
 
 from motionvm.lang.hmpl import ctypes_ as ct
@@ -36,20 +37,49 @@ class _LoopCtx:
     flag_used: bool = False
 
 
-def _backedge() -> list[ast.stmt]:
-    dec = ast.AugAssign(target=name("_budget", True), op=ast.Sub(), value=ast.Constant(1))
-    test = ast.Compare(left=name("_budget"), ops=[ast.Lt()], comparators=[ast.Constant(0)])
-    return [dec, ast.If(test=test, body=[ast.Expr(value=ast.Yield(value=None))], orelse=[])]
+# A loop charges the task's budget in units of CHUNK back-edges, counting down a local
+# (much cheaper per iteration than a global); the kernel refills `_budget` each cycle.
+CHUNK = 64
+
+
+def _countdown_init(counter: str) -> ast.stmt:
+    return ast.Assign(targets=[name(counter, True)], value=ast.Constant(CHUNK))
+
+
+def _backedge(counter: str) -> list[ast.stmt]:
+    """`counter -= 1; if counter < 0: counter = CHUNK; _budget -= CHUNK; if _budget < 0: yield`."""
+    dec = ast.AugAssign(target=name(counter, True), op=ast.Sub(), value=ast.Constant(1))
+    charge = ast.AugAssign(target=name("_budget", True), op=ast.Sub(), value=ast.Constant(CHUNK))
+    over = ast.Compare(left=name("_budget"), ops=[ast.Lt()], comparators=[ast.Constant(0)])
+    refill = [
+        ast.Assign(targets=[name(counter, True)], value=ast.Constant(CHUNK)),
+        charge,
+        ast.If(test=over, body=[ast.Expr(value=ast.Yield(value=None))], orelse=[]),
+    ]
+    test = ast.Compare(left=name(counter), ops=[ast.Lt()], comparators=[ast.Constant(0)])
+    return [dec, ast.If(test=test, body=refill, orelse=[])]
 
 
 def _at(stmts: list[ast.stmt], pos) -> list[ast.stmt]:
-    for s in stmts:
-        for node in ast.walk(s):
-            if "lineno" in node._attributes and not hasattr(node, "lineno"):
-                node.lineno = pos.line
-                node.col_offset = max(0, pos.col - 1)
-                node.end_lineno = pos.line
-                node.end_col_offset = max(0, pos.col - 1)
+    """Give every generated node without a location the user's position `pos`.
+
+    Subtrees that already carry a location were placed by an inner statement and are
+    skipped, so each node is visited about once however deep the nesting.
+    """
+    line, col = pos.line, max(0, pos.col - 1)
+    stack: list[ast.AST] = list(stmts)
+    while stack:
+        node = stack.pop()
+        if "lineno" in node._attributes:
+            if getattr(node, "lineno", None) is not None:
+                continue
+            node.lineno = node.end_lineno = line
+            node.col_offset = node.end_col_offset = col
+        for _fname, value in ast.iter_fields(node):
+            if isinstance(value, list):
+                stack.extend(v for v in value if isinstance(v, ast.AST))
+            elif isinstance(value, ast.AST):
+                stack.append(value)
     return stmts
 
 
@@ -91,9 +121,10 @@ class FunctionLowerer(ExprLowering, AccessLowering):
         off = (self.frame_size + align - 1) // align * align
         size = max(t.size, 1)
         self.frame_valid.extend(b"\x00" * (off - len(self.frame_valid)))
+        end = (off + size + 7) // 8 * 8
         self.frame_valid.extend(b"\x01" * size)
-        self.frame_valid.extend(b"\x00" * RED_ZONE)
-        self.frame_size = off + size + RED_ZONE
+        self.frame_valid.extend(b"\x00" * (end - off - size + RED_ZONE))
+        self.frame_size = end + RED_ZONE
         return off
 
     # ------------------------------------------------------------ declarations
@@ -209,16 +240,19 @@ class FunctionLowerer(ExprLowering, AccessLowering):
 
     def _s_While(self, s: n.While) -> list[ast.stmt]:
         test = self.cond(s.cond)
-        cont = _backedge() + [ast.Continue()]
-        body = self._loop_body(s.body, cont) + _backedge()
-        return [ast.While(test=test, body=body, orelse=[])]
+        b = self.temp()
+        cont = _backedge(b) + [ast.Continue()]
+        body = self._loop_body(s.body, cont) + _backedge(b)
+        return [_countdown_init(b), ast.While(test=test, body=body, orelse=[])]
 
     def _s_DoWhile(self, s: n.DoWhile) -> list[ast.stmt]:
+        b = self.temp()
         exit_ = [ast.If(test=ast.UnaryOp(op=ast.Not(), operand=self.cond(s.cond)), body=[ast.Break()], orelse=[])]
-        cont = _at(exit_, s.cond.pos) + _backedge() + [ast.Continue()]
+        cont = _at(exit_, s.cond.pos) + _backedge(b) + [ast.Continue()]
         body = self._loop_body(s.body, cont)
         exit2 = [ast.If(test=ast.UnaryOp(op=ast.Not(), operand=self.cond(s.cond)), body=[ast.Break()], orelse=[])]
-        return [ast.While(test=ast.Constant(True), body=body + _at(exit2, s.cond.pos) + _backedge(), orelse=[])]
+        loop = ast.While(test=ast.Constant(True), body=body + _at(exit2, s.cond.pos) + _backedge(b), orelse=[])
+        return [_countdown_init(b), loop]
 
     def _s_For(self, s: n.For) -> list[ast.stmt]:
         saved = self.scope
@@ -227,15 +261,109 @@ class FunctionLowerer(ExprLowering, AccessLowering):
             out: list[ast.stmt] = []
             if s.init is not None:
                 out.extend(_at(self.stmt(s.init), s.init.pos))
+            fast = self._range_for(s)
+            if fast is not None:
+                return out + fast
+            b = self.temp()
             test = self.cond(s.cond) if s.cond is not None else ast.Constant(True)
             step = _at(self._s_ExprStmt(n.ExprStmt(s.step.pos, s.step)), s.step.pos) if s.step is not None else []
-            cont = step + _backedge() + [ast.Continue()]
+            cont = step + _backedge(b) + [ast.Continue()]
             body = self._loop_body(s.body, cont)
             step2 = _at(self._s_ExprStmt(n.ExprStmt(s.step.pos, s.step)), s.step.pos) if s.step is not None else []
-            out.append(ast.While(test=test, body=body + step2 + _backedge(), orelse=[]))
+            out.append(_countdown_init(b))
+            out.append(ast.While(test=test, body=body + step2 + _backedge(b), orelse=[]))
             return out
         finally:
             self.scope = saved
+
+    def _range_for(self, s: n.For) -> list[ast.stmt] | None:
+        """`for (i = a; i < b; i += c)` with i and b untouched by the body -> `for v_i in range(...)`.
+
+        Only for a local int32/int64 (or increasing uint32) counter and a bound built from
+        constants and locals the body does not assign; the C value of i after the loop is
+        restored in the loop's `else` when i outlives the loop.
+        """
+        ivar = self._counter_of(s)
+        if ivar is None:
+            return None
+        sym = self.scope.lookup(ivar)
+        if not isinstance(sym, VarSym) or sym.storage != "local" or sym.type not in (ct.INT, ct.I64, ct.U32):
+            return None
+        cond, step = s.cond, s.step
+        if not (isinstance(cond, n.Binary) and cond.op in ("<", "<=", ">", ">=")
+                and isinstance(cond.left, n.Name) and cond.left.id == ivar):
+            return None
+        inc = self._step_of(step, ivar)
+        if inc is None or (inc > 0) != (cond.op in ("<", "<=")) or (inc < 0 and not sym.type.signed):
+            return None
+        assigned = _assigned_names(s.body)
+        if ivar in assigned or not self._invariant(cond.right, assigned):
+            return None
+        try:
+            bound = self.expr(cond.right)
+        except SemanticError:
+            return None
+        if not bound.type.is_integer or ct.common_arith(sym.type, bound.type) != sym.type:
+            return None
+        stop = self.convert(bound, sym.type, cond.pos)
+        if cond.op in ("<=", ">="):
+            stop = ast.BinOp(left=stop, op=ast.Add() if inc > 0 else ast.Sub(), right=ast.Constant(1))
+        b = self.temp()
+        cont = _backedge(b) + [ast.Continue()]
+        body = self._loop_body(s.body, cont) + _backedge(b)
+        rng = call("range", name(sym.pyname), stop, const(inc))
+        outlives = not isinstance(s.init, n.DeclStmt)
+        pre: list[ast.stmt] = [_countdown_init(b)]
+        orelse: list[ast.stmt] = []
+        if outlives:
+            r = self.temp()
+            pre.append(ast.Assign(targets=[name(r, True)], value=rng))
+            rng = name(r)
+            final = ast.BinOp(left=ast.Attribute(value=name(r), attr="start", ctx=ast.Load()), op=ast.Add(),
+                              right=ast.BinOp(left=call("len", name(r)), op=ast.Mult(),
+                                              right=ast.Attribute(value=name(r), attr="step", ctx=ast.Load())))
+            orelse = [ast.Assign(targets=[name(sym.pyname, True)], value=final)]
+        loop = ast.For(target=name(sym.pyname, True), iter=rng, body=body, orelse=orelse)
+        return pre + [loop]
+
+    @staticmethod
+    def _counter_of(s: n.For) -> str | None:
+        init = s.init
+        if isinstance(init, n.DeclStmt) and len(init.decls) == 1:
+            d = init.decls[0]
+            if not d.dims and d.init is not None and not isinstance(d.init, n.InitList):
+                return d.name
+        if isinstance(init, n.ExprStmt) and isinstance(init.expr, n.Assign) and init.expr.op == "=":
+            if isinstance(init.expr.target, n.Name):
+                return init.expr.target.id
+        return None
+
+    @staticmethod
+    def _step_of(step, ivar: str) -> int | None:
+        if isinstance(step, (n.Postfix, n.Unary)) and step.op in ("++", "--"):
+            if isinstance(step.operand, n.Name) and step.operand.id == ivar:
+                return 1 if step.op == "++" else -1
+        if isinstance(step, n.Assign) and step.op in ("+=", "-=") and isinstance(step.target, n.Name):
+            if step.target.id == ivar and isinstance(step.value, n.IntLit) and step.value.value > 0:
+                return step.value.value if step.op == "+=" else -step.value.value
+        return None
+
+    def _invariant(self, e, assigned: set[str]) -> bool:
+        """True if `e` is built from constants and locals that the loop body does not assign."""
+        if isinstance(e, (n.IntLit, n.CharLit)):
+            return True
+        if isinstance(e, n.Name):
+            if e.id in assigned:
+                return False
+            sym = self.scope.lookup(e.id) or self.prog.global_symbol(e.id, self.task)
+            return isinstance(sym, VarSym) and (sym.storage == "local" or sym.const_value is not None)
+        if isinstance(e, n.Binary) and e.op in ("+", "-", "*", "<<", ">>", "&", "|"):
+            return self._invariant(e.left, assigned) and self._invariant(e.right, assigned)
+        if isinstance(e, n.Unary) and e.op in ("-", "+"):
+            return self._invariant(e.operand, assigned)
+        if isinstance(e, n.SizeOf):
+            return True
+        return False
 
     def _s_Break(self, s: n.Break) -> list[ast.stmt]:
         if not self.loops:
@@ -243,6 +371,8 @@ class FunctionLowerer(ExprLowering, AccessLowering):
         return [ast.Break()]
 
     def _s_Continue(self, s: n.Continue) -> list[ast.stmt]:
+        if not any(c.kind == "loop" for c in self.loops):
+            raise self.fail(s.pos, "'continue' outside a loop")
         return self._continue_from(len(self.loops) - 1, s.pos)
 
     def _continue_from(self, level: int, pos) -> list[ast.stmt]:
@@ -256,7 +386,7 @@ class FunctionLowerer(ExprLowering, AccessLowering):
 
     @staticmethod
     def _clone(node: ast.stmt) -> ast.stmt:
-        return ast.parse(ast.unparse(node)).body[0] if False else _deepcopy(node)
+        return copy.deepcopy(node)
 
     def _s_Switch(self, s: n.Switch) -> list[ast.stmt]:
         v = self.expr(s.expr)
@@ -382,7 +512,7 @@ class FunctionLowerer(ExprLowering, AccessLowering):
             ).body
             body = push + [ast.Try(body=body or [ast.Pass()], handlers=[], orelse=[],
                                    finalbody=ast.parse("_s.pop(_fp)").body)]
-        gl = sorted(self.globals_stored | ({"_budget"} if sym.is_generator else set()))
+        gl = sorted(self.globals_stored | ({"_budget"} if _contains_yield(body) else set()))
         if gl:
             body.insert(0, ast.Global(names=gl))
         if sym.is_generator and not _contains_yield(body):
@@ -393,11 +523,20 @@ class FunctionLowerer(ExprLowering, AccessLowering):
         return _at([fn], f.pos)[0]
 
 
+def _assigned_names(body) -> set[str]:
+    """Names the statement assigns, increments or takes the address of."""
+    from motionvm.lang.hmpl.program import walk
+
+    out: set[str] = set()
+    for x in walk(body):
+        t = type(x)
+        if t is n.Assign and type(x.target) is n.Name:
+            out.add(x.target.id)
+        elif (t is n.Postfix or t is n.Unary) and x.op in ("++", "--", "&") and type(x.operand) is n.Name:
+            out.add(x.operand.id)
+    return out
+
+
 def _contains_yield(body: list[ast.stmt]) -> bool:
     return any(isinstance(x, (ast.Yield, ast.YieldFrom)) for s in body for x in ast.walk(s))
 
-
-def _deepcopy(node):
-    import copy
-
-    return copy.deepcopy(node)

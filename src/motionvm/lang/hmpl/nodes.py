@@ -199,9 +199,25 @@ class Empty:
     pos: SourcePos
 
 
+@dataclass(frozen=True, slots=True)
+class Goto:
+    """`goto LABEL;` to a label of the same function (the manual's homing examples use it)."""
+
+    pos: SourcePos
+    label: str
+
+
+@dataclass(frozen=True, slots=True)
+class Label:
+    """`LABEL:`; like Case, the statements after it are siblings in the enclosing block."""
+
+    pos: SourcePos
+    name: str
+
+
 Stmt = (
     Block | DeclStmt | ExprStmt | If | While | DoWhile | For | Switch | Case | Default
-    | Break | Continue | Return | Empty
+    | Break | Continue | Return | Empty | Goto | Label
 )
 
 # ---------------------------------------------------------------- expressions

@@ -630,8 +630,8 @@ class Parser:
         return n.DeclStmt(start.pos, tuple(decls))
 
     # BNF: statement = compound_statement | if_statement | while_statement | do_statement
-    # BNF:     | for_statement | switch_statement | case_label | default_label | jump_statement
-    # BNF:     | ";" | expression ";"
+    # BNF:     | for_statement | switch_statement | case_label | default_label | label
+    # BNF:     | jump_statement | ";" | expression ";"
     def _parse_statement(self) -> n.Stmt:
         k = self.keys[self.i]
         method = self._STATEMENTS.get(k)
@@ -650,11 +650,9 @@ class Parser:
             if nxt == "<name":
                 raise self._unknown_start(file_scope=False)
             if nxt == ":":
-                raise self._fail_here("labels are not supported in HMPL (there is no goto)")
+                return self._parse_label()
         elif k == "else":
             raise self._fail_here("'else' without a previous 'if'")
-        elif k == "goto":
-            raise self._fail_here("'goto' is not supported in HMPL")
         elif k == "<eof":
             raise self._fail_here("expected statement before end of file")
         expr = self._parse_expression()
@@ -735,9 +733,21 @@ class Parser:
         self._expect(":", "after 'default'")
         return n.Default(kw.pos)
 
-    # BNF: jump_statement = "break" ";" | "continue" ";" | "return" [ expression ] ";"
+    # BNF: label = NAME ":"
+    def _parse_label(self) -> n.Label:
+        name = self._advance()
+        self.i += 1
+        return n.Label(name.pos, name.text)
+
+    # BNF: jump_statement = "break" ";" | "continue" ";" | "return" [ expression ] ";" | "goto" NAME ";"
     def _parse_jump_statement(self) -> n.Stmt:
         kw = self._advance()
+        if kw.text == "goto":
+            if self.keys[self.i] != "<name":
+                raise self._fail_here(f"expected a label name after 'goto' before {_describe(self._tok())}")
+            label = self._advance()
+            self._expect(";", "after 'goto' statement")
+            return n.Goto(kw.pos, label.text)
         if kw.text == "return":
             value = None if self.keys[self.i] == ";" else self._parse_expression()
             self._expect(";", "after return statement")
@@ -757,6 +767,7 @@ class Parser:
         "break": _parse_jump_statement,
         "continue": _parse_jump_statement,
         "return": _parse_jump_statement,
+        "goto": _parse_jump_statement,
     }
 
     # ------------------------------------------------------------ expressions

@@ -287,8 +287,10 @@ class Preprocessor:
                 if i < len(args) and args[i].text == "," and not variadic:
                     i += 1
                     continue
-                where = args[i] if i < len(args) else args[-1]
-                sink.error(where.pos, "expected ',' or ')' in macro parameter list")
+                if i >= len(args):
+                    sink.error(args[-1].pos, "missing ')' in macro parameter list")
+                else:
+                    sink.error(args[i].pos, "expected ',' or ')' in macro parameter list")
                 raise _Abort
             body_start = i
         body = args[body_start:]
@@ -712,6 +714,7 @@ class _IfEval:
         self.toks = toks
         self.i = 0
         self.pos = pos
+        self.unevaluated = 0  # > 0 inside the skipped operand of && || ?:
 
     def run(self) -> int:
         v = self.cond()
@@ -728,12 +731,16 @@ class _IfEval:
         t = self._peek()
         if t is not None and t.text == "?":
             self.i += 1
+            self.unevaluated += not c
             a = self.cond()
+            self.unevaluated -= not c
             t2 = self._peek()
             if t2 is None or t2.text != ":":
                 raise _IfError(t.pos, "expected ':' in #if conditional expression")
             self.i += 1
+            self.unevaluated += bool(c)
             b = self.cond()
+            self.unevaluated -= bool(c)
             return a if c else b
         return c
 
@@ -748,15 +755,16 @@ class _IfEval:
                 return left
             self.i += 1
             op = t.text
-            if op == "&&" and not left:
+            if (op == "&&" and not left) or (op == "||" and left):
+                self.unevaluated += 1
                 self.binary(prec + 1)
-                left = 0
-                continue
-            if op == "||" and left:
-                self.binary(prec + 1)
-                left = 1
+                self.unevaluated -= 1
+                left = int(op == "||")
                 continue
             right = self.binary(prec + 1)
+            if op in ("/", "%") and right == 0 and self.unevaluated:
+                left = 0
+                continue
             left = _wrap64(self._apply(op, left, right, t.pos))
 
     @staticmethod

@@ -64,32 +64,59 @@ class CompiledProgram:
         return "\n".join(out)
 
 
-def _children(node):
-    if isinstance(node, (list, tuple)):
-        for x in node:
-            yield from _children(x)
-        return
-    if dataclasses.is_dataclass(node) and not isinstance(node, type):
-        for f in dataclasses.fields(node):
-            if f.name == "pos":
-                continue
-            v = getattr(node, f.name)
-            if isinstance(v, (list, tuple)) or dataclasses.is_dataclass(v):
-                yield v
+_FIELDS: dict[type, tuple[str, ...]] = {}
+
+
+def _fields_of(cls: type) -> tuple[str, ...]:
+    names = _FIELDS.get(cls)
+    if names is None:
+        names = tuple(f.name for f in dataclasses.fields(cls) if f.name != "pos")
+        _FIELDS[cls] = names
+    return names
 
 
 def walk(node):
     """Every AST node under `node` (inclusive), depth first."""
     stack = [node]
+    pop, push = stack.pop, stack.append
     while stack:
-        x = stack.pop()
+        x = pop()
         if isinstance(x, (list, tuple)):
-            stack.extend(reversed(x))
+            stack.extend(x)
             continue
-        if not dataclasses.is_dataclass(x):
+        if not hasattr(x, "__dataclass_fields__"):
             continue
         yield x
-        stack.extend(reversed(list(_children(x))))
+        for fname in _fields_of(type(x)):
+            v = getattr(x, fname)
+            if v is not None and not isinstance(v, (str, int, float, bytes, bool)):
+                push(v)
+
+
+@dataclass
+class FuncFacts:
+    """What one pass over a function body finds: waits, callees, address-taken names."""
+
+    waits: bool = False
+    callees: list[str] = field(default_factory=list)
+    addr_taken: set[str] = field(default_factory=set)
+
+
+def function_facts(f: n.FuncDef, blocking: dict[str, bool]) -> FuncFacts:
+    facts = FuncFacts()
+    for x in walk(f.body):
+        t = type(x)
+        if t is n.While or t is n.DoWhile or t is n.For:
+            facts.waits = True
+        elif t is n.Call:
+            if type(x.func) is n.Name:
+                cname = x.func.id
+                if cname == "Till" or blocking.get(cname):
+                    facts.waits = True
+                facts.callees.append(cname)
+        elif t is n.Unary and x.op == "&" and type(x.operand) is n.Name:
+            facts.addr_taken.add(x.operand.id)
+    return facts
 
 
 class ProgramCompiler:
@@ -358,7 +385,7 @@ class ProgramCompiler:
             if old.type != ftype:
                 raise self._fail(f.pos, f"conflicting types for '{f.name}' (was '{old.type}')")
             if f.body is not None and old.defined:
-                raise self._fail(f.pos, f"redefinition of function '{f.name}'")
+                raise self._fail(f.pos, f"redefinition of '{f.name}'")
             sym = old
         else:
             sym = FuncSym(f.name, ftype, f.pos, prefix + f.name, task)
@@ -381,31 +408,31 @@ class ProgramCompiler:
     # ------------------------------------------------------------ analysis
 
     def analyse(self, units: list[Unit]) -> None:
-        """Address-taken names, then which functions can block (fixpoint over calls)."""
+        """One pass per function: address-taken names, waits and callees."""
+        self.facts: dict[int, FuncFacts] = {}
         for u in units:
-            for x in walk(u.tu):
-                if isinstance(x, n.Unary) and x.op == "&" and isinstance(x.operand, n.Name):
-                    self.addr_taken.add(x.operand.id)
+            for item in u.tu.items:
+                if isinstance(item, n.FuncDef):
+                    if item.body is not None:
+                        facts = function_facts(item, self.builtin_impl)
+                        self.facts[id(item)] = facts
+                        self.addr_taken |= facts.addr_taken
+                else:
+                    for x in walk(item):
+                        if type(x) is n.Unary and x.op == "&" and type(x.operand) is n.Name:
+                            self.addr_taken.add(x.operand.id)
 
     def classify_generators(self) -> None:
+        """A function is a generator if it loops, waits, or calls one that is (fixpoint)."""
         funcs: list[FuncSym] = []
         for scope in self.task_scopes.values():
             funcs.extend(s for s in scope.names.values() if isinstance(s, FuncSym) and s.defined)
         calls: dict[int, list[FuncSym]] = {}
         for f in funcs:
-            callees: list[FuncSym] = []
+            facts = self.facts[id(f.node)]
+            f.is_generator = facts.waits
             scope = self.task_scopes.get(f.task, self.global_scope)
-            for x in walk(f.node.body):
-                if isinstance(x, (n.While, n.DoWhile, n.For)):
-                    f.is_generator = True
-                elif isinstance(x, n.Call) and isinstance(x.func, n.Name):
-                    cname = x.func.id
-                    if cname == "Till" or self.builtin_impl.get(cname):
-                        f.is_generator = True
-                    callee = scope.lookup(cname)
-                    if isinstance(callee, FuncSym):
-                        callees.append(callee)
-            calls[id(f)] = callees
+            calls[id(f)] = [c for c in (scope.lookup(nm) for nm in facts.callees) if isinstance(c, FuncSym)]
         changed = True
         while changed:
             changed = False
@@ -431,7 +458,7 @@ class ProgramCompiler:
                         sym = scope.names.get(item.name)
                         if not isinstance(sym, FuncSym) or sym.node is not item:
                             continue
-                        lw = FunctionLowerer(self, u.task, Scope(scope, "function"), sym, self._local_addr_taken(item))
+                        lw = FunctionLowerer(self, u.task, Scope(scope, "function"), sym, self.facts[id(item)].addr_taken)
                         try:
                             fn = lw.function(item, sym)
                         except SemanticError:
@@ -444,16 +471,10 @@ class ProgramCompiler:
         modules, codes = [], []
         for fname, body in per_file.items():
             mod = ast.Module(body=body, type_ignores=[])
-            ast.fix_missing_locations(mod)
             modules.append((fname, mod))
             codes.append((fname, compile(mod, fname, "exec")))
         globals_ = {k: v for k, v in self.global_scope.names.items() if isinstance(v, VarSym)}
         return CompiledProgram(self.tasks, modules, codes, self.sysvars, globals_)
-
-    @staticmethod
-    def _local_addr_taken(f: n.FuncDef) -> set[str]:
-        return {x.operand.id for x in walk(f.body) if isinstance(x, n.Unary) and x.op == "&" and isinstance(x.operand, n.Name)} | {
-            x.operand.id for x in walk(f.params) if False}
 
     def _init_function(self, u: Unit, scope: Scope) -> ast.FunctionDef:
         lw = FunctionLowerer(self, u.task, scope, None, set())

@@ -53,6 +53,12 @@ def _f2i(x: float, bits: int, signed: bool) -> int:
     return int(x)
 
 
+def _wrapi(x: int, bits: int) -> int:
+    """Two's-complement reduction of x to a signed integer of `bits` bits."""
+    half = 1 << (bits - 1)
+    return ((x + half) & ((1 << bits) - 1)) - half
+
+
 def _oob(i: int, n: int) -> int:
     raise RuntimeFault(f"array index {i} out of bounds (the array has {n} elements)")
 
@@ -82,6 +88,7 @@ def make_helpers(mem: Memory) -> dict[str, object]:
         "_f2i": _f2i,
         "_f32": to_f32,
         "_oob": _oob,
+        "_wrapi": _wrapi,
         "_ck": _ck,
         "_stv": _stv,
         "_notimpl": _notimpl,

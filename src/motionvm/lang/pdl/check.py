@@ -151,7 +151,7 @@ class Checker:
             self.sink.error(pos, f"'{name}' is a procedure, not a label: call it as "
                             f"'{name}(...);'")
         else:
-            self.sink.error(pos, f"{what} to undefined label '{name}'" + did_you_mean(name, table))
+            self.sink.error(pos, f"undefined label '{name}' in '{what}'" + did_you_mean(name, table))
         return None
 
     # ------------------------------------------------------------ declarations
@@ -283,6 +283,8 @@ class Checker:
         self.block_depth = 0
         try:
             for i, p in enumerate(item.params):
+                if p.name in sym.locals:
+                    continue  # reported by proc_header
                 if self.declare_name(p.name, p.pos, "parameter"):
                     sym.locals[p.name] = VarSym(p.name, p.type, 1, "param", p.pos, p.pointer,
                                                 False, i)

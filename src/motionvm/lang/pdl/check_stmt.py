@@ -22,7 +22,10 @@ if TYPE_CHECKING:
 
 INT_ONLY_OPS = ("%", "&", "|", "@", "%=", "&=", "|=", "@=")
 ONE_ARG_FUNCS = ("abs", "unsign", "sign", "sin", "cos", "sqrt")
-MEM_FUNCS = ("memcpy", "memset", "memmin", "memmax", "memsum")
+INTEGER_LAST_ARG = {"shift": "shift count", "bitset": "bit number", "bitclr": "bit number",
+                    "bittog": "bit number", "memcpy": "element count", "memset": "element count",
+                    "memmin": "element count", "memmax": "element count",
+                    "memsum": "element count"}
 
 
 def _describe(kind: str | None) -> str:
@@ -37,6 +40,7 @@ class StatementChecker:
     def __init__(self, checker: Checker) -> None:
         self.c = checker
         self.sink = checker.sink
+        self.reported: set[tuple[str, str]] = set()
 
     def err(self, pos: SourcePos, msg: str) -> None:
         self.sink.error(pos, msg)
@@ -52,8 +56,11 @@ class StatementChecker:
             elif name in self.c.scope.labels():
                 self.err(node.pos, f"'{name}' is a label, not a variable")
             else:
-                self.err(node.pos, f"undeclared variable '{name}'"
-                         + did_you_mean(name, self.c.scope.visible_names()))
+                key = (self.c.scope.proc.name if self.c.scope.proc else "", name)
+                if key not in self.reported:  # one message per name and scope
+                    self.reported.add(key)
+                    self.err(node.pos, f"undeclared variable '{name}'"
+                             + did_you_mean(name, self.c.scope.visible_names()))
             return None
         self.c.syms.resolved[id(node)] = sym
         return sym
@@ -273,13 +280,12 @@ class StatementChecker:
             elif k is not None and k not in ("int", "float"):
                 self.err(a.pos, f"argument {i + 1} of '{f.func}' must be a number, not "
                          f"{_describe(k)}")
-        if f.func in MEM_FUNCS or f.func in ("divi", "shift", "bitset", "bitclr", "bittog"):
-            if kinds[1] == "float":
-                self.err(f.args[1].pos, f"the last argument of '{f.func}' is a count and must "
-                         "be an integer")
+        count_name = INTEGER_LAST_ARG.get(f.func)
+        if count_name and kinds[1] == "float":
+            self.err(f.args[1].pos, f"the {count_name} of '{f.func}' must be an integer")
         if f.func in ("shift", "bitset", "bitclr", "bittog") and kinds[0] == "float":
             self.err(f.args[0].pos, f"'{f.func}' works on integers; the argument is float")
-        if f.func in ("memcpy", "memset") and tk is not None and kinds[0] is not None:
+        if f.func in ("memcpy", "memset") and tk is not None and kinds[0] in ("int", "float"):
             tsym = self.c.syms.resolved.get(id(target))
             asym = self.c.syms.resolved.get(id(f.args[0]))
             if isinstance(tsym, VarSym) and isinstance(asym, VarSym) and tsym.type != asym.type:
@@ -347,10 +353,10 @@ class StatementChecker:
 
     def visit_SetState(self, s: n.SetState) -> None:
         k = self.kind(s.target, "state")
-        if k is not None and k != "state":
-            name = s.target.name
-            self.err(s.target.pos, f"'{s.command}' needs a state or '<var>'; '{name}' is "
-                     f"{_describe(k)}")
+        sym = self.c.syms.resolved.get(id(s.target))
+        if k is not None and k != "state" and isinstance(sym, VarSym):
+            self.err(s.target.pos, f"'{s.command}' needs a state or '<var>'; '{sym.name}' is "
+                     f"{_sym_kind_text(sym)}")
 
     def visit_Print(self, s: n.Print) -> None:
         for a in s.args:

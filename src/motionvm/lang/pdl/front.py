@@ -52,8 +52,11 @@ def front_end(path: str, *, sink: DiagnosticSink, text: str | None = None) -> Fr
             except OSError as e:
                 sink.error(SourcePos(path, 1, 1), f"cannot read '{path}': {e.strerror or e}")
                 return None
-            program = parse(toks, sink)
-            if sink.has_errors:
+            pp_errors = len(sink.errors())
+            program, lost = parse(toks, sink)
+            # Check after repaired parse errors too (more messages per run), but not after
+            # skipped input or preprocessing errors: missing declarations would cascade.
+            if lost or pp_errors:
                 return None
             symbols = check(program, sink)
     except TooManyErrors:

@@ -26,7 +26,6 @@ KEYWORDS = frozenset(
     """.split()
 ) | BUILTIN_FUNCS
 
-PUNCT3: tuple[str, ...] = ()
 PUNCT2 = ("+=", "-=", "*=", "/=", "%=", "&=", "|=", "@=", "++", "--", "<=", ">=", "<>", "->")
 PUNCT1 = frozenset("=+-*/%&|@~<>()[]{},;:")
 
@@ -229,9 +228,37 @@ class _Lexer:
             self.advance()
         word = self.text[start:self.i]
         if not word:
-            self.sink.error(p, "'#' must be followed by a directive name such as #long or #define")
-            return
+            j = self.i
+            while j < len(self.text) and self.text[j] in " \t":
+                j += 1
+            k = j
+            while k < len(self.text) and self.text[k].isascii() and (
+                    self.text[k].isalnum() or self.text[k] == "_"):
+                k += 1
+            word = self.text[j:k]
+            if not word:
+                self.sink.error(p, "'#' must be followed by a directive name such as #long")
+                return
+            self.sink.error(p, f"no space is allowed between '#' and '{word}': write '#{word}'")
+            self.advance(k - self.i)
         self.emit("directive", "#" + word, p, word.lower())
+        if word.lower() == "include":
+            self._angle_path()
+
+    def _angle_path(self) -> None:
+        """`#include <file>`: the path between `<` and `>` is read as one string token."""
+        while self.peek() in (" ", "\t"):
+            self.advance()
+        if self.peek() != "<":
+            return
+        p = self.pos()
+        end = self.text.find(">", self.i)
+        newline = self.text.find("\n", self.i)
+        if end < 0 or (0 <= newline < end):
+            return
+        value = self.text[self.i + 1:end]
+        self.advance(end + 1 - self.i)
+        self.emit("string", f"<{value}>", p, value)
 
     def _punct(self, c: str) -> None:
         p = self.pos()

@@ -44,6 +44,8 @@ class Parser:
         self.depth = 0
         self.paren_depth = 0
         self.in_proc = False
+        self.lost = False
+        """True once tokens were skipped to recover: the AST is then incomplete."""
 
     # ------------------------------------------------------------ token helpers
 
@@ -130,6 +132,7 @@ class Parser:
 
     def synchronize(self) -> None:
         """Skip to just after the next `;`, or into the next `do` block, or to `end`/`else`."""
+        self.lost = True
         while True:
             t = self.peek()
             if t.kind == "eof" or (t.kind == "keyword" and t.value in ("end", "else")):
@@ -182,7 +185,8 @@ class Parser:
         while self.peek().kind != "eof":
             t = self.peek()
             if t.kind == "keyword" and t.value in ("end", "else"):
-                self.report(t, f"'{t.text}' without a matching 'do'")
+                hint = "; a one-line 'if' has no 'else'" if t.value == "else" else ""
+                self.report(t, f"'{t.text}' without a matching 'do'{hint}")
                 self.next()
                 if self.at(";"):
                     self.next()
@@ -275,6 +279,10 @@ class Parser:
             if size < 1:
                 self.report(t, f"array size {size} is not a positive number of elements")
                 size = 1
+            semi = self.peek()
+            if semi.text == ";" and semi.origin is not None and self.peek(1).text == "]":
+                self.report(semi, "expected ']' after the array size, found ';'")
+                self.next()
             self.expect("]", "after the array size")
         return n.DeclItem(star.pos if pointer else name.pos, name.text, size, pointer)
 
@@ -401,12 +409,12 @@ class Parser:
             return n.Simple(t.pos, word)
         if word in ("wait", "sleep"):
             self.next()
-            amount = self._parse_operand()
+            amount = self._parse_simple(f"a delay after '{t.text}'")
             self.end_statement()
             return n.Delay(t.pos, word, amount)  # type: ignore[arg-type]
         if word == "kill":
             self.next()
-            task = self._parse_operand()
+            task = self._parse_simple("a task number after 'kill'")
             self.end_statement()
             return n.Kill(t.pos, task)  # type: ignore[arg-type]
         if word == "goto":
@@ -450,7 +458,7 @@ class Parser:
     def _parse_loop(self) -> n.Loop:
         head = self.next()
         self.expect("(", "after 'loop' (write 'loop(n) do ... end;')")
-        count = self._parse_operand()
+        count = self._parse_simple("a loop count")
         self.expect(")", "after the loop count")
         self.expect_kw("do", "after 'loop(...)'")
         body = self._nested_block(head, ("end",))
@@ -464,7 +472,7 @@ class Parser:
         if not self.at_kw("do"):
             cmd = self._parse_statement(single=True)
             if isinstance(cmd, n.StateAssign):
-                self.report(head, "a state assignment is not allowed as the command of a "
+                self.sink.error(cmd.pos, "a state assignment is not allowed as the command of a "
                             "one-line 'if'; write 'if (...) do ... end;'")
             body = (cmd,) if cmd is not None else ()
             return n.If(head.pos, cond, body, None, True)  # type: ignore[arg-type]
@@ -479,8 +487,12 @@ class Parser:
                 self.report(self.peek(), f"expected 'do' after 'else', found "
                             f"{self.describe(self.peek())}")
             else_body = self._nested_block(els, ("end", "else"))
-            if self.at_kw("else"):
-                raise self.fail(self.peek(), "a second 'else' in one 'if'")
+            while self.at_kw("else"):
+                self.report(self.next(), "a second 'else' in one 'if'")
+                if self.at_kw("do"):
+                    self.next()
+                self.lost = True
+                self._nested_block(els, ("end", "else"))
         self._expect_end(head, "if")
         return n.If(head.pos, cond, then_body, else_body, False)
 
@@ -592,6 +604,9 @@ class Parser:
             raise self.fail(op, f"expected '=', a compound operator, '++' or '--' after "
                             f"the variable, found {self.describe(op)}")
         self.next()
+        if self.at("="):
+            raise self.fail(self.peek(), "'==' is not PDL: '=' assigns, and inside a condition "
+                            "'=' compares")
         if (isinstance(target, n.VarRef) and target.index is None
                 and sysvars.is_state(target.name)):
             cond = self._parse_cond()
@@ -667,6 +682,14 @@ class Parser:
             args.append(self._parse_operand())
         self.expect(")", f"after the arguments of '{name.text}'")
         return n.FuncCall(name.pos, str(name.value), tuple(args))
+
+    # BNF: simple = int_const | var_ref    (* a deref is parsed to be rejected by the checker *)
+    def _parse_simple(self, what: str) -> n.Operand:
+        t = self.peek()
+        if t.kind in ("int", "float", "name") or (t.kind == "punct" and t.text in "-*"):
+            return self._parse_operand()
+        raise self.fail(t, f"expected {what} (a constant or a variable), found "
+                        f"{self.describe(t)}")
 
     # BNF: operand = const | var_ref | deref | "&" var_ref | "<" name ">" | string
     def _parse_operand(self) -> n.Operand:
@@ -802,16 +825,24 @@ class Parser:
         self.expect(")", "to close the parenthesised condition")
         return cond
 
+    def _no_arithmetic(self) -> None:
+        t = self.peek()
+        if t.kind == "punct" and t.text in ("+", "-", "*", "/", "%", "@"):
+            raise self.fail(t, f"a condition cannot contain arithmetic ('{t.text}'); compute "
+                            "the value into a variable first (tmp = a + b;)")
+
     # BNF: catom = "(" cond ")" | operand relop operand | var_ref "TOUT" operand | var_ref "->" int_const | state_name | "<" name ">"
     def _parse_catom(self) -> n.Cond:
         if self.at("("):
             return self._parse_group()
         t = self.peek()
         left = self._parse_operand()
+        self._no_arithmetic()
         op = self.peek()
         if op.kind == "punct" and op.text in RELOPS or op.kind == "keyword" and op.value == "tout":
             self.next()
             right = self._parse_operand()
+            self._no_arithmetic()
             opname = "TOUT" if op.kind == "keyword" else op.text
             return n.Relation(op.pos, opname, left, right)
         if op.kind == "punct" and op.text == "->":
@@ -831,6 +862,12 @@ def _wrap32(v: int) -> int:
     return ((v + 0x80000000) & 0xFFFFFFFF) - 0x80000000
 
 
-def parse(toks: list[Token], sink: DiagnosticSink) -> n.Program:
-    """Parse preprocessed tokens; the Program holds whatever parsed, errors are in `sink`."""
-    return Parser(toks, sink).parse_program()
+def parse(toks: list[Token], sink: DiagnosticSink) -> tuple[n.Program, bool]:
+    """Parse preprocessed tokens: the Program holds whatever parsed, errors are in `sink`.
+
+    The flag is True if recovery skipped tokens (the Program then misses statements);
+    errors repaired in place (a missing ';' or ':') leave it False.
+    """
+    parser = Parser(toks, sink)
+    program = parser.parse_program()
+    return program, parser.lost

@@ -12,7 +12,7 @@ own expansion. `#task`, `#long`, `#short` and `#float` are statements for the pa
 from __future__ import annotations
 
 import os
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 
 from motionvm.lang.pdl.lexer import MacroOrigin, Token, tokenize
 from motionvm.source.diagnostics import DiagnosticSink
@@ -20,7 +20,8 @@ from motionvm.source.files import SourceFile, SourcePos
 from motionvm.source.suggest import did_you_mean
 
 MAX_INCLUDE_DEPTH = 20
-MAX_EXPANSION_TOKENS = 1_000_000
+MAX_EXPANSION_TOKENS = 250_000
+"""Tokens a file's macro expansions may produce in total (stops runaway macros)."""
 MAX_MACRO_NESTING = 200
 
 PP_DIRECTIVES = ("define", "undef", "ifdef", "ifndef", "elifdef", "elifndef", "else", "endif",
@@ -60,6 +61,11 @@ class _Item:
 
 class _ExpansionTooLarge(Exception):
     pass
+
+
+def _copy(t: Token, pos: SourcePos, origin: MacroOrigin) -> Token:
+    """A macro-body token placed at the macro's use."""
+    return Token(t.kind, t.text, pos, t.value, False, pos.col + len(t.text), origin)
 
 
 def _line_spans(toks: list[Token]) -> list[tuple[int, int]]:
@@ -231,8 +237,6 @@ class Preprocessor:
         if args and args[0].kind == "string":
             rel = str(args[0].value)
             self._no_extra(head, args, 1)
-        elif args and args[0].text == "<" and args[-1].text == ">" and len(args) > 2:
-            rel = "".join(t.text for t in args[1:-1])
         else:
             self.sink.error(head.pos, "'#include' needs a file name: #include \"file\"")
             return
@@ -248,7 +252,8 @@ class Preprocessor:
         try:
             sf = SourceFile.read(path)
         except OSError:
-            self.sink.error(head.pos, f"cannot open include file '{rel}' (looked for {path})")
+            self.sink.error(head.pos, f"cannot open include file '{rel}' (a relative path "
+                            "starts at the including file's folder)")
             return
         self._file(sf.path, tokenize(sf.path, sf.text, self.sink)[:])
 
@@ -273,13 +278,16 @@ class Preprocessor:
             if m is None or t.text in item.hide:
                 if t.kind == "directive" and t.value in PP_DIRECTIVES:
                     self.sink.error(t.pos, f"'{t.text}' must start a line")
+                    while (stack and not stack[-1].tok.bol and stack[-1].tok.pos.line == t.pos.line
+                           and stack[-1].tok.pos.file == t.pos.file):
+                        stack.pop()
                     continue
                 out.append(t)
                 continue
             hide = item.hide | {m.name}
             origin = MacroOrigin(m.name, m.pos, bool(m.body) and m.body[-1].text == ";")
             if m.params is None:
-                body = [replace(b, pos=t.pos, origin=origin) for b in m.body]
+                body = [_copy(b, t.pos, origin) for b in m.body]
                 self._push(stack, [_Item(b, hide) for b in body])
                 continue
             if not stack or stack[-1].tok.text != "(" or stack[-1].tok.kind != "punct":
@@ -297,7 +305,7 @@ class Preprocessor:
                 if b.kind == "name" and b.text in m.params:
                     body_items.extend(_Item(a, hide) for a in expanded[m.params.index(b.text)])
                 else:
-                    body_items.append(_Item(replace(b, pos=t.pos, origin=origin), hide))
+                    body_items.append(_Item(_copy(b, t.pos, origin), hide))
             self._push(stack, body_items)
         return out
 
@@ -332,8 +340,8 @@ class Preprocessor:
         if len(m.params) == 0 and args == [[]]:
             args = []
         if len(args) != len(m.params):
-            self.sink.error(name.pos, f"macro '{m.name}' takes {len(m.params)} argument(s), "
-                            f"got {len(args)}")
+            self.sink.error(name.pos, f"macro '{m.name}' takes {len(m.params)} argument"
+                            f"{'' if len(m.params) == 1 else 's'}, got {len(args)}")
             return None
         return args
 

@@ -1,0 +1,320 @@
+"""Mechanics behind a simulated drive: `ideal` tracking or a `servo` loop with a load.
+
+A model works in motor units: position [counts] (float, not wrapped), velocity
+[counts/s], torque [N*m]; `counts_per_rev` converts counts to radians for the torque.
+The drive calls exactly one `step_*` method per cycle:
+
+    step_position(r, dt)     CSP: demand r [counts] at the end of the cycle, reached
+                             linearly over it (the drive's fine interpolation)
+    step_velocity(v_ref, dt) CSV: velocity demand [counts/s], held over the cycle
+    step_torque(tau, dt)     CST: torque demand [N*m], held over the cycle
+    step_free(dt)            power stage off: no torque
+
+`create(config)` builds a model from a dict with key "model" = "ideal" | "servo" and
+rejects an unknown key or a bad value naming both.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import deque
+
+import numpy as np
+
+TWO_PI = 2.0 * math.pi
+
+
+def _expm(a: np.ndarray) -> np.ndarray:
+    """Matrix exponential by scaling and squaring of a Taylor series (small matrices)."""
+    norm = float(np.max(np.sum(np.abs(a), axis=1)))
+    squarings = max(0, int(math.ceil(math.log2(norm))) + 1) if norm > 0.5 else 0
+    a = a / 2.0**squarings
+    term = np.eye(a.shape[0])
+    result = term.copy()
+    for k in range(1, 30):
+        term = term @ a / k
+        result = result + term
+    for _ in range(squarings):
+        result = result @ result
+    return result
+
+
+class Config:
+    """Reads a config dict for `where` (e.g. "mechanics 'servo'"), naming key and value
+    in every error."""
+
+    def __init__(self, config: dict, where: str, allowed: set[str]):
+        self.config = config
+        self.where = where
+        unknown = sorted(set(config) - allowed - {"model"})
+        if unknown:
+            key = unknown[0]
+            raise ValueError(
+                f"{where}: unknown key {key!r} = {config[key]!r}"
+                f" (allowed: {', '.join(sorted(allowed))})"
+            )
+
+    def number(self, key: str, default: float, low: float = 0.0, strict: bool = True) -> float:
+        value = self.config.get(key, default)
+        ok = isinstance(value, (int, float)) and not isinstance(value, bool)
+        if ok:
+            value = float(value)
+            ok = math.isfinite(value) and (value > low if strict else value >= low)
+        if not ok:
+            bound = f"> {low:g}" if strict else f">= {low:g}"
+            raise ValueError(
+                f"{self.where}: {key} = {value!r} is not a finite number {bound}"
+            )
+        return value
+
+    def integer(self, key: str, default: int, low: int) -> int:
+        value = self.config.get(key, default)
+        if not isinstance(value, int) or isinstance(value, bool) or value < low:
+            raise ValueError(
+                f"{self.where}: {key} = {value!r} is not an integer >= {low}"
+            )
+        return value
+
+
+class IdealMechanics:
+    """Feedback follows the demand exactly, `delay_cycles` cycles later.
+
+    CSV integrates the velocity demand, CST accelerates `inertia` with the torque;
+    both outputs pass the same delay line. Power off stops the motor at once.
+    """
+
+    KEYS = {"delay_cycles", "inertia", "counts_per_rev"}
+
+    def __init__(self, delay_cycles: int = 0, inertia: float = 1e-4, counts_per_rev: int = 1 << 17):
+        self.delay_cycles = delay_cycles
+        self.inertia = inertia
+        """Load inertia [kg*m^2] seen by the motor (CST and the reported torque)."""
+        self.counts_per_rev = counts_per_rev
+        self.position = 0.0
+        """Actual position [counts]."""
+        self.velocity = 0.0
+        """Actual velocity [counts/s]."""
+        self.torque = 0.0
+        """Actual torque [N*m]."""
+        self._line: deque[float] = deque([0.0] * delay_cycles)
+        self._demand = 0.0
+        self._demand_vel = 0.0
+
+    @classmethod
+    def create(cls, config: dict) -> IdealMechanics:
+        cfg = Config(config, "mechanics 'ideal'", cls.KEYS)
+        return cls(
+            delay_cycles=cfg.integer("delay_cycles", 0, 0),
+            inertia=cfg.number("inertia", 1e-4),
+            counts_per_rev=cfg.integer("counts_per_rev", 1 << 17, 1),
+        )
+
+    def set_position(self, position: float) -> None:
+        """Place the motor at `position` [counts], at rest."""
+        self.position = self._demand = float(position)
+        self.velocity = self._demand_vel = self.torque = 0.0
+        self._line = deque([self.position] * self.delay_cycles)
+
+    def _advance(self, demand: float, dt: float) -> None:
+        self._demand = demand
+        line = self._line
+        line.append(demand)
+        new = line.popleft()
+        v = (new - self.position) / dt
+        self.torque = self.inertia * (v - self.velocity) / dt * TWO_PI / self.counts_per_rev
+        self.velocity = v
+        self.position = new
+
+    def step_position(self, r: float, dt: float) -> None:
+        self._demand_vel = (r - self._demand) / dt
+        self._advance(r, dt)
+
+    def step_velocity(self, v_ref: float, dt: float) -> None:
+        self._demand_vel = v_ref
+        self._advance(self._demand + v_ref * dt, dt)
+
+    def step_torque(self, tau: float, dt: float) -> None:
+        v_0 = self._demand_vel
+        self._demand_vel = v_0 + tau / self.inertia * self.counts_per_rev / TWO_PI * dt
+        self._advance(self._demand + 0.5 * (v_0 + self._demand_vel) * dt, dt)
+
+    def step_free(self, dt: float) -> None:
+        self.set_position(self.position)
+
+
+class ServoMechanics:
+    """A cascaded P position / P velocity loop tuned for `bandwidth` and `damping`.
+
+    Closed loop (tuned_inertia = inertia, no friction): x'' = wn^2 (r - x) +
+    2 zeta wn (ff r' - x'), wn = 2 pi bandwidth, so a ramp of velocity v has the
+    following error 2 zeta v / wn (ff = 0) and a step settles in about 4/(zeta wn).
+    The loop computes a torque tau = J_tuned * alpha_cmd, clipped to max_torque, that
+    drives the load inertia against viscous friction and a constant load torque.
+
+    Integration is exact for piecewise-linear demands (matrix exponential of the linear
+    system, computed once per dt), so any bandwidth is stable at any cycle time. When the
+    torque at the start of a cycle exceeds max_torque the cycle runs at the clipped
+    torque instead.
+    """
+
+    KEYS = {
+        "bandwidth", "damping", "inertia", "tuned_inertia", "friction", "load_torque",
+        "max_torque", "velocity_feedforward", "counts_per_rev",
+    }  # fmt: skip
+
+    def __init__(
+        self,
+        bandwidth: float = 50.0,
+        damping: float = 0.7,
+        inertia: float = 1e-4,
+        tuned_inertia: float | None = None,
+        friction: float = 0.0,
+        load_torque: float = 0.0,
+        max_torque: float = math.inf,
+        velocity_feedforward: float = 0.0,
+        counts_per_rev: int = 1 << 17,
+    ):
+        self.bandwidth = bandwidth
+        """Closed-loop natural frequency [Hz]."""
+        self.damping = damping
+        """Damping ratio zeta [-]."""
+        self.inertia = inertia
+        """Load inertia at the motor [kg*m^2]."""
+        self.tuned_inertia = inertia if tuned_inertia is None else tuned_inertia
+        """Inertia [kg*m^2] the loop gains were tuned for."""
+        self.friction = friction
+        """Viscous friction [N*m*s/rad]."""
+        self.load_torque = load_torque
+        """Constant external torque on the load [N*m]."""
+        self.max_torque = max_torque
+        """Torque limit of the drive [N*m]."""
+        self.velocity_feedforward = velocity_feedforward
+        """Velocity feed-forward gain [-], 0..1."""
+        self.counts_per_rev = counts_per_rev
+        self.position = 0.0
+        """Actual position [counts]."""
+        self.velocity = 0.0
+        """Actual velocity [counts/s]."""
+        self.torque = 0.0
+        """Actual torque [N*m]."""
+        self._demand = 0.0
+        self._rad = TWO_PI / counts_per_rev  # [rad/count]
+        wn = TWO_PI * bandwidth
+        self._kp = wn / (2.0 * damping)  # [1/s], position loop
+        self._kv = 2.0 * damping * wn  # [1/s], velocity loop
+        self._cache: dict[float, tuple] = {}
+
+    @classmethod
+    def create(cls, config: dict) -> ServoMechanics:
+        cfg = Config(config, "mechanics 'servo'", cls.KEYS)
+        inertia = cfg.number("inertia", 1e-4)
+        ff = cfg.number("velocity_feedforward", 0.0, strict=False)
+        if ff > 1.0:
+            raise ValueError(f"mechanics 'servo': velocity_feedforward = {ff!r} is not in 0..1")
+        return cls(
+            bandwidth=cfg.number("bandwidth", 50.0),
+            damping=cfg.number("damping", 0.7),
+            inertia=inertia,
+            tuned_inertia=cfg.number("tuned_inertia", inertia),
+            friction=cfg.number("friction", 0.0, strict=False),
+            load_torque=cfg.number("load_torque", 0.0, low=-math.inf),
+            max_torque=cfg.number("max_torque", 1.0) if "max_torque" in config else math.inf,
+            velocity_feedforward=ff,
+            counts_per_rev=cfg.integer("counts_per_rev", 1 << 17, 1),
+        )
+
+    def set_position(self, position: float) -> None:
+        """Place the motor at `position` [counts], at rest."""
+        self.position = self._demand = float(position)
+        self.velocity = self.torque = 0.0
+
+    def _matrices(self, dt: float) -> tuple:
+        """Rows (x, v) of the exact transition for the CSP, CSV and torque dynamics."""
+        m = self._cache.get(dt)
+        if m is None:
+            g = self.tuned_inertia / self.inertia
+            b = self.friction / self.inertia
+            wn2 = self._kp * self._kv
+            ff = self.velocity_feedforward
+            # CSP: z = [x - r_0, v, rdot, w], r(t) = r_0 + rdot t, w load accel [counts/s^2]
+            csp = np.zeros((4, 4))
+            csp[0, 1] = 1.0
+            csp[0, 2] = -1.0  # x - r(t) changes by v - rdot
+            csp[1, 0] = -g * wn2
+            csp[1, 1] = -g * self._kv - b
+            csp[1, 2] = g * self._kv * ff
+            csp[1, 3] = 1.0
+            # CSV: z = [x, v, v_ref, w]
+            csv = np.zeros((4, 4))
+            csv[0, 1] = 1.0
+            csv[1, 1] = -g * self._kv - b
+            csv[1, 2] = g * self._kv
+            csv[1, 3] = 1.0
+            # torque: z = [x, v, u], u = tau/J + w [counts/s^2]
+            trq = np.zeros((3, 3))
+            trq[0, 1] = 1.0
+            trq[1, 1] = -b
+            trq[1, 2] = 1.0
+            m = tuple(tuple(tuple(float(c) for c in _expm(a * dt)[i]) for i in (0, 1))
+                      for a in (csp, csv, trq))  # fmt: skip
+            self._cache[dt] = m
+        return m
+
+    def _to_accel(self, tau: float) -> float:
+        return tau / (self.inertia * self._rad)  # [N*m] -> [counts/s^2]
+
+    def step_position(self, r: float, dt: float) -> None:
+        r_0 = self._demand
+        self._demand = r
+        r_dot = (r - r_0) / dt
+        alpha = self._kv * (self._kp * (r_0 - self.position)
+                            + self.velocity_feedforward * r_dot - self.velocity)  # fmt: skip
+        tau = self.tuned_inertia * alpha * self._rad
+        if abs(tau) > self.max_torque:
+            self.step_torque(math.copysign(self.max_torque, tau), dt)
+            return
+        self.torque = tau
+        (x_row, v_row), _, _ = self._matrices(dt)
+        e, v, w = self.position - r_0, self.velocity, self._to_accel(self.load_torque)
+        self.position = r + x_row[0] * e + x_row[1] * v + x_row[2] * r_dot + x_row[3] * w
+        self.velocity = v_row[0] * e + v_row[1] * v + v_row[2] * r_dot + v_row[3] * w
+
+    def step_velocity(self, v_ref: float, dt: float) -> None:
+        tau = self.tuned_inertia * self._kv * (v_ref - self.velocity) * self._rad
+        if abs(tau) > self.max_torque:
+            self.step_torque(math.copysign(self.max_torque, tau), dt)
+        else:
+            self.torque = tau
+            _, (x_row, v_row), _ = self._matrices(dt)
+            v, w = self.velocity, self._to_accel(self.load_torque)
+            self.position += x_row[1] * v + x_row[2] * v_ref + x_row[3] * w
+            self.velocity = v_row[1] * v + v_row[2] * v_ref + v_row[3] * w
+        self._demand = self.position
+
+    def step_torque(self, tau: float, dt: float) -> None:
+        tau = max(-self.max_torque, min(self.max_torque, tau))
+        self.torque = tau
+        _, _, (x_row, v_row) = self._matrices(dt)
+        v, u = self.velocity, self._to_accel(tau + self.load_torque)
+        self.position += x_row[1] * v + x_row[2] * u
+        self.velocity = v_row[1] * v + v_row[2] * u
+
+    def step_free(self, dt: float) -> None:
+        self.step_torque(0.0, dt)
+        self._demand = self.position
+
+
+MODELS = {"ideal": IdealMechanics, "servo": ServoMechanics}
+
+
+def create(config: dict) -> IdealMechanics | ServoMechanics:
+    """Build the mechanics model named by config["model"] (default "ideal")."""
+    if not isinstance(config, dict):
+        raise ValueError(f"mechanics: the configuration must be a table, got {config!r}")
+    model = config.get("model", "ideal")
+    cls = MODELS.get(model)
+    if cls is None:
+        raise ValueError(
+            f"mechanics: model = {model!r} is unknown (known: {', '.join(sorted(MODELS))})"
+        )
+    return cls.create(config)

@@ -1,0 +1,133 @@
+"""Limit, home and index signals of one axis, and the drive's two touch probes.
+
+Switches sit at fixed motor positions [counts] (not wrapped): the negative limit is
+active at or below `negative_limit`, the positive limit at or above `positive_limit`,
+the home switch on [home_low, home_high]. Index pulses come every `index_spacing`
+counts at `index_offset` (+ n * spacing). Each cycle the drive passes the motor
+position before and after the cycle; edges are located exactly on the switch or index
+position, as a hardware latch would.
+
+Touch probes (CiA 402 0x60B8/0x60B9, 0x60BA..0x60BD): probe 1 samples the home switch
+or the index pulse, probe 2 an external input (digital input bit 17) or the index.
+0x60B8 bits (probe 1; probe 2 the same shifted by 8): 0 enable, 1 continuous (else
+first event only), 2 source index pulse (else the probe input), 4 sample the positive
+edge, 5 sample the negative edge. A rising enable or edge-sample bit re-arms the edge.
+"""
+
+from __future__ import annotations
+
+import math
+
+from motionvm.drives.objects import (
+    DI_HOME_SWITCH,
+    DI_INDEX_PULSE,
+    DI_NEGATIVE_LIMIT,
+    DI_POSITIVE_LIMIT,
+    DI_PROBE_INPUT,
+    wrap_i32,
+)
+
+
+class Sensors:
+    """Switch and index signals derived from the motor position; touch probe latches."""
+
+    def __init__(
+        self,
+        negative_limit: float | None = None,
+        positive_limit: float | None = None,
+        home_low: float | None = None,
+        home_high: float | None = None,
+        index_spacing: float | None = None,
+        index_offset: float = 0.0,
+    ):
+        self.negative_limit = negative_limit
+        self.positive_limit = positive_limit
+        self.home_low = home_low
+        self.home_high = home_high
+        self.index_spacing = index_spacing
+        self.index_offset = index_offset
+        self.external = 0
+        """Input bits [0x60FD layout] set by the plant wiring, ORed into the result."""
+        self.tp_function = 0
+        self.tp_status = 0
+        self.latched = [0, 0, 0, 0]
+        """Touch probe values [counts]: 1 positive, 1 negative, 2 positive, 2 negative."""
+        self._tp_function_prev = 0
+        self._home_prev = False
+        self._probe_prev = False
+
+    def _home(self, x: float) -> bool:
+        if self.home_low is None or self.home_high is None:
+            return False
+        return self.home_low <= x <= self.home_high
+
+    def _index_crossed(self, x_0: float, x_1: float) -> float | None:
+        """Position of the first index pulse passed moving from x_0 to x_1, or None."""
+        spacing = self.index_spacing
+        if not spacing or x_0 == x_1:
+            return None
+        n_0 = math.floor((x_0 - self.index_offset) / spacing)
+        n_1 = math.floor((x_1 - self.index_offset) / spacing)
+        if n_0 == n_1:
+            return None
+        n = n_0 + 1 if x_1 > x_0 else n_0
+        return self.index_offset + n * spacing
+
+    def _edge_position(self, x_0: float, x_1: float, rising: bool) -> float:
+        """Where the home switch changed between x_0 and x_1: on its low or high end."""
+        lo, hi = self.home_low, self.home_high
+        entering_from_below = x_0 < lo if rising else x_1 < lo
+        return lo if entering_from_below else hi
+
+    def update(self, x_0: float, x_1: float) -> int:
+        """Advance one cycle from motor position x_0 to x_1 [counts]; return 0x60FD."""
+        inputs = self.external
+        if self.negative_limit is not None and x_1 <= self.negative_limit:
+            inputs |= DI_NEGATIVE_LIMIT
+        if self.positive_limit is not None and x_1 >= self.positive_limit:
+            inputs |= DI_POSITIVE_LIMIT
+        home = self._home(x_1)
+        if home:
+            inputs |= DI_HOME_SWITCH
+        index = self._index_crossed(x_0, x_1)
+        if index is not None:
+            inputs |= DI_INDEX_PULSE
+        probe = bool(inputs & DI_PROBE_INPUT)
+        if self.tp_function or self.tp_status:
+            self._probes(x_0, x_1, home, probe, index)
+        self._home_prev = home
+        self._probe_prev = probe
+        return inputs
+
+    def _probes(self, x_0, x_1, home, probe, index) -> None:
+        fn, prev = self.tp_function, self._tp_function_prev
+        self._tp_function_prev = fn
+        status = self.tp_status
+        for probe_no, shift in ((0, 0), (1, 8)):
+            f = (fn >> shift) & 0xFF
+            rising_bits = f & ~((prev >> shift) & 0xFF)
+            if not f & 1:
+                status &= ~(0x07 << shift)
+                continue
+            status |= 1 << shift
+            if rising_bits & 1:
+                status &= ~(0x06 << shift)
+            if rising_bits & 0x10:
+                status &= ~(0x02 << shift)
+            if rising_bits & 0x20:
+                status &= ~(0x04 << shift)
+            continuous = bool(f & 0x02)
+            if f & 0x04:  # index pulse: a positive edge where it is crossed
+                events = [] if index is None else [(True, index)]
+            elif probe_no == 0:
+                events = []
+                if home != self._home_prev and self.home_low is not None:
+                    events.append((home, self._edge_position(x_0, x_1, home)))
+            else:
+                events = [(probe, x_1)] if probe != self._probe_prev else []
+            for rising, position in events:
+                bit, enable, slot = (0x02, 0x10, 0) if rising else (0x04, 0x20, 1)
+                if f & enable and (continuous or not status & (bit << shift)):
+                    status |= bit << shift
+                    self.latched[2 * probe_no + slot] = wrap_i32(round(position))
+        self.tp_status = status
