@@ -27,9 +27,7 @@ TIMEOUT_S = 60
 
 
 def collect_examples() -> list[Path]:
-    return sorted(
-        p for p in EXAMPLES.glob("*") if p.suffix in SUFFIXES and "." not in p.stem
-    )
+    return sorted(p for p in EXAMPLES.glob("*") if p.suffix in SUFFIXES and "." not in p.stem)
 
 
 def task_files(example: Path) -> list[str]:
@@ -67,6 +65,7 @@ def test_example(example: Path, tmp_path: Path) -> None:
     try:
         proc = subprocess.run(
             cmd,
+            check=False,
             cwd=EXAMPLES,
             env=env,
             capture_output=True,

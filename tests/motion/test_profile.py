@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 import math
 
 import pytest
@@ -63,7 +64,7 @@ def test_plan_position_overshoot_brakes_then_returns():
 
 def test_plan_position_above_v_max_brakes_to_v_max():
     plan = plan_position(0.0, 200.0, 1000.0, 100.0, 1000.0, 500.0)
-    t_0, t_1, _, _, a = plan.segs[0]
+    _, t_1, _, _, a = plan.segs[0]
     assert a == -500.0 and t_1 == pytest.approx(0.2)
     assert plan.segs[1][3] == 100.0
 
@@ -100,7 +101,7 @@ def test_jerk_is_acc_over_ts_when_phases_are_apart():
     gen = ProfileGenerator(DT, 100.0, 1000.0, 1000.0, 0.05)
     gen.move_to(200.0)  # 0.1 s ramps, 1.9 s cruise
     samples = run_until_done(gen)
-    jerks = [(b[2] - a[2]) / DT for a, b in zip(samples, samples[1:])]
+    jerks = [(b[2] - a[2]) / DT for a, b in itertools.pairwise(samples)]
     assert max(abs(j) for j in jerks) == pytest.approx(1000.0 / 0.05, rel=1e-6)
     assert max(abs(s[2]) for s in samples) == pytest.approx(1000.0, rel=1e-6)
     # total acceleration time Ta + Ts: the velocity reaches v_max after 0.1 + 0.05 s

@@ -13,8 +13,8 @@ from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 from motionvm.motion.profile import ProfileGenerator
-from motionvm.motion.tcurve import rest_to_rest_time
-from motionvm.motion.tolerances import limit_violation
+from motionvm.motion.tcurve import plan_position, rest_to_rest_time
+from motionvm.motion.tolerances import EPS, P_TOL, limit_violation
 
 settings.register_profile(
     "dev", max_examples=40, derandomize=True, deadline=None,
@@ -143,3 +143,23 @@ def test_jog_then_stop(dt, v_max, a_max, d_max, t_smooth, v_jog, d_stop):
     a_lim = max(a_max, d_max, d_stop)
     message = limit_violation(samples, dt, v_max, a_lim, jerk_bound(gen, 2 * a_lim))
     assert message is None, message
+
+
+@PROFILE
+@given(dts, v_maxs, accs, accs, st.integers(0, 50), positions, distances)
+def test_stepping_equals_direct_evaluation(dt, v_max, a_max, d_max, n_avg, p_0, distance):
+    t_tc = rest_to_rest_time(distance, v_max, a_max, d_max)
+    assume(t_tc + n_avg * dt < MAX_MOVE_TIME)
+    gen = make(dt, v_max, a_max, d_max, n_avg * dt, p_0)
+    gen.move_to(p_0 + distance)
+    plan = plan_position(p_0, 0.0, p_0 + distance, v_max, a_max, d_max)
+    samples = drain(gen, int(MAX_MOVE_TIME / dt) + 2)
+    n = max(1, n_avg)
+    direct = [plan.evaluate(k * dt)[0] if k > 0 else p_0 for k in range(-n, len(samples) + 1)]
+    tol = P_TOL + 64 * EPS * (abs(p_0) + abs(distance))
+    for k, (p, _, _) in enumerate(samples, start=1):
+        window = direct[k + 1 : k + n + 1]  # samples k-n+1 .. k
+        if n == 1:
+            assert p == window[0]  # bit-identical without smoothing
+        else:
+            assert abs(p - sum(window) / n) <= tol

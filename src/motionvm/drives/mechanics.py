@@ -27,7 +27,7 @@ TWO_PI = 2.0 * math.pi
 def _expm(a: np.ndarray) -> np.ndarray:
     """Matrix exponential by scaling and squaring of a Taylor series (small matrices)."""
     norm = float(np.max(np.sum(np.abs(a), axis=1)))
-    squarings = max(0, int(math.ceil(math.log2(norm))) + 1) if norm > 0.5 else 0
+    squarings = max(0, math.ceil(math.log2(norm)) + 1) if norm > 0.5 else 0
     a = a / 2.0**squarings
     term = np.eye(a.shape[0])
     result = term.copy()
@@ -43,7 +43,7 @@ class Config:
     """Reads a config dict for `where` (e.g. "mechanics 'servo'"), naming key and value
     in every error."""
 
-    def __init__(self, config: dict, where: str, allowed: set[str]):
+    def __init__(self, config: dict, where: str, allowed: frozenset[str]):
         self.config = config
         self.where = where
         unknown = sorted(set(config) - allowed - {"model"})
@@ -62,17 +62,13 @@ class Config:
             ok = math.isfinite(value) and (value > low if strict else value >= low)
         if not ok:
             bound = f"> {low:g}" if strict else f">= {low:g}"
-            raise ValueError(
-                f"{self.where}: {key} = {value!r} is not a finite number {bound}"
-            )
+            raise ValueError(f"{self.where}: {key} = {value!r} is not a finite number {bound}")
         return value
 
     def integer(self, key: str, default: int, low: int) -> int:
         value = self.config.get(key, default)
         if not isinstance(value, int) or isinstance(value, bool) or value < low:
-            raise ValueError(
-                f"{self.where}: {key} = {value!r} is not an integer >= {low}"
-            )
+            raise ValueError(f"{self.where}: {key} = {value!r} is not an integer >= {low}")
         return value
 
 
@@ -83,7 +79,7 @@ class IdealMechanics:
     both outputs pass the same delay line. Power off stops the motor at once.
     """
 
-    KEYS = {"delay_cycles", "inertia", "counts_per_rev"}
+    KEYS = frozenset({"delay_cycles", "inertia", "counts_per_rev"})
 
     def __init__(self, delay_cycles: int = 0, inertia: float = 1e-4, counts_per_rev: int = 1 << 17):
         self.delay_cycles = delay_cycles
@@ -153,14 +149,14 @@ class ServoMechanics:
 
     Integration is exact for piecewise-linear demands (matrix exponential of the linear
     system, computed once per dt), so any bandwidth is stable at any cycle time. When the
-    torque at the start of a cycle exceeds max_torque the cycle runs at the clipped
-    torque instead.
+    loop torque at the start or the end of a cycle exceeds max_torque, the cycle runs at
+    the clipped torque instead (the torque is constant over a cycle then).
     """
 
-    KEYS = {
+    KEYS = frozenset({
         "bandwidth", "damping", "inertia", "tuned_inertia", "friction", "load_torque",
         "max_torque", "velocity_feedforward", "counts_per_rev",
-    }  # fmt: skip
+    })  # fmt: skip
 
     def __init__(
         self,
@@ -263,32 +259,40 @@ class ServoMechanics:
     def _to_accel(self, tau: float) -> float:
         return tau / (self.inertia * self._rad)  # [N*m] -> [counts/s^2]
 
+    def _loop_torque(self, r: float, r_dot: float, x: float, v: float) -> float:
+        """Torque [N*m] the position loop commands in state (x, v) for demand (r, r_dot)."""
+        alpha = self._kv * (self._kp * (r - x) + self.velocity_feedforward * r_dot - v)
+        return self.tuned_inertia * alpha * self._rad
+
     def step_position(self, r: float, dt: float) -> None:
         r_0 = self._demand
         self._demand = r
         r_dot = (r - r_0) / dt
-        alpha = self._kv * (self._kp * (r_0 - self.position)
-                            + self.velocity_feedforward * r_dot - self.velocity)  # fmt: skip
-        tau = self.tuned_inertia * alpha * self._rad
-        if abs(tau) > self.max_torque:
-            self.step_torque(math.copysign(self.max_torque, tau), dt)
-            return
-        self.torque = tau
+        x_0, v_0 = self.position, self.velocity
         (x_row, v_row), _, _ = self._matrices(dt)
-        e, v, w = self.position - r_0, self.velocity, self._to_accel(self.load_torque)
-        self.position = r + x_row[0] * e + x_row[1] * v + x_row[2] * r_dot + x_row[3] * w
-        self.velocity = v_row[0] * e + v_row[1] * v + v_row[2] * r_dot + v_row[3] * w
+        e, w = x_0 - r_0, self._to_accel(self.load_torque)
+        x_1 = r + x_row[0] * e + x_row[1] * v_0 + x_row[2] * r_dot + x_row[3] * w
+        v_1 = v_row[0] * e + v_row[1] * v_0 + v_row[2] * r_dot + v_row[3] * w
+        tau_0 = self._loop_torque(r_0, r_dot, x_0, v_0)
+        tau_1 = self._loop_torque(r, r_dot, x_1, v_1)
+        tau = tau_0 if abs(tau_0) > abs(tau_1) else tau_1
+        if abs(tau) > self.max_torque:
+            self.step_torque(tau, dt)  # clipped to max_torque
+            return
+        self.position, self.velocity, self.torque = x_1, v_1, tau_1
 
     def step_velocity(self, v_ref: float, dt: float) -> None:
-        tau = self.tuned_inertia * self._kv * (v_ref - self.velocity) * self._rad
+        _, (x_row, v_row), _ = self._matrices(dt)
+        v_0, w = self.velocity, self._to_accel(self.load_torque)
+        v_1 = v_row[1] * v_0 + v_row[2] * v_ref + v_row[3] * w
+        gain = self.tuned_inertia * self._kv * self._rad
+        tau_0, tau_1 = gain * (v_ref - v_0), gain * (v_ref - v_1)
+        tau = tau_0 if abs(tau_0) > abs(tau_1) else tau_1
         if abs(tau) > self.max_torque:
-            self.step_torque(math.copysign(self.max_torque, tau), dt)
+            self.step_torque(tau, dt)  # clipped to max_torque
         else:
-            self.torque = tau
-            _, (x_row, v_row), _ = self._matrices(dt)
-            v, w = self.velocity, self._to_accel(self.load_torque)
-            self.position += x_row[1] * v + x_row[2] * v_ref + x_row[3] * w
-            self.velocity = v_row[1] * v + v_row[2] * v_ref + v_row[3] * w
+            self.position += x_row[1] * v_0 + x_row[2] * v_ref + x_row[3] * w
+            self.velocity, self.torque = v_1, tau_1
         self._demand = self.position
 
     def step_torque(self, tau: float, dt: float) -> None:
@@ -310,7 +314,7 @@ MODELS = {"ideal": IdealMechanics, "servo": ServoMechanics}
 def create(config: dict) -> IdealMechanics | ServoMechanics:
     """Build the mechanics model named by config["model"] (default "ideal")."""
     if not isinstance(config, dict):
-        raise ValueError(f"mechanics: the configuration must be a table, got {config!r}")
+        raise ValueError(f"mechanics: the configuration must be a table, got {config!r}")  # noqa: TRY004
     model = config.get("model", "ideal")
     cls = MODELS.get(model)
     if cls is None:

@@ -11,13 +11,16 @@ Touch probes (CiA 402 0x60B8/0x60B9, 0x60BA..0x60BD): probe 1 samples the home s
 or the index pulse, probe 2 an external input (digital input bit 17) or the index.
 0x60B8 bits (probe 1; probe 2 the same shifted by 8): 0 enable, 1 continuous (else
 first event only), 2 source index pulse (else the probe input), 4 sample the positive
-edge, 5 sample the negative edge. A rising enable or edge-sample bit re-arms the edge.
+edge, 5 sample the negative edge. Status 0x60B9: bit 0 enabled, 1 positive edge stored,
+2 negative edge stored (probe 2: bits 8-10). Clearing an edge-sample bit for a cycle, or
+re-enabling the probe, clears the stored flag and re-arms a first-event probe.
 """
 
 from __future__ import annotations
 
 import math
 
+from motionvm.drives.mechanics import Config
 from motionvm.drives.objects import (
     DI_HOME_SWITCH,
     DI_INDEX_PULSE,
@@ -46,6 +49,10 @@ class Sensors:
         self.home_high = home_high
         self.index_spacing = index_spacing
         self.index_offset = index_offset
+        self.has_switches = any(
+            v is not None for v in (negative_limit, positive_limit, home_low, index_spacing)
+        )
+        """False if no switch or index is configured (the drive then skips `update`)."""
         self.external = 0
         """Input bits [0x60FD layout] set by the plant wiring, ORed into the result."""
         self.tp_function = 0
@@ -55,6 +62,28 @@ class Sensors:
         self._tp_function_prev = 0
         self._home_prev = False
         self._probe_prev = False
+
+    @classmethod
+    def from_config(cls, cfg: Config) -> Sensors:
+        """Read the switch and index keys of a drive's config (absent: no such signal)."""
+
+        def optional(key, low=-math.inf, strict=False):
+            return cfg.number(key, 0.0, low=low, strict=strict) if key in cfg.config else None
+
+        sensors = cls(
+            negative_limit=optional("negative_limit"),
+            positive_limit=optional("positive_limit"),
+            home_low=optional("home_low"),
+            home_high=optional("home_high"),
+            index_spacing=optional("index_spacing", low=0.0, strict=True),
+            index_offset=optional("index_offset") or 0.0,
+        )
+        low, high = sensors.home_low, sensors.home_high
+        if (low is None) != (high is None):
+            raise ValueError(f"{cfg.where}: home_low and home_high must be given together")
+        if low is not None and low > high:
+            raise ValueError(f"{cfg.where}: home_low = {low!r} is above home_high = {high!r}")
+        return sensors
 
     def _home(self, x: float) -> bool:
         if self.home_low is None or self.home_high is None:
@@ -112,9 +141,9 @@ class Sensors:
             status |= 1 << shift
             if rising_bits & 1:
                 status &= ~(0x06 << shift)
-            if rising_bits & 0x10:
+            if not f & 0x10:
                 status &= ~(0x02 << shift)
-            if rising_bits & 0x20:
+            if not f & 0x20:
                 status &= ~(0x04 << shift)
             continuous = bool(f & 0x02)
             if f & 0x04:  # index pulse: a positive edge where it is crossed

@@ -10,9 +10,9 @@ Discretely, the T-curve is sampled once per controller cycle `dt` and the output
 mean of the last N = round(Ts/dt) samples (N <= 1: no smoothing). Consequences:
 
 * velocity and acceleration of the output never exceed those of the T-curve; the jerk
-  is at most a_max/(N*dt), or (a_max + d_max)/(N*dt) where an acceleration phase and a
-  deceleration phase lie closer than Ts (e.g. a triangular profile), and at most
-  2*max(a_max, d_max)/(N*dt) across on-the-fly reversals (the moving average of a
+  is at most max(a_max, d_max)/(N*dt), or (a_max + d_max)/(N*dt) where an acceleration
+  phase and a deceleration phase lie closer than Ts (e.g. a triangular profile), and
+  at most 2*max(a_max, d_max)/(N*dt) across on-the-fly reversals (the moving average of a
   T-curve whose acceleration jumps from -d to +d within Ts);
 * a move ends exactly on its target, at cycle ceil(T/dt) + N - 1 after the command,
   where T is the closed-form T-curve time (`rest_to_rest_time`): total move time T + Ts
@@ -43,9 +43,30 @@ class ProfileGenerator:
     """T-curve planner + moving-average smoothing, stepped once per controller cycle."""
 
     __slots__ = (
-        "dt", "_inv_dt", "v_max", "a_max", "d_max", "velocity_scale", "mode", "target",
-        "_v_cmd", "_plan", "_segs", "_nseg", "_seg_i", "_n", "_tc_done", "_p_f",
-        "_n_avg", "_buf", "_j", "_sum", "_base", "_flush", "_out", "_idle",
+        "_base",
+        "_buf",
+        "_flush",
+        "_idle",
+        "_inv_dt",
+        "_j",
+        "_n",
+        "_n_avg",
+        "_nseg",
+        "_out",
+        "_p_f",
+        "_plan",
+        "_seg_i",
+        "_segs",
+        "_sum",
+        "_tc_done",
+        "_v_cmd",
+        "a_max",
+        "d_max",
+        "dt",
+        "mode",
+        "target",
+        "v_max",
+        "velocity_scale",
     )  # fmt: skip
 
     def __init__(
@@ -143,8 +164,8 @@ class ProfileGenerator:
         t_smooth = float(t_smooth)
         if not (0.0 <= t_smooth <= 10.0):
             raise ValueError(f"smooth time {t_smooth!r} s is outside 0..10 s")
-        if getattr(self, "_idle", True) is False:
-            raise RuntimeError("the smooth time cannot change while the axis moves")
+        if getattr(self, "_idle", True) is False or self.mode != IDLE:
+            raise RuntimeError("the smooth time cannot change while the axis moves or is halted")
         self._n_avg = max(1, round(t_smooth / self.dt))
         if hasattr(self, "_out"):
             self.reset(self._out[0])

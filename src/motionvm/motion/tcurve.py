@@ -29,7 +29,7 @@ class TCurve:
     open-ended cruise (t_1 = inf); a finite plan holds `p_f` from `duration` on.
     """
 
-    __slots__ = ("segs", "p_f", "duration")
+    __slots__ = ("duration", "p_f", "segs")
 
     def __init__(self, segs: list[tuple[float, float, float, float, float]], p_f: float):
         self.segs = segs
@@ -55,7 +55,7 @@ class TCurve:
 class _Builder:
     """Appends segments, carrying the state (p, v) at the end of the last one."""
 
-    __slots__ = ("segs", "t", "p", "v")
+    __slots__ = ("p", "segs", "t", "v")
 
     def __init__(self, p_0: float, v_0: float):
         self.segs: list[tuple[float, float, float, float, float]] = []

@@ -19,8 +19,10 @@ def lex(text: str) -> tuple[list[tuple[str, object]], list[str]]:
 def test_string_split_over_two_and_three_lines() -> None:
     toks, errors = lex("'string split\n'onto two lines'\n'string split\n'onto three\n'lines'")
     assert errors == []
-    assert toks == [("string", "string splitonto two lines"),
-                    ("string", "string splitonto threelines")]
+    assert toks == [
+        ("string", "string splitonto two lines"),
+        ("string", "string splitonto threelines"),
+    ]
 
 
 def test_string_continuation_may_be_indented_with_spaces() -> None:
@@ -71,8 +73,15 @@ def test_unterminated_comment() -> None:
 
 @pytest.mark.parametrize(
     ("text", "delims"),
-    [("a <= b", ["<="]), ("a < = b", ["<", "="]), ("a <\n= b", ["<", "="]),
-     ("a <||= b", ["<", "="]), ("a <> b", ["<>"]), ("a >= b", [">="]), ("a => b", ["=", ">"])],
+    [
+        ("a <= b", ["<="]),
+        ("a < = b", ["<", "="]),
+        ("a <\n= b", ["<", "="]),
+        ("a <||= b", ["<", "="]),
+        ("a <> b", ["<>"]),
+        ("a >= b", [">="]),
+        ("a => b", ["=", ">"]),
+    ],
 )
 def test_double_delimiters_only_when_written_together(text: str, delims: list[str]) -> None:
     toks, errors = lex(text)
@@ -85,41 +94,55 @@ def test_numbers() -> None:
     assert lex("-5")[0] == [("delim", "-"), ("int", 5)]
     assert lex("007")[0] == [("int", 7)]
     assert lex("1000000000")[1] == [
-        "1:1: integer constant 1000000000 has 10 digits, more than the limit 9 (largest value "
-        "999999999)"
+        (
+            "1:1: integer constant 1000000000 has 10 digits, more than the limit 9 (largest value "
+            "999999999)"
+        )
     ]
 
 
 def test_no_reals() -> None:
-    assert lex("1.5")[1] == ["1:2: character '.' not accepted: GDL has no real numbers, only "
-                             "integers"]
+    assert lex("1.5")[1] == [
+        ("1:2: character '.' not accepted: GDL has no real numbers, only integers")
+    ]
 
 
 def test_digits_followed_by_letters() -> None:
-    assert lex("1axis")[1] == ["1:1: '1axis': a number cannot be followed by letters, and a name "
-                               "cannot start with a digit"]
+    assert lex("1axis")[1] == [
+        (
+            "1:1: '1axis': a number cannot be followed by letters, and a "
+            "name cannot start with a digit"
+        )
+    ]
 
 
 def test_identifiers() -> None:
     assert lex("_axis_1") == ([("ident", "_axis_1")], [])
     assert lex("a" * 40)[1] == []
-    assert lex("a" * 41)[1] == ["1:1: identifier 'aaaaaaaaaaaa...' has 41 characters, more than "
-                                "the limit 40"]
+    assert lex("a" * 41)[1] == [
+        ("1:1: identifier 'aaaaaaaaaaaa...' has 41 characters, more than the limit 40")
+    ]
 
 
 def test_keywords_are_case_insensitive() -> None:
-    assert lex("if Status of x")[0] == [("keyword", "IF"), ("keyword", "STATUS"),
-                                         ("keyword", "OF"), ("ident", "x")]
+    assert lex("if Status of x")[0] == [
+        ("keyword", "IF"),
+        ("keyword", "STATUS"),
+        ("keyword", "OF"),
+        ("ident", "x"),
+    ]
 
 
 def test_dollar_word_must_be_reserved() -> None:
     _, errors = lex("my$var STEPPER$MOTER")
     assert errors[0] == "1:1: unknown reserved word 'my$var': only reserved words contain '$'"
-    assert errors[1] == ("1:8: unknown reserved word 'STEPPER$MOTER': only reserved words "
-                         "contain '$' (did you mean 'STEPPER$MOTOR'?)")
+    assert errors[1] == (
+        "1:8: unknown reserved word 'STEPPER$MOTER': only reserved words "
+        "contain '$' (did you mean 'STEPPER$MOTOR'?)"
+    )
 
 
-@pytest.mark.parametrize("char", ["@", "#", ".", ":", "!", "%", "\"", "`", "?", "~"])
+@pytest.mark.parametrize("char", ["@", "#", ".", ":", "!", "%", '"', "`", "?", "~"])
 def test_characters_not_accepted(char: str) -> None:
     _, errors = lex(f"a {char} b")
     assert len(errors) == 1 and errors[0].startswith("1:3: character")
@@ -133,5 +156,10 @@ def test_positions_count_lines_and_columns() -> None:
     sink = DiagnosticSink()
     toks = tokenize("t.gdl", "MODULE m;\n  |c|  x\n'a\n 'b' y", sink)
     assert [(t.text, t.pos.line, t.pos.col) for t in toks[:-1]] == [
-        ("MODULE", 1, 1), ("m", 1, 8), (";", 1, 9), ("x", 2, 8), ("ab", 3, 1), ("y", 4, 6)
+        ("MODULE", 1, 1),
+        ("m", 1, 8),
+        (";", 1, 9),
+        ("x", 2, 8),
+        ("ab", 3, 1),
+        ("y", 4, 6),
     ]

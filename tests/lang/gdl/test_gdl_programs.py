@@ -18,8 +18,9 @@ from pathlib import Path
 
 import pytest
 
-from motionvm.lang.gdl import main_check, main_run
+from motionvm.lang.gdl import main_check, main_dump, main_run
 from motionvm.lang.gdl.compiler import compile_app
+from motionvm.lang.gdl.objects import TYPES
 from motionvm.source.diagnostics import DiagnosticSink
 
 PROGRAMS = Path(__file__).resolve().parents[2] / "programs" / "gdl"
@@ -31,16 +32,16 @@ def _primaries(folder: Path) -> list[Path]:
 
 
 def _app_files(primary: Path) -> list[str]:
-    more = sorted(primary.parent.glob(f"{primary.stem}.*.gdl"),
-                  key=lambda p: int(p.name.split(".")[1]))
+    more = sorted(
+        primary.parent.glob(f"{primary.stem}.*.gdl"), key=lambda p: int(p.name.split(".")[1])
+    )
     return [primary.name] + [p.name for p in more]
 
 
 def _run(primary: Path) -> str:
     scenario = primary.with_suffix(".toml")
     buf = io.StringIO()
-    rc = main_run(_app_files(primary), scenario.name if scenario.exists() else None, None,
-                  buf, buf)
+    rc = main_run(_app_files(primary), scenario.name if scenario.exists() else None, None, buf, buf)
     return buf.getvalue() + f"exit {rc}\n"
 
 
@@ -70,3 +71,22 @@ def test_gdl_compile_errors(primary: Path, monkeypatch: pytest.MonkeyPatch) -> N
     err = io.StringIO()
     assert main_check(files, io.StringIO(), err) == 2
     assert "Traceback" not in err.getvalue()
+
+
+def test_gdl_run_programs_cover_every_object_type(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.chdir(PROGRAMS)
+    seen: set[str] = set()
+    for primary in _primaries(PROGRAMS):
+        app = compile_app(_app_files(primary), sink=DiagnosticSink())
+        assert app is not None
+        seen |= {o.type.name for o in app.objects.values()}
+    assert seen == {t.name for t in TYPES}
+
+
+@pytest.mark.parametrize("stage", ["tokens", "ast", "py"])
+def test_gdl_dump_stages(stage: str, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.chdir(PROGRAMS)
+    out, err = io.StringIO(), io.StringIO()
+    assert main_dump(["queue.gdl"], stage, out, err) == 0
+    assert err.getvalue() == "" and out.getvalue()
+    assert main_dump(["queue.gdl"], "bytecode", out, err) == 3

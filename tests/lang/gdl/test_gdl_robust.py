@@ -34,11 +34,9 @@ def test_gdl_random_text_never_raises(tmp_path_factory, text: str) -> None:
 
 
 @settings(max_examples=300, deadline=None)
-@given(st.integers(0, len(PACKER) - 1), st.integers(1, 30), st.text(alphabet=ALPHABET,
-                                                                   max_size=8))
-def test_gdl_mutated_example_never_raises(tmp_path_factory, at: int, cut: int,
-                                          insert: str) -> None:
-    text = PACKER[:at] + insert + PACKER[at + cut:]
+@given(st.integers(0, len(PACKER) - 1), st.integers(1, 30), st.text(alphabet=ALPHABET, max_size=8))
+def test_gdl_mutated_example_never_raises(tmp_path_factory, at: int, cut: int, insert: str) -> None:
+    text = PACKER[:at] + insert + PACKER[at + cut :]
     sink = _compile_text(text, tmp_path_factory.mktemp("m"))
     for d in sink.items:
         assert d.pos.line >= 1 and d.pos.col >= 1
@@ -70,5 +68,7 @@ def test_gdl_compile_errors_exit_2_and_nothing_runs(tmp_path: Path) -> None:
     out, err = io.StringIO(), io.StringIO()
     assert main_run([str(tmp_path / "bad.gdl")], None, None, out, err) == 2
     assert out.getvalue() == ""
-    assert err.getvalue().splitlines()[1:] == ["  IO$BOARD b [ SLOT = 99 ];",
-                                               "                      ^"]
+    assert err.getvalue().splitlines()[1:] == [
+        "  IO$BOARD b [ SLOT = 99 ];",
+        "                      ^",
+    ]

@@ -1,5 +1,8 @@
 """PDL checker: the manual's examples check clean; every error class has its exact message.
 
+Programs under tests/programs/pdl/manual/ (the manual's examples, typos corrected) and
+valid/ must compile without any diagnostic.
+
 Programs under tests/programs/pdl/errors/ and manual_typos/ list their diagnostics in
 comments, `// error: LINE:COL: message` (or `warning:`); the test compares them, in
 position order, with what the front end reports for that file.
@@ -12,23 +15,25 @@ from pathlib import Path
 
 import pytest
 
-from motionvm.lang.pdl import compile_front, front_end, nodes as n
+from motionvm.lang.pdl import compile_front, front_end
+from motionvm.lang.pdl import nodes as n
 from motionvm.lang.pdl.symbols import code_units
 from motionvm.source import DiagnosticSink, render_diagnostic
 
 PROGRAMS = Path(__file__).parents[2] / "programs" / "pdl"
-MANUAL = sorted((PROGRAMS / "manual").rglob("*.pdl"))
+CLEAN = sorted((PROGRAMS / "manual").rglob("*.pdl")) + sorted((PROGRAMS / "valid").glob("*.pdl"))
 EXPECTING = sorted((PROGRAMS / "errors").glob("*.pdl")) + sorted(
-    (PROGRAMS / "manual_typos").glob("*.pdl"))
-EXPECT = re.compile(r"^// (error|warning): (\d+):(\d+): (.*)$", re.M)
+    (PROGRAMS / "manual_typos").glob("*.pdl")
+)
+EXPECT = re.compile(r"^// (error|warning): (\d+):(\d+): (.*)$", re.MULTILINE)
 
 
 def rel(path: Path) -> str:
     return str(path.relative_to(PROGRAMS.parents[1]))
 
 
-@pytest.mark.parametrize("path", MANUAL, ids=rel)
-def test_manual_example_checks_clean(path: Path) -> None:
+@pytest.mark.parametrize("path", CLEAN, ids=rel)
+def test_program_checks_clean(path: Path) -> None:
     sink = DiagnosticSink()
     program = compile_front(str(path), sink=sink)
     assert [render_diagnostic(d) for d in sink.items] == []
@@ -41,8 +46,11 @@ def test_program_gives_its_expected_diagnostics(path: Path) -> None:
     assert expected, "no expectations in the file"
     sink = DiagnosticSink()
     result = front_end(str(path), sink=sink)
-    got = sorted((d.pos.line, d.pos.col, d.severity, d.message) for d in sink.items
-                 if d.pos.file == str(path))
+    got = sorted(
+        (d.pos.line, d.pos.col, d.severity, d.message)
+        for d in sink.items
+        if d.pos.file == str(path)
+    )
     assert got == sorted(expected)
     assert (result is None) == any(e[2] == "error" for e in expected)
 
@@ -57,15 +65,20 @@ def test_rendered_diagnostic_has_file_line_col_source_and_caret() -> None:
     sink = DiagnosticSink()
     compile_front("mem/r.pdl", sink=sink, text="#long a;\n  a = b;\n")
     assert render_diagnostic(sink.items[0]) == (
-        "mem/r.pdl:2:7: error: undeclared variable 'b'\n  a = b;\n      ^")
+        "mem/r.pdl:2:7: error: undeclared variable 'b'\n  a = b;\n      ^"
+    )
 
 
 def test_program_memory_limit_of_128_kb() -> None:
     ok, errors = check_text("#long a;\n" + "a = 1;\n" * 32_000)
     assert ok is not None and errors == []
     _, errors = check_text("#long a;\n" + "a = 1;\n" * 33_000)
-    assert errors == ["32770:1: the program needs more than 131,072 bytes (128 KB) of drive "
-                      "program memory from here on"]
+    assert errors == [
+        (
+            "32770:1: the program needs more than 131,072 bytes (128 KB) of drive "
+            "program memory from here on"
+        )
+    ]
 
 
 def test_user_memory_of_exactly_16000_words_is_allowed() -> None:
@@ -81,20 +94,30 @@ def test_symbols_of_a_program() -> None:
         "proc add3(long a, long b, long c, long *sum) do #long tmp; tmp = a + b; end;\n"
         "#task/1;\n"
         "_host: add3(1, 2, 3, &v);\n"
-        "ret;\n")
+        "ret;\n"
+    )
     assert errors == []
     syms = result.symbols  # type: ignore[attr-defined]
     assert [(s.name, s.type, s.size, s.offset) for s in syms.globals.values()] == [
-        ("Eli", "short", 1, 0), ("Rafi", "short", 1, 2), ("Benny", "short", 1, 4),
-        ("My_array", "short", 100, 6), ("N", "short", 1, 206), ("v", "long", 1, 208),
-        ("pv", "long", 1, 212)]
+        ("Eli", "short", 1, 0),
+        ("Rafi", "short", 1, 2),
+        ("Benny", "short", 1, 4),
+        ("My_array", "short", 100, 6),
+        ("N", "short", 1, 206),
+        ("v", "long", 1, 208),
+        ("pv", "long", 1, 212),
+    ]
     assert syms.globals["pv"].pointer
     assert set(syms.tasks) == {1} and set(syms.labels) == {"_host"}
     proc = syms.procs["add3"]
     assert [(s.name, s.scope, s.offset) for s in proc.locals.values()] == [
-        ("a", "param", 0), ("b", "param", 1), ("c", "param", 2), ("sum", "param", 3),
-        ("tmp", "local", 4)]
-    call = result.program.items[4]  # type: ignore[attr-defined]
+        ("a", "param", 0),
+        ("b", "param", 1),
+        ("c", "param", 2),
+        ("sum", "param", 3),
+        ("tmp", "local", 4),
+    ]
+    call = result.program.items[5]  # type: ignore[attr-defined]
     assert isinstance(call, n.ProcCall) and syms.symbol_of(call) is proc
 
 
@@ -109,16 +132,22 @@ def test_system_names_resolve_ignoring_case() -> None:
 def test_locals_hide_globals_and_labels_are_per_procedure() -> None:
     result, errors = check_text(
         "#float x;\nproc p(long x) do loop1: x = x + 1; goto loop1; end;\n"
-        "proc q() do loop1: goto loop1; end;\nloop1: goto loop1;\n")
+        "proc q() do loop1: goto loop1; end;\nloop1: goto loop1;\n"
+    )
     assert errors == [] and result is not None
 
 
 def test_forward_labels_and_prototypes() -> None:
     _, errors = check_text("call later;\nf(1);\nproc f(long a) do end;\nlater: ret;\n")
-    assert errors == ["2:1: procedure 'f' is not declared before this call; define it above "
-                      "or add a prototype 'proc f(...);'"]
-    _, errors = check_text("proc f(long a);\ncall later;\nf(1);\nproc f(long a) do end;\n"
-                           "later: ret;\n")
+    assert errors == [
+        (
+            "2:1: procedure 'f' is not declared before this call; define it above "
+            "or add a prototype 'proc f(...);'"
+        )
+    ]
+    _, errors = check_text(
+        "proc f(long a);\ncall later;\nf(1);\nproc f(long a) do end;\nlater: ret;\n"
+    )
     assert errors == []
 
 
@@ -129,8 +158,15 @@ def test_variables_must_be_declared_before_use() -> None:
 
 @pytest.mark.parametrize(
     ("stmt", "units"),
-    [("goto a;", 1), ("exitproc;", 1), ('printl/103("x");', 2), ('printl/103("%d %d ", a, a);', 4),
-     ("if (a>1) do a=1; else do a=2; end;", 4), ("loop(2) do a=1; end;", 3), ("a:", 0)],
+    [
+        ("goto a;", 1),
+        ("exitproc;", 1),
+        ('printl/103("x");', 2),
+        ('printl/103("%d %d ", a, a);', 4),
+        ("if (a>1) do a=1; else do a=2; end;", 4),
+        ("loop(2) do a=1; end;", 3),
+        ("a:", 0),
+    ],
 )
 def test_code_units(stmt: str, units: int) -> None:
     sink = DiagnosticSink()
@@ -148,5 +184,51 @@ def test_indirect_goto_table_of_the_manual_lands_on_each_message() -> None:
         _, errors = check_text(body)
         assert errors == []
     _, errors = check_text(text.replace("goto prlabel[flag];", "goto prlabel[3];"))
-    assert errors == ["11:14: 'goto prlabel[3]' lands inside the statement at line 14 "
-                      "(4 code units starting at prlabel[0])"]
+    assert errors == [
+        (
+            "9:14: 'goto prlabel[3]' lands inside the statement at line 12 "
+            "(4 code units starting at prlabel[0])"
+        )
+    ]
+
+
+def test_unreadable_file_is_a_diagnostic_not_a_traceback(tmp_path: Path) -> None:
+    sink = DiagnosticSink()
+    missing = str(tmp_path / "missing.pdl")
+    assert compile_front(missing, sink=sink) is None
+    assert [d.headline() for d in sink.items] == [
+        f"{missing}:1:1: error: cannot read '{missing}': No such file or directory"
+    ]
+
+
+def test_system_catalog() -> None:
+    from motionvm.lang.pdl import sysvars
+
+    issue_names = [
+        "X_vel_max",
+        "X_acc",
+        "X_dcc",
+        "X_new_sm_fac",
+        "X_trg",
+        "X_jvl",
+        "X_stop_m",
+        "x_run",
+        "x_ref_pos",
+        "x_home",
+        "X_LL",
+        "LEFT_LIM",
+        "fclk",
+        "lcdout",
+        "task_num",
+        "task_prior",
+        "ltest1",
+        "ff1",
+        "IN1",
+    ]
+    assert all(sysvars.lookup(name) is not None for name in issue_names)
+    states = [v for v in sysvars.SYSVARS.values() if v.kind == "state"]
+    assert len({s.address for s in states}) == len(states)
+    assert sysvars.lookup("fclk").read_only and not sysvars.lookup("X_trg").read_only
+    assert sysvars.lookup("task_prior").size == 4
+    assert sysvars.is_state("x_run") and not sysvars.is_state("X_trg")
+    assert sysvars.lookup("x_jvl") is sysvars.lookup("X_jvl")

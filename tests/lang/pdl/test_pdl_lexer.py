@@ -22,9 +22,18 @@ def kinds(text: str) -> list[tuple[str, str]]:
 
 def test_statement_tokens() -> None:
     assert kinds("pr[x]=pr[y]+400000;") == [
-        ("name", "pr"), ("punct", "["), ("name", "x"), ("punct", "]"), ("punct", "="),
-        ("name", "pr"), ("punct", "["), ("name", "y"), ("punct", "]"), ("punct", "+"),
-        ("int", "400000"), ("punct", ";"),
+        ("name", "pr"),
+        ("punct", "["),
+        ("name", "x"),
+        ("punct", "]"),
+        ("punct", "="),
+        ("name", "pr"),
+        ("punct", "["),
+        ("name", "y"),
+        ("punct", "]"),
+        ("punct", "+"),
+        ("int", "400000"),
+        ("punct", ";"),
     ]
 
 
@@ -36,7 +45,10 @@ def test_two_character_operators_are_single_tokens() -> None:
 def test_keywords_are_case_insensitive_and_identifiers_keep_case() -> None:
     toks, _ = lex("Sleep While TOUT myVar #Long")
     assert [(t.kind, t.value) for t in toks[:-1]] == [
-        ("keyword", "sleep"), ("keyword", "while"), ("keyword", "tout"), ("name", None),
+        ("keyword", "sleep"),
+        ("keyword", "while"),
+        ("keyword", "tout"),
+        ("name", None),
         ("directive", "long"),
     ]
     assert toks[3].text == "myVar"
@@ -49,8 +61,15 @@ def test_run_is_not_reserved() -> None:
 
 @pytest.mark.parametrize(
     ("text", "value"),
-    [("20000", 20000), ("0x02FC", 764), ("0xaabbccdd", -1430532899), ("0x000f0000", 983040),
-     ("4294967295", -1), ("2147483648", -2147483648), ("0X10", 16)],
+    [
+        ("20000", 20000),
+        ("0x02FC", 764),
+        ("0xaabbccdd", -1430532899),
+        ("0x000f0000", 983040),
+        ("4294967295", -1),
+        ("2147483648", -2147483648),
+        ("0X10", 16),
+    ],
 )
 def test_integer_constants_are_signed_32_bit(text: str, value: int) -> None:
     toks, sink = lex(text)
@@ -58,8 +77,9 @@ def test_integer_constants_are_signed_32_bit(text: str, value: int) -> None:
     assert toks[0].kind == "int" and toks[0].value == value
 
 
-@pytest.mark.parametrize(("text", "value"), [("5.4", 5.4), ("0.5", 0.5), ("44.2", 44.2),
-                                             (".5", 0.5), ("3.", 3.0)])
+@pytest.mark.parametrize(
+    ("text", "value"), [("5.4", 5.4), ("0.5", 0.5), ("44.2", 44.2), (".5", 0.5), ("3.", 3.0)]
+)
 def test_float_constants(text: str, value: float) -> None:
     toks, _ = lex(text)
     assert toks[0].kind == "float" and toks[0].value == value
@@ -79,16 +99,29 @@ def test_typographic_quotes_from_the_pdf_read_as_ascii() -> None:
 
 def test_comments_are_removed() -> None:
     assert kinds("a=1; // c\n/* b\n c */ b=2;") == [
-        ("name", "a"), ("punct", "="), ("int", "1"), ("punct", ";"),
-        ("name", "b"), ("punct", "="), ("int", "2"), ("punct", ";"),
+        ("name", "a"),
+        ("punct", "="),
+        ("int", "1"),
+        ("punct", ";"),
+        ("name", "b"),
+        ("punct", "="),
+        ("int", "2"),
+        ("punct", ";"),
     ]
 
 
 def test_positions_and_end_columns() -> None:
     toks, _ = lex("x = 1;\n  loop(10) do")
     assert [(t.pos.line, t.pos.col, t.end_col) for t in toks[:-1]] == [
-        (1, 1, 2), (1, 3, 4), (1, 5, 6), (1, 6, 7),
-        (2, 3, 7), (2, 7, 8), (2, 8, 10), (2, 10, 11), (2, 12, 14),
+        (1, 1, 2),
+        (1, 3, 4),
+        (1, 5, 6),
+        (1, 6, 7),
+        (2, 3, 7),
+        (2, 7, 8),
+        (2, 8, 10),
+        (2, 10, 11),
+        (2, 12, 14),
     ]
 
 
@@ -107,20 +140,26 @@ def test_block_comment_does_not_start_a_line() -> None:
 def test_directive_tokens() -> None:
     toks, _ = lex("#task/2;")
     assert [(t.kind, t.text) for t in toks[:-1]] == [
-        ("directive", "#task"), ("punct", "/"), ("int", "2"), ("punct", ";")]
+        ("directive", "#task"),
+        ("punct", "/"),
+        ("int", "2"),
+        ("punct", ";"),
+    ]
 
 
 @pytest.mark.parametrize(
     ("text", "message"),
-    [("x = $;", "1:5: unexpected character '$'"),
-     ("v2=100\u2019", "1:7: unexpected character '\u2019' (did you mean ';'?)"),
-     ("x = 4294967296;", "1:5: constant 4294967296 does not fit in 32 bits"),
-     ("x = 0x;", "1:5: hexadecimal constant '0x' has no digits"),
-     ('x = "abc\n', "1:5: unterminated string: missing closing '\"' on this line"),
-     ("/* open", "1:1: unterminated comment: '/*' has no closing '*/'"),
-     ("# long x;", "1:1: no space is allowed between '#' and 'long': write '#long'"),
-     ("# ;", "1:1: '#' must be followed by a directive name such as #long"),
-     ("x = 1\uff1b", "1:6: full-width character '\uff1b' (did you mean ';'?)")],
+    [
+        ("x = $;", "1:5: unexpected character '$'"),
+        ("v2=100\u2019", "1:7: unexpected character '\u2019' (did you mean ';'?)"),
+        ("x = 4294967296;", "1:5: constant 4294967296 does not fit in 32 bits"),
+        ("x = 0x;", "1:5: hexadecimal constant '0x' has no digits"),
+        ('x = "abc\n', "1:5: unterminated string: missing closing '\"' on this line"),
+        ("/* open", "1:1: unterminated comment: '/*' has no closing '*/'"),
+        ("# long x;", "1:1: no space is allowed between '#' and 'long': write '#long'"),
+        ("# ;", "1:1: '#' must be followed by a directive name such as #long"),
+        ("x = 1\uff1b", "1:6: full-width character '\uff1b' (did you mean ';'?)"),
+    ],
 )
 def test_lexical_errors(text: str, message: str) -> None:
     _, sink = lex(text)

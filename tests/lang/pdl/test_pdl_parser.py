@@ -8,7 +8,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from motionvm.lang.pdl import compile_front, nodes as n
+from motionvm.lang.pdl import compile_front
+from motionvm.lang.pdl import nodes as n
 from motionvm.lang.pdl.dump import dump_ast
 from motionvm.lang.pdl.parser import MAX_NESTING, parse
 from motionvm.lang.pdl.preprocess import preprocess
@@ -35,25 +36,41 @@ def test_declarations() -> None:
     assert isinstance(d, n.VarDecl) and d.type == "float" and d.read_only
     assert d.limits is not None and (d.limits[0].value, d.limits[1].value) == (-0.5, 0.5)
     assert [(i.name, i.size, i.pointer) for i in d.items] == [
-        ("pgain", None, False), ("pf", None, True), ("tab", 20, False)]
+        ("pgain", None, False),
+        ("pf", None, True),
+        ("tab", 20, False),
+    ]
 
 
 def test_task_directive_and_label() -> None:
     program, errors = parse_text("#task/2;\n_entry: halt;")
     assert errors == []
     assert program.items == (
-        n.TaskDirective(program.items[0].pos, 2), n.Label(program.items[1].pos, "_entry"),
-        n.Simple(program.items[2].pos, "halt"))
+        n.TaskDirective(program.items[0].pos, 2),
+        n.Label(program.items[1].pos, "_entry"),
+        n.Simple(program.items[2].pos, "halt"),
+    )
 
 
 @pytest.mark.parametrize(
     ("text", "value_type"),
-    [("v = w;", n.VarRef), ("v = 5;", n.IntConst), ("v = -5;", n.IntConst),
-     ("v = {1, 2, -3};", n.InitList), ('v = "abcd";', n.StringConst), ("v = -w;", n.Neg),
-     ("v = <x_run>;", n.AngleRef), ("v = <_label>;", n.AngleRef), ("v = w @ 3;", n.BinOp),
-     ("v = max(a, 3);", n.FuncCall), ("v = sttovar s1 & ~s2;", n.SttoVar),
-     ("v = sizeof(arr);", n.SizeOf), ("p = &v[3];", n.AddressOf), ("v = *p[2];", n.Deref),
-     ("v = 0.5 * w;", n.BinOp)],
+    [
+        ("v = w;", n.VarRef),
+        ("v = 5;", n.IntConst),
+        ("v = -5;", n.IntConst),
+        ("v = {1, 2, -3};", n.InitList),
+        ('v = "abcd";', n.StringConst),
+        ("v = -w;", n.Neg),
+        ("v = <x_run>;", n.AngleRef),
+        ("v = <_label>;", n.AngleRef),
+        ("v = w @ 3;", n.BinOp),
+        ("v = max(a, 3);", n.FuncCall),
+        ("v = sttovar s1 & ~s2;", n.SttoVar),
+        ("v = sizeof(arr);", n.SizeOf),
+        ("p = &v[3];", n.AddressOf),
+        ("v = *p[2];", n.Deref),
+        ("v = 0.5 * w;", n.BinOp),
+    ],
 )
 def test_assignment_forms(text: str, value_type: type) -> None:
     a = one(text)
@@ -88,11 +105,24 @@ def test_increment_and_decrement(text: str) -> None:
 def test_flow_commands() -> None:
     program, errors = parse_text(
         "goto l1; goto tab[2]; goto tab[i]; call sub; ret; halt; exitproc; lock; unlock;"
-        "kill 2; kill t; wait 20; Sleep ar[x];")
+        "kill 2; kill t; wait 20; Sleep ar[x];"
+    )
     assert errors == []
     assert [type(i).__name__ for i in program.items] == [
-        "Goto", "Goto", "Goto", "CallLabel", "Simple", "Simple", "Simple", "Simple", "Simple",
-        "Kill", "Kill", "Delay", "Delay"]
+        "Goto",
+        "Goto",
+        "Goto",
+        "CallLabel",
+        "Simple",
+        "Simple",
+        "Simple",
+        "Simple",
+        "Simple",
+        "Kill",
+        "Kill",
+        "Delay",
+        "Delay",
+    ]
     assert program.items[1].index == n.IntConst(program.items[1].index.pos, 2)
 
 
@@ -103,9 +133,10 @@ def test_blocks() -> None:
         "if(var1>var2) do var3=var1; else do var3=var2; end;\n"
         "if (a>1) call f;\n"
         "while (a < 5) do a += 1; end;\n"
-        "till (x_home | t0 TOUT 60000);\n")
+        "till (x_home | t0 TOUT 60000);\n"
+    )
     assert errors == []
-    loop, if1, if2, if3, wh, till = program.items
+    loop, if1, _if2, if3, wh, till = program.items
     assert isinstance(loop, n.Loop) and isinstance(loop.body[0], n.Loop)
     assert isinstance(if1, n.If) and if1.else_body is not None and not if1.single
     assert isinstance(if3, n.If) and if3.single and isinstance(if3.then_body[0], n.CallLabel)
@@ -133,12 +164,16 @@ def test_procedures() -> None:
     program, errors = parse_text(
         "proc mul( float a, long b, float * res);\n"
         "proc func(long v1, float f2, instate run) do #long t; exitproc; end;\n"
-        "mul(f1, 20, &m);\n")
+        "mul(f1, 20, &m);\n"
+    )
     assert errors == []
     proto, pdef, call = program.items
     assert isinstance(proto, n.ProcProto)
     assert [(p.type, p.name, p.pointer) for p in proto.params] == [
-        ("float", "a", False), ("long", "b", False), ("float", "res", True)]
+        ("float", "a", False),
+        ("long", "b", False),
+        ("float", "res", True),
+    ]
     assert isinstance(pdef, n.ProcDef) and pdef.params[2].type == "instate"
     assert isinstance(call, n.ProcCall) and isinstance(call.args[2], n.AddressOf)
 
@@ -149,24 +184,33 @@ def test_print_commands_and_modes() -> None:
         'printl/103("x=%ld %s ", x, ar[0]);\n'
         'prints("plain");\n'
         'retprintl/aBc("done %d ", IN1);\n'
-        'printl/1f0/ffffffff("m");\n')
+        'printl/1f0/ffffffff("m");\n'
+    )
     assert errors == []
     assert [(p.command, p.mode1, p.mode2, p.format.value, len(p.args)) for p in program.items] == [
-        ("printl", 0x103, 1, " This is a test", 0), ("printl", 0x103, 0, "x=%ld %s ", 2),
-        ("prints", 0, 0, "plain", 0), ("retprintl", 0xABC, 0, "done %d ", 1),
-        ("printl", 0x1F0, 0xFFFFFFFF, "m", 0)]
+        ("printl", 0x103, 1, " This is a test", 0),
+        ("printl", 0x103, 0, "x=%ld %s ", 2),
+        ("prints", 0, 0, "plain", 0),
+        ("retprintl", 0xABC, 0, "done %d ", 1),
+        ("printl", 0x1F0, 0xFFFFFFFF, "m", 0),
+    ]
 
 
 def test_set_state_commands() -> None:
     program, errors = parse_text("seton vacum_sl; setoff <a1>; toggle OUT2;")
     assert errors == []
     assert [(s.command, type(s.target).__name__) for s in program.items] == [
-        ("seton", "VarRef"), ("setoff", "AngleRef"), ("toggle", "VarRef")]
+        ("seton", "VarRef"),
+        ("setoff", "AngleRef"),
+        ("toggle", "VarRef"),
+    ]
 
 
 def test_dump_ast() -> None:
     program, _ = parse_text("#long a[3];\nloop(2) do a[1]++; end;\nif (IN1) a = <x_run>;")
-    assert dump_ast(program) == """\
+    assert (
+        dump_ast(program)
+        == """\
 Program @1:1
   items:
     VarDecl @1:1 type='long'
@@ -186,6 +230,7 @@ Program @1:1
           target: VarRef @3:10 name='a'
           value: AngleRef @3:14 name='x_run'
 """
+    )
 
 
 def _nested_loops(depth: int) -> str:
@@ -201,7 +246,8 @@ def test_nesting_depth_201_is_an_error() -> None:
     sink = DiagnosticSink()
     assert compile_front("mem/deep.pdl", sink=sink, text=_nested_loops(MAX_NESTING + 1)) is None
     assert [(d.pos.line, d.pos.col, d.message) for d in sink.items] == [
-        (202, 1, "blocks nested more than 200 deep (if/else, while and loop count together)")]
+        (202, 1, "blocks nested more than 200 deep (if/else, while and loop count together)")
+    ]
 
 
 def test_very_deep_nesting_does_not_crash() -> None:
@@ -227,12 +273,86 @@ def test_long_condition_chain_is_flat() -> None:
 
 # ---------------------------------------------------------------- robustness
 
-VOCAB = (
-    "#long #short #float #task / 2 ; : , ( ) [ ] { } = += @= ++ -- + - * & | ~ < > <= <> -> "
-    "x y arr p IN1 x_run fclk _lbl lbl 0 7 0x1F 2.5 \"s %d\" if else do end loop while till "
-    "goto call ret halt proc long float instate exitproc printl/103 seton sttovar sizeof "
-    "max TOUT wait sleep kill lock #define #ifdef #endif #undef \\\n \n"
-).split(" ")
+VOCAB = [
+    "#long",
+    "#short",
+    "#float",
+    "#task",
+    "/",
+    "2",
+    ";",
+    ":",
+    ",",
+    "(",
+    ")",
+    "[",
+    "]",
+    "{",
+    "}",
+    "=",
+    "+=",
+    "@=",
+    "++",
+    "--",
+    "+",
+    "-",
+    "*",
+    "&",
+    "|",
+    "~",
+    "<",
+    ">",
+    "<=",
+    "<>",
+    "->",
+    "x",
+    "y",
+    "arr",
+    "p",
+    "IN1",
+    "x_run",
+    "fclk",
+    "_lbl",
+    "lbl",
+    "0",
+    "7",
+    "0x1F",
+    "2.5",
+    '"s',
+    '%d"',
+    "if",
+    "else",
+    "do",
+    "end",
+    "loop",
+    "while",
+    "till",
+    "goto",
+    "call",
+    "ret",
+    "halt",
+    "proc",
+    "long",
+    "float",
+    "instate",
+    "exitproc",
+    "printl/103",
+    "seton",
+    "sttovar",
+    "sizeof",
+    "max",
+    "TOUT",
+    "wait",
+    "sleep",
+    "kill",
+    "lock",
+    "#define",
+    "#ifdef",
+    "#endif",
+    "#undef",
+    "\\\n",
+    "\n",
+]
 
 
 def _compile_never_raises(text: str) -> None:
@@ -258,3 +378,18 @@ def test_truncated_manual_examples(path: Path) -> None:
     text = path.read_text()
     for cut in range(0, len(text), 7):
         _compile_never_raises(text[:cut])
+
+
+def test_every_parse_method_documents_its_grammar() -> None:
+    import inspect
+
+    from motionvm.lang.pdl import parser as parser_module
+    from motionvm.lang.pdl.dump import dump_grammar
+
+    lines = inspect.getsource(parser_module).splitlines()
+    for i, line in enumerate(lines):
+        if line.lstrip().startswith(("def _parse_", "def parse_program")):
+            assert "# BNF:" in lines[i - 1], line
+    grammar = dump_grammar()
+    assert grammar.startswith("program = { top_item } EOF\n")
+    assert 'cond = cterm { ( "&" | "|" ) cterm }\n' in grammar

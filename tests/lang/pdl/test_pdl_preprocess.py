@@ -43,7 +43,7 @@ def test_multi_line_macro_with_backslashes() -> None:
 def test_trailing_semicolon_is_part_of_the_body() -> None:
     sink = DiagnosticSink()
     toks = preprocess("mem/semi.pdl", sink, "#define size 10;\n#long array[size]\n")
-    semi = [t for t in toks if t.text == ";"][0]
+    semi = next(t for t in toks if t.text == ";")
     assert semi.origin is not None and semi.origin.name == "size"
     assert semi.origin.body_ends_with_semicolon
     assert (semi.pos.line, semi.pos.col) == (2, 13)  # the use of the macro
@@ -53,7 +53,11 @@ def test_expanded_tokens_carry_the_position_of_the_use() -> None:
     sink = DiagnosticSink()
     toks = preprocess("mem/pos.pdl", sink, "#define INC(v) v += 1;\n\n   INC(count)\n")
     assert [(t.text, t.pos.line, t.pos.col) for t in toks[:-1]] == [
-        ("count", 3, 8), ("+=", 3, 4), ("1", 3, 4), (";", 3, 4)]
+        ("count", 3, 8),
+        ("+=", 3, 4),
+        ("1", 3, 4),
+        (";", 3, 4),
+    ]
 
 
 def test_function_like_macro_name_without_parentheses_is_left_alone() -> None:
@@ -80,8 +84,7 @@ def test_exponential_expansion_is_stopped() -> None:
 
 
 def test_macros_are_not_expanded_in_strings() -> None:
-    assert pp('#define N 5\nprintl/103("N=%ld ", N);') == (
-        'printl / 103 ( "N=%ld " , 5 ) ;', [])
+    assert pp('#define N 5\nprintl/103("N=%ld ", N);') == ('printl / 103 ( "N=%ld " , 5 ) ;', [])
 
 
 def test_arguments_with_parentheses_and_commas() -> None:
@@ -108,12 +111,21 @@ COND = {
 
 @pytest.mark.parametrize(
     ("construct", "defined", "expected"),
-    [("ifdef", "KEY", "a"), ("ifdef", "", ""),
-     ("ifdef_else", "KEY", "a"), ("ifdef_else", "", "b"),
-     ("ifndef_else", "", "a"), ("ifndef_else", "KEY", "b"),
-     ("elifdef", "KEY1", "a"), ("elifdef", "KEY2", "b"), ("elifdef", "", ""),
-     ("elifdef", "KEY1 KEY2", "a"),
-     ("elifndef", "", "b"), ("elifndef", "KEY2", "c"), ("elifndef", "KEY1", "a")],
+    [
+        ("ifdef", "KEY", "a"),
+        ("ifdef", "", ""),
+        ("ifdef_else", "KEY", "a"),
+        ("ifdef_else", "", "b"),
+        ("ifndef_else", "", "a"),
+        ("ifndef_else", "KEY", "b"),
+        ("elifdef", "KEY1", "a"),
+        ("elifdef", "KEY2", "b"),
+        ("elifdef", "", ""),
+        ("elifdef", "KEY1 KEY2", "a"),
+        ("elifndef", "", "b"),
+        ("elifndef", "KEY2", "c"),
+        ("elifndef", "KEY1", "a"),
+    ],
 )
 def test_conditional_compilation_table(construct: str, defined: str, expected: str) -> None:
     defs = "".join(f"#define {k}\n" for k in defined.split())
@@ -125,7 +137,7 @@ def test_nested_conditionals_and_directives_inside_them() -> None:
         "#define A\n"
         "#ifdef A\n  #ifdef B\n    x\n  #else\n    #define C\n  #endif\n#endif\n"
         "#ifndef B\n  #ifdef C\n    y\n  #endif\n#endif\n"
-        "#ifdef B\n  #ifdef A\n    z\n  #else\n    #include \"missing.h\"\n  #endif\n#endif\n"
+        '#ifdef B\n  #ifdef A\n    z\n  #else\n    #include "missing.h"\n  #endif\n#endif\n'
     )
     assert pp(text) == ("y", [])
 
@@ -168,7 +180,8 @@ def test_include_nesting_of_21_levels_is_an_error(tmp_path: Path) -> None:
     sink = DiagnosticSink()
     preprocess(str(_include_chain(tmp_path, MAX_INCLUDE_DEPTH + 1)), sink)
     assert [(d.pos.file.rsplit("/", 1)[-1], d.pos.line, d.message) for d in sink.items] == [
-        ("f20.h", 1, "'#include' nested more than 20 levels deep (including 'f21.h')")]
+        ("f20.h", 1, "'#include' nested more than 20 levels deep (including 'f21.h')")
+    ]
 
 
 def test_recursive_include_is_an_error(tmp_path: Path) -> None:
@@ -194,4 +207,5 @@ def test_missing_endif_in_an_included_file_is_reported_there(tmp_path: Path) -> 
     preprocess(str(tmp_path / "m.pdl"), sink)
     assert [(d.pos.file.rsplit("/", 1)[-1], d.pos.line, d.message) for d in sink.items] == [
         ("open.h", 1, "'#ifdef' has no matching '#endif'"),
-        ("m.pdl", 2, "'#endif' without a matching '#ifdef' or '#ifndef'")]
+        ("m.pdl", 2, "'#endif' without a matching '#ifdef' or '#ifndef'"),
+    ]

@@ -7,6 +7,7 @@ case-folded name (`Name.key`) and keeps the declared spelling for output.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from motionvm.lang.gdl import nodes as n
@@ -54,7 +55,7 @@ class ObjectInfo:
     @property
     def elements(self) -> range:
         """Element numbers: 1..size for an array, (0,) for a scalar."""
-        return range(1, self.size + 1) if self.size is not None else range(0, 1)
+        return range(1, self.size + 1) if self.size is not None else range(1)
 
     def ref(self, keyword: str, element: int) -> str:
         """`KW OF name` or `KW OF name{i}`, as output lines write it."""
@@ -85,6 +86,8 @@ class App:
     modules: list[str]
     objects: dict[str, ObjectInfo]
     procedures: list[ProcInfo]
+    functions: dict[str, Callable[..., None]] = field(default_factory=dict)
+    """Compiled procedures by case-folded name (filled by `lower.lower_app`)."""
 
     def procedure(self, name: str) -> ProcInfo | None:
         key = name.lower()

@@ -21,8 +21,14 @@ from motionvm.source.diagnostics import DiagnosticSink
 from motionvm.source.files import SourcePos
 from motionvm.source.suggest import did_you_mean
 
-KIND_WORDS = {"int": "an integer", "digital": "ON or OFF", "config": "a configuration keyword",
-              "name": "an object name", "string": "a string", "set": "a set constant"}
+KIND_WORDS = {
+    "int": "an integer",
+    "digital": "ON or OFF",
+    "config": "a configuration keyword",
+    "name": "an object name",
+    "string": "a string",
+    "set": "a set constant",
+}
 
 
 def where(pos: SourcePos) -> str:
@@ -49,8 +55,10 @@ class Scope:
         """Why `name` is not visible here: declared elsewhere (needs USE) or unknown."""
         other = self.everything.get(name.key)
         if other is not None:
-            return (f"'{name.text}' is declared in module {other.module}: add "
-                    f"'USE {other.type.name} {other.name};' to module {self.module}")
+            return (
+                f"'{name.text}' is declared in module {other.module}: add "
+                f"'USE {other.type.name} {other.name};' to module {self.module}"
+            )
         return f"unknown object '{name.text}'{did_you_mean(name.text, self.names())}"
 
 
@@ -93,9 +101,12 @@ class AppChecker:
         prev = self.names.get(name.key)
         if prev is not None:
             prev_kind, prev_pos = prev
-            self.sink.error(name.pos, f"name '{name.text}' is already used by the {prev_kind} "
-                            f"at {where(prev_pos)}: module, procedure and object names must be unique "
-                            "in the whole application")
+            self.sink.error(
+                name.pos,
+                f"name '{name.text}' is already used by the {prev_kind} "
+                f"at {where(prev_pos)}: module, procedure and object names must be unique "
+                "in the whole application",
+            )
             return False
         self.names[name.key] = (kind, name.pos)
         return True
@@ -121,14 +132,22 @@ class AppChecker:
                 info = self.objects.get(name.key)
                 if info is None:
                     hint = did_you_mean(name.text, [o.name for o in self.objects.values()])
-                    self.sink.error(name.pos, f"USE of unknown object '{name.text}': no module "
-                                    f"declares it{hint}")
+                    self.sink.error(
+                        name.pos,
+                        f"USE of unknown object '{name.text}': no module declares it{hint}",
+                    )
                 elif name.key in scope.local:
-                    self.sink.error(name.pos, f"'{name.text}' is declared in this module; USE "
-                                    "is only for objects of other modules")
+                    self.sink.error(
+                        name.pos,
+                        f"'{name.text}' is declared in this module; USE "
+                        "is only for objects of other modules",
+                    )
                 elif info.type.name != use.type_kw:
-                    self.sink.error(name.pos, f"'{name.text}' is declared with type "
-                                    f"{info.type.name} at {where(info.pos)}, not {use.type_kw}")
+                    self.sink.error(
+                        name.pos,
+                        f"'{name.text}' is declared with type "
+                        f"{info.type.name} at {where(info.pos)}, not {use.type_kw}",
+                    )
                 else:
                     scope.used[name.key] = info
         return scope
@@ -144,8 +163,11 @@ class AppChecker:
                 self.sink.error(pa.pos, f"{t.name} has no parameter {pa.keyword}{hint}")
                 continue
             if pa.keyword in info.param_pos:
-                self.sink.error(pa.pos, f"parameter {pa.keyword} given twice (first at "
-                                f"{where(info.param_pos[pa.keyword])})")
+                self.sink.error(
+                    pa.pos,
+                    f"parameter {pa.keyword} given twice (first at "
+                    f"{where(info.param_pos[pa.keyword])})",
+                )
                 continue
             info.param_pos[pa.keyword] = pa.pos
             value = self._param_value(spec, pa, scope)
@@ -155,24 +177,29 @@ class AppChecker:
             if spec.keyword in info.param_pos:
                 continue
             if spec.mandatory:
-                self.sink.error(decl.name.pos, f"{t.name} {info.name} needs the parameter "
-                                f"{spec.keyword}")
+                self.sink.error(
+                    decl.name.pos, f"{t.name} {info.name} needs the parameter {spec.keyword}"
+                )
             elif spec.default is not None:
                 info.params[spec.keyword] = spec.default
         lower = info.params.get("LOWER$TRAVEL$LIMIT")
         upper = info.params.get("UPPER$TRAVEL$LIMIT")
         if isinstance(lower, int) and isinstance(upper, int) and lower > upper:
             pos = info.param_pos.get("LOWER$TRAVEL$LIMIT", decl.name.pos)
-            self.sink.error(pos, f"LOWER$TRAVEL$LIMIT {lower} is greater than "
-                            f"UPPER$TRAVEL$LIMIT {upper} of {info.name}")
+            self.sink.error(
+                pos,
+                f"LOWER$TRAVEL$LIMIT {lower} is greater than "
+                f"UPPER$TRAVEL$LIMIT {upper} of {info.name}",
+            )
 
     def _param_value(self, spec: ParamSpec, pa: n.ParamAssign, scope: Scope) -> object:
         v = pa.value
         where = f"{spec.keyword}"
         if spec.kind == "int" and isinstance(v, n.IntValue):
             if not spec.lo <= v.value <= spec.hi:
-                self.sink.error(v.pos, f"{where} = {v.value} is outside the limits "
-                                f"{spec.lo}..{spec.hi}")
+                self.sink.error(
+                    v.pos, f"{where} = {v.value} is outside the limits {spec.lo}..{spec.hi}"
+                )
                 return None
             return v.value
         if spec.kind in ("config", "digital") and isinstance(v, n.KeywordValue | n.NameValue):
@@ -190,12 +217,19 @@ class AppChecker:
                 self._unknown(v.name, scope)
                 return None
             if target.type.name not in spec.types:
-                self.sink.error(v.pos, f"{where} must name {' or '.join(spec.types)}; "
-                                f"'{target.name}' is {target.type.name}")
+                self.sink.error(
+                    v.pos,
+                    f"{where} must name {' or '.join(spec.types)}; "
+                    f"'{target.name}' is {target.type.name}",
+                )
                 return None
             return target.key
-        shown = {n.IntValue: "an integer", n.KeywordValue: "a keyword", n.NameValue: "a name",
-                 n.StringValue: "a string"}[type(v)]
+        shown = {
+            n.IntValue: "an integer",
+            n.KeywordValue: "a keyword",
+            n.NameValue: "a name",
+            n.StringValue: "a string",
+        }[type(v)]
         self.sink.error(v.pos, f"{where} expects {KIND_WORDS[spec.kind]}, found {shown}")
         return None
 
@@ -215,8 +249,9 @@ class AppChecker:
             if info.type.name == "STP$MOTOR$AXIS$HOME$INPUT":
                 self._check_home(info, homes)
 
-    def _check_channel(self, child: ObjectInfo, parent: ObjectInfo,
-                       used: dict[tuple[str, str, int], str]) -> None:
+    def _check_channel(
+        self, child: ObjectInfo, parent: ObjectInfo, used: dict[tuple[str, str, int], str]
+    ) -> None:
         dev = next((d for d in parent.type.devices if child.type.name in d.child_types), None)
         first = child.params.get("CHANNEL")
         if dev is None or not isinstance(first, int):
@@ -224,26 +259,38 @@ class AppChecker:
         pos = child.param_pos.get("CHANNEL", child.pos)
         config = parent.params.get(dev.config_param)
         if config == "ABSENT":
-            self.sink.error(pos, f"{parent.name} has {dev.config_param} = ABSENT: no "
-                            f"{child.type.name} can be connected to it")
+            self.sink.error(
+                pos,
+                f"{parent.name} has {dev.config_param} = ABSENT: no "
+                f"{child.type.name} can be connected to it",
+            )
             return
         if config not in ("PRESENT", child.type.name):
-            self.sink.error(pos, f"{dev.config_param} of {parent.name} is reserved for "
-                            f"{config}; {child.name} is {child.type.name}")
+            self.sink.error(
+                pos,
+                f"{dev.config_param} of {parent.name} is reserved for "
+                f"{config}; {child.name} is {child.type.name}",
+            )
             return
         count = child.size or 1
         last = first + count - 1
         lo, hi = dev.channels
         if last > hi:
-            self.sink.error(pos, f"channels {first}..{last} of {child.name} exceed the "
-                            f"{dev.config_param} channels {lo}..{hi} of {parent.name}")
+            self.sink.error(
+                pos,
+                f"channels {first}..{last} of {child.name} exceed the "
+                f"{dev.config_param} channels {lo}..{hi} of {parent.name}",
+            )
             return
         for ch in range(first, last + 1):
             slot = (parent.key, dev.config_param, ch)
             owner = used.get(slot)
             if owner is not None:
-                self.sink.error(pos, f"channel {ch} of {parent.name} ({dev.config_param}) is "
-                                f"already used by {owner}")
+                self.sink.error(
+                    pos,
+                    f"channel {ch} of {parent.name} ({dev.config_param}) is "
+                    f"already used by {owner}",
+                )
                 return
         for ch in range(first, last + 1):
             used[(parent.key, dev.config_param, ch)] = child.name
@@ -258,12 +305,14 @@ class AppChecker:
         if axis.params.get("BOARD$NAME") != board_key:
             parent = axis.params.get("BOARD$NAME")
             shown = self.objects[parent].name if isinstance(parent, str) else "?"
-            self.sink.error(pos, f"axis {axis.name} hangs on {shown}, but the home input "
-                            f"{home.name} is on {self.objects[board_key].name}: "
-                            "STEPPERMOTOR$BOARD$NAME must be the axis's parent")
+            self.sink.error(
+                pos,
+                f"axis {axis.name} hangs on {shown}, but the home input "
+                f"{home.name} is on {self.objects[board_key].name}: "
+                "STEPPERMOTOR$BOARD$NAME must be the axis's parent",
+            )
         elif axis_key in homes:
-            self.sink.error(pos, f"axis {axis.name} already has the home input "
-                            f"{homes[axis_key]}")
+            self.sink.error(pos, f"axis {axis.name} already has the home input {homes[axis_key]}")
         else:
             homes[axis_key] = home.name
 

@@ -1,4 +1,4 @@
-"""GDL compile-time checks on procedures: activator lists, instructions, expressions.
+"""GDL compile-time checks on procedures: activator lists and instructions.
 
 Activators must belong to the object's type [T]; global activators expand over the
 module's local objects only [T]. Assignments need `w` access, reads need `r` access [T];
@@ -10,40 +10,17 @@ limits, MAX$SPEED) when the compiler can see them [T]; the rest is checked at ru
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from motionvm.lang.gdl import nodes as n
 from motionvm.lang.gdl.app import ObjectInfo, Trigger
+from motionvm.lang.gdl.check_expr import KIND_NAMES, ExprChecker, VType, article
 from motionvm.lang.gdl.objects import GLOBAL_ACTIVATORS, INT_LIMIT, StateSpec
 from motionvm.source.diagnostics import DiagnosticSink
 from motionvm.source.suggest import did_you_mean
 
 if TYPE_CHECKING:
     from motionvm.lang.gdl.check import Scope
-
-ARITH = ("+", "-", "*", "/")
-ORDER = ("<", ">", "<=", ">=")
-KIND_NAMES = {"int": "integer", "digital": "digital", "set": "set", "setconst": "set constant",
-              "string": "string", "name": "object name"}
-
-
-@dataclass(frozen=True, slots=True)
-class VType:
-    """The static type of an expression; kind 'error' silences follow-up errors."""
-
-    kind: str
-    values: tuple[str, ...] = ()
-    keyword: str = ""
-    const: int | None = None
-
-
-def _a(word: str) -> str:
-    return ("an " if word[0] in "aeiou" else "a ") + word
-
-
-ERROR = VType("error")
-DIGITAL = VType("digital")
 
 
 def dynamic_limit(obj: ObjectInfo, limit: str | None) -> tuple[int, int, str] | None:
@@ -56,7 +33,7 @@ def dynamic_limit(obj: ObjectInfo, limit: str | None) -> tuple[int, int, str] | 
     return None
 
 
-class ProcChecker:
+class ProcChecker(ExprChecker):
     """Checks one procedure in the scope of its module."""
 
     def __init__(self, scope: Scope, sink: DiagnosticSink) -> None:
@@ -89,8 +66,11 @@ class ProcChecker:
                 continue
             if entry.keyword not in obj.type.activators:
                 acts = ", ".join(obj.type.activators) or "none"
-                self.sink.error(entry.pos, f"{entry.keyword} is not an activator of "
-                                f"{obj.type.name} (its activators: {acts})")
+                self.sink.error(
+                    entry.pos,
+                    f"{entry.keyword} is not an activator of "
+                    f"{obj.type.name} (its activators: {acts})",
+                )
                 had_error = True
                 continue
             if entry.index is not None and not self._const_index(obj, entry.index, entry.obj.pos):
@@ -99,9 +79,12 @@ class ProcChecker:
             out.append(Trigger(obj.key, entry.keyword, entry.index))
         unique = tuple(dict.fromkeys(out))
         if not unique and not had_error and proc.activators:
-            self.sink.error(proc.name.pos, f"the activator list of procedure {proc.name.text} "
-                            "is empty after expanding its global activators (no local object "
-                            "has such an activator)")
+            self.sink.error(
+                proc.name.pos,
+                f"the activator list of procedure {proc.name.text} "
+                "is empty after expanding its global activators (no local object "
+                "has such an activator)",
+            )
         return unique
 
     # ------------------------------------------------------------ objects and indexes
@@ -117,12 +100,14 @@ class ProcChecker:
             self.sink.error(pos, f"{obj.name} is not an array: it takes no subscript")
             return False
         if index < 1:
-            self.sink.error(pos, f"index {index} of {obj.name} is below 1: arrays are indexed "
-                            "from 1")
+            self.sink.error(
+                pos, f"index {index} of {obj.name} is below 1: arrays are indexed from 1"
+            )
             return False
         if index > obj.size:
-            self.sink.error(pos, f"index {index} exceeds the length {obj.size} of {obj.name} "
-                            "(ARRAY$SIZE)")
+            self.sink.error(
+                pos, f"index {index} exceeds the length {obj.size} of {obj.name} (ARRAY$SIZE)"
+            )
             return False
         return True
 
@@ -132,14 +117,18 @@ class ProcChecker:
             return None
         if ref.index is None:
             if obj.size is not None and not whole_ok:
-                self.sink.error(ref.pos, f"the whole array {obj.name} cannot be used as a "
-                                f"value: write {obj.name}{{index}}")
+                self.sink.error(
+                    ref.pos,
+                    f"the whole array {obj.name} cannot be used as a "
+                    f"value: write {obj.name}{{index}}",
+                )
                 return None
             return obj
         t = self._expr(ref.index)
         if t.kind not in ("int", "error"):
-            self.sink.error(ref.index.pos, f"a subscript must be an integer, not "
-                            f"{KIND_NAMES[t.kind]}")
+            self.sink.error(
+                ref.index.pos, f"a subscript must be an integer, not {KIND_NAMES[t.kind]}"
+            )
         elif t.const is not None:
             if not self._const_index(obj, t.const, ref.index.pos):
                 return None
@@ -157,21 +146,29 @@ class ProcChecker:
             hint = did_you_mean(ref.keyword, [s.keyword for s in obj.type.states])
             what = "operator" if obj.type.operator(ref.keyword) else "state variable"
             extra = " (an operator is called, not assigned or read)" if what == "operator" else ""
-            self.sink.error(ref.pos, f"{obj.type.name} has no state variable "
-                            f"{ref.keyword}{hint}{extra}")
+            self.sink.error(
+                ref.pos, f"{obj.type.name} has no state variable {ref.keyword}{hint}{extra}"
+            )
             return None
         if write and not spec.writable:
             if obj.type.name == "INTEGER$CONSTANT":
-                msg = (f"an INTEGER$CONSTANT cannot be assigned: {obj.name} keeps the VALUE of "
-                       "its declaration")
+                msg = (
+                    f"an INTEGER$CONSTANT cannot be assigned: {obj.name} keeps the VALUE of "
+                    "its declaration"
+                )
             else:
-                msg = (f"{ref.keyword} of {obj.type.name} is read-only (access {spec.access}): "
-                       f"{ref.keyword} OF {obj.name} cannot be assigned")
+                msg = (
+                    f"{ref.keyword} of {obj.type.name} is read-only (access {spec.access}): "
+                    f"{ref.keyword} OF {obj.name} cannot be assigned"
+                )
             self.sink.error(ref.pos, msg)
             return None
         if not write and not spec.readable:
-            self.sink.error(ref.pos, f"{ref.keyword} of {obj.type.name} is write-only (access "
-                            f"{spec.access}): it cannot be read")
+            self.sink.error(
+                ref.pos,
+                f"{ref.keyword} of {obj.type.name} is write-only (access "
+                f"{spec.access}): it cannot be read",
+            )
             return None
         return obj, spec
 
@@ -194,8 +191,10 @@ class ProcChecker:
     def _condition(self, cond: n.Expr, what: str) -> None:
         t = self._expr(cond)
         if t.kind not in ("digital", "error"):
-            self.sink.error(cond.pos, f"the {what} condition must be digital or boolean, not "
-                            f"{KIND_NAMES[t.kind]}")
+            self.sink.error(
+                cond.pos,
+                f"the {what} condition must be digital or boolean, not {KIND_NAMES[t.kind]}",
+            )
 
     def _assign(self, a: n.Assign) -> None:
         found = self._state(a.target, write=True)
@@ -215,18 +214,23 @@ class ProcChecker:
         elif spec.kind == "set":
             self._set_assign(a.value, value, spec, target)
         if any(t.obj == obj.key and t.keyword == spec.keyword for t in self.triggers):
-            self.sink.warning(a.pos, f"procedure {self.name} assigns {target}, one of its own "
-                              "activators: a change runs it once more")
+            self.sink.warning(
+                a.pos,
+                f"procedure {self.name} assigns {target}, one of its own "
+                "activators: a change runs it once more",
+            )
 
     def _int_limit(self, value: int, lo: int, hi: int, target: str, pos: n.SourcePos) -> bool:
         """Report a constant outside the integer range or lo..hi; True when it is fine."""
         if abs(value) > INT_LIMIT:
-            self.sink.error(pos, f"constant {value} exceeds the integer range "
-                            f"-{INT_LIMIT}..{INT_LIMIT}")
+            self.sink.error(
+                pos, f"constant {value} exceeds the integer range -{INT_LIMIT}..{INT_LIMIT}"
+            )
             return False
         if not lo <= value <= hi:
-            self.sink.error(pos, f"constant {value} exceeds the static limit {lo}..{hi} of "
-                            f"{target}")
+            self.sink.error(
+                pos, f"constant {value} exceeds the static limit {lo}..{hi} of {target}"
+            )
             return False
         return True
 
@@ -239,7 +243,7 @@ class ProcChecker:
             return "ON" if node.value else "OFF"
         if isinstance(node, n.SetLit):
             return node.word
-        return _a(KIND_NAMES[value.kind]) + " value"
+        return article(KIND_NAMES[value.kind]) + " value"
 
     def _set_assign(self, node: n.Expr, value: VType, spec: StateSpec, target: str) -> None:
         group = "{" + ", ".join(spec.values) + "}"
@@ -249,11 +253,16 @@ class ProcChecker:
                 self.sink.error(node.pos, f"{word} is not in the group {group} of {target}")
         elif value.kind == "set":
             if value.keyword != spec.keyword:
-                self.sink.error(node.pos, f"cannot assign {value.keyword} to {target}: a set "
-                                "variable takes only a variable of the same kind")
+                self.sink.error(
+                    node.pos,
+                    f"cannot assign {value.keyword} to {target}: a set "
+                    "variable takes only a variable of the same kind",
+                )
             elif not set(value.values) <= set(spec.values):
-                self.sink.error(node.pos, f"{value.keyword} can take values outside the group "
-                                f"{group} of {target}")
+                self.sink.error(
+                    node.pos,
+                    f"{value.keyword} can take values outside the group {group} of {target}",
+                )
         else:
             self._mismatch(node, value, target, f"a constant of {group}")
 
@@ -268,121 +277,31 @@ class ProcChecker:
                 msg = f"{call.keyword} OF {obj.name} is a state variable: assign it with '='"
             else:
                 names = [o.keyword for o in obj.type.operators]
-                msg = (f"{obj.type.name} has no operator {call.keyword}"
-                       f"{did_you_mean(call.keyword, names)}")
+                msg = (
+                    f"{obj.type.name} has no operator {call.keyword}"
+                    f"{did_you_mean(call.keyword, names)}"
+                )
             self.sink.error(call.pos, msg)
             return
         if len(args) != len(op.args):
-            self.sink.error(call.pos, f"{op.keyword} takes {len(op.args)} argument(s), "
-                            f"{len(args)} given")
+            self.sink.error(
+                call.pos, f"{op.keyword} takes {len(op.args)} argument(s), {len(args)} given"
+            )
             return
         for spec, t, node in zip(op.args, args, call.args, strict=True):
             if t.kind not in ("int", "error"):
-                self.sink.error(node.pos, f"argument {spec.name} of {op.keyword} must be an "
-                                f"integer, not {KIND_NAMES[t.kind]}")
+                self.sink.error(
+                    node.pos,
+                    f"argument {spec.name} of {op.keyword} must be an "
+                    f"integer, not {KIND_NAMES[t.kind]}",
+                )
             elif t.const is not None:
                 what = f"argument {spec.name} of {op.keyword}"
                 if not self._int_limit(t.const, spec.lo, spec.hi, what, node.pos):
                     continue
                 dyn = dynamic_limit(obj, spec.limit)
                 if dyn is not None and not dyn[0] <= t.const <= dyn[1]:
-                    self.sink.error(node.pos, f"{what} = {t.const} is outside {dyn[2]} "
-                                    f"{dyn[0]}..{dyn[1]} of {obj.name}")
-
-    # ------------------------------------------------------------ expressions
-
-    def _expr(self, e: n.Expr) -> VType:
-        if isinstance(e, n.IntLit):
-            return VType("int", const=e.value)
-        if isinstance(e, n.DigitalLit):
-            return DIGITAL
-        if isinstance(e, n.SetLit):
-            return VType("setconst", (e.word,))
-        if isinstance(e, n.StrLit):
-            return VType("string")
-        if isinstance(e, n.NameLit):
-            return VType("name") if self._object(e.name) is not None else ERROR
-        if isinstance(e, n.StateRef):
-            found = self._state(e, write=False)
-            if found is None:
-                return ERROR
-            spec = found[1]
-            return VType(spec.kind, spec.values, spec.keyword)
-        if isinstance(e, n.Unary):
-            return self._unary(e)
-        return self._binary(e)
-
-    def _unary(self, e: n.Unary) -> VType:
-        t = self._expr(e.operand)
-        if t.kind == "error":
-            return ERROR
-        if e.op == "NOT":
-            if t.kind != "digital":
-                self.sink.error(e.pos, f"NOT needs a digital operand, not {KIND_NAMES[t.kind]}")
-                return ERROR
-            return DIGITAL
-        if t.kind != "int":
-            self.sink.error(e.pos, f"'{e.op}' needs an integer, not {KIND_NAMES[t.kind]}")
-            return ERROR
-        return VType("int", const=None if t.const is None else (-t.const if e.op == "-" else t.const))
-
-    def _binary(self, e: n.Binary) -> VType:
-        left, right = self._expr(e.left), self._expr(e.right)
-        if "error" in (left.kind, right.kind):
-            return ERROR
-        if e.op in ("AND", "OR"):
-            for side in (left, right):
-                if side.kind != "digital":
-                    self.sink.error(e.pos, f"{e.op} needs digital operands, not "
-                                    f"{KIND_NAMES[side.kind]}")
-                    return ERROR
-            return DIGITAL
-        if e.op in ARITH:
-            if left.kind != "int" or right.kind != "int":
-                bad = left if left.kind != "int" else right
-                self.sink.error(e.pos, f"'{e.op}' needs integers, not {KIND_NAMES[bad.kind]}")
-                return ERROR
-            if right.const == 0 and e.op == "/":
-                self.sink.error(e.pos, "division by the constant 0")
-                return ERROR
-            return VType("int", const=self._fold(e.op, left.const, right.const))
-        return self._relation(e, left, right)
-
-    @staticmethod
-    def _fold(op: str, a: int | None, b: int | None) -> int | None:
-        if a is None or b is None:
-            return None
-        if op == "+":
-            return a + b
-        if op == "-":
-            return a - b
-        if op == "*":
-            return a * b
-        q = abs(a) // abs(b)
-        return q if (a >= 0) == (b >= 0) else -q
-
-    def _relation(self, e: n.Binary, left: VType, right: VType) -> VType:
-        kinds = {left.kind, right.kind}
-        if e.op in ORDER and kinds != {"int"}:
-            self.sink.error(e.pos, f"'{e.op}' compares integers only; use '=' or '<>' for "
-                            f"{KIND_NAMES[(kinds - {'int'}).pop()]} values")
-            return ERROR
-        if kinds <= {"set", "setconst"}:
-            sets = [t for t in (left, right) if t.kind == "set"]
-            consts = [t.values[0] for t in (left, right) if t.kind == "setconst"]
-            if len(sets) == 2 and sets[0].keyword != sets[1].keyword:
-                self.sink.error(e.pos, f"cannot compare {sets[0].keyword} with "
-                                f"{sets[1].keyword}: different set variables")
-                return ERROR
-            for word in consts:
-                if sets and word not in sets[0].values:
-                    group = "{" + ", ".join(sets[0].values) + "}"
-                    self.sink.error(e.pos, f"{word} is not in the group {group} of "
-                                    f"{sets[0].keyword}")
-                    return ERROR
-            return DIGITAL
-        if len(kinds) != 1:
-            a, b = sorted(KIND_NAMES[k] for k in kinds)
-            self.sink.error(e.pos, f"cannot compare {_a(a)} value with {_a(b)} value")
-            return ERROR
-        return DIGITAL
+                    self.sink.error(
+                        node.pos,
+                        f"{what} = {t.const} is outside {dyn[2]} {dyn[0]}..{dyn[1]} of {obj.name}",
+                    )

@@ -1,4 +1,4 @@
-"""GDL compile entry: read the files, lex, parse, check and link them into one `App`."""
+"""GDL compile entry: read the files, lex, parse, check, link and lower them into an `App`."""
 
 from __future__ import annotations
 
@@ -6,6 +6,7 @@ from motionvm.lang.gdl import nodes as n
 from motionvm.lang.gdl.app import App
 from motionvm.lang.gdl.check import check_app
 from motionvm.lang.gdl.lexer import tokenize
+from motionvm.lang.gdl.lower import lower_app
 from motionvm.lang.gdl.parser import parse_tokens
 from motionvm.source.diagnostics import DiagnosticSink, TooManyErrors
 from motionvm.source.files import SourceFile, SourcePos
@@ -32,6 +33,9 @@ def compile_app(paths: list[str], *, sink: DiagnosticSink) -> App | None:
             # Names and types are checked only on a syntactically clean application, so
             # one typo does not cascade into "unknown object" errors elsewhere.
             return None
-        return check_app(files, list(paths), sink)
+        app = check_app(files, list(paths), sink)
+        if app is not None:
+            app.functions = lower_app(app)
+        return app
     except TooManyErrors:
         return None

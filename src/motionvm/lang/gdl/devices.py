@@ -65,22 +65,31 @@ class MotorDevice(Device):
 
     def start(self, rts: Rts) -> None:
         self.home = next(
-            (o for o in rts.app.objects.values()
-             if o.type.name == "STP$MOTOR$AXIS$HOME$INPUT" and o.params.get("STPMOTOR$NAME")
-             == self.obj.key), None)
+            (
+                o
+                for o in rts.app.objects.values()
+                if o.type.name == "STP$MOTOR$AXIS$HOME$INPUT"
+                and o.params.get("STPMOTOR$NAME") == self.obj.key
+            ),
+            None,
+        )
 
     def _require_ready(self, rts: Rts, op: str) -> None:
         if rts.read(self.obj, "CONSTANT$STATUS", 0) != "ENABLED":
-            raise GdlFault(f"{op} OF {self.obj.name}: the motor is DISABLED (assign "
-                           f"CONSTANT$STATUS OF {self.obj.name} = ENABLED first)")
+            raise GdlFault(
+                f"{op} OF {self.obj.name}: the motor is DISABLED (assign "
+                f"CONSTANT$STATUS OF {self.obj.name} = ENABLED first)"
+            )
         if rts.read(self.obj, "DIAGN$STATUS", 0) == "FAULT":
             raise GdlFault(f"{op} OF {self.obj.name}: DIAGN$STATUS is FAULT")
 
     def _check_limit(self, op: str, name: str, value: int, limit: str) -> None:
         dyn = dynamic_limit(self.obj, limit)
         if dyn is not None and not dyn[0] <= value <= dyn[1]:
-            raise GdlFault(f"argument {name} of {op} = {value} is outside {dyn[2]} "
-                           f"{dyn[0]}..{dyn[1]} of {self.obj.name}")
+            raise GdlFault(
+                f"argument {name} of {op} = {value} is outside {dyn[2]} "
+                f"{dyn[0]}..{dyn[1]} of {self.obj.name}"
+            )
 
     def call(self, rts: Rts, op: str, args: list[int], element: int) -> None:
         if op == "STOP":
@@ -99,8 +108,9 @@ class MotorDevice(Device):
             self.axis.move_to(args[0] + self.offset, speed, self.a_max)
         elif op == "HOME$SEARCH":
             if self.home is None:
-                raise GdlFault(f"HOME$SEARCH OF {self.obj.name}: no STP$MOTOR$AXIS$HOME$INPUT "
-                               "names this axis")
+                raise GdlFault(
+                    f"HOME$SEARCH OF {self.obj.name}: no STP$MOTOR$AXIS$HOME$INPUT names this axis"
+                )
             self.homing = True
             rts.write(self.obj, "HOMED", 0, False, rts.origin())
             speed = float(self.obj.params.get("HOME$SPEED", 100))  # type: ignore[arg-type]
@@ -206,8 +216,7 @@ class EncoderDevice(Device):
             return
         rts.write(self.obj, "POSITION", 0, self._raw(rts) + self.preset, "update")
         moving = abs(motor.axis.velocity) > V_EPS
-        rts.write(self.obj, "OPERATING$CONDITION", 0, "RUNNING" if moving else "STOPPED",
-                  "update")
+        rts.write(self.obj, "OPERATING$CONDITION", 0, "RUNNING" if moving else "STOPPED", "update")
 
 
 DEVICE_CLASSES: dict[str, type[Device]] = {

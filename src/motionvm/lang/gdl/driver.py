@@ -1,4 +1,4 @@
-"""GDL run and check drivers: the scenario loop, and what `motionvm run|check` call.
+"""GDL drivers: the scenario loop, and what `motionvm run|check|dump` call.
 
 Exit codes of `main_run`: 0 ok; 1 a run-time error happened (the run went on);
 2 compile errors (nothing ran); 3 a bad scenario file or --force argument.
@@ -14,6 +14,8 @@ from typing import TextIO
 
 from motionvm.lang.gdl.app import App, ProcInfo
 from motionvm.lang.gdl.compiler import compile_app
+from motionvm.lang.gdl.dump import dump_ast, dump_tokens
+from motionvm.lang.gdl.lower import emit_python
 from motionvm.lang.gdl.rts import Rts
 from motionvm.lang.gdl.scenario import (
     Event,
@@ -49,8 +51,10 @@ def parse_forces(app: App, forces: list[str]) -> list[Event]:
                 raise ValueError("write --force 'KEYWORD OF object = value'")
             target = parse_target(app, ref.strip())
             if not target.spec.forceable:
-                raise ValueError(f"{target.spec.keyword} of {target.obj.type.name} cannot be "
-                                 f"forced (access {target.spec.access})")
+                raise ValueError(
+                    f"{target.spec.keyword} of {target.obj.type.name} cannot be "
+                    f"forced (access {target.spec.access})"
+                )
             value = parse_value(target, raw.strip())
         except ValueError as exc:
             raise ScenarioError(f"--force '{text}': {exc}") from None
@@ -58,8 +62,14 @@ def parse_forces(app: App, forces: list[str]) -> list[Event]:
     return out
 
 
-def run_scenario(rts: Rts, scenario: Scenario, until: float | None,
-                 forces: list[Event] | None = None, *, jump: bool = True) -> None:
+def run_scenario(
+    rts: Rts,
+    scenario: Scenario,
+    until: float | None,
+    forces: list[Event] | None = None,
+    *,
+    jump: bool = True,
+) -> None:
     """Drive `rts` through the scenario (see the module docstring for when it ends).
 
     `jump=False` steps every cycle even when nothing moves (tests compare the two).
@@ -102,20 +112,31 @@ def run_scenario(rts: Rts, scenario: Scenario, until: float | None,
             rts.cycle = max(rts.cycle + 1, min(nxt))
     for ev in rts.injections:
         assert isinstance(ev, Event)
-        rts.err.write(f"warning: scenario event {ev.number} (during {ev.during}, line "
-                      f"{ev.line}) was never applied\n")
+        rts.err.write(
+            f"warning: scenario event {ev.number} (during {ev.during}, line "
+            f"{ev.line}) was never applied\n"
+        )
 
 
-def run_app(app: App, scenario_path: str | None, until: float | None, out: TextIO,
-            err: TextIO | None = None, forces: list[str] | None = None) -> int:
+def run_app(
+    app: App,
+    scenario_path: str | None,
+    until: float | None,
+    out: TextIO,
+    err: TextIO | None = None,
+    forces: list[str] | None = None,
+) -> int:
     """Run `app` against a scenario file (or none); output on `out`, errors on `err`.
 
     Returns 0, 1 (a run-time error happened) or 3 (bad scenario or --force).
     """
     err = err if err is not None else out
     try:
-        scenario = (load_scenario(scenario_path, app) if scenario_path is not None
-                    else Scenario((), (), None))
+        scenario = (
+            load_scenario(scenario_path, app)
+            if scenario_path is not None
+            else Scenario((), (), None)
+        )
         force_events = parse_forces(app, forces or [])
     except ScenarioError as exc:
         err.write(f"error: {exc}\n")
@@ -128,8 +149,7 @@ def run_app(app: App, scenario_path: str | None, until: float | None, out: TextI
 def _compile(paths: list[str], stderr: TextIO) -> App | None:
     sink = DiagnosticSink()
     app = compile_app(paths, sink=sink)
-    for d in sink.items:
-        stderr.write(render_diagnostic(d) + "\n")
+    stderr.writelines(render_diagnostic(d) + "\n" for d in sink.items)
     return app
 
 
@@ -138,10 +158,38 @@ def main_check(paths: list[str], stdout: TextIO, stderr: TextIO) -> int:
     return EXIT_OK if _compile(paths, stderr) is not None else EXIT_COMPILE
 
 
-def main_run(paths: list[str], scenario: str | None, until: float | None, stdout: TextIO,
-             stderr: TextIO, forces: list[str] | None = None) -> int:
+def main_run(
+    paths: list[str],
+    scenario: str | None,
+    until: float | None,
+    stdout: TextIO,
+    stderr: TextIO,
+    forces: list[str] | None = None,
+) -> int:
     """`motionvm run FILE.gdl... [--scenario S.toml] [--until S] [--force 'REF = V']`."""
     app = _compile(paths, stderr)
     if app is None:
         return EXIT_COMPILE
     return run_app(app, scenario, until, stdout, stderr, forces)
+
+
+def main_dump(paths: list[str], stage: str, stdout: TextIO, stderr: TextIO) -> int:
+    """`motionvm dump --stage tokens|ast|py FILE...`: 0, 2 on errors, 3 on a bad stage."""
+    if stage not in ("tokens", "ast", "py"):
+        stderr.write(f"error: unknown stage '{stage}' (tokens, ast, py)\n")
+        return EXIT_SCENARIO
+    if stage == "py":
+        app = _compile(paths, stderr)
+        if app is None:
+            return EXIT_COMPILE
+        stdout.write(emit_python(app))
+        return EXIT_OK
+    sink = DiagnosticSink()
+    for path in paths:
+        try:
+            stdout.write((dump_tokens if stage == "tokens" else dump_ast)(path, sink))
+        except OSError as exc:
+            stderr.write(f"error: cannot read {path}: {exc.strerror or exc}\n")
+            return EXIT_COMPILE
+    stderr.writelines(render_diagnostic(d) + "\n" for d in sink.items)
+    return EXIT_COMPILE if sink.has_errors else EXIT_OK

@@ -26,9 +26,25 @@ MAX_STRING = 40
 
 INSTRUCTION_WORDS = frozenset(
     {
-        "MODULE", "END$MODULE", "USE", "PROCEDURE", "DECLARE", "BEGIN", "END$PROCEDURE",
-        "IF", "THEN", "ELSE", "END$IF", "WHILE", "DO", "END$WHILE", "RETURN",
-        "OF", "AND", "OR", "NOT",
+        "MODULE",
+        "END$MODULE",
+        "USE",
+        "PROCEDURE",
+        "DECLARE",
+        "BEGIN",
+        "END$PROCEDURE",
+        "IF",
+        "THEN",
+        "ELSE",
+        "END$IF",
+        "WHILE",
+        "DO",
+        "END$WHILE",
+        "RETURN",
+        "OF",
+        "AND",
+        "OR",
+        "NOT",
     }
 )
 RESERVED_WORDS: frozenset[str] = INSTRUCTION_WORDS | CATALOG_WORDS
@@ -146,8 +162,9 @@ class Lexer:
         if c == "$":
             self.sink.error(pos, "'$' cannot start a word: only reserved words contain '$'")
         elif c == "." and self._digit_around():
-            self.sink.error(pos, "character '.' not accepted: GDL has no real numbers, "
-                            "only integers")
+            self.sink.error(
+                pos, "character '.' not accepted: GDL has no real numbers, only integers"
+            )
         else:
             shown = c if c.isprintable() else f"U+{ord(c):04X}"
             self.sink.error(pos, f"character '{shown}' not accepted outside strings and comments")
@@ -169,12 +186,16 @@ class Lexer:
             return Token("keyword", upper, pos)
         if "$" in word:
             hint = did_you_mean(upper, sorted(RESERVED_WORDS))
-            self.sink.error(pos, f"unknown reserved word '{word}': only reserved words "
-                            f"contain '$'{hint}")
+            self.sink.error(
+                pos, f"unknown reserved word '{word}': only reserved words contain '$'{hint}"
+            )
             return Token("keyword", upper, pos)
         if len(word) > MAX_IDENT:
-            self.sink.error(pos, f"identifier '{word[:12]}...' has {len(word)} characters, "
-                            f"more than the limit {MAX_IDENT}")
+            self.sink.error(
+                pos,
+                f"identifier '{word[:12]}...' has {len(word)} characters, "
+                f"more than the limit {MAX_IDENT}",
+            )
         return Token("ident", word, pos)
 
     def _number(self) -> Token:
@@ -184,14 +205,20 @@ class Lexer:
             self.i += 1
         digits = self.text[start : self.i]
         if len(digits) > MAX_DIGITS:
-            self.sink.error(pos, f"integer constant {digits} has {len(digits)} digits, more "
-                            f"than the limit {MAX_DIGITS} (largest value 999999999)")
+            self.sink.error(
+                pos,
+                f"integer constant {digits} has {len(digits)} digits, more "
+                f"than the limit {MAX_DIGITS} (largest value 999999999)",
+            )
         if self.i < len(self.text) and _is_word_char(self.text[self.i]):
             end = self.i
             while end < len(self.text) and _is_word_char(self.text[end]):
                 end += 1
-            self.sink.error(pos, f"'{self.text[start:end]}': a number cannot be followed by "
-                            "letters, and a name cannot start with a digit")
+            self.sink.error(
+                pos,
+                f"'{self.text[start:end]}': a number cannot be followed by "
+                "letters, and a name cannot start with a digit",
+            )
             self.i = end
         return Token("int", digits, pos, int(digits))
 
@@ -217,16 +244,20 @@ class Lexer:
                 if j < len(text) and text[j] == "'":
                     self.i = j + 1
                     continue
-                self.sink.error(pos, "unterminated string: a string continued on the next "
-                                "line must repeat the opening quote there (only spaces before "
-                                "it)")
+                self.sink.error(
+                    pos,
+                    "unterminated string: a string continued on the next "
+                    "line must repeat the opening quote there (only spaces before "
+                    "it)",
+                )
                 return None
             pieces.append(" " if c == "\t" else c)
             self.i += 1
         value = "".join(pieces)
         if len(value) > MAX_STRING:
-            self.sink.error(pos, f"string has {len(value)} characters, more than the limit "
-                            f"{MAX_STRING}")
+            self.sink.error(
+                pos, f"string has {len(value)} characters, more than the limit {MAX_STRING}"
+            )
         return Token("string", value, pos, value)
 
 

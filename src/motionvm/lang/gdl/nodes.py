@@ -32,7 +32,7 @@ class GdlFile:
     """One source file: one or more modules."""
 
     pos: SourcePos
-    modules: tuple["Module", ...]
+    modules: tuple[Module, ...]
 
 
 @dataclass(frozen=True, slots=True)
@@ -41,9 +41,9 @@ class Module:
 
     pos: SourcePos
     name: Name
-    uses: tuple["UseDecl", ...]
-    objects: tuple["ObjectDecl", ...]
-    procedures: tuple["Procedure", ...]
+    uses: tuple[UseDecl, ...]
+    objects: tuple[ObjectDecl, ...]
+    procedures: tuple[Procedure, ...]
 
 
 # ---------------------------------------------------------------- declarations
@@ -65,7 +65,7 @@ class ObjectDecl:
     pos: SourcePos
     type_kw: str
     name: Name
-    params: tuple["ParamAssign", ...]
+    params: tuple[ParamAssign, ...]
 
 
 @dataclass(frozen=True, slots=True)
@@ -74,7 +74,7 @@ class ParamAssign:
 
     pos: SourcePos
     keyword: str
-    value: "ParamValue"
+    value: ParamValue
 
 
 @dataclass(frozen=True, slots=True)
@@ -121,8 +121,8 @@ class Procedure:
 
     pos: SourcePos
     name: Name
-    activators: tuple["ActivatorEntry", ...]
-    body: tuple["Instr", ...]
+    activators: tuple[ActivatorEntry, ...]
+    body: tuple[Instr, ...]
 
 
 @dataclass(frozen=True, slots=True)
@@ -154,7 +154,7 @@ class ObjectRef:
 
     pos: SourcePos
     name: Name
-    index: "Expr | None"
+    index: Expr | None
 
 
 @dataclass(frozen=True, slots=True)
@@ -172,7 +172,7 @@ class Assign:
 
     pos: SourcePos
     target: StateRef
-    value: "Expr"
+    value: Expr
 
 
 @dataclass(frozen=True, slots=True)
@@ -182,7 +182,7 @@ class OperatorCall:
     pos: SourcePos
     keyword: str
     obj: ObjectRef
-    args: tuple["Expr", ...]
+    args: tuple[Expr, ...]
 
 
 @dataclass(frozen=True, slots=True)
@@ -190,9 +190,9 @@ class If:
     """`IF cond THEN ... [ELSE ...] END$IF;`"""
 
     pos: SourcePos
-    cond: "Expr"
-    then: tuple["Instr", ...]
-    orelse: tuple["Instr", ...]
+    cond: Expr
+    then: tuple[Instr, ...]
+    orelse: tuple[Instr, ...]
 
 
 @dataclass(frozen=True, slots=True)
@@ -200,8 +200,8 @@ class While:
     """`WHILE cond DO ... END$WHILE;`"""
 
     pos: SourcePos
-    cond: "Expr"
-    body: tuple["Instr", ...]
+    cond: Expr
+    body: tuple[Instr, ...]
 
 
 @dataclass(frozen=True, slots=True)
@@ -262,7 +262,7 @@ class Unary:
 
     pos: SourcePos
     op: str
-    operand: "Expr"
+    operand: Expr
 
 
 @dataclass(frozen=True, slots=True)
@@ -271,8 +271,8 @@ class Binary:
 
     pos: SourcePos
     op: str
-    left: "Expr"
-    right: "Expr"
+    left: Expr
+    right: Expr
 
 
 Expr = IntLit | DigitalLit | SetLit | StrLit | NameLit | StateRef | Unary | Binary

@@ -1,126 +1,34 @@
 """The GDL object-type table: parameters, state variables, operators and activators.
 
 The GDL description defines checks "per type" but lists almost no type in full (GDL.md
-G1), so the compiler and the RTS are driven by this one table. Entries marked [T] in
-GDL.md come from the description; everything else is motionvm's proposal, documented
-in `docs/lang/gdl.md` (table generated from `type_table_markdown`).
-
-Value kinds: 'int' (|v| <= 999999999, narrowed by lo..hi), 'digital' (ON/OFF stored
-as bool), 'set' (one keyword of `values`), 'config' (a device configuration:
-PRESENT, ABSENT, or an object-type keyword reserving the device for that type),
-'name' (an object of one of `types`), 'string' (one or two strings, two languages).
-Access codes: 'r', 'w', 'rw', with an 'f' suffix when the debugger may force it.
+G1), so the compiler and the RTS are driven by this one table (shapes in `objspec`).
+Entries marked [T] come from the description; everything else is motionvm's proposal.
+`doc.py` renders the table into the package README.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from motionvm.lang.gdl.objspec import (
+    INT_LIMIT,
+    ArgSpec,
+    DeviceSpec,
+    ObjType,
+    OperatorSpec,
+    ParamSpec,
+    StateSpec,
+    format_value,
+)
 
-INT_LIMIT = 999_999_999
-"""Largest absolute value of a GDL integer [T]."""
-
-
-@dataclass(frozen=True, slots=True)
-class ParamSpec:
-    """One declaration parameter of a type."""
-
-    keyword: str
-    kind: str
-    lo: int = -INT_LIMIT
-    hi: int = INT_LIMIT
-    values: tuple[str, ...] = ()
-    types: tuple[str, ...] = ()
-    role: str = "plain"  # 'parent' | 'channel' | 'size' | 'ref' | 'plain'
-    mandatory: bool = False
-    default: object = None
-
-
-@dataclass(frozen=True, slots=True)
-class StateSpec:
-    """One state variable; `activator` when a change of it can start procedures."""
-
-    keyword: str
-    kind: str
-    access: str
-    values: tuple[str, ...] = ()
-    lo: int = -INT_LIMIT
-    hi: int = INT_LIMIT
-    activator: bool = False
-    default: object = None
-    init_param: str | None = None  # declaration parameter giving the initial value
-    machine: bool = False  # updated by the RTS from the machine (an input)
-
-    @property
-    def readable(self) -> bool:
-        return "r" in self.access
-
-    @property
-    def writable(self) -> bool:
-        return "w" in self.access
-
-    @property
-    def forceable(self) -> bool:
-        return "f" in self.access
-
-
-@dataclass(frozen=True, slots=True)
-class ArgSpec:
-    """One operator parameter; `limit` names a dynamic limit ('travel', 'max_speed')."""
-
-    name: str
-    kind: str
-    lo: int = -INT_LIMIT
-    hi: int = INT_LIMIT
-    limit: str | None = None
-
-
-@dataclass(frozen=True, slots=True)
-class OperatorSpec:
-    """An operator (opcode): a keyword, the object it acts on, typed arguments."""
-
-    keyword: str
-    args: tuple[ArgSpec, ...]
-    doc: str
-
-
-@dataclass(frozen=True, slots=True)
-class DeviceSpec:
-    """A connection device of a parent: its configuration parameter and channels."""
-
-    config_param: str
-    channels: tuple[int, int]
-    child_types: tuple[str, ...]
-
-
-@dataclass(frozen=True, slots=True)
-class ObjType:
-    """One object type of the catalogue."""
-
-    name: str
-    category: str  # 'hardware' | 'software' | 'user'
-    doc: str
-    params: tuple[ParamSpec, ...] = ()
-    states: tuple[StateSpec, ...] = ()
-    operators: tuple[OperatorSpec, ...] = ()
-    devices: tuple[DeviceSpec, ...] = ()
-    array: bool = False  # accepts ARRAY$SIZE
-
-    def param(self, keyword: str) -> ParamSpec | None:
-        return next((p for p in self.params if p.keyword == keyword), None)
-
-    def state(self, keyword: str) -> StateSpec | None:
-        return next((s for s in self.states if s.keyword == keyword), None)
-
-    def operator(self, keyword: str) -> OperatorSpec | None:
-        return next((o for o in self.operators if o.keyword == keyword), None)
-
-    @property
-    def activators(self) -> tuple[str, ...]:
-        return tuple(s.keyword for s in self.states if s.activator)
-
-    def parent_params(self) -> tuple[ParamSpec, ...]:
-        return tuple(p for p in self.params if p.role == "parent")
-
+__all__ = [
+    "INT_LIMIT",
+    "ArgSpec",
+    "DeviceSpec",
+    "ObjType",
+    "OperatorSpec",
+    "ParamSpec",
+    "StateSpec",
+    "format_value",
+]
 
 # ---------------------------------------------------------------- shared pieces
 
@@ -134,8 +42,13 @@ ARRAY_SIZE = ParamSpec("ARRAY$SIZE", "int", 1, 64, role="size")
 
 def _diagn(force: bool = True) -> StateSpec:
     return StateSpec(
-        "DIAGN$STATUS", "set", "rf" if force else "r", DIAGN, activator=True,
-        default="NO$FAULT", machine=True,
+        "DIAGN$STATUS",
+        "set",
+        "rf" if force else "r",
+        DIAGN,
+        activator=True,
+        default="NO$FAULT",
+        machine=True,
     )
 
 
@@ -160,7 +73,8 @@ _MOTION_PARAMS = (
 _RUN = OperatorSpec("RUN$AT$SPEED", (_SPEED_ARG,), "ramp to `speed` [units/s] and keep it")
 _STOP = OperatorSpec("STOP", (), "ramp down to standstill")
 _MOVE = OperatorSpec(
-    "MOVE$TO", (ArgSpec("position", "int", limit="travel"),),
+    "MOVE$TO",
+    (ArgSpec("position", "int", limit="travel"),),
     "trapezoidal move to `position` [units]; OPERATING$CONDITION STOPPED on arrival",
 )
 
@@ -168,19 +82,30 @@ _MOVE = OperatorSpec(
 
 TYPES: tuple[ObjType, ...] = (
     ObjType(
-        "MACHINE", "hardware", "the machine as a whole: mode and emergency stop",
+        "MACHINE",
+        "hardware",
+        "the machine as a whole: mode and emergency stop",
         params=(DESCRIPTION,),
         states=(
-            StateSpec("OPERATING$MODE", "set", "rwf", ("MANUAL", "AUTOMATIC"), activator=True,
-                      default="MANUAL"),
-            StateSpec("EMERGENCY$STOP", "digital", "rf", activator=True, default=False,
-                      machine=True),
+            StateSpec(
+                "OPERATING$MODE",
+                "set",
+                "rwf",
+                ("MANUAL", "AUTOMATIC"),
+                activator=True,
+                default="MANUAL",
+            ),
+            StateSpec(
+                "EMERGENCY$STOP", "digital", "rf", activator=True, default=False, machine=True
+            ),
             StateSpec("CONSTANT$STATUS", "set", "rw", POWER + ("STANDBY",), default="DISABLED"),
             _diagn(),
         ),
     ),
     ObjType(
-        "IO$BOARD", "hardware", "I/O board: parent of digital inputs, outputs and PWM outputs",
+        "IO$BOARD",
+        "hardware",
+        "I/O board: parent of digital inputs, outputs and PWM outputs",
         params=(
             ParamSpec("SLOT", "int", 1, 16, mandatory=True),
             ParamSpec("INPUT$MODULE", "config", values=PRESENCE, default="PRESENT"),
@@ -196,11 +121,17 @@ TYPES: tuple[ObjType, ...] = (
         ),
     ),
     ObjType(
-        "STEPPER$BOARD", "hardware", "stepper-motor board: parent of motors, axes, home inputs",
+        "STEPPER$BOARD",
+        "hardware",
+        "stepper-motor board: parent of motors, axes, home inputs",
         params=(
             ParamSpec("SLOT", "int", 1, 16, mandatory=True),
-            ParamSpec("AXIS$MODULE", "config",
-                      values=PRESENCE + ("STEPPER$MOTOR", "STP$MOTOR$AXIS"), default="PRESENT"),
+            ParamSpec(
+                "AXIS$MODULE",
+                "config",
+                values=PRESENCE + ("STEPPER$MOTOR", "STP$MOTOR$AXIS"),
+                default="PRESENT",
+            ),
             ParamSpec("HOME$MODULE", "config", values=PRESENCE, default="PRESENT"),
             DESCRIPTION,
         ),
@@ -211,13 +142,17 @@ TYPES: tuple[ObjType, ...] = (
         ),
     ),
     ObjType(
-        "STEPPER$MOTOR", "hardware", "stepper motor run at speed (no positioning)",
+        "STEPPER$MOTOR",
+        "hardware",
+        "stepper motor run at speed (no positioning)",
         params=(*_on_board("STEPPER$BOARD", 4), *_MOTION_PARAMS, DESCRIPTION),
         states=_MOTOR_STATES,
         operators=(_RUN, _STOP),
     ),
     ObjType(
-        "STP$MOTOR$AXIS", "hardware", "positioning stepper axis with travel limits and homing",
+        "STP$MOTOR$AXIS",
+        "hardware",
+        "positioning stepper axis with travel limits and homing",
         params=(
             *_on_board("STEPPER$BOARD", 4),
             ParamSpec("LOWER$TRAVEL$LIMIT", "int", default=-INT_LIMIT),
@@ -232,28 +167,47 @@ TYPES: tuple[ObjType, ...] = (
             StateSpec("HOMED", "digital", "r", default=False),
         ),
         operators=(
-            _MOVE, _RUN, _STOP,
-            OperatorSpec("HOME$SEARCH", (), "move down at HOME$SPEED until the home input is ON, "
-                         "then POSITION = 0 and HOMED = ON"),
+            _MOVE,
+            _RUN,
+            _STOP,
+            OperatorSpec(
+                "HOME$SEARCH",
+                (),
+                "move down at HOME$SPEED until the home input is ON, "
+                "then POSITION = 0 and HOMED = ON",
+            ),
         ),
     ),
     ObjType(
-        "STP$MOTOR$AXIS$HOME$INPUT", "hardware", "home switch of a stepper axis",
+        "STP$MOTOR$AXIS$HOME$INPUT",
+        "hardware",
+        "home switch of a stepper axis",
         params=(
-            ParamSpec("STEPPERMOTOR$BOARD$NAME", "name", types=("STEPPER$BOARD",), role="parent",
-                      mandatory=True),
+            ParamSpec(
+                "STEPPERMOTOR$BOARD$NAME",
+                "name",
+                types=("STEPPER$BOARD",),
+                role="parent",
+                mandatory=True,
+            ),
             ParamSpec("CHANNEL", "int", 1, 4, role="channel", mandatory=True),
-            ParamSpec("STPMOTOR$NAME", "name", types=("STP$MOTOR$AXIS",), role="ref",
-                      mandatory=True),
+            ParamSpec(
+                "STPMOTOR$NAME", "name", types=("STP$MOTOR$AXIS",), role="ref", mandatory=True
+            ),
             ParamSpec("SWITCH$POSITION", "int", default=0),
             DESCRIPTION,
         ),
         states=(StateSpec("STATUS", "digital", "rf", activator=True, default=False, machine=True),),
     ),
     ObjType(
-        "DC$MOTOR$AXIS", "hardware", "DC motor axis (speed and position) [T type, activators]",
-        params=(ParamSpec("AXIS$NUMBER", "int", 1, 8, mandatory=True), *_MOTION_PARAMS,
-                DESCRIPTION),
+        "DC$MOTOR$AXIS",
+        "hardware",
+        "DC motor axis (speed and position) [T type, activators]",
+        params=(
+            ParamSpec("AXIS$NUMBER", "int", 1, 8, mandatory=True),
+            *_MOTION_PARAMS,
+            DESCRIPTION,
+        ),
         states=(
             *_MOTOR_STATES,
             StateSpec("POSITION", "int", "r", default=0),
@@ -262,7 +216,9 @@ TYPES: tuple[ObjType, ...] = (
         operators=(_RUN, _STOP, _MOVE),
     ),
     ObjType(
-        "ABSOLUTE$ENCODER", "hardware", "absolute encoder, optionally mounted on an axis",
+        "ABSOLUTE$ENCODER",
+        "hardware",
+        "absolute encoder, optionally mounted on an axis",
         params=(
             ParamSpec("ENCODER$NUMBER", "int", 1, 8, mandatory=True),
             ParamSpec("AXIS$NAME", "name", types=("DC$MOTOR$AXIS", "STP$MOTOR$AXIS"), role="ref"),
@@ -271,10 +227,17 @@ TYPES: tuple[ObjType, ...] = (
         states=(
             _diagn(),
             StateSpec("OPERATING$CONDITION", "set", "r", MOTION, activator=True, default="STOPPED"),
-            StateSpec("CFG$STATUS", "set", "r", ("CONFIGURED", "NOT$CONFIGURED"), activator=True,
-                      default="CONFIGURED"),
-            StateSpec("CFG$UPDATE$REQUEST", "digital", "rf", activator=True, default=False,
-                      machine=True),
+            StateSpec(
+                "CFG$STATUS",
+                "set",
+                "r",
+                ("CONFIGURED", "NOT$CONFIGURED"),
+                activator=True,
+                default="CONFIGURED",
+            ),
+            StateSpec(
+                "CFG$UPDATE$REQUEST", "digital", "rf", activator=True, default=False, machine=True
+            ),
             StateSpec("POSITION", "int", "rf", default=0),
         ),
         operators=(
@@ -283,38 +246,51 @@ TYPES: tuple[ObjType, ...] = (
         ),
     ),
     ObjType(
-        "DIGITAL$INPUT", "hardware", "digital input channel(s) of an I/O board [T]",
+        "DIGITAL$INPUT",
+        "hardware",
+        "digital input channel(s) of an I/O board [T]",
         params=(*_on_board("IO$BOARD", 16), ARRAY_SIZE, DESCRIPTION),
         states=(StateSpec("STATUS", "digital", "rf", activator=True, default=False, machine=True),),
         array=True,
     ),
     ObjType(
-        "DIGITAL$OUTPUT", "hardware", "digital output channel(s) of an I/O board",
+        "DIGITAL$OUTPUT",
+        "hardware",
+        "digital output channel(s) of an I/O board",
         params=(*_on_board("IO$BOARD", 16), ARRAY_SIZE, DESCRIPTION),
         states=(StateSpec("STATUS", "digital", "rwf", default=False),),
         array=True,
     ),
     ObjType(
-        "PWM$OUTPUT", "hardware", "PWM output, VALUE per mille 0..1000 [T]",
+        "PWM$OUTPUT",
+        "hardware",
+        "PWM output, VALUE per mille 0..1000 [T]",
         params=(*_on_board("IO$BOARD", 4), ARRAY_SIZE, DESCRIPTION),
         states=(StateSpec("VALUE", "int", "rwf", lo=0, hi=1000, default=0),),
         array=True,
     ),
     ObjType(
-        "SYNOPTIC", "software", "display synoptic: logical parent of graphic objects [T]",
+        "SYNOPTIC",
+        "software",
+        "display synoptic: logical parent of graphic objects [T]",
         params=(ParamSpec("PAGE", "int", 1, 99, mandatory=True), DESCRIPTION),
         states=(
             StateSpec("DISPLAYED", "digital", "rw", default=False),
-            StateSpec("SELECTION", "int", "rf", lo=0, hi=99, activator=True, default=0, machine=True),
+            StateSpec(
+                "SELECTION", "int", "rf", lo=0, hi=99, activator=True, default=0, machine=True
+            ),
             StateSpec("MESSAGE", "int", "w", lo=0, hi=999, default=0),
         ),
     ),
     *(
         ObjType(
-            kind, "software", f"graphic {what} on a SYNOPTIC (logical child, no channel)",
+            kind,
+            "software",
+            f"graphic {what} on a SYNOPTIC (logical child, no channel)",
             params=(
-                ParamSpec("SYNOPTIC$NAME", "name", types=("SYNOPTIC",), role="parent",
-                          mandatory=True),
+                ParamSpec(
+                    "SYNOPTIC$NAME", "name", types=("SYNOPTIC",), role="parent", mandatory=True
+                ),
                 *(ParamSpec(p, "int", 0, 1023, mandatory=True) for p in coords),
                 DESCRIPTION,
             ),
@@ -330,26 +306,42 @@ TYPES: tuple[ObjType, ...] = (
         )
     ),
     ObjType(
-        "DIGITAL$FLAG", "user", "auxiliary flag whose STATUS is also its activator [T]",
+        "DIGITAL$FLAG",
+        "user",
+        "auxiliary flag whose STATUS is also its activator [T]",
         params=(ParamSpec("INITIAL$VALUE", "digital", default=False), ARRAY_SIZE),
-        states=(StateSpec("STATUS", "digital", "rwf", activator=True, default=False,
-                          init_param="INITIAL$VALUE"),),
+        states=(
+            StateSpec(
+                "STATUS",
+                "digital",
+                "rwf",
+                activator=True,
+                default=False,
+                init_param="INITIAL$VALUE",
+            ),
+        ),
         array=True,
     ),
     ObjType(
-        "DIGITAL$VARIABLE", "user", "program variable holding ON/OFF [T]",
+        "DIGITAL$VARIABLE",
+        "user",
+        "program variable holding ON/OFF [T]",
         params=(ParamSpec("INITIAL$VALUE", "digital", default=False), ARRAY_SIZE),
         states=(StateSpec("VALUE", "digital", "rwf", default=False, init_param="INITIAL$VALUE"),),
         array=True,
     ),
     ObjType(
-        "INTEGER$VARIABLE", "user", "program variable holding an integer [T]",
+        "INTEGER$VARIABLE",
+        "user",
+        "program variable holding an integer [T]",
         params=(ParamSpec("INITIAL$VALUE", "int", default=0), ARRAY_SIZE),
         states=(StateSpec("VALUE", "int", "rwf", default=0, init_param="INITIAL$VALUE"),),
         array=True,
     ),
     ObjType(
-        "INTEGER$CONSTANT", "user", "integer fixed by its declaration [T]",
+        "INTEGER$CONSTANT",
+        "user",
+        "integer fixed by its declaration [T]",
         params=(ParamSpec("VALUE", "int", mandatory=True),),
         states=(StateSpec("VALUE", "int", "r", init_param="VALUE"),),
     ),
@@ -390,10 +382,3 @@ CONFIG_WORDS: frozenset[str] = frozenset(
 STATE_WORDS: frozenset[str] = frozenset(s.keyword for t in TYPES for s in t.states)
 OPERATOR_WORDS: frozenset[str] = frozenset(o.keyword for t in TYPES for o in t.operators)
 PARAM_WORDS: frozenset[str] = frozenset(p.keyword for t in TYPES for p in t.params)
-
-
-def format_value(kind: str, value: object) -> str:
-    """A state value as GDL writes it: ON/OFF, a keyword, or a decimal integer."""
-    if kind == "digital":
-        return "ON" if value else "OFF"
-    return str(value)

@@ -124,8 +124,7 @@ class Parser:
         while not self._is("END$MODULE"):
             t = self.tok
             if t.kind == "eof" or self._is("MODULE"):
-                self._error(t.pos, f"module '{name.text}' has no END$MODULE before "
-                            f"{t.describe()}")
+                self._error(t.pos, f"module '{name.text}' has no END$MODULE before {t.describe()}")
                 return n.Module(pos, name, tuple(uses), tuple(objects), tuple(procs))
             try:
                 if self._is("PROCEDURE"):
@@ -158,8 +157,9 @@ class Parser:
             return n.Name(t.pos, t.text)
         if t.kind == "keyword":
             self._advance()
-            self._error(t.pos, f"'{t.text}' is a reserved word and cannot be used as "
-                        f"{_article(what)} name")
+            self._error(
+                t.pos, f"'{t.text}' is a reserved word and cannot be used as {_article(what)} name"
+            )
             return n.Name(t.pos, t.text)
         raise self._fail(f"expected {_article(what)} name, found {t.describe()}")
 
@@ -173,8 +173,9 @@ class Parser:
         if t.kind == "ident":
             hint = did_you_mean(t.text.upper(), sorted(TYPE_BY_NAME))
             raise self._fail(f"unknown object type '{t.text}'{hint}")
-        raise self._fail(f"expected an object type, USE, PROCEDURE or END$MODULE, found "
-                         f"{t.describe()}")
+        raise self._fail(
+            f"expected an object type, USE, PROCEDURE or END$MODULE, found {t.describe()}"
+        )
 
     # BNF: external_decl = "USE" object_type object_name { "," object_name } ";" ;
     def _parse_external_decl(self) -> n.UseDecl:
@@ -193,8 +194,11 @@ class Parser:
         name = self._parse_name("object")
         if self._is("{"):
             brace = self._advance()
-            self._error(brace.pos, "an object declaration never contains an index: declare "
-                        "the whole array and give its length with ARRAY$SIZE")
+            self._error(
+                brace.pos,
+                "an object declaration never contains an index: declare "
+                "the whole array and give its length with ARRAY$SIZE",
+            )
             while self.tok.kind != "eof" and not self._is("}") and not self._is("["):
                 self._advance()
             self._accept("}")
@@ -251,8 +255,9 @@ class Parser:
         if self._is("DECLARE"):
             activators = self._parse_activator_decl()
         else:
-            self._error(self.tok.pos, f"procedure '{name.text}' needs an activator list: "
-                        "DECLARE { ... };")
+            self._error(
+                self.tok.pos, f"procedure '{name.text}' needs an activator list: DECLARE {{ ... }};"
+            )
         self._expect("BEGIN", "before the procedure body")
         body = self._parse_block(("END$PROCEDURE",))
         self._expect("END$PROCEDURE", f"at the end of procedure '{name.text}'")
@@ -329,8 +334,10 @@ class Parser:
             hint = did_you_mean(t.text.upper(), sorted(STATE_WORDS | OPERATOR_WORDS))
             raise self._fail(f"'{t.text}' is not a state-variable or operator keyword{hint}")
         if t.kind == "ident":
-            raise self._fail(f"an instruction cannot start with the name '{t.text}': write a "
-                             f"state variable as KEYWORD OF {t.text}")
+            raise self._fail(
+                f"an instruction cannot start with the name '{t.text}': write a "
+                f"state variable as KEYWORD OF {t.text}"
+            )
         raise self._fail(f"expected an instruction, found {t.describe()}")
 
     # BNF: assignment = state_ref "=" expression ";" ;
@@ -452,8 +459,9 @@ class Parser:
         if t.kind == "ident":
             self._advance()
             if self._is("{"):
-                raise self._fail(f"an array element is not a value: write KEYWORD OF "
-                                 f"{t.text}{{...}}", t)
+                raise self._fail(
+                    f"an array element is not a value: write KEYWORD OF {t.text}{{...}}", t
+                )
             return n.NameLit(t.pos, n.Name(t.pos, t.text))
         if self._accept("("):
             inner = self._parse_expression()

@@ -9,7 +9,8 @@ Model (GDL.md 9.5, text 3.3):
   documented order for procedures sharing an activator; programs needing an order
   chain through a DIGITAL$FLAG [T]. Writing the value a variable already has is no
   change (G18).
-- Procedures run one at a time to completion, in zero simulated time; a change during
+- Procedures (lowered to Python by `lower.py`) run one at a time to completion, in
+  zero simulated time; a change during
   a run (its own activator, an injected input) queues one more run behind it [T].
 - Forcing (`f` access, the debugger): a forced value hides every write until released;
   forcing and releasing are changes like any other (G20).
@@ -27,11 +28,12 @@ digital or set variable: a motor stopping, a home switch), `t=S force REF = V`,
 from __future__ import annotations
 
 from collections import deque
+from types import TracebackType
 from typing import TextIO
 
+from motionvm.lang.gdl.api import ProcedureApi
 from motionvm.lang.gdl.app import App, ObjectInfo, ProcInfo
 from motionvm.lang.gdl.devices import Device, GdlFault, create_device
-from motionvm.lang.gdl.interp import ProcedureRun
 from motionvm.lang.gdl.objects import format_value
 
 DT_MS = 1
@@ -48,6 +50,16 @@ def format_time(cycle: int) -> str:
     return f"{ms // 1000}.{ms % 1000:03d}"
 
 
+def _user_line(tb: TracebackType | None, file: str) -> int | None:
+    """The line of the deepest frame of the user's generated code in a traceback."""
+    line = None
+    while tb is not None:
+        if tb.tb_frame.f_code.co_filename == file:
+            line = tb.tb_lineno
+        tb = tb.tb_next
+    return line
+
+
 class Rts:
     """State and scheduling of one application run."""
 
@@ -59,7 +71,7 @@ class Rts:
         self.values: dict[tuple[str, str], list[object]] = {}
         self.forced: dict[tuple[str, str, int], object] = {}
         self.ready: deque[ProcInfo] = deque()
-        self.current: ProcedureRun | None = None
+        self.current: ProcInfo | None = None
         self.runs_this_cycle = 0
         self.error_count = 0
         self.injections: list[object] = []  # scenario events waiting for an instruction
@@ -97,8 +109,9 @@ class Rts:
         """'set' while a procedure runs, else 'update' (the RTS itself)."""
         return "set" if self.current is not None else "update"
 
-    def write(self, obj: ObjectInfo, keyword: str, element: int, value: object,
-              origin: str) -> bool:
+    def write(
+        self, obj: ObjectInfo, keyword: str, element: int, value: object, origin: str
+    ) -> bool:
         """Store a value; on a visible change print it, run device hooks, trigger."""
         cell = self.values[(obj.key, keyword)]
         slot = self._slot(obj, element)
@@ -120,8 +133,9 @@ class Rts:
         if (obj.key, keyword, element) not in self.forced and old != value:
             self._changed(obj, keyword, element, value, None)
 
-    def _changed(self, obj: ObjectInfo, keyword: str, element: int, value: object,
-                 origin: str | None) -> None:
+    def _changed(
+        self, obj: ObjectInfo, keyword: str, element: int, value: object, origin: str | None
+    ) -> None:
         """A visible change: print it (origin None: already printed), hooks, triggers."""
         spec = obj.type.state(keyword)
         assert spec is not None
@@ -139,8 +153,9 @@ class Rts:
         spec = obj.type.state(keyword)
         assert spec is not None
         if not spec.forceable:
-            raise ValueError(f"{keyword} of {obj.type.name} cannot be forced (access "
-                             f"{spec.access})")
+            raise ValueError(
+                f"{keyword} of {obj.type.name} cannot be forced (access {spec.access})"
+            )
         old = self.read(obj, keyword, element)
         self.forced[(obj.key, keyword, element)] = value
         self.emit(f"force {obj.ref(keyword, element)} = {format_value(spec.kind, value)}")
@@ -177,21 +192,25 @@ class Rts:
             self.runs_this_cycle += 1
             if self.runs_this_cycle > MAX_RUNS_PER_CYCLE:
                 self.ready.clear()
-                self.report(proc.node.pos.file, proc.node.pos.line, proc.name,
-                            f"more than {MAX_RUNS_PER_CYCLE} procedure runs at t="
-                            f"{format_time(self.cycle)}: procedures keep triggering each "
-                            "other (ready queue cleared)")
+                self.report(
+                    proc.node.pos.file,
+                    proc.node.pos.line,
+                    proc.name,
+                    f"more than {MAX_RUNS_PER_CYCLE} procedure runs at t="
+                    f"{format_time(self.cycle)}: procedures keep triggering each "
+                    "other (ready queue cleared)",
+                )
                 return
             self._run(proc)
 
     def _run(self, proc: ProcInfo) -> None:
         self.emit(f"run {proc.name}")
-        run = ProcedureRun(self, proc)
-        self.current = run
+        self.current = proc
         try:
-            run.run()
+            self.app.functions[proc.name.lower()](ProcedureApi(self, proc))
         except GdlFault as fault:
-            self.report(run.pos.file, run.pos.line, proc.name, str(fault))
+            line = _user_line(fault.__traceback__, proc.file) or proc.node.pos.line
+            self.report(proc.file, line, proc.name, str(fault))
         finally:
             self.current = None
 

@@ -81,8 +81,12 @@ def parse_target(app: App, text: str) -> Target:
     if sink.has_errors:
         raise ValueError(f"'{text}': {sink.errors()[0].message}")
     words = [t.text for t in toks[:-1]]
-    if len(words) not in (3, 6) or words[1] != "OF" or (len(words) == 6 and (
-            words[3], words[5]) != ("{", "}")) or toks[0].kind != "keyword":
+    if (
+        len(words) not in (3, 6)
+        or words[1] != "OF"
+        or (len(words) == 6 and (words[3], words[5]) != ("{", "}"))
+        or toks[0].kind != "keyword"
+    ):
         raise ValueError(f"'{text}' is not 'KEYWORD OF object' or 'KEYWORD OF object{{i}}'")
     obj = app.objects.get(words[2].lower())
     if obj is None:
@@ -136,8 +140,9 @@ def _event(app: App, number: int, raw: object, where: str) -> Event:
         raise ScenarioError(f"{where}: an event is a table")
     unknown = sorted(set(raw) - EVENT_KEYS)
     if unknown:
-        raise ScenarioError(f"{where}: unknown key '{unknown[0]}' (keys: "
-                            f"{', '.join(sorted(EVENT_KEYS))})")
+        raise ScenarioError(
+            f"{where}: unknown key '{unknown[0]}' (keys: {', '.join(sorted(EVENT_KEYS))})"
+        )
     actions = [a for a in ("set", "force", "release") if a in raw]
     if len(actions) != 1:
         raise ScenarioError(f"{where}: give exactly one of set, force, release")
@@ -149,8 +154,10 @@ def _event(app: App, number: int, raw: object, where: str) -> Event:
         if action == "set" and target.obj.type.name == "INTEGER$CONSTANT":
             raise ValueError(f"{target.obj.name} is an INTEGER$CONSTANT: it never changes")
         if action != "set" and not target.spec.forceable:
-            raise ValueError(f"{target.spec.keyword} of {target.obj.type.name} cannot be "
-                             f"forced (access {target.spec.access}, no 'f')")
+            raise ValueError(
+                f"{target.spec.keyword} of {target.obj.type.name} cannot be "
+                f"forced (access {target.spec.access}, no 'f')"
+            )
         if action == "release":
             value = None
         elif "value" not in raw:
@@ -185,8 +192,9 @@ def load_scenario(path: str, app: App) -> Scenario:
     if unknown:
         raise ScenarioError(f"{path}: unknown key '{unknown[0]}' (keys: event, initial, until)")
     until = data.get("until")
-    if until is not None and (not isinstance(until, int | float) or isinstance(until, bool)
-                              or until < 0):
+    if until is not None and (
+        not isinstance(until, int | float) or isinstance(until, bool) or until < 0
+    ):
         raise ScenarioError(f"{path}: 'until' must be a number of seconds >= 0")
     initial: list[tuple[Target, object]] = []
     table = data.get("initial", {})

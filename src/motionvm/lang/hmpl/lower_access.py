@@ -136,6 +136,8 @@ class AccessLowering:
                     if not 0 <= idx.const < count:
                         raise self.fail(e.index.pos, f"array index {idx.const} is out of bounds (the array has {count} elements)")
                     i_node = const(idx.const)
+                elif idx.rng is not None and 0 <= idx.rng[0] and idx.rng[1] < count:
+                    pass  # range analysis proves the index in bounds
                 else:
                     if isinstance(i_node, ast.Name):
                         grab, ref = i_node, i_node

@@ -56,6 +56,7 @@ class Val:
     type: ct.CType
     exact: bool = True
     const: int | float | None = None
+    rng: tuple[int, int] | None = None  # known bounds of an integer value (range analysis)
 
 
 def wrap_node(node: ast.expr, t: ct.IntT) -> ast.expr:
@@ -224,7 +225,7 @@ class ExprLowering:
         else:
             t = ct.U64
         v = _fold_int(v, t)
-        return Val(const(v), t, True, v)
+        return Val(const(v), t, True, v, (v, v))
 
     def _is_hex_literal(self, e: n.IntLit) -> bool:
         return False  # decimal literals above INT_MAX are long long; hex ones are unsigned
@@ -236,7 +237,7 @@ class ExprLowering:
         return Val(ast.Constant(e.value), ct.DOUBLE, True, e.value)
 
     def _x_CharLit(self, e: n.CharLit) -> Val:
-        return Val(const(e.value), ct.INT, True, e.value)
+        return Val(const(e.value), ct.INT, True, e.value, (e.value, e.value))
 
     def _x_StrLit(self, e: n.StrLit) -> Val:
         addr = self.prog.string_literal(e.value)
@@ -250,7 +251,8 @@ class ExprLowering:
             v = sym.const_value
             return Val(const(v), sym.type, True, v)
         lv = self.var_lvalue(sym)
-        return Val(lv.load(), sym.type)
+        rng = self.known_ranges.get(sym.pyname) if sym.storage == "local" else None
+        return Val(lv.load(), sym.type, True, None, rng)
 
     def _x_SizeOf(self, e: n.SizeOf) -> Val:
         if isinstance(e.target, n.TypeRef):
@@ -405,7 +407,13 @@ class ExprLowering:
             an, a_ok = self._ring_operand(a, t)
             bn, b_ok = self._ring_operand(b, t)
             exact = op in ("&", "|", "^") and a_ok and b_ok
-            return Val(ast.BinOp(left=an, op=_BINOPS[op](), right=bn), t, exact)
+            rng = None
+            if op in ("+", "-") and a.rng is not None and b.rng is not None and a_ok and b_ok:
+                lo, hi = ((a.rng[0] + b.rng[0], a.rng[1] + b.rng[1]) if op == "+"
+                          else (a.rng[0] - b.rng[1], a.rng[1] - b.rng[0]))
+                if t.min <= lo and hi <= t.max:
+                    rng, exact = (lo, hi), True  # cannot overflow: no wrap needed
+            return Val(ast.BinOp(left=an, op=_BINOPS[op](), right=bn), t, exact, None, rng)
         an, bn = self.convert(a, t, pos), self.convert(b, t, pos)
         if isinstance(b.const, int) and ct.wrap_int(b.const, t) == 0:
             raise self.fail(pos, "division by zero" if op == "/" else "modulo by zero")

@@ -100,6 +100,7 @@ class FunctionLowerer(ExprLowering, AccessLowering):
         self._ntemp = 0
         self._pynames: set[str] = set()
         self.in_init = func is None
+        self.known_ranges: dict[str, tuple[int, int]] = {}  # range-for counters with constant bounds
 
     # ------------------------------------------------------------ helpers
 
@@ -294,11 +295,26 @@ class FunctionLowerer(ExprLowering, AccessLowering):
                 and isinstance(cond.left, n.Name) and cond.left.id == ivar):
             return None
         inc = self._step_of(step, ivar)
-        if inc is None or (inc > 0) != (cond.op in ("<", "<=")) or (inc < 0 and not sym.type.signed):
-            return None
         assigned = _assigned_names(s.body)
+        step_var = None
+        if inc is None and isinstance(step, n.Assign) and step.op == "+=" and isinstance(step.target, n.Name) \
+                and step.target.id == ivar and cond.op in ("<", "<=") and self._invariant(step.value, assigned):
+            try:
+                sv = self.expr(step.value)
+            except SemanticError:
+                return None
+            if not sv.type.is_integer or ct.common_arith(sym.type, sv.type) != sym.type:
+                return None
+            step_var = self.convert(sv, sym.type, step.pos)
+            inc = "var"
+        if inc is None:
+            return None
+        if inc != "var" and ((inc > 0) != (cond.op in ("<", "<=")) or (inc < 0 and not sym.type.signed)):
+            return None
         if ivar in assigned or not self._invariant(cond.right, assigned):
             return None
+        if inc == "var" and not isinstance(s.init, n.DeclStmt):
+            return None  # the counter outlives the loop: keep C's exact final value simple
         try:
             bound = self.expr(cond.right)
         except SemanticError:
@@ -307,13 +323,33 @@ class FunctionLowerer(ExprLowering, AccessLowering):
             return None
         stop = self.convert(bound, sym.type, cond.pos)
         if cond.op in ("<=", ">="):
-            stop = ast.BinOp(left=stop, op=ast.Add() if inc > 0 else ast.Sub(), right=ast.Constant(1))
+            stop = ast.BinOp(left=stop, op=ast.Add() if inc == "var" or inc > 0 else ast.Sub(), right=ast.Constant(1))
         b = self.temp()
         cont = _backedge(b) + [ast.Continue()]
-        body = self._loop_body(s.body, cont) + _backedge(b)
-        rng = call("range", name(sym.pyname), stop, const(inc))
-        outlives = not isinstance(s.init, n.DeclStmt)
+        start = self._start_range(s)
+        known = None
+        if start is not None and bound.rng is not None and inc != "var":
+            if inc > 0:
+                known = (start[0], max(start[0], bound.rng[1] - (1 if cond.op == "<" else 0)))
+            else:
+                known = (min(start[1], bound.rng[0] + (1 if cond.op == ">" else 0)), start[1])
+        if known is not None:
+            self.known_ranges[sym.pyname] = known  # lets indexing skip its bounds check
+        try:
+            body = self._loop_body(s.body, cont) + _backedge(b)
+        finally:
+            self.known_ranges.pop(sym.pyname, None)
         pre: list[ast.stmt] = [_countdown_init(b)]
+        if inc == "var":
+            # a run-time step: range() for a positive one; C's endless or downward loop otherwise
+            st = self.temp()
+            pre.append(ast.Assign(targets=[name(st, True)], value=step_var))
+            ok = ast.Compare(left=name(st), ops=[ast.Gt()], comparators=[ast.Constant(0)])
+            rng = ast.IfExp(test=ok, body=call("range", name(sym.pyname), stop, name(st)),
+                            orelse=call("_odd_step", name(sym.pyname), name(st), ast.Constant(sym.type.bits)))
+        else:
+            rng = call("range", name(sym.pyname), stop, const(inc))
+        outlives = not isinstance(s.init, n.DeclStmt)
         orelse: list[ast.stmt] = []
         if outlives:
             r = self.temp()
@@ -325,6 +361,24 @@ class FunctionLowerer(ExprLowering, AccessLowering):
             orelse = [ast.Assign(targets=[name(sym.pyname, True)], value=final)]
         loop = ast.For(target=name(sym.pyname, True), iter=rng, body=body, orelse=orelse)
         return pre + [loop]
+
+    def _start_range(self, s: n.For) -> tuple[int, int] | None:
+        """Known bounds of a range-for counter's start value."""
+        init = s.init
+        e = None
+        if isinstance(init, n.DeclStmt):
+            e = init.decls[0].init
+        elif isinstance(init, n.ExprStmt) and isinstance(init.expr, n.Assign):
+            e = init.expr.value
+        if e is None:
+            return None
+        saved = self.sink.items[:]
+        try:
+            return self.expr(e).rng
+        except SemanticError:
+            return None
+        finally:
+            self.sink.items[:] = saved
 
     @staticmethod
     def _counter_of(s: n.For) -> str | None:
@@ -483,6 +537,68 @@ class FunctionLowerer(ExprLowering, AccessLowering):
     def resolve_type(self, tr: n.TypeRef) -> ct.CType:
         return self.prog.resolve_typeref(tr, self.scope, self.task)
 
+    # ------------------------------------------------------------ goto
+
+    def function_body(self, body: n.Block) -> list[ast.stmt]:
+        """The body; with labels, a dispatcher loop over the segments between them.
+
+            _lbl = 0
+            while True:
+                try:
+                    if _lbl <= 0: <statements before the first label>
+                    if _lbl <= 1: <statements after label 1>
+                    break
+                except _Goto as _g:
+                    _lbl = _g.args[0]   # plus a budgeted back-edge
+
+        `goto L` raises `_Goto(index of L)`, so it leaves nested loops and switches too.
+        Labels must stand at the top level of the function body.
+        """
+        labels = [it for it in body.items if isinstance(it, n.Label)]
+        self.labels = {}
+        for lab in labels:
+            if lab.name in self.labels:
+                self.sink.error(lab.pos, f"duplicate label '{lab.name}'")
+            self.labels[lab.name] = len(self.labels) + 1
+        if not labels:
+            return self.block(body, "function")
+        saved = self.scope
+        self.scope = Scope(saved, "function")
+        try:
+            segments: list[list[ast.stmt]] = [[]]
+            for it in body.items:
+                if isinstance(it, n.Label):
+                    segments.append([])
+                    continue
+                segments[-1].extend(self.stmts([it]))
+        finally:
+            self.scope = saved
+        lbl, g, b = self.temp(), self.temp(), self.temp()
+        tries: list[ast.stmt] = []
+        for k, seg in enumerate(segments):
+            test = ast.Compare(left=name(lbl), ops=[ast.LtE()], comparators=[ast.Constant(k)])
+            tries.append(ast.If(test=test, body=seg or [ast.Pass()], orelse=[]))
+        tries.append(ast.Break())
+        handler = ast.ExceptHandler(type=name("_Goto"), name=g, body=[
+            ast.Assign(targets=[name(lbl, True)],
+                       value=ast.Subscript(value=ast.Attribute(value=name(g), attr="args", ctx=ast.Load()),
+                                           slice=ast.Constant(0), ctx=ast.Load())),
+        ] + _backedge(b))
+        loop = ast.While(test=ast.Constant(True), body=[ast.Try(body=tries, handlers=[handler], orelse=[], finalbody=[])], orelse=[])
+        pre = [ast.Assign(targets=[name(lbl, True)], value=ast.Constant(0)), _countdown_init(b)]
+        return _at(pre + [loop], body.pos)
+
+    def _s_Goto(self, s: n.Goto) -> list[ast.stmt]:
+        k = getattr(self, "labels", {}).get(s.label)
+        if k is None:
+            from motionvm.source.suggest import did_you_mean
+
+            raise self.fail(s.pos, f"label '{s.label}' used but not defined{did_you_mean(s.label, list(getattr(self, 'labels', {})))}")
+        return [ast.Raise(exc=call("_Goto", ast.Constant(k)), cause=None)]
+
+    def _s_Label(self, s: n.Label) -> list[ast.stmt]:
+        raise self.fail(s.pos, f"label '{s.name}' must stand at the top level of the function body")
+
     # ------------------------------------------------------------ functions
 
     def function(self, f: n.FuncDef, sym: FuncSym) -> ast.FunctionDef:
@@ -502,16 +618,14 @@ class FunctionLowerer(ExprLowering, AccessLowering):
             else:
                 sym_p = VarSym(p.name, pt, "local", p.pos, pyname=pyname, is_const=p.type.is_const)
             self.scope.names[p.name] = sym_p
-        body = copies + self.block(f.body, "function")
+        body = copies + self.function_body(f.body)
         if not isinstance(sym.type.ret, ct.VoidT):
             zero = ast.Constant(0.0 if sym.type.ret.is_float else 0)
             body.append(_at([ast.Return(value=zero)], f.pos)[0])
         if self.frame_size:
-            push = ast.parse(
-                f"_s = _stack\n_fp = _s.push({self.frame_size}, {bytes(self.frame_valid)!r})"
-            ).body
+            push = _parsed(f"_s = _stack\n_fp = _s.push({self.frame_size}, {bytes(self.frame_valid)!r})", f.pos)
             body = push + [ast.Try(body=body or [ast.Pass()], handlers=[], orelse=[],
-                                   finalbody=ast.parse("_s.pop(_fp)").body)]
+                                   finalbody=_parsed("_s.pop(_fp)", f.pos))]
         gl = sorted(self.globals_stored | ({"_budget"} if _contains_yield(body) else set()))
         if gl:
             body.insert(0, ast.Global(names=gl))
@@ -521,6 +635,16 @@ class FunctionLowerer(ExprLowering, AccessLowering):
                              kwonlyargs=[], kw_defaults=[], kwarg=None, defaults=[]),
                              body=_at(body or [ast.Pass()], f.pos), decorator_list=[], returns=None)
         return _at([fn], f.pos)[0]
+
+
+def _parsed(src: str, pos) -> list[ast.stmt]:
+    """Statements parsed from Python text, placed at the user's position `pos`."""
+    body = ast.parse(src).body
+    for node in (x for s in body for x in ast.walk(s)):
+        if "lineno" in node._attributes:
+            node.lineno = node.end_lineno = pos.line
+            node.col_offset = node.end_col_offset = max(0, pos.col - 1)
+    return body
 
 
 def _assigned_names(body) -> set[str]:

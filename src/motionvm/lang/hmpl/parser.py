@@ -17,8 +17,10 @@ everywhere) and are left out of the tree.
 from __future__ import annotations
 
 import sys
+from operator import attrgetter
 
 from motionvm.lang.hmpl import nodes as n
+from motionvm.lang.hmpl.lexer import gc_paused
 from motionvm.lang.hmpl.preprocess import preprocess
 from motionvm.lang.hmpl.tokens import Token
 from motionvm.source.diagnostics import DiagnosticSink, TooManyErrors
@@ -59,6 +61,8 @@ ASSIGN_OPS = frozenset("= += -= *= /= %= <<= >>= &= |= ^=".split())
 UNARY_OPS = frozenset("- + ! ~ * &".split())
 POSTFIX_START = frozenset("[ ( . -> ++ --".split())
 MAX_NESTING = 256
+_text = attrgetter("text")
+_kind = attrgetter("kind")
 
 
 def _canonical_table() -> dict[tuple[str, ...], str]:
@@ -96,13 +100,15 @@ def parse_file(
         except OSError as e:
             sink.error(SourcePos(path, 1, 1), f"cannot read '{path}': {e.strerror or e}")
             return None
-    tokens = preprocess(path, task_id=task_id, sink=sink, text=text)
-    return parse(tokens, sink)
+    with gc_paused():
+        tokens = preprocess(path, task_id=task_id, sink=sink, text=text)
+        return parse(tokens, sink)
 
 
 def parse(tokens: list[Token], sink: DiagnosticSink) -> n.TranslationUnit:
     """Parse preprocessed tokens (ending with 'eof'); errors go to `sink`."""
-    return Parser(tokens, sink).run()
+    with gc_paused():
+        return Parser(tokens, sink).run()
 
 
 def _end_of(t: Token) -> SourcePos:
@@ -122,9 +128,10 @@ class Parser:
             last = tokens[-1].pos if tokens else SourcePos("<input>", 1, 1)
             tokens = [*tokens, Token("eof", "", last)]
         self.toks = tokens
-        # what the grammar looks at: punctuators and keywords by text, others by kind
-        # ('<name', '<int', ...: never a keyword, so the literal 1 is not the type int)
-        self.keys = [t.text if t.kind in ("punct", "keyword") else "<" + t.kind for t in tokens]
+        # the grammar looks at token texts: a keyword or punctuator is its text, and no
+        # name or literal can spell one; `kinds` tells names and literals apart
+        self.keys = list(map(_text, tokens))
+        self.kinds = list(map(_kind, tokens))
         self.i = 0
         self.sink = sink
         self.typedefs: set[str] = set(PREDEFINED_TYPES)
@@ -143,7 +150,7 @@ class Parser:
             self.sink.error(self.toks[min(self.i, len(self.toks) - 1)].pos, "program nested too deeply")
         finally:
             sys.setrecursionlimit(old_limit)
-        return n.TranslationUnit(self.toks[0].pos, tuple(self.items))
+        return n.TranslationUnit(SourcePos(self.toks[-1].pos.file, 1, 1), tuple(self.items))
 
     # ------------------------------------------------------------ token helpers
 
@@ -152,11 +159,15 @@ class Parser:
 
     def _peek_key(self, k: int = 1) -> str:
         j = self.i + k
-        return self.keys[j] if j < len(self.keys) else "<eof"
+        return self.keys[j] if j < len(self.keys) else ""
+
+    def _peek_kind(self, k: int = 1) -> str:
+        j = self.i + k
+        return self.kinds[j] if j < len(self.kinds) else "eof"
 
     def _advance(self) -> Token:
         t = self.toks[self.i]
-        if self.keys[self.i] != "<eof":
+        if self.keys[self.i] != "":
             self.i += 1
         return t
 
@@ -173,6 +184,9 @@ class Parser:
             return t
         if key == ";" and self.i > 0:
             self._error(_end_of(self.toks[self.i - 1]), f"expected ';' {context}".rstrip())
+        elif self.i > 0 and self.toks[self.i].pos.line != self.toks[self.i - 1].pos.line:
+            # the line ended too early: point at its end, not at the next line
+            self._error(_end_of(self.toks[self.i - 1]), f"expected '{key}' {context}".rstrip())
         else:
             t = self._tok()
             self._error(t.pos, f"expected '{key}' {context or 'before ' + _describe(t)}")
@@ -192,11 +206,11 @@ class Parser:
 
     def _is_type_start(self, j: int) -> bool:
         k = self.keys[j]
-        return k in TYPE_START or (k == "<name" and self.toks[j].text in self.typedefs)
+        return k in TYPE_START or (self.kinds[j] == "name" and self.toks[j].text in self.typedefs)
 
     def _starts_declaration(self) -> bool:
         k = self.keys[self.i]
-        return k in DECL_START or (k == "<name" and self.toks[self.i].text in self.typedefs)
+        return k in DECL_START or (self.kinds[self.i] == "name" and self.toks[self.i].text in self.typedefs)
 
     # ------------------------------------------------------------ recovery
 
@@ -204,7 +218,7 @@ class Parser:
         """Skip a balanced '{ ... }' starting at the current '{'."""
         depth = 0
         keys = self.keys
-        while keys[self.i] != "<eof":
+        while keys[self.i] != "":
             k = keys[self.i]
             self.i += 1
             if k == "{":
@@ -220,7 +234,7 @@ class Parser:
         parens = 0
         while True:
             k = keys[self.i]
-            if k == "<eof" or k == "}":
+            if k == "" or k == "}":
                 return
             if k == "{":
                 self._skip_braces()
@@ -242,7 +256,7 @@ class Parser:
         keys = self.keys
         while True:
             k = keys[self.i]
-            if k == "<eof":
+            if k == "":
                 return
             if k == ";" or k == "}":
                 self.i += 1
@@ -258,7 +272,7 @@ class Parser:
 
     # BNF: translation_unit = { external_declaration } EOF
     def _parse_translation_unit(self) -> None:
-        while self.keys[self.i] != "<eof":
+        while self.keys[self.i] != "":
             start = self.i
             try:
                 self._parse_external_declaration()
@@ -318,7 +332,7 @@ class Parser:
         """Tailored message for a declaration or statement that starts wrongly."""
         t = self._tok()
         nxt = self._peek_key()
-        if t.kind == "name" and (nxt == "<name" or (nxt == "*" and self._peek_key(2) == "<name"
+        if t.kind == "name" and (self._peek_kind() == "name" or (nxt == "*" and self._peek_kind(2) == "name"
                                                    and file_scope)):
             known = [*sorted(BASIC_WORDS | INTN_TYPES), *sorted(self.typedefs)]
             return self._fail_here(f"unknown type name '{t.text}'" + did_you_mean(t.text, known))
@@ -359,7 +373,7 @@ class Parser:
             params.append(self._parse_parameter_declaration())
             if not self._accept(","):
                 break
-        self._expect(")", "after parameters" if self.keys[self.i] == "<eof" else "")
+        self._expect(")", "after parameters" if self.keys[self.i] == "" else "")
         return tuple(params)
 
     # BNF: parameter_declaration = declaration_specifiers { "*" [ "const" ] } [ NAME ] { "[" [ conditional_expression ] "]" }
@@ -368,7 +382,7 @@ class Parser:
         if self.keys[self.i] == "...":
             raise self._fail_here("variadic functions ('...') are not supported in HMPL")
         if not self._is_type_start(self.i) and self.keys[self.i] not in STORAGE:
-            if t.kind == "name" and self._peek_key() == "<name":
+            if t.kind == "name" and self._peek_kind() == "name":
                 raise self._unknown_start(file_scope=False)
             raise self._fail_here(f"expected parameter type before {_describe(t)}")
         spec, _ = self._parse_declaration_specifiers("param")
@@ -429,7 +443,7 @@ class Parser:
                 elif scope in ("param", "block", "field", "type") and k == "extern":
                     self._error(t.pos, f"'extern' is not allowed here")
                 storage = k
-            elif k in INTN_TYPES or (k == "<name" and named is None and not words
+            elif k in INTN_TYPES or (self.kinds[self.i] == "name" and named is None and not words
                                      and self.toks[self.i].text in self.typedefs):
                 if named is not None or words:
                     raise self._fail_here(f"invalid combination of type specifiers before {_describe(self._tok())}")
@@ -456,7 +470,7 @@ class Parser:
     def _parse_struct_or_union_specifier(self, scope: str) -> tuple[str, n.StructDef | None]:
         kw = self._advance()
         tag = ""
-        if self.keys[self.i] == "<name" or self.keys[self.i] in INTN_TYPES:
+        if self.kinds[self.i] == "name" or self.keys[self.i] in INTN_TYPES:
             tag = self._advance().text
         if self.keys[self.i] != "{":
             if not tag:
@@ -476,27 +490,14 @@ class Parser:
         lbrace = self._expect("{")
         fields: list[n.VarDecl] = []
         names: set[str] = set()
-        while self.keys[self.i] not in ("}", "<eof"):
-            if not self._is_type_start(self.i):
-                raise self._unknown_start(file_scope=False) if self._tok().kind == "name" and \
-                    self._peek_key() == "<name" else self._fail_here(
-                        f"expected a member declaration before {_describe(self._tok())}")
-            spec, _ = self._parse_declaration_specifiers("field")
-            while True:
-                pointers, name_tok, dims = self._parse_declarator()
-                assert name_tok is not None
-                if self.keys[self.i] == ":":
-                    raise self._fail_here("bit-fields are not supported in HMPL")
-                if self.keys[self.i] == "=":
-                    raise self._fail_here("struct members cannot have initializers")
-                if name_tok.text in names:
-                    self._error(name_tok.pos, f"duplicate member '{name_tok.text}'")
-                names.add(name_tok.text)
-                fields.append(n.VarDecl(name_tok.pos, _with_pointers(spec, pointers),
-                                        name_tok.text, dims))
-                if not self._accept(","):
-                    break
-            self._expect(";", "after struct member")
+        while self.keys[self.i] not in ("}", ""):
+            start = self.i
+            try:
+                self._parse_struct_declaration(fields, names)
+            except _Fail:
+                self._sync_statement()
+                if self.i == start:
+                    self.i += 1
         if self.keys[self.i] != "}":
             self._error(self._tok().pos, "expected '}' at end of input")
             self.sink.note(lbrace.pos, "to match this '{'")
@@ -505,6 +506,29 @@ class Parser:
         if not fields:
             self._error(lbrace.pos, "a struct or union needs at least one member")
         return tuple(fields)
+
+    # BNF: struct_declaration = declaration_specifiers declarator { "," declarator } ";"
+    def _parse_struct_declaration(self, fields: list[n.VarDecl], names: set[str]) -> None:
+        if not self._is_type_start(self.i):
+            if self._tok().kind == "name" and self._peek_kind() == "name":
+                raise self._unknown_start(file_scope=False)
+            raise self._fail_here(f"expected a member declaration before {_describe(self._tok())}")
+        spec, _ = self._parse_declaration_specifiers("field")
+        while True:
+            pointers, name_tok, dims = self._parse_declarator()
+            assert name_tok is not None
+            if self.keys[self.i] == ":":
+                raise self._fail_here("bit-fields are not supported in HMPL")
+            if self.keys[self.i] == "=":
+                raise self._fail_here("struct members cannot have initializers")
+            if name_tok.text in names:
+                self._error(name_tok.pos, f"duplicate member '{name_tok.text}'")
+            names.add(name_tok.text)
+            fields.append(n.VarDecl(name_tok.pos, _with_pointers(spec, pointers),
+                                    name_tok.text, dims))
+            if not self._accept(","):
+                break
+        self._expect(";", "after struct member")
 
     # BNF: declarator = { "*" { "const" | "volatile" } } NAME { "[" [ conditional_expression ] "]" }
     def _parse_declarator(
@@ -518,7 +542,7 @@ class Parser:
             while keys[self.i] in QUALIFIERS:
                 self.i += 1
         name_tok: Token | None = None
-        if keys[self.i] == "<name":
+        if self.kinds[self.i] == "name":
             name_tok = self._advance()
         elif keys[self.i] == "(":
             raise self._fail_here("function pointers and parenthesised declarators are not supported in HMPL")
@@ -573,7 +597,7 @@ class Parser:
             items.append(self._parse_initializer())
             if not self._accept(","):
                 break
-        self._expect("}", "at end of initializer list" if self.keys[self.i] == "<eof" else "")
+        self._expect("}", "at end of initializer list" if self.keys[self.i] == "" else "")
         self.depth -= 1
         return n.InitList(lbrace.pos, tuple(items))
 
@@ -586,7 +610,7 @@ class Parser:
         items: list[n.Stmt] = []
         keys = self.keys
         depth = self.depth
-        while keys[self.i] != "}" and keys[self.i] != "<eof":
+        while keys[self.i] != "}" and keys[self.i] != "":
             start = self.i
             try:
                 items.append(self._parse_block_item())
@@ -645,15 +669,15 @@ class Parser:
         if k == ";":
             self.i += 1
             return n.Empty(t.pos)
-        if k == "<name":
+        if self.kinds[self.i] == "name":
             nxt = self._peek_key()
-            if nxt == "<name":
+            if self._peek_kind() == "name":
                 raise self._unknown_start(file_scope=False)
             if nxt == ":":
                 return self._parse_label()
         elif k == "else":
             raise self._fail_here("'else' without a previous 'if'")
-        elif k == "<eof":
+        elif k == "":
             raise self._fail_here("expected statement before end of file")
         expr = self._parse_expression()
         self._expect(";", "after expression")
@@ -668,13 +692,34 @@ class Parser:
         return n.If(kw.pos, cond, then, else_)
 
     def _parse_condition(self, keyword: str) -> n.Expr:
-        """'(' expression ')' after if/while/switch."""
+        """'(' expression ')' after if/while/switch; a broken condition is skipped."""
         if self.keys[self.i] != "(":
             raise self._fail_here(f"expected '(' after '{keyword}'")
-        self.i += 1
-        e = self._parse_expression()
-        self._expect(")")
+        lparen = self._advance()
+        try:
+            e = self._parse_expression()
+            self._expect(")")
+        except _Fail:
+            self._skip_to_close_paren(in_for=False)
+            return n.IntLit(lparen.pos, 0)  # stands in for the broken condition
         return e
+
+    def _skip_to_close_paren(self, in_for: bool) -> None:
+        """After an error inside '( ... )': skip past the closing ')' so that the
+        statement body still parses; stop before a '{' or '}' (the ')' is missing)."""
+        keys = self.keys
+        depth = 0
+        while True:
+            k = keys[self.i]
+            if k == "" or k == "{" or k == "}" or (k == ";" and not in_for):
+                return
+            self.i += 1
+            if k == "(":
+                depth += 1
+            elif k == ")":
+                if depth == 0:
+                    return
+                depth -= 1
 
     # BNF: while_statement = "while" "(" expression ")" statement
     def _parse_while_statement(self) -> n.While:
@@ -700,16 +745,20 @@ class Parser:
             raise self._fail_here("expected '(' after 'for'")
         self.i += 1
         init: n.DeclStmt | n.ExprStmt | None = None
-        if self._starts_declaration():
-            init = self._parse_declaration()
-        elif not self._accept(";"):
-            t = self._tok()
-            init = n.ExprStmt(t.pos, self._parse_expression())
+        cond = step = None
+        try:
+            if self._starts_declaration():
+                init = self._parse_declaration()
+            elif not self._accept(";"):
+                t = self._tok()
+                init = n.ExprStmt(t.pos, self._parse_expression())
+                self._expect(";", "in 'for' statement")
+            cond = None if self.keys[self.i] == ";" else self._parse_expression()
             self._expect(";", "in 'for' statement")
-        cond = None if self.keys[self.i] == ";" else self._parse_expression()
-        self._expect(";", "in 'for' statement")
-        step = None if self.keys[self.i] == ")" else self._parse_expression()
-        self._expect(")")
+            step = None if self.keys[self.i] == ")" else self._parse_expression()
+            self._expect(")")
+        except _Fail:
+            self._skip_to_close_paren(in_for=True)
         return n.For(kw.pos, init, cond, step, self._parse_statement())
 
     # BNF: switch_statement = "switch" "(" expression ")" statement
@@ -743,7 +792,7 @@ class Parser:
     def _parse_jump_statement(self) -> n.Stmt:
         kw = self._advance()
         if kw.text == "goto":
-            if self.keys[self.i] != "<name":
+            if self.kinds[self.i] != "name":
                 raise self._fail_here(f"expected a label name after 'goto' before {_describe(self._tok())}")
             label = self._advance()
             self._expect(";", "after 'goto' statement")
@@ -887,7 +936,7 @@ class Parser:
                 self._expect("]", "after index")
                 e = n.Index(t.pos, e, idx)
             elif k == "." or k == "->":
-                if keys[self.i] != "<name":
+                if self.kinds[self.i] != "name":
                     raise self._fail_here(f"expected a member name after '{k}'")
                 name = self._advance()
                 e = n.Member(name.pos, e, name.text, k == "->")
@@ -913,10 +962,10 @@ class Parser:
             return n.CharLit(t.pos, t.value)  # type: ignore[arg-type]
         if k == "string":
             self.i += 1
-            if self.keys[self.i] != "<string":
+            if self.kinds[self.i] != "string":
                 return n.StrLit(t.pos, t.value)  # type: ignore[arg-type]
             parts = [t.value]
-            while self.keys[self.i] == "<string":
+            while self.kinds[self.i] == "string":
                 parts.append(self.toks[self.i].value)
                 self.i += 1
             return n.StrLit(t.pos, b"".join(parts))  # type: ignore[arg-type]

@@ -14,7 +14,7 @@ import os
 from operator import attrgetter
 from dataclasses import dataclass, field
 
-from motionvm.lang.hmpl.lexer import Scan, end_pos, lex_fragment, scan
+from motionvm.lang.hmpl.lexer import Scan, end_pos, gc_paused, lex_fragment, scan
 from motionvm.lang.hmpl.tokens import Token
 from motionvm.source.diagnostics import DiagnosticSink, TooManyErrors
 from motionvm.source.files import SourceFile, SourcePos
@@ -90,6 +90,13 @@ def preprocess(
     Reads `path` (or takes `text` as its contents). Errors go to `sink`; on too many
     errors the tokens produced so far are returned.
     """
+    with gc_paused():
+        return _preprocess(path, task_id, sink, text, include_depth_limit)
+
+
+def _preprocess(
+    path: str, task_id: int, sink: DiagnosticSink, text: str | None, include_depth_limit: int
+) -> list[Token]:
     pp = Preprocessor(task_id=task_id, sink=sink, include_depth_limit=include_depth_limit)
     if text is None:
         try:

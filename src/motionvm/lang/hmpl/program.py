@@ -106,7 +106,7 @@ def function_facts(f: n.FuncDef, blocking: dict[str, bool]) -> FuncFacts:
     facts = FuncFacts()
     for x in walk(f.body):
         t = type(x)
-        if t is n.While or t is n.DoWhile or t is n.For:
+        if t is n.While or t is n.DoWhile or t is n.For or t is n.Goto:
             facts.waits = True
         elif t is n.Call:
             if type(x.func) is n.Name:

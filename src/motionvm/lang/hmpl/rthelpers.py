@@ -7,6 +7,7 @@ closures over the typed views so each call costs one Python function call.
 
 from __future__ import annotations
 
+import itertools
 import math
 
 from motionvm.lang.hmpl.cmemory import SCALAR_FORMATS, Memory, to_f32, wrap_scalar
@@ -59,6 +60,13 @@ def _wrapi(x: int, bits: int) -> int:
     return ((x + half) & ((1 << bits) - 1)) - half
 
 
+def _odd_step(start: int, step: int, bits: int):
+    """Values of a counting loop whose step is not positive: 0 loops forever, as in C."""
+    if step == 0:
+        return itertools.repeat(start)
+    return range(start, -(1 << (bits - 1)) - 1, step)
+
+
 def _oob(i: int, n: int) -> int:
     raise RuntimeFault(f"array index {i} out of bounds (the array has {n} elements)")
 
@@ -75,6 +83,10 @@ def _stv(view, idx: int, value):
     return view[idx]
 
 
+class _Goto(Exception):
+    """Raised by `goto L` (args[0] is L's segment); caught by the function's dispatcher."""
+
+
 def _notimpl(name: str, *args):
     raise RuntimeFault(f"{name} is not implemented yet")
 
@@ -89,9 +101,11 @@ def make_helpers(mem: Memory) -> dict[str, object]:
         "_f32": to_f32,
         "_oob": _oob,
         "_wrapi": _wrapi,
+        "_odd_step": _odd_step,
         "_ck": _ck,
         "_stv": _stv,
         "_notimpl": _notimpl,
+        "_Goto": _Goto,
         "_budget": 0,
         "_stack": None,
     }

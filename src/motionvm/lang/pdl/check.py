@@ -12,13 +12,13 @@ from motionvm.lang.pdl import nodes as n
 from motionvm.lang.pdl import sysvars
 from motionvm.lang.pdl.check_stmt import StatementChecker
 from motionvm.lang.pdl.symbols import (
+    BYTES_PER_CODE_UNIT,
     MAX_LABEL_NAME,
     MAX_PROC_NAME,
     MAX_VAR_NAME,
     PORTABLE_VAR_NAME,
     PROGRAM_MEMORY_BYTES,
     USER_MEMORY_WORDS,
-    BYTES_PER_CODE_UNIT,
     LabelSym,
     ProcSym,
     Symbols,
@@ -49,8 +49,9 @@ class Scope:
             return None
         sym = self._system.get(sv.name)
         if sym is None:
-            sym = VarSym(sv.name, sv.kind, sv.size, "system", None, False, sv.read_only,
-                         sv.address, sv)
+            sym = VarSym(
+                sv.name, sv.kind, sv.size, "system", None, False, sv.read_only, sv.address, sv
+            )
             self._system[sv.name] = sym
         return sym
 
@@ -88,8 +89,11 @@ class Checker:
         self._check_program_size(program.items)
         for proc in self.syms.procs.values():
             if not proc.defined and proc.called_at is not None:
-                self.sink.error(proc.pos, f"procedure '{proc.name}' is declared but never "
-                                "defined (a prototype needs a 'proc ... do ... end;' too)")
+                self.sink.error(
+                    proc.pos,
+                    f"procedure '{proc.name}' is declared but never "
+                    "defined (a prototype needs a 'proc ... do ... end;' too)",
+                )
         return self.syms
 
     def item(self, item: n.Item) -> None:
@@ -114,22 +118,29 @@ class Checker:
 
     # ------------------------------------------------------------ labels
 
-    def _collect_labels(self, items: tuple[n.Item, ...], table: dict[str, LabelSym],
-                        top: bool) -> None:
+    def _collect_labels(
+        self, items: tuple[n.Item, ...], table: dict[str, LabelSym], top: bool
+    ) -> None:
         for i, item in enumerate(items):
             if isinstance(item, n.Label):
                 if len(item.name) > MAX_LABEL_NAME:
-                    self.sink.error(item.pos, f"label name '{item.name}' has {len(item.name)} "
-                                    f"characters; at most {MAX_LABEL_NAME}")
+                    self.sink.error(
+                        item.pos,
+                        f"label name '{item.name}' has {len(item.name)} "
+                        f"characters; at most {MAX_LABEL_NAME}",
+                    )
                 old = table.get(item.name)
                 if old is not None:
-                    self.sink.error(item.pos, f"label '{item.name}' is already defined at "
-                                    f"{old.pos.line}:{old.pos.col}")
+                    self.sink.error(
+                        item.pos,
+                        f"label '{item.name}' is already defined at {old.pos.line}:{old.pos.col}",
+                    )
                 else:
                     table[item.name] = LabelSym(item.name, item.pos, items, i)
             elif isinstance(item, n.ProcDef) and top:
-                self._collect_labels(item.body, self.syms.proc_labels.setdefault(item.name, {}),
-                                     top=False)
+                self._collect_labels(
+                    item.body, self.syms.proc_labels.setdefault(item.name, {}), top=False
+                )
             elif isinstance(item, n.If):
                 self._collect_labels(item.then_body, table, top)
                 if item.else_body is not None:
@@ -145,13 +156,17 @@ class Checker:
             return found
         proc = self.scope.proc
         if proc is not None and name in self.syms.labels:
-            self.sink.error(pos, f"label '{name}' is outside procedure '{proc.name}'; a "
-                            "procedure can only use its own labels")
+            self.sink.error(
+                pos,
+                f"label '{name}' is outside procedure '{proc.name}'; a "
+                "procedure can only use its own labels",
+            )
         elif name in self.syms.procs:
-            self.sink.error(pos, f"'{name}' is a procedure, not a label: call it as "
-                            f"'{name}(...);'")
+            self.sink.error(pos, f"'{name}' is a procedure, not a label: call it as '{name}(...);'")
         else:
-            self.sink.error(pos, f"undefined label '{name}' in '{what}'" + did_you_mean(name, table))
+            self.sink.error(
+                pos, f"undefined label '{name}' in '{what}'" + did_you_mean(name, table)
+            )
         return None
 
     # ------------------------------------------------------------ declarations
@@ -159,30 +174,49 @@ class Checker:
     def var_decl(self, decl: n.VarDecl) -> None:
         proc = self.scope.proc
         if proc is not None and decl.type == "short":
-            self.sink.error(decl.pos, "procedures cannot have short local variables "
-                            "(use #long)")
+            self.sink.error(decl.pos, "procedures cannot have short local variables (use #long)")
         if decl.limits is not None:
             lo, hi = decl.limits
             if lo.value > hi.value:
-                self.sink.error(lo.pos, f"_lp limits are reversed: low {lo.value} is above "
-                                f"high {hi.value}")
+                self.sink.error(
+                    lo.pos, f"_lp limits are reversed: low {lo.value} is above high {hi.value}"
+                )
         start = self.syms.user_bytes
         elem = 2 if decl.type == "short" else 4
         for item in decl.items:
             size = item.size or 1
             if item.pointer and decl.type == "short":
-                self.sink.error(item.pos, "there are no short pointers: declare '#long "
-                                f"*{item.name}' (a long pointer can point to short variables)")
+                self.sink.error(
+                    item.pos,
+                    "there are no short pointers: declare '#long "
+                    f"*{item.name}' (a long pointer can point to short variables)",
+                )
             if not self.declare_name(item.name, item.pos):
                 continue
             width = 4 if item.pointer else elem
             if proc is not None:
-                sym = VarSym(item.name, decl.type, size, "local", item.pos, item.pointer,
-                             decl.read_only, len(proc.locals))
+                sym = VarSym(
+                    item.name,
+                    decl.type,
+                    size,
+                    "local",
+                    item.pos,
+                    item.pointer,
+                    decl.read_only,
+                    len(proc.locals),
+                )
                 proc.locals[item.name] = sym
             else:
-                sym = VarSym(item.name, decl.type, size, "global", item.pos, item.pointer,
-                             decl.read_only, self.syms.user_bytes)
+                sym = VarSym(
+                    item.name,
+                    decl.type,
+                    size,
+                    "global",
+                    item.pos,
+                    item.pointer,
+                    decl.read_only,
+                    self.syms.user_bytes,
+                )
                 self.syms.globals[item.name] = sym
                 self.syms.user_bytes += size * width
             self.syms.resolved[id(item)] = sym
@@ -191,25 +225,33 @@ class Checker:
             words = self.syms.user_bytes // 4
             if words > USER_MEMORY_WORDS and not self._memory_reported:
                 self._memory_reported = True
-                self.sink.error(decl.pos, f"user variables need {words:,} long words; the drive "
-                                f"has {USER_MEMORY_WORDS:,} (this declaration starts at word "
-                                f"{start // 4:,})")
+                self.sink.error(
+                    decl.pos,
+                    f"user variables need {words:,} long words; the drive "
+                    f"has {USER_MEMORY_WORDS:,} (this declaration starts at word "
+                    f"{start // 4:,})",
+                )
 
     def declare_name(self, name: str, pos: SourcePos, kind: str = "variable") -> bool:
         """Check a new variable or parameter name; False if it cannot be declared."""
         if len(name) > MAX_VAR_NAME:
-            self.sink.error(pos, f"{kind} name '{name}' has {len(name)} characters; at most "
-                            f"{MAX_VAR_NAME}")
+            self.sink.error(
+                pos, f"{kind} name '{name}' has {len(name)} characters; at most {MAX_VAR_NAME}"
+            )
             return False
         if len(name) > PORTABLE_VAR_NAME:
-            self.sink.warning(pos, f"{kind} name '{name}' has {len(name)} characters; manual "
-                              f"§2.5.2 allows only {PORTABLE_VAR_NAME} (§1 allows "
-                              f"{MAX_VAR_NAME})")
+            self.sink.warning(
+                pos,
+                f"{kind} name '{name}' has {len(name)} characters; manual "
+                f"§2.5.2 allows only {PORTABLE_VAR_NAME} (§1 allows "
+                f"{MAX_VAR_NAME})",
+            )
         sv = sysvars.lookup(name)
         if sv is not None:
             what = "state" if sv.kind == "state" else "variable"
-            self.sink.error(pos, f"'{name}' is the name of the system {what} '{sv.name}'; "
-                            "choose another name")
+            self.sink.error(
+                pos, f"'{name}' is the name of the system {what} '{sv.name}'; choose another name"
+            )
             return False
         proc = self.scope.proc
         table = proc.locals if proc is not None else self.syms.globals
@@ -225,16 +267,18 @@ class Checker:
 
     def task_directive(self, item: n.TaskDirective) -> None:
         if self.scope.proc is not None or self.block_depth:
-            self.sink.error(item.pos, "'#task' must be at the top level, outside procedures "
-                            "and blocks")
+            self.sink.error(
+                item.pos, "'#task' must be at the top level, outside procedures and blocks"
+            )
             return
         if not 0 <= item.task <= 3:
             self.sink.error(item.pos, f"task number {item.task} is out of range 0..3")
             return
         old = self.syms.tasks.get(item.task)
         if old is not None:
-            self.sink.error(item.pos, f"'#task/{item.task}' is already given at "
-                            f"{old.line}:{old.col}")
+            self.sink.error(
+                item.pos, f"'#task/{item.task}' is already given at {old.line}:{old.col}"
+            )
             return
         self.syms.tasks[item.task] = item.pos
 
@@ -243,8 +287,10 @@ class Checker:
     def proc_header(self, item: n.ProcProto | n.ProcDef, defining: bool) -> ProcSym | None:
         name = item.name
         if len(name) > MAX_PROC_NAME:
-            self.sink.error(item.pos, f"procedure name '{name}' has {len(name)} characters; at "
-                            f"most {MAX_PROC_NAME}")
+            self.sink.error(
+                item.pos,
+                f"procedure name '{name}' has {len(name)} characters; at most {MAX_PROC_NAME}",
+            )
         if sysvars.lookup(name) is not None or name in self.syms.globals:
             self.sink.error(item.pos, f"'{name}' is already the name of a variable")
             return None
@@ -260,12 +306,16 @@ class Checker:
             self.syms.resolved[id(item)] = sym
             return sym
         if _signature(old.params) != _signature(item.params):
-            self.sink.error(item.pos, f"'proc {name}({_signature_text(item.params)})' does not "
-                            f"match its declaration at {old.pos.line}:{old.pos.col}: "
-                            f"'proc {name}({_signature_text(old.params)})'")
+            self.sink.error(
+                item.pos,
+                f"'proc {name}({_signature_text(item.params)})' does not "
+                f"match its declaration at {old.pos.line}:{old.pos.col}: "
+                f"'proc {name}({_signature_text(old.params)})'",
+            )
         if defining and old.defined:
-            self.sink.error(item.pos, f"procedure '{name}' is already defined at "
-                            f"{old.pos.line}:{old.pos.col}")
+            self.sink.error(
+                item.pos, f"procedure '{name}' is already defined at {old.pos.line}:{old.pos.col}"
+            )
             return None
         if defining:
             old.defined = True
@@ -286,8 +336,9 @@ class Checker:
                 if p.name in sym.locals:
                     continue  # reported by proc_header
                 if self.declare_name(p.name, p.pos, "parameter"):
-                    sym.locals[p.name] = VarSym(p.name, p.type, 1, "param", p.pos, p.pointer,
-                                                False, i)
+                    sym.locals[p.name] = VarSym(
+                        p.name, p.type, 1, "param", p.pos, p.pointer, False, i
+                    )
             for stmt in item.body:
                 self.item(stmt)
         finally:
@@ -302,8 +353,11 @@ class Checker:
             total += code_units(item) * BYTES_PER_CODE_UNIT + _data_bytes_deep(item)
             if total > PROGRAM_MEMORY_BYTES and not self._size_reported:
                 self._size_reported = True
-                self.sink.error(item.pos, f"the program needs more than {PROGRAM_MEMORY_BYTES:,} "
-                                "bytes (128 KB) of drive program memory from here on")
+                self.sink.error(
+                    item.pos,
+                    f"the program needs more than {PROGRAM_MEMORY_BYTES:,} "
+                    "bytes (128 KB) of drive program memory from here on",
+                )
         self.syms.program_bytes = total
 
 

@@ -1,5 +1,7 @@
 """Text dumps of the PDL front-end stages, for `motionvm dump` and as test fixtures.
 
+`dump_grammar` collects the parser's `# BNF:` lines: the grammar for docs/lang/pdl.md.
+
 `dump_tokens` prints one token per line, `LINE:COL kind text`; `dump_ast` prints the
 tree indented by two spaces per level, each node as `Name @LINE:COL` with its scalar
 fields on the same line and its child nodes below.
@@ -8,7 +10,10 @@ fields on the same line and its child nodes below.
 from __future__ import annotations
 
 import dataclasses
+import inspect
+import re
 
+from motionvm.lang.pdl import parser
 from motionvm.lang.pdl.lexer import Token
 from motionvm.source.files import SourcePos
 
@@ -66,3 +71,8 @@ def _dump(node: object, depth: int, label: str, out: list[str]) -> None:
         else:
             _dump(v, depth + 1, f"{name}: ", out)
 
+
+def dump_grammar() -> str:
+    """Every `# BNF:` line of the parser, in source order, one rule per line."""
+    source = inspect.getsource(parser)
+    return "".join(m + "\n" for m in re.findall(r"^\s*# BNF: (.*)$", source, re.MULTILINE))

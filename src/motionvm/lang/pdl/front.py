@@ -1,17 +1,17 @@
 """The PDL front end in one call: preprocess, parse, check; diagnostics to a sink.
 
-    sink = DiagnosticSink()
-    program = compile_front("prog.pdl", sink=sink)
-    if program is None:
-        print("\\n".join(render_diagnostic(d) for d in sink.items))
+sink = DiagnosticSink()
+program = compile_front("prog.pdl", sink=sink)
+if program is None:
+    print("\\n".join(render_diagnostic(d) for d in sink.items))
 """
 
 from __future__ import annotations
 
 import sys
+from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
-from typing import Iterator
 
 from motionvm.lang.pdl import nodes
 from motionvm.lang.pdl.check import check
@@ -66,8 +66,9 @@ def front_end(path: str, *, sink: DiagnosticSink, text: str | None = None) -> Fr
     return FrontResult(program, symbols)
 
 
-def compile_front(path: str, *, sink: DiagnosticSink, text: str | None = None
-                  ) -> nodes.Program | None:
+def compile_front(
+    path: str, *, sink: DiagnosticSink, text: str | None = None
+) -> nodes.Program | None:
     """The checked AST of a PDL file, or None with the errors in `sink`."""
     result = front_end(path, sink=sink, text=text)
     return result.program if result is not None else None

@@ -13,18 +13,69 @@ from motionvm.source.diagnostics import DiagnosticSink
 from motionvm.source.files import SourcePos
 
 BUILTIN_FUNCS = frozenset(
-    "max min abs unsign sign sin cos sqrt divi shift bitset bitclr bittog "
-    "memcpy memset memmin memmax memsum".split()
+    [
+        "max",
+        "min",
+        "abs",
+        "unsign",
+        "sign",
+        "sin",
+        "cos",
+        "sqrt",
+        "divi",
+        "shift",
+        "bitset",
+        "bitclr",
+        "bittog",
+        "memcpy",
+        "memset",
+        "memmin",
+        "memmax",
+        "memsum",
+    ]
 )
 
 # `run` is not reserved: the manual uses it as a parameter name (§2.4.2, `instate run`).
-KEYWORDS = frozenset(
-    """
-    halt wait sleep goto call ret exitproc loop do end if else while till proc lock unlock
-    kill seton setoff toggle sttovar sizeof tout printl prints retprintl long float short
-    instate _ro _lp
-    """.split()
-) | BUILTIN_FUNCS
+KEYWORDS = (
+    frozenset(
+        [
+            "halt",
+            "wait",
+            "sleep",
+            "goto",
+            "call",
+            "ret",
+            "exitproc",
+            "loop",
+            "do",
+            "end",
+            "if",
+            "else",
+            "while",
+            "till",
+            "proc",
+            "lock",
+            "unlock",
+            "kill",
+            "seton",
+            "setoff",
+            "toggle",
+            "sttovar",
+            "sizeof",
+            "tout",
+            "printl",
+            "prints",
+            "retprintl",
+            "long",
+            "float",
+            "short",
+            "instate",
+            "_ro",
+            "_lp",
+        ]
+    )
+    | BUILTIN_FUNCS
+)
 
 PUNCT2 = ("+=", "-=", "*=", "/=", "%=", "&=", "|=", "@=", "++", "--", "<=", ">=", "<>", "->")
 PUNCT1 = frozenset("=+-*/%&|@~<>()[]{},;:")
@@ -157,10 +208,12 @@ class _Lexer:
 
     def _word(self) -> None:
         start, p = self.i, self.pos()
-        while self.i < len(self.text) and (self.text[self.i].isascii() and (
-                self.text[self.i].isalnum() or self.text[self.i] == "_")):
+        while self.i < len(self.text) and (
+            self.text[self.i].isascii()
+            and (self.text[self.i].isalnum() or self.text[self.i] == "_")
+        ):
             self.advance()
-        word = self.text[start:self.i]
+        word = self.text[start : self.i]
         low = word.lower()
         if low in KEYWORDS:
             self.emit("keyword", word, p, low)
@@ -174,7 +227,7 @@ class _Lexer:
             self.advance(2)
             while self.i < len(t) and t[self.i] in "0123456789abcdefABCDEF":
                 self.advance()
-            text = t[start:self.i]
+            text = t[start : self.i]
             if len(text) == 2:
                 self.sink.error(p, f"hexadecimal constant '{text}' has no digits")
                 self.emit("int", text, p, 0)
@@ -186,14 +239,14 @@ class _Lexer:
             return
         while self.i < len(t) and t[self.i].isdigit():
             self.advance()
-        if self.i < len(t) and t[self.i] == "." and not (self.peek(1) == "."):
+        if self.i < len(t) and t[self.i] == "." and self.peek(1) != ".":
             self.advance()
             while self.i < len(t) and t[self.i].isdigit():
                 self.advance()
-            text = t[start:self.i]
+            text = t[start : self.i]
             self.emit("float", text, p, float(text if text != "." else "0"))
             return
-        text = t[start:self.i]
+        text = t[start : self.i]
         value = int(text)
         if value > 0xFFFFFFFF:
             self.sink.error(p, f"constant {text} does not fit in 32 bits")
@@ -223,17 +276,23 @@ class _Lexer:
         p = self.pos()
         self.advance()
         start = self.i
-        while self.i < len(self.text) and self.text[self.i].isascii() and (
-                self.text[self.i].isalnum() or self.text[self.i] == "_"):
+        while (
+            self.i < len(self.text)
+            and self.text[self.i].isascii()
+            and (self.text[self.i].isalnum() or self.text[self.i] == "_")
+        ):
             self.advance()
-        word = self.text[start:self.i]
+        word = self.text[start : self.i]
         if not word:
             j = self.i
             while j < len(self.text) and self.text[j] in " \t":
                 j += 1
             k = j
-            while k < len(self.text) and self.text[k].isascii() and (
-                    self.text[k].isalnum() or self.text[k] == "_"):
+            while (
+                k < len(self.text)
+                and self.text[k].isascii()
+                and (self.text[k].isalnum() or self.text[k] == "_")
+            ):
                 k += 1
             word = self.text[j:k]
             if not word:
@@ -256,7 +315,7 @@ class _Lexer:
         newline = self.text.find("\n", self.i)
         if end < 0 or (0 <= newline < end):
             return
-        value = self.text[self.i + 1:end]
+        value = self.text[self.i + 1 : end]
         self.advance(end + 1 - self.i)
         self.emit("string", f"<{value}>", p, value)
 

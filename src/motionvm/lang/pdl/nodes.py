@@ -1,8 +1,6 @@
 """The PDL abstract syntax tree: frozen, slotted dataclasses, a `pos` on every node.
 
-The parser builds these; the checker records what each name means in side tables
-(`check.Symbols`); the lowering turns them into Python `ast`. Nothing else lives here.
-Names follow the PDL manual (spec/PDL.md §14 is the grammar).
+The parser builds these; the checker records what names mean in `symbols.Symbols`.
 """
 
 from __future__ import annotations
@@ -10,8 +8,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from motionvm.source.files import SourcePos
-
-# ---------------------------------------------------------------- operands
 
 
 @dataclass(frozen=True, slots=True)
@@ -45,7 +41,7 @@ class VarRef:
 
     pos: SourcePos
     name: str
-    index: "IntConst | VarRef | None" = None
+    index: IntConst | VarRef | None = None
     auto_inc: bool = False
 
 
@@ -55,7 +51,7 @@ class Deref:
 
     pos: SourcePos
     name: str
-    index: "IntConst | VarRef | None" = None
+    index: IntConst | VarRef | None = None
 
 
 @dataclass(frozen=True, slots=True)
@@ -79,7 +75,7 @@ class Neg:
     """`-var` (assignment form 4)."""
 
     pos: SourcePos
-    operand: "VarRef | Deref"
+    operand: VarRef | Deref
 
 
 @dataclass(frozen=True, slots=True)
@@ -88,8 +84,8 @@ class BinOp:
 
     pos: SourcePos
     op: str
-    left: "Operand"
-    right: "Operand"
+    left: Operand
+    right: Operand
 
 
 @dataclass(frozen=True, slots=True)
@@ -98,7 +94,7 @@ class FuncCall:
 
     pos: SourcePos
     func: str
-    args: tuple["Operand", ...]
+    args: tuple[Operand, ...]
 
 
 @dataclass(frozen=True, slots=True)
@@ -106,7 +102,7 @@ class InitList:
     """`{c0, c1, ...}`: constants written to consecutive elements (form 2)."""
 
     pos: SourcePos
-    values: tuple["IntConst | FloatConst", ...]
+    values: tuple[IntConst | FloatConst, ...]
 
 
 @dataclass(frozen=True, slots=True)
@@ -114,12 +110,12 @@ class SttoVar:
     """`sttovar condition`: 1 if the condition holds, else 0."""
 
     pos: SourcePos
-    cond: "Cond"
+    cond: Cond
 
 
 @dataclass(frozen=True, slots=True)
 class SizeOf:
-    """`sizeof(name)`: the declared element count."""
+    """`sizeof(name)`: the declared element count (not bytes)."""
 
     pos: SourcePos
     name: str
@@ -133,7 +129,7 @@ class StateTest:
     """A state used as a condition: `name` (a state) or `<name>` (state held by a variable)."""
 
     pos: SourcePos
-    ref: "VarRef | AngleRef"
+    ref: VarRef | AngleRef
 
 
 @dataclass(frozen=True, slots=True)
@@ -151,14 +147,14 @@ class Relation:
 
     pos: SourcePos
     op: str
-    left: "Operand"
-    right: "Operand"
+    left: Operand
+    right: Operand
 
 
 @dataclass(frozen=True, slots=True)
 class Not:
     pos: SourcePos
-    operand: "Cond"
+    operand: Cond
 
 
 @dataclass(frozen=True, slots=True)
@@ -166,7 +162,7 @@ class Logic:
     """`t0 op0 t1 op1 t2 ...`: `&` and `|` evaluated left to right, equal precedence (G9)."""
 
     pos: SourcePos
-    terms: tuple["Cond", ...]
+    terms: tuple[Cond, ...]
     ops: tuple[str, ...]
 
 
@@ -191,7 +187,7 @@ class VarDecl:
     type: str  # 'long' | 'short' | 'float'
     items: tuple[DeclItem, ...]
     read_only: bool = False
-    limits: "tuple[IntConst | FloatConst, IntConst | FloatConst] | None" = None
+    limits: tuple[IntConst | FloatConst, IntConst | FloatConst] | None = None
 
 
 @dataclass(frozen=True, slots=True)
@@ -220,7 +216,7 @@ class ProcDef:
     pos: SourcePos
     name: str
     params: tuple[Param, ...]
-    body: tuple["Stmt", ...]
+    body: tuple[Stmt, ...]
 
 
 @dataclass(frozen=True, slots=True)
@@ -245,9 +241,9 @@ class Assign:
     """`target op value;` with op '=' or a compound operator ('+=', ..., '@=')."""
 
     pos: SourcePos
-    target: "VarRef | Deref"
+    target: VarRef | Deref
     op: str
-    value: "Value"
+    value: Value
 
 
 @dataclass(frozen=True, slots=True)
@@ -256,7 +252,7 @@ class StateAssign:
 
     pos: SourcePos
     state: VarRef
-    cond: "Cond"
+    cond: Cond
 
 
 @dataclass(frozen=True, slots=True)
@@ -264,7 +260,7 @@ class IncDec:
     """`target++;` or `target--;`"""
 
     pos: SourcePos
-    target: "VarRef | Deref"
+    target: VarRef | Deref
     op: str
 
 
@@ -274,7 +270,7 @@ class Goto:
 
     pos: SourcePos
     label: str
-    index: "IntConst | VarRef | None" = None
+    index: IntConst | VarRef | None = None
 
 
 @dataclass(frozen=True, slots=True)
@@ -291,7 +287,7 @@ class ProcCall:
 
     pos: SourcePos
     name: str
-    args: tuple["Operand", ...]
+    args: tuple[Operand, ...]
 
 
 @dataclass(frozen=True, slots=True)
@@ -308,7 +304,7 @@ class Delay:
 
     pos: SourcePos
     command: str  # 'wait' | 'sleep'
-    amount: "IntConst | VarRef"
+    amount: IntConst | VarRef
 
 
 @dataclass(frozen=True, slots=True)
@@ -316,7 +312,7 @@ class Kill:
     """`kill n;`"""
 
     pos: SourcePos
-    task: "IntConst | VarRef"
+    task: IntConst | VarRef
 
 
 @dataclass(frozen=True, slots=True)
@@ -325,7 +321,7 @@ class SetState:
 
     pos: SourcePos
     command: str
-    target: "VarRef | AngleRef"
+    target: VarRef | AngleRef
 
 
 @dataclass(frozen=True, slots=True)
@@ -337,7 +333,7 @@ class Print:
     mode1: int
     mode2: int
     format: StringConst
-    args: tuple["Operand", ...]
+    args: tuple[Operand, ...]
 
 
 @dataclass(frozen=True, slots=True)
@@ -345,8 +341,8 @@ class Loop:
     """`loop(n) do body end;` — n = 0 means 65536."""
 
     pos: SourcePos
-    count: "IntConst | VarRef"
-    body: tuple["Stmt", ...]
+    count: IntConst | VarRef
+    body: tuple[Stmt, ...]
 
 
 @dataclass(frozen=True, slots=True)
@@ -354,23 +350,23 @@ class If:
     """`if (c) cmd;` (single, else_body None) or `if (c) do ... [else do ...] end;`."""
 
     pos: SourcePos
-    cond: "Cond"
-    then_body: tuple["Stmt", ...]
-    else_body: "tuple[Stmt, ...] | None" = None
+    cond: Cond
+    then_body: tuple[Stmt, ...]
+    else_body: tuple[Stmt, ...] | None = None
     single: bool = False
 
 
 @dataclass(frozen=True, slots=True)
 class While:
     pos: SourcePos
-    cond: "Cond"
-    body: tuple["Stmt", ...]
+    cond: Cond
+    body: tuple[Stmt, ...]
 
 
 @dataclass(frozen=True, slots=True)
 class Till:
     pos: SourcePos
-    cond: "Cond"
+    cond: Cond
 
 
 @dataclass(frozen=True, slots=True)
@@ -378,14 +374,12 @@ class Program:
     """A whole program after preprocessing: top-level items in source order."""
 
     pos: SourcePos
-    items: tuple["Item", ...]
+    items: tuple[Item, ...]
 
 
 Operand = IntConst | FloatConst | VarRef | Deref | AddressOf | AngleRef | StringConst
 Value = Operand | Neg | BinOp | FuncCall | InitList | SttoVar | SizeOf
 Cond = StateTest | BitTest | Relation | Not | Logic
-Stmt = (
-    Label | VarDecl | Assign | StateAssign | IncDec | Goto | CallLabel | ProcCall | Simple
-    | Delay | Kill | SetState | Print | Loop | If | While | Till
-)
+Command = Simple | Delay | Kill | SetState | Print | Goto | CallLabel | ProcCall
+Stmt = Label | VarDecl | Assign | StateAssign | IncDec | Command | Loop | If | While | Till
 Item = Stmt | TaskDirective | ProcProto | ProcDef

@@ -80,11 +80,15 @@ class Parser:
     def report(self, tok: Token, msg: str, pos: SourcePos | None = None) -> None:
         o = tok.origin
         if o is not None:
-            msg += (f" (in the expansion of macro '{o.name}' defined at "
-                    f"{o.def_pos.line}:{o.def_pos.col})")
+            msg += (
+                f" (in the expansion of macro '{o.name}' defined at "
+                f"{o.def_pos.line}:{o.def_pos.col})"
+            )
             if tok.text == ";" and o.body_ends_with_semicolon:
-                msg += ("; a #define takes everything to the end of the line, so remove the "
-                        f"';' from the definition of '{o.name}'")
+                msg += (
+                    "; a #define takes everything to the end of the line, so remove the "
+                    f"';' from the definition of '{o.name}'"
+                )
         self.sink.error(pos or tok.pos, msg)
 
     def fail(self, tok: Token, msg: str) -> ParseError:
@@ -124,10 +128,16 @@ class Parser:
             self.report(p, "expected ';' at the end of the statement", where)
             return
         after = self.peek(1)
-        if (p.kind == "int" and t.text == "," and after.kind == "int"
-                and t.pos.col == p.end_col and after.pos.col == t.end_col):
-            raise self.fail(t, f"a decimal number is written with '.', not ',': "
-                            f"'{p.text}.{after.text}'")
+        if (
+            p.kind == "int"
+            and t.text == ","
+            and after.kind == "int"
+            and t.pos.col == p.end_col
+            and after.pos.col == t.end_col
+        ):
+            raise self.fail(
+                t, f"a decimal number is written with '.', not ',': '{p.text}.{after.text}'"
+            )
         raise self.fail(t, f"expected ';' at the end of the statement, found {self.describe(t)}")
 
     def synchronize(self) -> None:
@@ -230,8 +240,9 @@ class Parser:
         self.expect("/", "after '#task' (write '#task/2;')")
         t = self.peek()
         if t.kind != "int":
-            raise self.fail(t, f"expected a task number 0..3 after '#task/', found "
-                            f"{self.describe(t)}")
+            raise self.fail(
+                t, f"expected a task number 0..3 after '#task/', found {self.describe(t)}"
+            )
         self.next()
         self.end_statement()
         return n.TaskDirective(head.pos, int(t.value))  # type: ignore[arg-type]
@@ -272,8 +283,11 @@ class Parser:
             self.next()
             t = self.peek()
             if t.kind != "int":
-                raise self.fail(t, f"expected an array size (a positive integer constant), "
-                                f"found {self.describe(t)}")
+                raise self.fail(
+                    t,
+                    f"expected an array size (a positive integer constant), "
+                    f"found {self.describe(t)}",
+                )
             self.next()
             size = int(t.value)  # type: ignore[arg-type]
             if size < 1:
@@ -306,8 +320,9 @@ class Parser:
     def _parse_proc(self) -> n.ProcProto | n.ProcDef:
         head = self.next()
         if self.in_proc or self.depth:
-            raise self.fail(head, "procedures cannot be nested: 'proc' is only allowed at the "
-                            "top level")
+            raise self.fail(
+                head, "procedures cannot be nested: 'proc' is only allowed at the top level"
+            )
         name = self.expect_name("a procedure name")
         self.expect("(", f"after the procedure name '{name.text}'")
         params: list[n.Param] = []
@@ -335,8 +350,10 @@ class Parser:
         if self.at_kw("short"):
             raise self.fail(t, "procedure parameters cannot be 'short' (use 'long')")
         if not self.at_kw("long", "float", "instate"):
-            raise self.fail(t, f"expected a parameter type 'long', 'float' or 'instate', found "
-                            f"{self.describe(t)}")
+            raise self.fail(
+                t,
+                f"expected a parameter type 'long', 'float' or 'instate', found {self.describe(t)}",
+            )
         self.next()
         pointer = False
         if self.at("*"):
@@ -355,8 +372,11 @@ class Parser:
 
     def _nested_block(self, opener: Token, stop: tuple[str, ...]) -> tuple[n.Item, ...]:
         if self.depth >= MAX_NESTING:
-            self.report(opener, f"blocks nested more than {MAX_NESTING} deep (if/else, while "
-                        "and loop count together)")
+            self.report(
+                opener,
+                f"blocks nested more than {MAX_NESTING} deep (if/else, while "
+                "and loop count together)",
+            )
             self._skip_balanced()
             raise ParseError()
         self.depth += 1
@@ -367,7 +387,9 @@ class Parser:
 
     # ------------------------------------------------------------ statements
 
-    # BNF: statement = label_def | assign ";" | proc_call ";" | command ";" | block_stmt | ";"
+    # BNF: label_def = name ":"
+    # BNF: single_cmd = statement    (* not wait, if, while, till, loop, a label or state = cond *)
+    # BNF: statement = label_def | assign ";" | proc_call | command | ";"
     def _parse_statement(self, single: bool = False) -> n.Item | None:
         t = self.peek()
         if t.kind == "punct" and t.text == ";":
@@ -385,10 +407,16 @@ class Parser:
                 return n.Label(t.pos, t.text)
             if nxt.kind == "punct" and nxt.text == "(":
                 return self._parse_proc_call()
-            if nxt.kind == "eof" or nxt.pos.line != t.pos.line and not (
-                    nxt.kind == "punct" and nxt.text in ("=", "[", "++", "--")):
-                self.report(t, f"'{t.text}' alone is not a statement; if it is a label, it "
-                            f"needs a ':' ('{t.text}:')")
+            if (
+                nxt.kind == "eof"
+                or nxt.pos.line != t.pos.line
+                and not (nxt.kind == "punct" and nxt.text in ("=", "[", "++", "--"))
+            ):
+                self.report(
+                    t,
+                    f"'{t.text}' alone is not a statement; if it is a label, it "
+                    f"needs a ':' ('{t.text}:')",
+                )
                 self.next()
                 return n.Label(t.pos, t.text)
             return self._parse_assignment(single)
@@ -398,11 +426,15 @@ class Parser:
             raise self.fail(t, f"'{t.text}' is not allowed here")
         raise self.fail(t, f"expected a statement, found {self.describe(t)}")
 
+    # BNF: command = "halt" ";" | "ret" ";" | "exitproc" ";" | "lock" ";" | "unlock" ";" | ( "wait" | "sleep" ) simple ";" | "kill" simple ";" | goto_stmt | "call" name ";" | loop_stmt | if_stmt | while_stmt | till_stmt | set_stmt | print_cmd
     def _parse_keyword_statement(self, t: Token, single: bool) -> n.Item | None:
         word = str(t.value)
         if single and word in NOT_IN_SINGLE_IF:
-            raise self.fail(t, f"'{t.text}' is not allowed as the command of a one-line 'if'; "
-                            f"write 'if (...) do {t.text} ...; end;'")
+            raise self.fail(
+                t,
+                f"'{t.text}' is not allowed as the command of a one-line 'if'; "
+                f"write 'if (...) do {t.text} ...; end;'",
+            )
         if word in SIMPLE_COMMANDS:
             self.next()
             self.end_statement()
@@ -472,8 +504,11 @@ class Parser:
         if not self.at_kw("do"):
             cmd = self._parse_statement(single=True)
             if isinstance(cmd, n.StateAssign):
-                self.sink.error(cmd.pos, "a state assignment is not allowed as the command of a "
-                            "one-line 'if'; write 'if (...) do ... end;'")
+                self.sink.error(
+                    cmd.pos,
+                    "a state assignment is not allowed as the command of a "
+                    "one-line 'if'; write 'if (...) do ... end;'",
+                )
             body = (cmd,) if cmd is not None else ()
             return n.If(head.pos, cond, body, None, True)  # type: ignore[arg-type]
         self.next()
@@ -484,8 +519,9 @@ class Parser:
             if self.at_kw("do"):
                 self.next()
             else:
-                self.report(self.peek(), f"expected 'do' after 'else', found "
-                            f"{self.describe(self.peek())}")
+                self.report(
+                    self.peek(), f"expected 'do' after 'else', found {self.describe(self.peek())}"
+                )
             else_body = self._nested_block(els, ("end", "else"))
             while self.at_kw("else"):
                 self.report(self.next(), "a second 'else' in one 'if'")
@@ -535,8 +571,11 @@ class Parser:
         self.expect("(", f"after '{head.text}' and its modes")
         fmt = self.peek()
         if fmt.kind != "string":
-            raise self.fail(fmt, f"expected the format string of '{head.text}' in double "
-                            f"quotes, found {self.describe(fmt)}")
+            raise self.fail(
+                fmt,
+                f"expected the format string of '{head.text}' in double "
+                f"quotes, found {self.describe(fmt)}",
+            )
         self.next()
         args: list[n.Operand] = []
         while self.at(","):
@@ -545,21 +584,32 @@ class Parser:
         self.expect(")", f"after the arguments of '{head.text}'")
         self.end_statement()
         modes += [0] * (2 - len(modes))
-        return n.Print(head.pos, str(head.value), modes[0], modes[1],
-                       n.StringConst(fmt.pos, str(fmt.value)), tuple(args))
+        return n.Print(
+            head.pos,
+            str(head.value),
+            modes[0],
+            modes[1],
+            n.StringConst(fmt.pos, str(fmt.value)),
+            tuple(args),
+        )
 
     # BNF: hex = hex_digit { hex_digit }    (* up to 8 digits, no "0x" needed *)
     def _parse_hex_mode(self) -> int:
         first = self.peek()
         if first.kind not in ("int", "name", "keyword"):
-            raise self.fail(first, f"expected a hexadecimal mode after '/', found "
-                            f"{self.describe(first)}")
+            raise self.fail(
+                first, f"expected a hexadecimal mode after '/', found {self.describe(first)}"
+            )
         text = self.next().text
         last = first
         while True:
             t = self.peek()
-            if (t.kind in ("int", "name", "keyword") and t.pos.line == last.pos.line
-                    and t.pos.col == last.end_col and t.origin is None):
+            if (
+                t.kind in ("int", "name", "keyword")
+                and t.pos.line == last.pos.line
+                and t.pos.col == last.end_col
+                and t.origin is None
+            ):
                 text += self.next().text
                 last = t
             else:
@@ -568,8 +618,7 @@ class Parser:
         if not digits or any(c not in "0123456789abcdefABCDEF" for c in digits):
             raise self.fail(first, f"mode '{text}' is not a hexadecimal number")
         if len(digits) > 8:
-            raise self.fail(first, f"mode '{text}' has {len(digits)} hexadecimal digits; "
-                            "at most 8")
+            raise self.fail(first, f"mode '{text}' has {len(digits)} hexadecimal digits; at most 8")
         return int(digits, 16)
 
     # BNF: proc_call = name "(" [ operand { "," operand } ] ")" ";"
@@ -601,14 +650,17 @@ class Parser:
             self.end_statement()
             return n.Assign(target.pos, target, op.text, value)
         if not (op.kind == "punct" and op.text == "="):
-            raise self.fail(op, f"expected '=', a compound operator, '++' or '--' after "
-                            f"the variable, found {self.describe(op)}")
+            raise self.fail(
+                op,
+                f"expected '=', a compound operator, '++' or '--' after "
+                f"the variable, found {self.describe(op)}",
+            )
         self.next()
         if self.at("="):
-            raise self.fail(self.peek(), "'==' is not PDL: '=' assigns, and inside a condition "
-                            "'=' compares")
-        if (isinstance(target, n.VarRef) and target.index is None
-                and sysvars.is_state(target.name)):
+            raise self.fail(
+                self.peek(), "'==' is not PDL: '=' assigns, and inside a condition '=' compares"
+            )
+        if isinstance(target, n.VarRef) and target.index is None and sysvars.is_state(target.name):
             cond = self._parse_cond()
             self.end_statement()
             return n.StateAssign(target.pos, target, cond)
@@ -645,8 +697,11 @@ class Parser:
         if t.kind == "keyword" and t.value in BUILTIN_FUNCS:
             return self._parse_func_call()
         if t.kind == "punct" and t.text in ("~", "("):
-            raise self.fail(t, "a condition cannot be assigned to a variable directly; write "
-                            "'v = sttovar <condition>;' to store it as 0 or 1")
+            raise self.fail(
+                t,
+                "a condition cannot be assigned to a variable directly; write "
+                "'v = sttovar <condition>;' to store it as 0 or 1",
+            )
         if self.at("-") and self.peek(1).kind not in ("int", "float"):
             self.next()
             operand = self._parse_lvalue()
@@ -656,8 +711,11 @@ class Parser:
         if isinstance(left, n.VarRef) and left.index is None and sysvars.is_state(left.name):
             nxt = self.peek()
             if nxt.kind == "punct" and nxt.text in ("&", "|", ";"):
-                raise self.fail(t, f"'{left.name}' is a state, not a value: write "
-                                f"'v = sttovar {left.name} ...;' to store a condition as 0 or 1")
+                raise self.fail(
+                    t,
+                    f"'{left.name}' is a state, not a value: write "
+                    f"'v = sttovar {left.name} ...;' to store a condition as 0 or 1",
+                )
         op = self.peek()
         if op.kind == "punct" and op.text in BINOPS:
             self.next()
@@ -669,8 +727,11 @@ class Parser:
     def _no_second_operator(self) -> None:
         t = self.peek()
         if t.kind == "punct" and t.text in BINOPS:
-            raise self.fail(t, "PDL allows one operator per assignment; split the calculation "
-                            "into several statements (tmp = a + b; c = tmp * d;)")
+            raise self.fail(
+                t,
+                "PDL allows one operator per assignment; split the calculation "
+                "into several statements (tmp = a + b; c = tmp * d;)",
+            )
 
     # BNF: func_call = func_name "(" operand { "," operand } ")"
     def _parse_func_call(self) -> n.FuncCall:
@@ -688,8 +749,7 @@ class Parser:
         t = self.peek()
         if t.kind in ("int", "float", "name") or (t.kind == "punct" and t.text in "-*"):
             return self._parse_operand()
-        raise self.fail(t, f"expected {what} (a constant or a variable), found "
-                        f"{self.describe(t)}")
+        raise self.fail(t, f"expected {what} (a constant or a variable), found {self.describe(t)}")
 
     # BNF: operand = const | var_ref | deref | "&" var_ref | "<" name ">" | string
     def _parse_operand(self) -> n.Operand:
@@ -707,8 +767,11 @@ class Parser:
         if self.at("*"):
             return self._parse_deref()
         if self.at("-"):
-            raise self.fail(t, "'-variable' is only allowed alone on the right of '=' "
-                            "(v = -w;); negate into a variable first")
+            raise self.fail(
+                t,
+                "'-variable' is only allowed alone on the right of '=' "
+                "(v = -w;); negate into a variable first",
+            )
         return self._parse_var_ref()
 
     # BNF: angle = "<" name ">"
@@ -731,8 +794,9 @@ class Parser:
             inc = True
         self.expect("]", "after the index")
         if inc and not isinstance(index, n.VarRef):
-            self.report(name, "an auto-increment index '[n+]' needs a short/long variable, "
-                        "not a constant")
+            self.report(
+                name, "an auto-increment index '[n+]' needs a short/long variable, not a constant"
+            )
         return n.VarRef(name.pos, name.text, index, inc)
 
     # BNF: deref = "*" name [ "[" index "]" ]
@@ -755,18 +819,26 @@ class Parser:
         if t.kind == "name":
             self.next()
             nxt, after = self.peek(), self.peek(1)
-            if nxt.kind == "punct" and nxt.text in BINOPS and not (
-                    allow_inc and nxt.text == "+" and after.text == "]"):
-                raise self.fail(nxt, f"an index is a constant or a short/long variable; "
-                                f"compute '{t.text}{nxt.text}...' into a variable first")
+            if (
+                nxt.kind == "punct"
+                and nxt.text in BINOPS
+                and not (allow_inc and nxt.text == "+" and after.text == "]")
+            ):
+                raise self.fail(
+                    nxt,
+                    f"an index is a constant or a short/long variable; "
+                    f"compute '{t.text}{nxt.text}...' into a variable first",
+                )
             return n.VarRef(t.pos, t.text)
         if t.kind == "punct" and t.text == "-":
             raise self.fail(t, "an index cannot be negative")
-        raise self.fail(t, f"an index is a constant or a short/long variable, found "
-                        f"{self.describe(t)}")
+        raise self.fail(
+            t, f"an index is a constant or a short/long variable, found {self.describe(t)}"
+        )
 
     # ------------------------------------------------------------ conditions
 
+    # BNF: paren_cond = "(" cond ")"
     def _parse_paren_cond(self, what: str) -> n.Cond:
         self.expect("(", f"after '{what}' (the condition is written in parentheses)")
         cond = self._parse_cond()
@@ -782,8 +854,11 @@ class Parser:
         while self.peek().kind == "punct" and self.peek().text in ("&", "|"):
             op = self.next()
             if ops and op.text != ops[-1] and len(set(ops)) == 1:
-                self.sink.warning(op.pos, "'&' and '|' have equal precedence in PDL and are "
-                                  "evaluated left to right; add parentheses")
+                self.sink.warning(
+                    op.pos,
+                    "'&' and '|' have equal precedence in PDL and are "
+                    "evaluated left to right; add parentheses",
+                )
             ops.append(op.text)
             terms.append(self._parse_cterm())
         if not ops:
@@ -804,15 +879,23 @@ class Parser:
         elif t.kind == "name":
             ref = self._parse_var_ref()
         else:
-            raise self.fail(t, f"'~' must be followed by a state, '<var>' or '(condition)', "
-                            f"found {self.describe(t)}")
+            raise self.fail(
+                t,
+                f"'~' must be followed by a state, '<var>' or '(condition)', "
+                f"found {self.describe(t)}",
+            )
         nxt = self.peek()
-        if (nxt.kind == "punct" and nxt.text in RELOPS) or (nxt.kind == "keyword"
-                                                             and nxt.value == "tout"):
-            raise self.fail(tilde, "'~' applies to a state or a parenthesised condition; "
-                            "write '~(a > b)' to negate a relation")
+        if (nxt.kind == "punct" and nxt.text in RELOPS) or (
+            nxt.kind == "keyword" and nxt.value == "tout"
+        ):
+            raise self.fail(
+                tilde,
+                "'~' applies to a state or a parenthesised condition; "
+                "write '~(a > b)' to negate a relation",
+            )
         return n.Not(tilde.pos, n.StateTest(ref.pos, ref))
 
+    # BNF: group = "(" cond ")"    (* at most 200 deep *)
     def _parse_group(self) -> n.Cond:
         lp = self.next()
         if self.paren_depth >= MAX_PAREN_DEPTH:
@@ -828,8 +911,11 @@ class Parser:
     def _no_arithmetic(self) -> None:
         t = self.peek()
         if t.kind == "punct" and t.text in ("+", "-", "*", "/", "%", "@"):
-            raise self.fail(t, f"a condition cannot contain arithmetic ('{t.text}'); compute "
-                            "the value into a variable first (tmp = a + b;)")
+            raise self.fail(
+                t,
+                f"a condition cannot contain arithmetic ('{t.text}'); compute "
+                "the value into a variable first (tmp = a + b;)",
+            )
 
     # BNF: catom = "(" cond ")" | operand relop operand | var_ref "TOUT" operand | var_ref "->" int_const | state_name | "<" name ">"
     def _parse_catom(self) -> n.Cond:
@@ -854,8 +940,9 @@ class Parser:
             return n.BitTest(op.pos, left, int(bit.value))  # type: ignore[arg-type]
         if isinstance(left, (n.VarRef, n.AngleRef)):
             return n.StateTest(left.pos, left)
-        raise self.fail(t, f"expected a condition (a state, '<var>' or a comparison), found "
-                        f"{self.describe(t)}")
+        raise self.fail(
+            t, f"expected a condition (a state, '<var>' or a comparison), found {self.describe(t)}"
+        )
 
 
 def _wrap32(v: int) -> int:

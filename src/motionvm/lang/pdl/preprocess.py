@@ -24,8 +24,17 @@ MAX_EXPANSION_TOKENS = 250_000
 """Tokens a file's macro expansions may produce in total (stops runaway macros)."""
 MAX_MACRO_NESTING = 200
 
-PP_DIRECTIVES = ("define", "undef", "ifdef", "ifndef", "elifdef", "elifndef", "else", "endif",
-                 "include")
+PP_DIRECTIVES = (
+    "define",
+    "undef",
+    "ifdef",
+    "ifndef",
+    "elifdef",
+    "elifndef",
+    "else",
+    "endif",
+    "include",
+)
 STATEMENT_DIRECTIVES = ("task", "long", "short", "float")
 
 
@@ -116,8 +125,10 @@ class Preprocessor:
             elif head.kind == "directive" and head.value not in STATEMENT_DIRECTIVES:
                 if active:
                     known = [f"#{d}" for d in PP_DIRECTIVES + STATEMENT_DIRECTIVES]
-                    self.sink.error(head.pos, f"unknown directive '{head.text}'"
-                                    + did_you_mean(head.text.lower(), known))
+                    self.sink.error(
+                        head.pos,
+                        f"unknown directive '{head.text}'" + did_you_mean(head.text.lower(), known),
+                    )
             elif active:
                 pending.extend(line)
         self._flush(pending)
@@ -127,8 +138,7 @@ class Preprocessor:
 
     # ------------------------------------------------------------ directives
 
-    def _directive(self, head: Token, args: list[Token], conds: list[_Cond],
-                   active: bool) -> None:
+    def _directive(self, head: Token, args: list[Token], conds: list[_Cond], active: bool) -> None:
         d = str(head.value)
         if d in ("ifdef", "ifndef"):
             name = self._one_name(head, args) if active else None
@@ -191,9 +201,13 @@ class Preprocessor:
             return
         params: tuple[str, ...] | None = None
         body_start = 1
-        if (len(args) > 1 and args[1].text == "(" and args[1].kind == "punct"
-                and args[1].pos.line == name_tok.pos.line
-                and args[1].pos.col == name_tok.end_col):
+        if (
+            len(args) > 1
+            and args[1].text == "("
+            and args[1].kind == "punct"
+            and args[1].pos.line == name_tok.pos.line
+            and args[1].pos.col == name_tok.end_col
+        ):
             names: list[str] = []
             j = 2
             ok = False
@@ -219,17 +233,24 @@ class Preprocessor:
                 break
             if not ok:
                 where = args[j].pos if j < len(args) else head.pos
-                self.sink.error(where, f"bad parameter list in the definition of macro "
-                                f"'{name_tok.text}': expected names separated by ',' and ')'")
+                self.sink.error(
+                    where,
+                    f"bad parameter list in the definition of macro "
+                    f"'{name_tok.text}': expected names separated by ',' and ')'",
+                )
                 return
             params = tuple(names)
             body_start = j
         body = tuple(args[body_start:])
         old = self.macros.get(name_tok.text)
-        if old is not None and (old.params != params or [t.text for t in old.body]
-                                != [t.text for t in body]):
-            self.sink.error(name_tok.pos, f"macro '{name_tok.text}' is already defined at "
-                            f"{old.pos.line}:{old.pos.col}; '#undef {name_tok.text}' first")
+        if old is not None and (
+            old.params != params or [t.text for t in old.body] != [t.text for t in body]
+        ):
+            self.sink.error(
+                name_tok.pos,
+                f"macro '{name_tok.text}' is already defined at "
+                f"{old.pos.line}:{old.pos.col}; '#undef {name_tok.text}' first",
+            )
             return
         self.macros[name_tok.text] = Macro(name_tok.text, params, body, name_tok.pos)
 
@@ -243,8 +264,10 @@ class Preprocessor:
         base = os.path.dirname(head.pos.file)
         path = os.path.normpath(os.path.join(base, rel.replace("\\", "/")))
         if len(self.include_stack) > MAX_INCLUDE_DEPTH:
-            self.sink.error(head.pos, f"'#include' nested more than {MAX_INCLUDE_DEPTH} "
-                            f"levels deep (including '{rel}')")
+            self.sink.error(
+                head.pos,
+                f"'#include' nested more than {MAX_INCLUDE_DEPTH} levels deep (including '{rel}')",
+            )
             return
         if path in self.include_stack:
             self.sink.error(head.pos, f"'{rel}' includes itself (recursive #include)")
@@ -252,8 +275,11 @@ class Preprocessor:
         try:
             sf = SourceFile.read(path)
         except OSError:
-            self.sink.error(head.pos, f"cannot open include file '{rel}' (a relative path "
-                            "starts at the including file's folder)")
+            self.sink.error(
+                head.pos,
+                f"cannot open include file '{rel}' (a relative path "
+                "starts at the including file's folder)",
+            )
             return
         self._file(sf.path, tokenize(sf.path, sf.text, self.sink)[:])
 
@@ -278,8 +304,12 @@ class Preprocessor:
             if m is None or t.text in item.hide:
                 if t.kind == "directive" and t.value in PP_DIRECTIVES:
                     self.sink.error(t.pos, f"'{t.text}' must start a line")
-                    while (stack and not stack[-1].tok.bol and stack[-1].tok.pos.line == t.pos.line
-                           and stack[-1].tok.pos.file == t.pos.file):
+                    while (
+                        stack
+                        and not stack[-1].tok.bol
+                        and stack[-1].tok.pos.line == t.pos.line
+                        and stack[-1].tok.pos.file == t.pos.file
+                    ):
                         stack.pop()
                     continue
                 out.append(t)
@@ -340,8 +370,11 @@ class Preprocessor:
         if len(m.params) == 0 and args == [[]]:
             args = []
         if len(args) != len(m.params):
-            self.sink.error(name.pos, f"macro '{m.name}' takes {len(m.params)} argument"
-                            f"{'' if len(m.params) == 1 else 's'}, got {len(args)}")
+            self.sink.error(
+                name.pos,
+                f"macro '{m.name}' takes {len(m.params)} argument"
+                f"{'' if len(m.params) == 1 else 's'}, got {len(args)}",
+            )
             return None
         return args
 

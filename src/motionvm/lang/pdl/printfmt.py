@@ -11,8 +11,10 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass
 
-_SPEC = re.compile(r"%(?P<flags>[-+ #0]*)(?P<width>\d*)(?:\.(?P<prec>\d+))?(?P<len>l|h)?"
-                   r"(?P<conv>[a-zA-Z%]?)")
+_SPEC = re.compile(
+    r"%(?P<flags>[-+ #0]*)(?P<width>\d*)(?:\.(?P<prec>\d+))?(?P<len>l|h)?"
+    r"(?P<conv>[a-zA-Z%]?)"
+)
 
 CONVERSIONS = frozenset("dixXugGfeEsc")
 INT_CONVERSIONS = frozenset("dixXuc")
@@ -57,16 +59,26 @@ def parse_format(fmt: str) -> tuple[list[str | Conversion], list[FormatIssue]]:
             continue
         if conv == "" or conv not in CONVERSIONS:
             shown = m.group(0) if conv else "%"
-            issues.append(FormatIssue(f"unknown conversion '{shown}' in the format "
-                                      "(use %d, %ld, %u, %x, %g or %s; '%%' prints '%')", i))
+            issues.append(
+                FormatIssue(
+                    f"unknown conversion '{shown}' in the format "
+                    "(use %d, %ld, %u, %x, %g or %s; '%%' prints '%')",
+                    i,
+                )
+            )
             text += m.group(0)
             i = m.end()
             continue
         if last_end == i:
             prev = parts[-1]
             assert isinstance(prev, Conversion)
-            issues.append(FormatIssue(f"conversions '{prev.text}{m.group(0)}' must be separated "
-                                      "by a space (manual §2.4.2)", i))
+            issues.append(
+                FormatIssue(
+                    f"conversions '{prev.text}{m.group(0)}' must be separated "
+                    "by a space (manual §2.4.2)",
+                    i,
+                )
+            )
         if text:
             parts.append(text)
             text = ""

@@ -77,6 +77,21 @@ class LabelSym:
     block: tuple[n.Item, ...]
     index: int
 
+    def landing(self, offset: int) -> str:
+        """'' if `label[offset]` starts a statement (or leaves this block), else where it lands."""
+        start = 0
+        for item in self.block[self.index + 1 :]:
+            units = code_units(item)
+            if start == offset and units:
+                return ""
+            if start < offset < start + units:
+                return (
+                    f"the statement at line {item.pos.line} ({units} code units starting at "
+                    f"{self.name}[{start}])"
+                )
+            start += units
+        return ""
+
 
 @dataclass(slots=True)
 class Symbols:
@@ -95,6 +110,28 @@ class Symbols:
     def symbol_of(self, node: object) -> object:
         """The VarSym, ProcSym, LabelSym or SysVar a node's name resolved to, or None."""
         return self.resolved.get(id(node))
+
+
+def describe(kind: str | None) -> str:
+    """'an integer', 'a float pointer', ... for an operand kind (see check_stmt)."""
+    return {
+        "int": "an integer",
+        "float": "a float",
+        "ptr:long": "a long pointer",
+        "ptr:float": "a float pointer",
+        "state": "a state",
+        "addr": "an address constant",
+        "string": "a string",
+    }.get(kind or "", "a value")
+
+
+def sym_kind_text(sym: VarSym) -> str:
+    """'a long variable', 'a float pointer', 'a state' for messages."""
+    if sym.pointer:
+        return f"a {sym.type} pointer"
+    if sym.type in ("state", "instate"):
+        return "a state"
+    return f"a {sym.type} variable"
 
 
 def code_units(item: n.Item) -> int:

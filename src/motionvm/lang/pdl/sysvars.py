@@ -50,10 +50,10 @@ _VARIABLES: list[tuple[str, str, int, bool, str]] = [
     ("task_num", "long", 1, True, "number (0..3) of the executing task"),
     ("task_prior", "long", 4, False, "phases per scheduling cycle of each task (<= 0 means 1)"),
 ]
-_VARIABLES += [(f"ltest{i}", "long", 1, False, "host-visible test variable") for i in
-               range(1, 17)]
-_VARIABLES += [(f"ff{i}", "float", 1, False, "host-visible float test variable") for i in
-               range(1, 17)]
+_VARIABLES += [(f"ltest{i}", "long", 1, False, "host-visible test variable") for i in range(1, 17)]
+_VARIABLES += [
+    (f"ff{i}", "float", 1, False, "host-visible float test variable") for i in range(1, 17)
+]
 
 _STATES: list[tuple[str, bool, str]] = [
     ("x_run", True, "X axis is moving"),

@@ -1,0 +1,391 @@
+"""A simulated CiA 402 servo drive behind an object dictionary, stepped once per cycle.
+
+The master (the controller) writes the RxPDO objects (controlword 0x6040, modes of
+operation 0x6060, target position/velocity/torque) with `write`, calls `step(dt)` once
+per bus cycle, and reads the TxPDO objects (statusword 0x6041, actual values, digital
+inputs) with `read`. Objects are plain attributes too, for a fast cyclic path.
+
+Power drive state machine (CiA 402 figure "state machine", transitions 0-16):
+
+    Not ready to switch on --(boot_cycles)--> Switch on disabled --shutdown--> Ready to
+    switch on --switch on (switch_on_cycles)--> Switched on --enable operation
+    (enable_cycles)--> Operation enabled --quick stop--> Quick stop active; any fault
+    --> Fault reaction active --(stopped)--> Fault --fault reset rising edge--> Switch
+    on disabled. Disable voltage, shutdown and disable operation go back as specified.
+
+A transition with a delay happens when its command has been present for that many
+consecutive steps (a real drive closes its main contactor, releases the brake ...).
+Modes: 8 CSP, 9 CSV, 10 CST; 6 (homing) is accepted and holds the position, the homing
+itself being the master's job. Quick stop and the fault reaction ramp the speed down at
+0x6085 [counts/s^2]; an encoder loss disables at once. Positions are int32 counts that
+wrap; the drive unwraps the target so a move through the wrap point is continuous.
+"""
+
+from __future__ import annotations
+
+import math
+
+from motionvm.drives import mechanics as mech_models
+from motionvm.drives import objects as od
+from motionvm.drives.objects import Command, SdoAbort, State, decode_command, wrap_i32
+from motionvm.drives.sensors import Sensors
+
+_SETTLED = (  # states left only by a new command
+    State.SWITCH_ON_DISABLED, State.READY_TO_SWITCH_ON, State.SWITCHED_ON, State.OPERATION_ENABLED
+)  # fmt: skip
+_CYCLIC_MODES = (od.MODE_CSP, od.MODE_CSV, od.MODE_CST)
+_SW_BASE = {
+    s.value: s.value
+    | (0 if s is State.NOT_READY_TO_SWITCH_ON else od.SW_VOLTAGE_ENABLED | od.SW_REMOTE)
+    for s in State
+}
+_OFF = (Command.DISABLE_VOLTAGE, Command.QUICK_STOP)
+
+
+class Cia402Drive:
+    """One servo drive: object dictionary, power state machine, modes, mechanics, sensors."""
+
+    KEYS = frozenset({
+        "mechanics", "boot_cycles", "switch_on_cycles", "enable_cycles", "rated_torque",
+        "max_torque", "quick_stop_decel", "quick_stop_option", "following_error_window",
+        "position", "negative_limit", "positive_limit", "home_low", "home_high",
+        "index_spacing", "index_offset",
+    })  # fmt: skip
+
+    def __init__(
+        self,
+        mechanics=None,
+        sensors: Sensors | None = None,
+        *,
+        boot_cycles: int = 2,
+        switch_on_cycles: int = 2,
+        enable_cycles: int = 4,
+        rated_torque: float = 1.0,
+        max_torque: int = 3000,
+        quick_stop_decel: int = 10_000_000,
+        quick_stop_option: int = 2,
+        following_error_window: int = 0xFFFFFFFF,
+        position: float = 0.0,
+    ):
+        """Delays in steps; `rated_torque` [N*m]; `max_torque` [per mille of rated];
+        `quick_stop_decel` [counts/s^2]; `position` the motor's start position [counts]."""
+        self.mechanics = mechanics or mech_models.IdealMechanics()
+        self.sensors = sensors or Sensors()
+        self.boot_cycles = boot_cycles
+        self.switch_on_cycles = switch_on_cycles
+        self.enable_cycles = enable_cycles
+        self.rated_torque_nm = rated_torque
+        self._per_mille_per_nm = 1000.0 / rated_torque
+        # objects (attribute names as in objects.DICTIONARY)
+        self.device_type = 0x00020192
+        self.supported_modes = od.SUPPORTED_MODES_VALUE
+        self.rated_torque = round(rated_torque * 1000.0)  # [mN*m]
+        self.max_torque = max_torque
+        self.quick_stop_decel = quick_stop_decel
+        self.quick_stop_option = quick_stop_option
+        self.following_error_window = following_error_window
+        self.controlword = 0
+        self.statusword = 0
+        self.mode = 0
+        self.mode_display = 0
+        self.target_position = 0
+        self.target_velocity = 0
+        self.target_torque = 0
+        self.error_code = od.ERR_NONE
+        self.state = State.NOT_READY_TO_SWITCH_ON
+        """The power drive state (what the statusword shows)."""
+        self._cw_prev = 0
+        self._settled: State | None = None
+        self._timer = 0
+        self._fault: int | None = None
+        self._encoder_lost = False
+        self._ramp_vel = 0.0
+        self._stopped = False
+        self._r = 0.0  # unwrapped demand [counts]
+        self._target_prev = 0
+        self._mode_prev = 0
+        self.mechanics.set_position(position)
+        self._x_prev = float(position)
+        self._enc = round(position)  # unwrapped encoder count
+        self.position_actual = wrap_i32(self._enc)
+        self.position_demand = self.position_actual
+        self.velocity_actual = 0
+        self.torque_actual = 0
+        self.following_error = 0
+        self.digital_inputs = self.sensors.update(self._x_prev, self._x_prev)
+        self._update_statusword()
+
+    @classmethod
+    def create(cls, config: dict) -> Cia402Drive:
+        """Build a drive from a config table; bad keys and values are named in the error."""
+        cfg = mech_models.Config(config, "drive", cls.KEYS)
+        mech_config = config.get("mechanics", {"model": "ideal"})
+        mechanics = mech_models.create(mech_config)
+        sensors = Sensors.from_config(cfg)
+        option = cfg.integer("quick_stop_option", 2, 0)
+        if option > 8:
+            raise ValueError(f"drive: quick_stop_option = {option!r} is not in 0..8")
+        return cls(
+            mechanics,
+            sensors,
+            boot_cycles=cfg.integer("boot_cycles", 2, 1),
+            switch_on_cycles=cfg.integer("switch_on_cycles", 2, 1),
+            enable_cycles=cfg.integer("enable_cycles", 4, 1),
+            rated_torque=cfg.number("rated_torque", 1.0),
+            max_torque=cfg.integer("max_torque", 3000, 0),
+            quick_stop_decel=cfg.integer("quick_stop_decel", 10_000_000, 1),
+            quick_stop_option=option,
+            following_error_window=cfg.integer("following_error_window", 0xFFFFFFFF, 0),
+            position=cfg.number("position", 0.0, low=-math.inf, strict=False),
+        )
+
+    # ---- SDO-style access -----------------------------------------------------------
+
+    def read(self, index: int, subindex: int = 0) -> int:
+        """Value of object `index`:`subindex` (all objects here have subindex 0 only)."""
+        entry = od.DICTIONARY.get(index)
+        if entry is None:
+            raise SdoAbort(SdoAbort.NO_OBJECT, f"object 0x{index:04X} does not exist")
+        if subindex != 0:
+            raise SdoAbort(SdoAbort.NO_SUBINDEX, f"object 0x{index:04X} has no subindex {subindex}")
+        return getattr(self, entry.attr)
+
+    def write(self, index: int, subindex: int, value: int) -> None:
+        """Write object `index`:`subindex`; refused (SdoAbort) if read-only or out of range."""
+        entry = od.DICTIONARY.get(index)
+        if entry is None:
+            raise SdoAbort(SdoAbort.NO_OBJECT, f"object 0x{index:04X} does not exist")
+        if subindex != 0:
+            raise SdoAbort(SdoAbort.NO_SUBINDEX, f"object 0x{index:04X} has no subindex {subindex}")
+        if not entry.writable:
+            raise SdoAbort(SdoAbort.READ_ONLY, f"{entry.name} (0x{index:04X}) is read-only")
+        low, high = od.RANGES[entry.dtype]
+        if not isinstance(value, int) or not low <= value <= high:
+            raise SdoAbort(
+                SdoAbort.RANGE, f"{entry.name} (0x{index:04X}) = {value!r} is not in {low}..{high}"
+            )
+        if index == od.MODES_OF_OPERATION and value not in od.MODES:
+            raise SdoAbort(SdoAbort.RANGE, f"mode of operation {value} is not supported")
+        setattr(self, entry.attr, value)
+
+    # touch probe objects live in the sensors
+    tp_function = property(lambda self: self.sensors.tp_function,
+                           lambda self, v: setattr(self.sensors, "tp_function", v))  # fmt: skip
+    tp_status = property(lambda self: self.sensors.tp_status)
+    tp1_positive_edge = property(lambda self: self.sensors.latched[0])
+    tp1_negative_edge = property(lambda self: self.sensors.latched[1])
+    tp2_positive_edge = property(lambda self: self.sensors.latched[2])
+    tp2_negative_edge = property(lambda self: self.sensors.latched[3])
+
+    # ---- faults for tests -----------------------------------------------------------
+
+    def inject_fault(self, code: int = od.ERR_GENERIC) -> None:
+        """Raise a drive fault with error code `code`: fault reaction, then Fault."""
+        if self._fault is None:
+            self._fault = code
+
+    def encoder_loss(self) -> None:
+        """Lose the encoder: the actual position freezes and the drive faults (0x7305)."""
+        self._encoder_lost = True
+        self.inject_fault(od.ERR_ENCODER)
+
+    def encoder_restore(self) -> None:
+        """Reconnect the encoder; a fault reset can then clear the fault."""
+        self._encoder_lost = False
+
+    # ---- the cycle ------------------------------------------------------------------
+
+    def step(self, dt: float) -> None:
+        """Advance one bus cycle of `dt` [s]: state machine, motion, feedback objects."""
+        cw = self.controlword
+        state = self.state
+        if cw == self._cw_prev and state is self._settled and self._fault is None:
+            # fast path: the same command already left this state as it is
+            self._move(state, dt)
+            self._feedback()
+            return
+        reset_edge = bool(cw & 0x80) and not self._cw_prev & 0x80
+        self._cw_prev = cw
+        before = state
+        if self._fault is not None and state not in (
+            State.FAULT_REACTION_ACTIVE, State.FAULT, State.NOT_READY_TO_SWITCH_ON
+        ):  # fmt: skip
+            self.error_code = self._fault
+            state = self._enter_ramp(State.FAULT_REACTION_ACTIVE)
+        elif state is State.NOT_READY_TO_SWITCH_ON:
+            self._timer += 1
+            if self._timer >= self.boot_cycles:
+                state = State.SWITCH_ON_DISABLED
+                self._timer = 0
+        elif state is State.FAULT:
+            if reset_edge and not self._encoder_lost:
+                self._fault = None
+                self.error_code = od.ERR_NONE
+                state = State.SWITCH_ON_DISABLED
+        elif state is not State.FAULT_REACTION_ACTIVE:
+            state = self._transition(state, decode_command(cw))
+        self.state = state
+        # a command that changed nothing and waits for nothing will not act again
+        settled = state is before and self._timer == 0 and state in _SETTLED
+        self._settled = state if settled else None
+        self._move(state, dt)
+        self._feedback()
+
+    def _transition(self, state: State, cmd: Command | None) -> State:
+        waiting = False
+        if state is State.SWITCH_ON_DISABLED:
+            if cmd is Command.SHUTDOWN:
+                state = State.READY_TO_SWITCH_ON
+        elif state is State.READY_TO_SWITCH_ON:
+            if cmd in (Command.SWITCH_ON, Command.ENABLE_OPERATION):
+                waiting = True
+                if self._wait(self.switch_on_cycles):
+                    state = State.SWITCHED_ON
+            elif cmd in _OFF:
+                state = State.SWITCH_ON_DISABLED
+        elif state is State.SWITCHED_ON:
+            if cmd is Command.ENABLE_OPERATION:
+                waiting = True
+                if self._wait(self.enable_cycles):
+                    state = State.OPERATION_ENABLED
+                    self._enter_operation()
+            elif cmd is Command.SHUTDOWN:
+                state = State.READY_TO_SWITCH_ON
+            elif cmd in _OFF:
+                state = State.SWITCH_ON_DISABLED
+        elif state is State.OPERATION_ENABLED:
+            if cmd is Command.SWITCH_ON:
+                state = State.SWITCHED_ON
+            elif cmd is Command.SHUTDOWN:
+                state = State.READY_TO_SWITCH_ON
+            elif cmd is Command.DISABLE_VOLTAGE:
+                state = State.SWITCH_ON_DISABLED
+            elif cmd is Command.QUICK_STOP:
+                state = self._enter_ramp(State.QUICK_STOP_ACTIVE)
+        elif state is State.QUICK_STOP_ACTIVE:
+            if cmd is Command.DISABLE_VOLTAGE:
+                state = State.SWITCH_ON_DISABLED
+            elif cmd is Command.ENABLE_OPERATION and self.quick_stop_option >= 5:
+                state = State.OPERATION_ENABLED
+                self._enter_operation()
+        if not waiting:
+            self._timer = 0
+        return state
+
+    def _wait(self, cycles: int) -> bool:
+        self._timer += 1
+        if self._timer >= cycles:
+            self._timer = 0
+            return True
+        return False
+
+    def _enter_operation(self) -> None:
+        """Start from the actual position; CSP takes over its target at the next step."""
+        self._r = self.mechanics.position
+        self._mode_prev = -1
+
+    def _take_target(self) -> None:
+        """Unwrap 0x607A next to the actual position, so no wrap turn is added."""
+        self._r = float(self._enc + wrap_i32(self.target_position - self.position_actual))
+        self._target_prev = self.target_position
+
+    def _enter_ramp(self, state: State) -> State:
+        self._ramp_vel = self.mechanics.velocity
+        self._r = self.mechanics.position
+        self._stopped = False
+        if state is State.QUICK_STOP_ACTIVE and self.quick_stop_option == 0:
+            return State.SWITCH_ON_DISABLED
+        return state
+
+    def _move(self, state: State, dt: float) -> None:
+        m = self.mechanics
+        if state is State.OPERATION_ENABLED:
+            mode = self.mode
+            if mode == od.MODE_CSP:
+                if self._mode_prev != od.MODE_CSP:
+                    self._take_target()
+                self._r += wrap_i32(self.target_position - self._target_prev)
+                self._target_prev = self.target_position
+                m.step_position(self._r, dt)
+            elif mode == od.MODE_CSV:
+                m.step_velocity(float(self.target_velocity), dt)
+                self._r = m.position
+            elif mode == od.MODE_CST:
+                limit = self.max_torque
+                per_mille = max(-limit, min(limit, self.target_torque))
+                m.step_torque(per_mille * self.rated_torque_nm / 1000.0, dt)
+                self._r = m.position
+            else:  # no mode, or homing left to the master: hold
+                if self._mode_prev in (od.MODE_CSV, od.MODE_CST):
+                    self._r = m.position
+                m.step_position(self._r, dt)
+            self._mode_prev = mode
+            self.mode_display = mode
+        elif state in (State.QUICK_STOP_ACTIVE, State.FAULT_REACTION_ACTIVE):
+            if state is State.FAULT_REACTION_ACTIVE and self._encoder_lost:
+                self._stopped = True
+            if not self._stopped:
+                v_0 = self._ramp_vel
+                dv = self.quick_stop_decel * dt
+                v_1 = 0.0 if abs(v_0) <= dv else v_0 - math.copysign(dv, v_0)
+                self._r += 0.5 * (v_0 + v_1) * dt
+                self._ramp_vel = v_1
+                m.step_position(self._r, dt)
+                self._stopped = v_1 == 0.0
+            elif state is State.QUICK_STOP_ACTIVE:
+                m.step_position(self._r, dt)
+            else:
+                m.step_free(dt)
+            if self._stopped:
+                if state is State.FAULT_REACTION_ACTIVE:
+                    self.state = State.FAULT
+                elif self.quick_stop_option < 5:
+                    self.state = State.SWITCH_ON_DISABLED
+            self.mode_display = self.mode
+        else:
+            m.step_free(dt)
+            self._r = m.position
+            self.mode_display = self.mode
+
+    def _feedback(self) -> None:
+        m = self.mechanics
+        x = m.position
+        if not self._encoder_lost:
+            self._enc = enc = round(x)
+            self.position_actual = ((enc + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+            vel = round(m.velocity)
+            self.velocity_actual = ((vel + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+        else:
+            enc = self._enc
+            self.velocity_actual = 0
+        torque = round(m.torque * self._per_mille_per_nm)
+        self.torque_actual = (
+            torque if -32768 <= torque <= 32767 else max(-32768, min(32767, torque))
+        )
+        enabled = self.state is State.OPERATION_ENABLED
+        demand = round(self._r) if enabled else enc
+        self.position_demand = ((demand + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+        self.following_error = fe = ((demand - enc + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+        s = self.sensors
+        if s.has_switches or s.tp_function or s.tp_status:
+            self.digital_inputs = s.update(self._x_prev, x)
+        else:
+            self.digital_inputs = s.external
+        self._x_prev = x
+        if enabled and abs(fe) > self.following_error_window and self.mode == od.MODE_CSP:
+            self.inject_fault(od.ERR_FOLLOWING)
+        self._update_statusword()
+
+    def _update_statusword(self) -> None:
+        state = self.state
+        sw = _SW_BASE[state._value_]  # keyed by value: an enum member hashes slowly
+        if state is State.OPERATION_ENABLED:
+            if self.mode in _CYCLIC_MODES:
+                sw |= od.SW_FOLLOWS_TARGET
+            if abs(self.torque_actual) >= self.max_torque > 0:
+                sw |= od.SW_INTERNAL_LIMIT
+            if self._fault == od.ERR_FOLLOWING:
+                sw |= od.SW_FOLLOWING_ERROR
+        elif state is State.QUICK_STOP_ACTIVE and self._stopped:
+            sw |= od.SW_TARGET_REACHED
+        self.statusword = sw

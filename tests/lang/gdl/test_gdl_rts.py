@@ -1,0 +1,226 @@
+"""GDL RTS: determinism, jumping the clock, forcing, runaway activations, scenario errors."""
+
+from __future__ import annotations
+
+import io
+from pathlib import Path
+
+import pytest
+
+from motionvm.lang.gdl import compile_app, main_run, run_app
+from motionvm.lang.gdl import rts as rts_module
+from motionvm.lang.gdl.app import App
+from motionvm.lang.gdl.driver import run_scenario
+from motionvm.lang.gdl.rts import Rts, format_time
+from motionvm.lang.gdl.scenario import load_scenario
+from motionvm.source.diagnostics import DiagnosticSink
+
+PROGRAMS = Path(__file__).resolve().parents[2] / "programs" / "gdl"
+
+TOGGLE = """MODULE m;
+  DIGITAL$FLAG flip [ ];
+  DIGITAL$VARIABLE memo [ ];
+  IO$BOARD io [ SLOT = 1 ];
+  DIGITAL$INPUT go [ BOARD$NAME = io, CHANNEL = 1 ];
+  PROCEDURE loop;
+  DECLARE { STATUS OF flip, STATUS OF go };
+  BEGIN
+    STATUS OF flip = NOT STATUS OF flip;
+  END$PROCEDURE;
+END$MODULE;
+"""
+
+
+def _app(tmp_path: Path, text: str) -> App:
+    path = tmp_path / "app.gdl"
+    path.write_text(text)
+    sink = DiagnosticSink()
+    app = compile_app([str(path)], sink=sink)
+    assert app is not None, [d.headline() for d in sink.items]
+    return app
+
+
+def _scenario(tmp_path: Path, text: str) -> str:
+    path = tmp_path / "s.toml"
+    path.write_text(text)
+    return str(path)
+
+
+def test_gdl_time_format_is_exact() -> None:
+    assert [format_time(c) for c in (0, 1, 999, 1000, 123456)] == [
+        "0.000",
+        "0.001",
+        "0.999",
+        "1.000",
+        "123.456",
+    ]
+
+
+@pytest.mark.parametrize("name", ["motion", "packer", "queue"])
+def test_gdl_jumping_the_clock_equals_stepping(name: str, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.chdir(PROGRAMS)
+    sink = DiagnosticSink()
+    app = compile_app([f"{name}.gdl"], sink=sink)
+    assert app is not None
+    outputs = []
+    for jump in (True, False):
+        out = io.StringIO()
+        rts = Rts(app, out, out)
+        run_scenario(rts, load_scenario(f"{name}.toml", app), None, jump=jump)
+        outputs.append((out.getvalue(), rts.cycle))
+    assert outputs[0] == outputs[1]
+
+
+def test_gdl_runs_are_deterministic(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.chdir(PROGRAMS)
+    runs = []
+    for _ in range(2):
+        out = io.StringIO()
+        main_run(["motion.gdl"], "motion.toml", None, out, out)
+        runs.append(out.getvalue())
+    assert runs[0] == runs[1]
+
+
+def test_gdl_runaway_activations_are_stopped(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setattr(rts_module, "MAX_RUNS_PER_CYCLE", 3)
+    app = _app(tmp_path, TOGGLE)
+    s = _scenario(
+        tmp_path,
+        '[[event]]\nat = 0.5\nset = "STATUS OF go"\nvalue = "ON"\n'
+        '[[event]]\nat = 0.6\nset = "STATUS OF go"\nvalue = "OFF"\n',
+    )
+    out = io.StringIO()
+    assert run_app(app, s, None, out) == 1
+    lines = out.getvalue().splitlines()
+    assert lines[:4] == [
+        "t=0.500 input STATUS OF go = ON",
+        "t=0.500 run loop",
+        "t=0.500 set STATUS OF flip = ON",
+        "t=0.500 run loop",
+    ]
+    assert lines[7].endswith(
+        "runtime error in procedure loop: more than 3 procedure runs at "
+        "t=0.500: procedures keep triggering each other (ready queue "
+        "cleared)"
+    )
+    assert lines[8] == "t=0.600 input STATUS OF go = OFF"
+
+
+def test_gdl_force_api_and_release(tmp_path: Path) -> None:
+    app = _app(tmp_path, TOGGLE)
+    out = io.StringIO()
+    rts = Rts(app, out, out)
+    flip, memo, go = (app.objects[k] for k in ("flip", "memo", "go"))
+    rts.force(memo, "VALUE", 0, True)
+    rts.write(memo, "VALUE", 0, False, "set")
+    assert rts.read(memo, "VALUE", 0) is True
+    rts.release(memo, "VALUE", 0)
+    assert rts.read(memo, "VALUE", 0) is False
+    rts.force(go, "STATUS", 0, True)
+    assert list(rts.ready) == [app.procedures[0]]
+    assert flip.type.state("STATUS").forceable
+    assert out.getvalue().splitlines() == [
+        "t=0.000 force VALUE OF memo = ON",
+        "t=0.000 release VALUE OF memo = OFF",
+        "t=0.000 force STATUS OF go = ON",
+    ]
+
+
+def test_gdl_force_refuses_variables_without_f(tmp_path: Path) -> None:
+    app = _app(
+        tmp_path,
+        TOGGLE.replace("DIGITAL$VARIABLE memo [ ];", "INTEGER$CONSTANT memo [ VALUE = 1 ];"),
+    )
+    rts = Rts(app, io.StringIO(), io.StringIO())
+    with pytest.raises(ValueError, match="VALUE of INTEGER\\$CONSTANT cannot be forced"):
+        rts.force(app.objects["memo"], "VALUE", 0, 2)
+
+
+def test_gdl_force_from_the_command_line(tmp_path: Path) -> None:
+    path = tmp_path / "app.gdl"
+    path.write_text(TOGGLE)
+    out = io.StringIO()
+    assert (
+        main_run([str(path)], None, 0.01, out, io.StringIO(), forces=["STATUS OF flip = ON"]) == 0
+    )
+    assert out.getvalue().splitlines() == ["t=0.000 force STATUS OF flip = ON", "t=0.000 run loop"]
+    err = io.StringIO()
+    assert main_run([str(path)], None, 0.01, io.StringIO(), err, forces=["VALUE OF memo"]) == 3
+    assert "write --force 'KEYWORD OF object = value'" in err.getvalue()
+
+
+def test_gdl_until_ends_the_run(tmp_path: Path) -> None:
+    app = _app(tmp_path, TOGGLE)
+    s = _scenario(
+        tmp_path, 'until = 0.2\n[[event]]\nat = 0.3\nset = "VALUE OF memo"\nvalue = "ON"\n'
+    )
+    out = io.StringIO()
+    assert run_app(app, s, None, out) == 0
+    assert out.getvalue() == ""
+    assert run_app(app, s, 0.3, out) == 0
+    assert out.getvalue() == "t=0.300 input VALUE OF memo = ON\n"
+
+
+@pytest.mark.parametrize(
+    ("toml", "message"),
+    [
+        ("[[event]\n", "not valid TOML"),
+        ("speed = 3\n", "unknown key 'speed'"),
+        (
+            '[[event]]\nat = 0.1\nset = "STATUS OF gone"\nvalue = "ON"\n',
+            "event 1: unknown object 'gone'",
+        ),
+        (
+            '[[event]]\nat = 0.1\nset = "STATUS OF go"\nvalue = 3\n',
+            "event 1: STATUS OF go takes ON or OFF, not 3",
+        ),
+        (
+            '[[event]]\nat = 0.1\nset = "STATUS OF go{2}"\nvalue = "ON"\n',
+            "event 1: index 2 of go is outside none: it is not an array",
+        ),
+        (
+            '[[event]]\nat = 0.1\nset = "SPEED OF go"\nvalue = "ON"\n',
+            "event 1: DIGITAL$INPUT has no state variable SPEED",
+        ),
+        ('[[event]]\nat = 0.1\nforce = "DIAGN$STATUS OF io"\nvalue = "FAULT"\n', ""),
+        (
+            '[[event]]\nat = -1\nset = "STATUS OF go"\nvalue = "ON"\n',
+            "event 1: 'at' must be a number of seconds >= 0, not -1",
+        ),
+        (
+            '[[event]]\nat = 0.1\nset = "STATUS OF go"\nvalue = "ON"\nduring = "loop"\n',
+            "event 1: 'during' and 'line' go together",
+        ),
+        (
+            '[[event]]\nat = 0.1\nset = "STATUS OF go"\nvalue = "ON"\nduring = "nope"\nline = 3\n',
+            "event 1: unknown procedure 'nope'",
+        ),
+        (
+            '[[event]]\nat = 0.1\nset = "STATUS OF go"\nforce = "STATUS OF go"\nvalue = "ON"\n',
+            "event 1: give exactly one of set, force, release",
+        ),
+        ('[initial]\n"STATUS go" = "ON"\n', "'STATUS go' is not 'KEYWORD OF object'"),
+    ],
+)
+def test_gdl_bad_scenarios_exit_3(tmp_path: Path, toml: str, message: str) -> None:
+    app = _app(tmp_path, TOGGLE)
+    out = io.StringIO()
+    rc = run_app(app, _scenario(tmp_path, toml), None, out)
+    if not message:  # DIAGN$STATUS of IO$BOARD has access rf: forcing is allowed
+        assert rc == 0
+        return
+    assert rc == 3
+    assert message in out.getvalue()
+
+
+def test_gdl_scenario_refuses_to_change_a_constant(tmp_path: Path) -> None:
+    app = _app(
+        tmp_path,
+        TOGGLE.replace("DIGITAL$VARIABLE memo [ ];", "INTEGER$CONSTANT memo [ VALUE = 1 ];"),
+    )
+    out = io.StringIO()
+    s = _scenario(tmp_path, '[[event]]\nat = 0\nset = "VALUE OF memo"\nvalue = 2\n')
+    assert run_app(app, s, None, out) == 3
+    assert "memo is an INTEGER$CONSTANT: it never changes" in out.getvalue()
