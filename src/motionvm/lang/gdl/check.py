@@ -160,7 +160,10 @@ class AppChecker:
             spec = t.param(pa.keyword)
             if spec is None:
                 hint = did_you_mean(pa.keyword, [p.keyword for p in t.params])
-                self.sink.error(pa.pos, f"{t.name} has no parameter {pa.keyword}{hint}")
+                extra = (
+                    " (objects of this type cannot be arrays)" if pa.keyword == "ARRAY$SIZE" else ""
+                )
+                self.sink.error(pa.pos, f"{t.name} has no parameter {pa.keyword}{hint}{extra}")
                 continue
             if pa.keyword in info.param_pos:
                 self.sink.error(

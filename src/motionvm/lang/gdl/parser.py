@@ -81,7 +81,15 @@ class Parser:
     def _expect(self, text: str, context: str) -> Token:
         if self._is(text):
             return self._advance()
-        raise self._fail(f"expected '{text}' {context}, found {self.tok.describe()}")
+        message = f"expected '{text}' {context}, found {self.tok.describe()}"
+        prev = self.toks[self.k - 1] if self.k > 0 else None
+        if prev is not None and prev.kind != "string":
+            if prev.pos.line != self.tok.pos.line:
+                # Something forgotten at the end of a line: point there, not at the next line.
+                end = SourcePos(prev.pos.file, prev.pos.line, prev.pos.col + len(prev.text))
+                self._error(end, message)
+                raise ParseError(message)
+        raise self._fail(message)
 
     def _sync(self) -> None:
         """Skip to just after the next ';', or to a block keyword, or to end of file."""

@@ -859,8 +859,20 @@ class Parser:
     # BNF:     (C precedence, all left-associative, loosest first: || ; && ; | ; ^ ; & ;
     # BNF:      == != ; < > <= >= ; << >> ; + - ; * / %)
     def _parse_binary_expression(self, min_prec: int) -> n.Expr:
-        left = self._parse_cast_expression()
         keys = self.keys
+        i = self.i
+        kind = self.kinds[i]
+        if kind == "name" and keys[i + 1] not in POSTFIX_START:
+            # the common operand, a plain name: skip the cast/unary/postfix/primary chain
+            t = self.toks[i]
+            left: n.Expr = n.Name(t.pos, t.text)
+            self.i = i + 1
+        elif kind == "int" and keys[i + 1] not in POSTFIX_START:
+            t = self.toks[i]
+            left = n.IntLit(t.pos, t.value, t.suffix)  # type: ignore[arg-type]
+            self.i = i + 1
+        else:
+            left = self._parse_cast_expression()
         while True:
             op = keys[self.i]
             prec = BINARY_PREC.get(op)
