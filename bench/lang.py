@@ -29,10 +29,13 @@ def kernel(name: str, hmpl: str):
     return reg
 
 
-@kernel("fib", """
+@kernel(
+    "fib",
+    """
 int fib(int n) { if (n < 2) return n; return fib(n - 1) + fib(n - 2); }
 void main() { system_ltest0 = fib(22); }
-""")
+""",
+)
 def py_fib():
     def fib(n):
         if n < 2:
@@ -42,7 +45,9 @@ def py_fib():
     return fib(22)
 
 
-@kernel("sieve", """
+@kernel(
+    "sieve",
+    """
 char flags[60001];
 void main() {
     int count = 0;
@@ -58,7 +63,8 @@ void main() {
     }
     system_ltest0 = count;
 }
-""")
+""",
+)
 def py_sieve():
     count = 0
     for _rep in range(3):
@@ -72,7 +78,9 @@ def py_sieve():
     return count
 
 
-@kernel("bubble", """
+@kernel(
+    "bubble",
+    """
 int a[400];
 void main() {
     int seed = 12345;
@@ -84,7 +92,8 @@ void main() {
     }
     system_ltest0 = a[0];
 }
-""")
+""",
+)
 def py_bubble():
     seed = 12345
     a = []
@@ -100,7 +109,9 @@ def py_bubble():
     return a[0]
 
 
-@kernel("strings", """
+@kernel(
+    "strings",
+    """
 char buf[512];
 char part[64];
 void main() {
@@ -115,7 +126,8 @@ void main() {
     }
     system_ltest0 = total;
 }
-""")
+""",
+)
 def py_strings():
     total = 0
     for rep in range(400):
@@ -127,7 +139,9 @@ def py_strings():
     return total
 
 
-@kernel("float", """
+@kernel(
+    "float",
+    """
 void main() {
     double x = 0.0, v = 1.0, k = 0.001, dt = 0.001, e = 0.0;
     for (int i = 0; i < 200000; i++) {
@@ -138,7 +152,8 @@ void main() {
     }
     system_dtest0 = e;
 }
-""")
+""",
+)
 def py_float():
     x, v, k, dt, e = 0.0, 1.0, 0.001, 0.001, 0.0
     for _i in range(200000):
@@ -149,7 +164,9 @@ def py_float():
     return e
 
 
-@kernel("pointers", """
+@kernel(
+    "pointers",
+    """
 int data[1000];
 int sum_ptr(int *p, int n) {
     int s = 0;
@@ -163,7 +180,8 @@ void main() {
     for (int rep = 0; rep < 100; rep++) total += sum_ptr(data, 1000);
     system_ltest0 = total;
 }
-""")
+""",
+)
 def py_pointers():
     data = list(range(1000))
 
@@ -191,8 +209,15 @@ def run_hmpl(src: str) -> float:
         raise SystemExit(2)
     ctl = Controller(0.001)
     lines: list[str] = []
-    rt = HmplRuntime(ctl, prog, mem, emit=lines.append, report=lambda s: print(s, file=sys.stderr),
-                     data_dir=".", task_slice=1_000_000)
+    rt = HmplRuntime(
+        ctl,
+        prog,
+        mem,
+        emit=lines.append,
+        report=lambda s: print(s, file=sys.stderr),
+        data_dir=".",
+        task_slice=1_000_000,
+    )
     ctl.clients.append(rt)
     t0 = time.perf_counter()
     rt.boot()
@@ -231,10 +256,12 @@ def compile_throughput() -> float:
 """)
     src = "".join(funcs) + "void main() { system_ltest0 = f1(3, 4); }\n"
     nlines = src.count("\n")
+
     def comp():
         sink = DiagnosticSink()
         prog, _ = compile_tasks([TaskFile(0, "<gen>.hmpl", src)], sink)
         assert prog is not None, [d.headline() for d in sink.items]
+
     t = best(comp)
     return nlines / t, nlines
 

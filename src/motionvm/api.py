@@ -24,8 +24,12 @@ from motionvm.source.diagnostics import CompileError, DiagnosticSink
 class Simulation:
     """One controller running one HMPL program (any number of task files)."""
 
-    def __init__(self, tasks: Sequence[TaskFile], machine: MachineConfig = DEFAULT_MACHINE,
-                 data_dir: str | Path | None = None) -> None:
+    def __init__(
+        self,
+        tasks: Sequence[TaskFile],
+        machine: MachineConfig = DEFAULT_MACHINE,
+        data_dir: str | Path | None = None,
+    ) -> None:
         sink = DiagnosticSink()
         prog, mem = compile_tasks(list(tasks), sink)
         if prog is None:
@@ -33,19 +37,28 @@ class Simulation:
         self.messages: list[str] = []
         self.faults: list[str] = []
         self.controller = Controller(machine.cycle_time)
-        folder = Path(data_dir) if data_dir is not None else (machine.data_dir or data_dir_default(None))
-        self.runtime = HmplRuntime(self.controller, prog, mem, emit=self.messages.append,
-                                   report=self.faults.append, data_dir=folder, task_slice=machine.task_slice)
+        folder = (
+            Path(data_dir) if data_dir is not None else (machine.data_dir or data_dir_default(None))
+        )
+        self.runtime = HmplRuntime(
+            self.controller,
+            prog,
+            mem,
+            emit=self.messages.append,
+            report=self.faults.append,
+            data_dir=folder,
+            task_slice=machine.task_slice,
+        )
         self.controller.clients.append(self.runtime)
         self.runtime.boot()
 
     @classmethod
-    def from_files(cls, paths: Sequence[str | Path], **kw) -> "Simulation":
+    def from_files(cls, paths: Sequence[str | Path], **kw) -> Simulation:
         """Files become tasks 0, 1, 2, ... in the order given."""
         return cls([TaskFile(i, str(p)) for i, p in enumerate(paths)], **kw)
 
     @classmethod
-    def from_source(cls, text: str, name: str = "program.hmpl", **kw) -> "Simulation":
+    def from_source(cls, text: str, name: str = "program.hmpl", **kw) -> Simulation:
         return cls([TaskFile(0, name, text)], **kw)
 
     def on_event(self, callback: Callable[[str, object], None]) -> None:

@@ -20,16 +20,25 @@ class UsageError(Exception):
 
 
 def _parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(prog="motionvm", description="A virtual motion controller for HMPL, PDL and GDL programs.")
+    p = argparse.ArgumentParser(
+        prog="motionvm", description="A virtual motion controller for HMPL, PDL and GDL programs."
+    )
     sub = p.add_subparsers(dest="cmd", required=True)
     r = sub.add_parser("run", help="compile and run programs on the simulated machine")
     r.add_argument("files", nargs="*", metavar="FILE")
-    r.add_argument("--machine", metavar="FILE.toml", help="machine file (default: the built-in machine)")
-    r.add_argument("--until", type=float, metavar="SECONDS", help="stop after this much simulated time")
+    r.add_argument(
+        "--machine", metavar="FILE.toml", help="machine file (default: the built-in machine)"
+    )
+    r.add_argument(
+        "--until", type=float, metavar="SECONDS", help="stop after this much simulated time"
+    )
     r.add_argument("--stamp", action="store_true", help="prefix messages with [t=SECONDS][task N]")
-    r.add_argument("--task", action="append", default=[], metavar="N=FILE", help="put FILE on task N")
+    r.add_argument(
+        "--task", action="append", default=[], metavar="N=FILE", help="put FILE on task N"
+    )
     r.add_argument("--realtime", action="store_true", help="pace the simulation to the wall clock")
     r.add_argument("--scenario", metavar="FILE.toml", help="GDL: timed input changes")
+    r.add_argument("--start", metavar="LABEL", help="PDL: start the task at this label")
     c = sub.add_parser("check", help="compile only; report errors")
     c.add_argument("files", nargs="+", metavar="FILE")
     c.add_argument("--task", action="append", default=[], metavar="N=FILE")
@@ -64,15 +73,20 @@ def main(argv: list[str] | None = None) -> int:
         print("motionvm: interrupted", file=sys.stderr)
         return EXIT_RUNTIME
     except Exception:  # noqa: BLE001 — a bug of ours, reported as such
-        print("motionvm: internal error (a bug in motionvm, not in your program); please file an issue "
-              "with this output and the program attached:", file=sys.stderr)
+        print(
+            "motionvm: internal error (a bug in motionvm, not in your program); please file an issue "
+            "with this output and the program attached:",
+            file=sys.stderr,
+        )
         traceback.print_exc()
         return EXIT_INTERNAL
 
 
 def _dispatch(args) -> int:
     files = list(args.files)
-    langs = {Path(f).suffix.lower() for f in files} | {Path(t.partition("=")[2]).suffix.lower() for t in args.task}
+    langs = {Path(f).suffix.lower() for f in files} | {
+        Path(t.partition("=")[2]).suffix.lower() for t in args.task
+    }
     if not files and not args.task:
         raise UsageError("no input files")
     unknown = langs - {".hmpl", ".pdl", ".gdl"}
@@ -82,8 +96,12 @@ def _dispatch(args) -> int:
         return _gdl(args, files)
     if ".gdl" in langs:
         raise UsageError("GDL files cannot be mixed with HMPL or PDL files in one run")
+    if langs == {".pdl"}:
+        return _pdl(args, files)
     if ".pdl" in langs:
-        raise UsageError("the PDL run time is not available yet (issue 4)")
+        raise UsageError(
+            "PDL files run on a drive of their own: run them without HMPL files (a machine file will combine them)"
+        )
     from motionvm.hmpl_cli import hmpl_command
 
     return hmpl_command(args)
@@ -97,8 +115,47 @@ def _gdl(args, files: list[str]) -> int:
     if args.cmd == "check":
         return gdl_cli.main_check(files, sys.stdout, sys.stderr)
     if args.cmd == "run":
-        return gdl_cli.main_run(files, getattr(args, "scenario", None), args.until, sys.stdout, sys.stderr)
+        return gdl_cli.main_run(
+            files, getattr(args, "scenario", None), args.until, sys.stdout, sys.stderr
+        )
     raise UsageError("'compile' supports HMPL files only")
+
+
+def _pdl(args, files: list[str]) -> int:
+    try:
+        from motionvm.lang.pdl import cli as pdl_cli
+    except ImportError:
+        pdl_cli = None
+    if args.cmd == "check":
+        if pdl_cli is not None:
+            return pdl_cli.main_check(files, sys.stdout, sys.stderr)
+        return _pdl_check(files)
+    if args.cmd == "run":
+        if pdl_cli is None:
+            raise UsageError(
+                "the PDL drive run time is not available yet (issue 4); 'motionvm check' works"
+            )
+        return pdl_cli.main_run(
+            files, getattr(args, "start", None), args.until, sys.stdout, sys.stderr
+        )
+    raise UsageError("'compile' supports HMPL files only")
+
+
+def _pdl_check(files: list[str]) -> int:
+    from motionvm.lang.pdl.front import compile_front
+    from motionvm.source.diagnostics import DiagnosticSink, render_diagnostic
+
+    status = EXIT_OK
+    for f in files:
+        if not Path(f).is_file():
+            raise UsageError(f"{f}: no such file")
+        sink = DiagnosticSink()
+        compile_front(f, sink=sink)
+        for d in sorted(sink.items, key=lambda d: (d.pos.file, d.pos.line, d.pos.col)):
+            print(render_diagnostic(d), file=sys.stderr)
+        if sink.has_errors:
+            status = EXIT_COMPILE
+    return status
 
 
 def cmd_builtins(args) -> int:
@@ -109,8 +166,14 @@ def cmd_builtins(args) -> int:
     special = {"_TASKID_", "_AUTORUN_", "Till", "HIMC_GPI", "HIMC_GPO"}
     rows = []
     for name, sig in builtin_signatures().items():
-        rows.append({"name": name, "prototype": sig.prototype, "section": sig.section,
-                     "implemented": name in impl or name in special})
+        rows.append(
+            {
+                "name": name,
+                "prototype": sig.prototype,
+                "section": sig.section,
+                "implemented": name in impl or name in special,
+            }
+        )
     if args.json:
         json.dump(rows, sys.stdout, indent=1)
         sys.stdout.write("\n")

@@ -92,7 +92,9 @@ def run(args) -> int:
 
     ctl = Controller(machine.cycle_time)
     data_dir = machine.data_dir or data_dir_default(machine.path.parent if machine.path else None)
-    rt = HmplRuntime(ctl, prog, mem, emit=emit, report=report, data_dir=data_dir, task_slice=machine.task_slice)
+    rt = HmplRuntime(
+        ctl, prog, mem, emit=emit, report=report, data_dir=data_dir, task_slice=machine.task_slice
+    )
     rt.stamp = bool(args.stamp)
     ctl.clients.append(rt)
     rt.boot()
@@ -103,8 +105,8 @@ def run(args) -> int:
 
 def dump_stage(path: str, stage: str, task_id: int) -> int:
     from motionvm.lang.hmpl import dump
-    from motionvm.lang.hmpl.preprocess import preprocess
     from motionvm.lang.hmpl.parser import parse
+    from motionvm.lang.hmpl.preprocess import preprocess
 
     if not Path(path).is_file():
         raise UsageError(f"{path}: no such file")

@@ -58,19 +58,22 @@ void main() {
 
 
 def test_a_fault_stops_only_its_task():
-    sim = _sim("""
+    sim = _sim(
+        """
 void main() {
     StartTask(1);
     Sleep(5);
     int z = 0;
     Print("%d", 1 / z);
 }
-""", """
+""",
+        """
 void main() {
     for (int i = 0; i < 10; i++) { Sleep(1); }
     Print("task 1 done at %d", system_timeInMs);
 }
-""")
+""",
+    )
     sim.run()
     assert len(sim.faults) == 1
     assert "t0.hmpl:6: runtime error in task 0: integer division by zero" in sim.faults[0]
@@ -78,18 +81,21 @@ void main() {
 
 
 def test_mutex_is_released_when_its_holder_stops():
-    sim = _sim("""
+    sim = _sim(
+        """
 void main() {
     MutexLock(3);
     StartTask(1);
     Sleep(3);
 }
-""", """
+""",
+        """
 void main() {
     MutexLock(3);
     Print("task 1 got the mutex at %d", system_timeInMs);
 }
-""")
+""",
+    )
     sim.run()
     assert sim.messages == ["task 1 got the mutex at 3"]
 

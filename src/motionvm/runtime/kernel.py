@@ -68,7 +68,9 @@ class Kernel:
         if t is not self.current:
             try:
                 gen.close()
-            except BaseException:  # a finally clause of the user's code faulted; it is stopped anyway
+            except (
+                BaseException
+            ):  # a finally clause of the user's code faulted; it is stopped anyway
                 pass
         self._release(t)
 

@@ -21,7 +21,7 @@ class SourcePos:
 class SourceFile:
     """The text of one source file, with its lines kept for caret rendering."""
 
-    _cache: dict[str, "SourceFile"] = {}
+    _cache: dict[str, SourceFile] = {}
 
     def __init__(self, path: str, text: str) -> None:
         self.path = path
@@ -29,7 +29,7 @@ class SourceFile:
         self.lines = text.splitlines()
 
     @classmethod
-    def read(cls, path: str | Path) -> "SourceFile":
+    def read(cls, path: str | Path) -> SourceFile:
         """Read a file as UTF-8 (undecodable bytes replaced) and remember it for diagnostics."""
         p = str(path)
         data = Path(p).read_bytes()
@@ -39,14 +39,14 @@ class SourceFile:
         return sf
 
     @classmethod
-    def register(cls, path: str, text: str) -> "SourceFile":
+    def register(cls, path: str, text: str) -> SourceFile:
         """Remember an in-memory source (tests, stdin) under a name."""
         sf = cls(path, text)
         cls._cache[path] = sf
         return sf
 
     @classmethod
-    def lookup(cls, path: str) -> "SourceFile | None":
+    def lookup(cls, path: str) -> SourceFile | None:
         """The remembered file of that path, reading it from disk if needed."""
         sf = cls._cache.get(path)
         if sf is None:

@@ -562,3 +562,26 @@ TranslationUnit @1:1
               value: Unary @3:11 op='-'
                 operand: IntLit @3:12 value=1
 """
+
+
+def test_designated_initializers():
+    tu = parse_ok(
+        "typedef struct { double x, y; int f[3]; } P;\n"
+        "P p = {.y = 5, .x = 1.5, .f = {1, 2}};\n"
+        "int a[] = {[4] = 1, 2, [1] = 3};\n"
+        "int b[] = {[N] = 1};\n"
+        "P ps[2] = {[1] = {.x = 2}, {0}};\n"
+    )
+    _, p, a, b, ps = tu.items
+    d0, d1, d2 = p.init.items
+    assert (d0.field, d0.index, sx(d0.value)) == ("y", None, "5")
+    assert (d1.field, sx(d1.value)) == ("x", "1.5")
+    assert d2.field == "f" and isinstance(d2.value, n.InitList)
+    assert [(x.field, sx(x.index)) for x in a.init.items if isinstance(x, n.Designated)] == [
+        (None, "4"), (None, "1"),
+    ]
+    assert sx(a.dims[0]) == "6"  # [4], then [5], then [1]: six elements
+    assert b.dims == (None,)  # a non-literal index: the checker sizes it
+    first = ps.init.items[0]
+    assert isinstance(first, n.Designated) and isinstance(first.value, n.InitList)
+    assert first.value.items[0].field == "x"

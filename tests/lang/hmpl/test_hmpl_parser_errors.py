@@ -92,8 +92,11 @@ def errors_of(text: str) -> list[str]:
         ("int struct S s;", "1:5: error: invalid combination of type specifiers"),
         ("int while;", "1:5: error: 'while' is a keyword and cannot be used as a name"),
         ("int 5;", "1:5: error: expected a name before '5'"),
-        ("int a[3] = {[0] = 1};", "1:13: error: designated initializers are not supported "
-         "in HMPL"),
+        ("P p = {.x.y = 1};", "1:10: error: nested designators ('.a.b =', '[i][j] =') are not "
+         "supported in HMPL; use nested braces"),
+        ("P p = {. = 1};", "1:10: error: expected a member name after '.' before '='"),
+        ("P p = {.x 1};", "1:11: error: expected '=' after designator"),
+        ("int a[3] = {[0 = 1};", "1:16: error: expected ']' after designator index"),
         ("void f(...);", "1:8: error: variadic functions ('...') are not supported in HMPL"),
         ("void f() { (int){1}; }", "1:17: error: compound literals are not supported in HMPL"),
         ("void f() { int (*fp)(int); }", "1:16: error: function pointers and parenthesised "

@@ -120,7 +120,7 @@ def test_expanded_tokens_carry_the_use_position():
     assert [(t.text, t.pos) for t in toks[:-1]] == [
         ("count", SourcePos("p.hmpl", 4, 7)),  # an argument keeps where it was written
         ("+=", use),
-        ("1", use),
+        ("1", SourcePos("p.hmpl", 4, 12)),  # the last one ends where the use ends
         (";", SourcePos("p.hmpl", 4, 13)),
     ]
 

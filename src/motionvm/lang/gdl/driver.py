@@ -16,7 +16,7 @@ from motionvm.lang.gdl.app import App, ProcInfo
 from motionvm.lang.gdl.compiler import compile_app
 from motionvm.lang.gdl.dump import dump_ast, dump_tokens
 from motionvm.lang.gdl.lower import emit_python
-from motionvm.lang.gdl.rts import Rts
+from motionvm.lang.gdl.rts import DT_MS, Rts
 from motionvm.lang.gdl.scenario import (
     Event,
     Scenario,
@@ -75,7 +75,7 @@ def run_scenario(
     `jump=False` steps every cycle even when nothing moves (tests compare the two).
     """
     end = until if until is not None else scenario.until
-    end_cycle = None if end is None else round(end * 1000)
+    end_cycle = None if end is None else max(0, round(end * 1000 / DT_MS))
     for target, value in scenario.initial:
         for e in target.elements:
             rts.init_value(target.obj, target.spec.keyword, e, value)
@@ -89,7 +89,7 @@ def run_scenario(
                 rts.injections.remove(ev)
                 _apply(rts, ev)
 
-    rts.apply_injection = inject  # type: ignore[assignment]
+    rts.apply_injection = inject
     for ev in forces or []:
         _apply(rts, ev)
         rts.drain()
@@ -147,9 +147,12 @@ def run_app(
 
 
 def _compile(paths: list[str], stderr: TextIO) -> App | None:
+    """Compile, printing every diagnostic sorted by file (as given), line and column."""
     sink = DiagnosticSink()
     app = compile_app(paths, sink=sink)
-    stderr.writelines(render_diagnostic(d) + "\n" for d in sink.items)
+    order = {p: i for i, p in enumerate(paths)}
+    items = sorted(sink.items, key=lambda d: (order.get(d.pos.file, -1), d.pos.line, d.pos.col))
+    stderr.writelines(render_diagnostic(d) + "\n" for d in items)
     return app
 
 

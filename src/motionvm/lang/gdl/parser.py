@@ -83,12 +83,11 @@ class Parser:
             return self._advance()
         message = f"expected '{text}' {context}, found {self.tok.describe()}"
         prev = self.toks[self.k - 1] if self.k > 0 else None
-        if prev is not None and prev.kind != "string":
-            if prev.pos.line != self.tok.pos.line:
-                # Something forgotten at the end of a line: point there, not at the next line.
-                end = SourcePos(prev.pos.file, prev.pos.line, prev.pos.col + len(prev.text))
-                self._error(end, message)
-                raise ParseError(message)
+        if prev is not None and prev.kind != "string" and prev.pos.line != self.tok.pos.line:
+            # Something forgotten at the end of a line: point there, not at the next line.
+            end = SourcePos(prev.pos.file, prev.pos.line, prev.pos.col + len(prev.text))
+            self._error(end, message)
+            raise ParseError(message)
         raise self._fail(message)
 
     def _sync(self) -> None:

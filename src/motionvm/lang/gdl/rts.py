@@ -10,8 +10,8 @@ Model (GDL.md 9.5, text 3.3):
   chain through a DIGITAL$FLAG [T]. Writing the value a variable already has is no
   change (G18).
 - Procedures (lowered to Python by `lower.py`) run one at a time to completion, in
-  zero simulated time; a change during
-  a run (its own activator, an injected input) queues one more run behind it [T].
+  zero simulated time; a change during a run (its own activator, an injected input)
+  queues one more run behind it [T].
 - Forcing (`f` access, the debugger): a forced value hides every write until released;
   forcing and releasing are changes like any other (G20).
 - The clock counts cycles of `DT` = 1 ms. Per cycle: devices step (motion), then the
@@ -22,12 +22,14 @@ Model (GDL.md 9.5, text 3.3):
 Output, one line each, in order: `t=S input REF = V` (scenario), `t=S run PROC`,
 `t=S set REF = V` (a procedure changed it), `t=S update REF = V` (the RTS changed a
 digital or set variable: a motor stopping, a home switch), `t=S force REF = V`,
-`t=S release REF = V` (the value underneath). Run-time errors: `FILE:LINE: runtime error in procedure P: MSG`.
+`t=S release REF = V` (the value underneath). Run-time errors go to `err`:
+`FILE:LINE: runtime error in procedure P: MSG`.
 """
 
 from __future__ import annotations
 
 from collections import deque
+from collections.abc import Callable
 from types import TracebackType
 from typing import TextIO
 
@@ -74,8 +76,10 @@ class Rts:
         self.current: ProcInfo | None = None
         self.runs_this_cycle = 0
         self.error_count = 0
-        self.injections: list[object] = []  # scenario events waiting for an instruction
-        self.apply_injection = None  # set by the scenario runner
+        self.injections: list[object] = []
+        """Scenario events waiting for an instruction boundary (see `before_instruction`)."""
+        self.apply_injection: Callable[[ProcInfo, int], None] | None = None
+        """Set by the scenario runner: applies the injections due at a boundary."""
         self.devices: dict[str, Device] = {k: create_device(o) for k, o in app.objects.items()}
         for obj in app.objects.values():
             for spec in obj.type.states:

@@ -19,7 +19,9 @@ from importlib import resources
 from motionvm.lang.hmpl import ctypes_ as ct
 
 # Names the language treats specially rather than as plain calls (manual chapter 19).
-MACRO_NAMES = frozenset({"_TASKID_", "_AUTORUN_", "Till", "HIMC_GPI", "HIMC_GPO", "START_ASCII_AGENT"})
+MACRO_NAMES = frozenset(
+    {"_TASKID_", "_AUTORUN_", "Till", "HIMC_GPI", "HIMC_GPO", "START_ASCII_AGENT"}
+)
 
 
 @dataclass(frozen=True, slots=True)

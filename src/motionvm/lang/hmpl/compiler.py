@@ -30,7 +30,9 @@ def new_memory() -> Memory:
     return mem
 
 
-def compile_tasks(files: list[TaskFile], sink: DiagnosticSink, mem: Memory | None = None) -> tuple[CompiledProgram | None, Memory]:
+def compile_tasks(
+    files: list[TaskFile], sink: DiagnosticSink, mem: Memory | None = None
+) -> tuple[CompiledProgram | None, Memory]:
     """Compile every task file into one program; None (and errors in `sink`) on failure."""
     mem = mem or new_memory()
     units: list[Unit] = []

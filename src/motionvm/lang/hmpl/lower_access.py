@@ -22,7 +22,6 @@ from motionvm.lang.hmpl.lvalues import (
     PtrLV,
     call,
     const,
-    is_simple,
     name,
 )
 from motionvm.lang.hmpl.symbols import FuncSym, VarSym
@@ -76,8 +75,12 @@ class AccessLowering:
             sym = self.prog.global_symbol(ident, self.task)
         if sym is None:
             if ident in self.prog.builtins:
-                raise self.fail(pos, f"built-in function '{ident}' used as a value (call it: {ident}(...))")
-            hint = did_you_mean(ident, self.scope.visible_names() + self.prog.global_names(self.task))
+                raise self.fail(
+                    pos, f"built-in function '{ident}' used as a value (call it: {ident}(...))"
+                )
+            hint = did_you_mean(
+                ident, self.scope.visible_names() + self.prog.global_names(self.task)
+            )
             raise self.fail(pos, f"'{ident}' undeclared{hint}")
         return sym
 
@@ -109,7 +112,9 @@ class AccessLowering:
                 raise self.fail(e.pos, "cannot dereference a 'void *' pointer (cast it first)")
             if t.is_scalar:
                 return PtrLV(t, p.node)
-            return AggLV(t, call("_chkp", p.node, ast.Constant(max(t.size, 1)), ast.Constant(t.align)))
+            return AggLV(
+                t, call("_chkp", p.node, ast.Constant(max(t.size, 1)), ast.Constant(t.align))
+            )
         if isinstance(e, n.Index):
             return self._index_lv(e)
         if isinstance(e, n.Member):
@@ -131,10 +136,17 @@ class AccessLowering:
             elem, count = base.type.elem, base.type.n
             if count is not None:
                 # a bounds-checked index needs no wrap: an overflowed value is out of bounds too
-                i_node = idx.node if isinstance(idx.type, ct.IntT) and idx.type.size >= 4 else self.exact(idx)
+                i_node = (
+                    idx.node
+                    if isinstance(idx.type, ct.IntT) and idx.type.size >= 4
+                    else self.exact(idx)
+                )
                 if isinstance(idx.const, int):
                     if not 0 <= idx.const < count:
-                        raise self.fail(e.index.pos, f"array index {idx.const} is out of bounds (the array has {count} elements)")
+                        raise self.fail(
+                            e.index.pos,
+                            f"array index {idx.const} is out of bounds (the array has {count} elements)",
+                        )
                     i_node = const(idx.const)
                 elif idx.rng is not None and 0 <= idx.rng[0] and idx.rng[1] < count:
                     pass  # range analysis proves the index in bounds
@@ -144,27 +156,42 @@ class AccessLowering:
                     else:
                         t = self.temp()
                         grab, ref = ast.NamedExpr(target=name(t, True), value=i_node), name(t)
-                    chk = ast.Compare(left=ast.Constant(0), ops=[ast.LtE(), ast.Lt()],
-                                      comparators=[grab, ast.Constant(count)])
-                    i_node = ast.IfExp(test=chk, body=ref, orelse=call("_oob", ref, ast.Constant(count)))
+                    chk = ast.Compare(
+                        left=ast.Constant(0),
+                        ops=[ast.LtE(), ast.Lt()],
+                        comparators=[grab, ast.Constant(count)],
+                    )
+                    i_node = ast.IfExp(
+                        test=chk, body=ref, orelse=call("_oob", ref, ast.Constant(count))
+                    )
             else:
                 i_node = self.convert(idx, ct.I64, e.pos)
             # array objects are always reached through names, members or checked pointers
             if elem.is_scalar and elem.size in _SHIFT:
                 return MemLV(elem, _plus(_scaled_index(base.node, elem.size), i_node))
-            off = i_node if elem.size == 1 else ast.BinOp(left=i_node, op=ast.Mult(), right=ast.Constant(elem.size))
+            off = (
+                i_node
+                if elem.size == 1
+                else ast.BinOp(left=i_node, op=ast.Mult(), right=ast.Constant(elem.size))
+            )
             addr = _plus(base.node, off)
             if elem.is_scalar:
                 return PtrLV(elem, addr)
             return AggLV(elem, addr)
         base = self.expr(e.base)
         if not isinstance(base.type, ct.PtrT):
-            raise self.fail(e.pos, f"subscripted value is neither array nor pointer (it is '{base.type}')")
+            raise self.fail(
+                e.pos, f"subscripted value is neither array nor pointer (it is '{base.type}')"
+            )
         elem = base.type.target
         if isinstance(elem, ct.VoidT) or elem.size == 0:
             raise self.fail(e.pos, f"subscript of a pointer to incomplete type '{base.type}'")
         i_node = self.exact(idx)
-        off = i_node if elem.size == 1 else ast.BinOp(left=i_node, op=ast.Mult(), right=ast.Constant(elem.size))
+        off = (
+            i_node
+            if elem.size == 1
+            else ast.BinOp(left=i_node, op=ast.Mult(), right=ast.Constant(elem.size))
+        )
         addr = _plus(base.node, off)
         if elem.is_scalar:
             return PtrLV(elem, addr)
@@ -174,14 +201,20 @@ class AccessLowering:
         if e.arrow:
             p = self.expr(e.base)
             if not (isinstance(p.type, ct.PtrT) and isinstance(p.type.target, ct.StructT)):
-                raise self.fail(e.pos, f"'->' applied to '{p.type}', which is not a pointer to a struct or union")
+                raise self.fail(
+                    e.pos,
+                    f"'->' applied to '{p.type}', which is not a pointer to a struct or union",
+                )
             st = p.type.target
             base_addr = call("_chkp", p.node, ast.Constant(st.size), ast.Constant(st.align))
         else:
             b = self._expr(e.base)
             if not isinstance(b.type, ct.StructT):
                 hint = " (use '->' for a pointer)" if isinstance(b.type, ct.PtrT) else ""
-                raise self.fail(e.pos, f"'.{e.name}' applied to '{b.type}', which is not a struct or union{hint}")
+                raise self.fail(
+                    e.pos,
+                    f"'.{e.name}' applied to '{b.type}', which is not a struct or union{hint}",
+                )
             st = b.type
             base_addr = b.node
         found = st.field(e.name)
@@ -222,7 +255,10 @@ class AccessLowering:
             if isinstance(sym, VarSym) and sym.is_const:
                 raise self.fail(e.pos, f"assignment of read-only variable '{e.id}'")
         if isinstance(lv.type, ct.ArrayT):
-            raise self.fail(e.pos, "an array is not an assignable lvalue (copy arrays with MemoryCopy or StringCopy)")
+            raise self.fail(
+                e.pos,
+                "an array is not an assignable lvalue (copy arrays with MemoryCopy or StringCopy)",
+            )
 
     def assignment(self, e: n.Assign, as_stmt: bool):
         """Lower `target op= value`; a list of statements, or a Val when used as a value."""
@@ -286,22 +322,30 @@ class AccessLowering:
             raise self.fail(e.pos, "Till(condition) is a statement; it has no value")
         if fname in ("HIMC_GPI", "HIMC_GPO"):
             if len(e.args) != 1:
-                raise self.fail(e.pos, f"{fname} takes 1 argument ({'gpi' if fname == 'HIMC_GPI' else 'gpo'}_idx), got {len(e.args)}")
+                raise self.fail(
+                    e.pos,
+                    f"{fname} takes 1 argument ({'gpi' if fname == 'HIMC_GPI' else 'gpo'}_idx), got {len(e.args)}",
+                )
             idx = self.convert(self.expr(e.args[0]), ct.INT, e.pos)
             return Val(call("_gpi" if fname == "HIMC_GPI" else "_gpo", idx), ct.INT)
         sym = self.scope.lookup(fname) or self.prog.global_symbol(fname, self.task)
         if isinstance(sym, VarSym):
             raise self.fail(e.pos, f"'{fname}' is a variable, not a function")
         if isinstance(sym, FuncSym):
-            args = self._call_args(e, fname, [(pn, pt) for pn, pt in zip(sym.param_names, sym.type.params)], False)
+            args = self._call_args(
+                e, fname, [(pn, pt) for pn, pt in zip(sym.param_names, sym.type.params)], False
+            )
             node = call(sym.pyname, *args)
             if sym.is_generator:
                 node = ast.YieldFrom(value=node)
+                self.has_yield = True
             return Val(node, sym.type.ret)
         sig = self.prog.builtins.get(fname)
         if sig is None:
             cands = self.prog.function_names(self.task)
-            raise self.fail(e.func.pos, f"call to undeclared function '{fname}'{did_you_mean(fname, cands)}")
+            raise self.fail(
+                e.func.pos, f"call to undeclared function '{fname}'{did_you_mean(fname, cands)}"
+            )
         args = self._call_args(e, fname, list(sig.params), sig.variadic)
         impl = self.prog.builtin_impl.get(fname)
         if impl is None:
@@ -310,6 +354,7 @@ class AccessLowering:
             node = call("b_" + fname, *args)
             if impl:  # blocking
                 node = ast.YieldFrom(value=node)
+                self.has_yield = True
         return Val(node, sig.ret)
 
     def _call_args(self, e: n.Call, fname: str, params, variadic: bool) -> list[ast.expr]:
@@ -318,7 +363,9 @@ class AccessLowering:
             few = "few" if nargs < nparams else "many"
             expect = f"at least {nparams}" if variadic else str(nparams)
             proto = self.prog.prototype(fname, self.task)
-            raise self.fail(e.pos, f"too {few} arguments to '{fname}' (expected {expect}, got {nargs}){proto}")
+            raise self.fail(
+                e.pos, f"too {few} arguments to '{fname}' (expected {expect}, got {nargs}){proto}"
+            )
         out: list[ast.expr] = []
         for i, a in enumerate(e.args):
             v = self.expr(a)

@@ -16,19 +16,11 @@ from dataclasses import dataclass
 from motionvm.lang.hmpl import ctypes_ as ct
 from motionvm.lang.hmpl import nodes as n
 from motionvm.lang.hmpl.lvalues import (
-    AggLV,
-    GpoLV,
-    LValue,
-    MemLV,
-    NameLV,
-    PtrLV,
     call,
     const,
-    is_simple,
     name,
 )
-from motionvm.lang.hmpl.symbols import FuncSym, VarSym
-from motionvm.source.suggest import did_you_mean
+from motionvm.lang.hmpl.symbols import FuncSym
 
 _BINOPS = {
     "+": ast.Add,
@@ -69,7 +61,9 @@ def wrap_node(node: ast.expr, t: ct.IntT) -> ast.expr:
     if t.signed:
         lo, hi = -(1 << (bits - 1)), (1 << (bits - 1)) - 1
         grab = ast.NamedExpr(target=ast.Name(id="_w", ctx=ast.Store()), value=node)
-        test = ast.Compare(left=const(lo), ops=[ast.LtE(), ast.LtE()], comparators=[grab, ast.Constant(hi)])
+        test = ast.Compare(
+            left=const(lo), ops=[ast.LtE(), ast.LtE()], comparators=[grab, ast.Constant(hi)]
+        )
         slow = call("_wrapi", ast.Name(id="_w", ctx=ast.Load()), ast.Constant(bits))
         return ast.IfExp(test=test, body=ast.Name(id="_w", ctx=ast.Load()), orelse=slow)
     return ast.BinOp(left=node, op=ast.BitAnd(), right=ast.Constant((1 << bits) - 1))
@@ -162,7 +156,9 @@ class ExprLowering:
         if isinstance(to, ct.PtrT):
             if isinstance(src, ct.PtrT):
                 if not ct.same_pointee_family(src.target, to.target):
-                    raise self.fail(pos, f"incompatible pointer type: '{src}' given, '{to}' expected{what}")
+                    raise self.fail(
+                        pos, f"incompatible pointer type: '{src}' given, '{to}' expected{what}"
+                    )
             elif isinstance(src, ct.IntT):
                 if v.const != 0:
                     raise self.fail(pos, f"'{src}' given where a pointer '{to}' is expected{what}")
@@ -400,8 +396,14 @@ class ExprLowering:
     def _int_op(self, op: str, a: Val, b: Val, t: ct.IntT, pos) -> Val:
         if op in _RING_OPS:
             if isinstance(a.const, int) and isinstance(b.const, int):
-                pyop = {"+": int.__add__, "-": int.__sub__, "*": int.__mul__, "&": int.__and__,
-                        "|": int.__or__, "^": int.__xor__}[op]
+                pyop = {
+                    "+": int.__add__,
+                    "-": int.__sub__,
+                    "*": int.__mul__,
+                    "&": int.__and__,
+                    "|": int.__or__,
+                    "^": int.__xor__,
+                }[op]
                 c = ct.wrap_int(pyop(ct.wrap_int(a.const, t), ct.wrap_int(b.const, t)), t)
                 return Val(const(c), t, True, c)
             an, a_ok = self._ring_operand(a, t)
@@ -409,8 +411,11 @@ class ExprLowering:
             exact = op in ("&", "|", "^") and a_ok and b_ok
             rng = None
             if op in ("+", "-") and a.rng is not None and b.rng is not None and a_ok and b_ok:
-                lo, hi = ((a.rng[0] + b.rng[0], a.rng[1] + b.rng[1]) if op == "+"
-                          else (a.rng[0] - b.rng[1], a.rng[1] - b.rng[0]))
+                lo, hi = (
+                    (a.rng[0] + b.rng[0], a.rng[1] + b.rng[1])
+                    if op == "+"
+                    else (a.rng[0] - b.rng[1], a.rng[1] - b.rng[0])
+                )
                 if t.min <= lo and hi <= t.max:
                     rng, exact = (lo, hi), True  # cannot overflow: no wrap needed
             return Val(ast.BinOp(left=an, op=_BINOPS[op](), right=bn), t, exact, None, rng)

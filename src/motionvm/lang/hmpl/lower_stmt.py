@@ -24,7 +24,7 @@ from motionvm.lang.hmpl import ctypes_ as ct
 from motionvm.lang.hmpl import nodes as n
 from motionvm.lang.hmpl.cmemory import RED_ZONE
 from motionvm.lang.hmpl.lower_access import AccessLowering
-from motionvm.lang.hmpl.lower_expr import ExprLowering, SemanticError, Val
+from motionvm.lang.hmpl.lower_expr import ExprLowering, SemanticError
 from motionvm.lang.hmpl.lvalues import call, const, name
 from motionvm.lang.hmpl.symbols import FuncSym, Scope, VarSym
 
@@ -60,6 +60,10 @@ def _backedge(counter: str) -> list[ast.stmt]:
     return [dec, ast.If(test=test, body=refill, orelse=[])]
 
 
+_AST = ast.AST
+_EXPR_CONTEXT = (ast.Load, ast.Store, ast.Del)
+
+
 def _at(stmts: list[ast.stmt], pos) -> list[ast.stmt]:
     """Give every generated node without a location the user's position `pos`.
 
@@ -68,25 +72,31 @@ def _at(stmts: list[ast.stmt], pos) -> list[ast.stmt]:
     """
     line, col = pos.line, max(0, pos.col - 1)
     stack: list[ast.AST] = list(stmts)
+    pop, push = stack.pop, stack.append
     while stack:
-        node = stack.pop()
+        node = pop()
         if "lineno" in node._attributes:
             if getattr(node, "lineno", None) is not None:
                 continue
             node.lineno = node.end_lineno = line
             node.col_offset = node.end_col_offset = col
-        for _fname, value in ast.iter_fields(node):
-            if isinstance(value, list):
-                stack.extend(v for v in value if isinstance(v, ast.AST))
-            elif isinstance(value, ast.AST):
-                stack.append(value)
+        for fname in node._fields:
+            value = getattr(node, fname, None)
+            if type(value) is list:
+                for v in value:
+                    if isinstance(v, _AST) and not isinstance(v, _EXPR_CONTEXT):
+                        push(v)
+            elif isinstance(value, _AST) and not isinstance(value, _EXPR_CONTEXT):
+                push(value)
     return stmts
 
 
 class FunctionLowerer(ExprLowering, AccessLowering):
     """Lowers one function body (or one task's global initializers) of one task."""
 
-    def __init__(self, prog, task: int, scope: Scope, func: FuncSym | None, addr_taken: set[str]) -> None:
+    def __init__(
+        self, prog, task: int, scope: Scope, func: FuncSym | None, addr_taken: set[str]
+    ) -> None:
         self.prog = prog
         self.sink = prog.sink
         self.task = task
@@ -100,7 +110,10 @@ class FunctionLowerer(ExprLowering, AccessLowering):
         self._ntemp = 0
         self._pynames: set[str] = set()
         self.in_init = func is None
-        self.known_ranges: dict[str, tuple[int, int]] = {}  # range-for counters with constant bounds
+        self.known_ranges: dict[
+            str, tuple[int, int]
+        ] = {}  # range-for counters with constant bounds
+        self.has_yield = False  # set whenever a yield is generated
 
     # ------------------------------------------------------------ helpers
 
@@ -138,9 +151,18 @@ class FunctionLowerer(ExprLowering, AccessLowering):
             raise self.fail(d.pos, f"variable '{d.name}' declared void")
         in_mem = not t.is_scalar or d.name in self.addr_taken
         if in_mem:
-            sym = VarSym(d.name, t, "frame", d.pos, offset=self.frame_alloc(t), is_const=d.type.is_const)
+            sym = VarSym(
+                d.name, t, "frame", d.pos, offset=self.frame_alloc(t), is_const=d.type.is_const
+            )
         else:
-            sym = VarSym(d.name, t, "local", d.pos, pyname=self.unique_local(d.name), is_const=d.type.is_const)
+            sym = VarSym(
+                d.name,
+                t,
+                "local",
+                d.pos,
+                pyname=self.unique_local(d.name),
+                is_const=d.type.is_const,
+            )
         out = self.init_var(sym, d.init, d.pos, zero_default=not is_param)
         self.scope.names[d.name] = sym
         return out
@@ -160,7 +182,9 @@ class FunctionLowerer(ExprLowering, AccessLowering):
                     raise self.fail(init.pos, f"a scalar '{sym.name}' takes one initializer")
                 init = init.items[0]
             v = self.expr(init)
-            return lv.store(self.assign_convert(v, t, init.pos, f" in the initializer of '{sym.name}'"))
+            return lv.store(
+                self.assign_convert(v, t, init.pos, f" in the initializer of '{sym.name}'")
+            )
         addr = lv.addr()
         image, stores = self.prog.aggregate_init(self, t, init, addr, sym.name)
         out: list[ast.stmt] = [ast.Expr(value=call("_fill", addr, ast.Constant(bytes(image))))]
@@ -224,6 +248,7 @@ class FunctionLowerer(ExprLowering, AccessLowering):
         if self.in_init:
             raise self.fail(e.pos, "Till cannot be used in a global initializer")
         test = ast.UnaryOp(op=ast.Not(), operand=self.cond(e.args[0]))
+        self.has_yield = True
         return [ast.While(test=test, body=[ast.Expr(value=ast.Yield(value=None))], orelse=[])]
 
     def _s_If(self, s: n.If) -> list[ast.stmt]:
@@ -233,6 +258,7 @@ class FunctionLowerer(ExprLowering, AccessLowering):
         return [ast.If(test=test, body=body, orelse=orelse)]
 
     def _loop_body(self, body, cont: list[ast.stmt]) -> list[ast.stmt]:
+        self.has_yield = True  # every loop has a budgeted back-edge
         self.loops.append(_LoopCtx("loop", cont))
         try:
             return self.block(body)
@@ -248,11 +274,25 @@ class FunctionLowerer(ExprLowering, AccessLowering):
 
     def _s_DoWhile(self, s: n.DoWhile) -> list[ast.stmt]:
         b = self.temp()
-        exit_ = [ast.If(test=ast.UnaryOp(op=ast.Not(), operand=self.cond(s.cond)), body=[ast.Break()], orelse=[])]
+        exit_ = [
+            ast.If(
+                test=ast.UnaryOp(op=ast.Not(), operand=self.cond(s.cond)),
+                body=[ast.Break()],
+                orelse=[],
+            )
+        ]
         cont = _at(exit_, s.cond.pos) + _backedge(b) + [ast.Continue()]
         body = self._loop_body(s.body, cont)
-        exit2 = [ast.If(test=ast.UnaryOp(op=ast.Not(), operand=self.cond(s.cond)), body=[ast.Break()], orelse=[])]
-        loop = ast.While(test=ast.Constant(True), body=body + _at(exit2, s.cond.pos) + _backedge(b), orelse=[])
+        exit2 = [
+            ast.If(
+                test=ast.UnaryOp(op=ast.Not(), operand=self.cond(s.cond)),
+                body=[ast.Break()],
+                orelse=[],
+            )
+        ]
+        loop = ast.While(
+            test=ast.Constant(True), body=body + _at(exit2, s.cond.pos) + _backedge(b), orelse=[]
+        )
         return [_countdown_init(b), loop]
 
     def _s_For(self, s: n.For) -> list[ast.stmt]:
@@ -267,10 +307,18 @@ class FunctionLowerer(ExprLowering, AccessLowering):
                 return out + fast
             b = self.temp()
             test = self.cond(s.cond) if s.cond is not None else ast.Constant(True)
-            step = _at(self._s_ExprStmt(n.ExprStmt(s.step.pos, s.step)), s.step.pos) if s.step is not None else []
+            step = (
+                _at(self._s_ExprStmt(n.ExprStmt(s.step.pos, s.step)), s.step.pos)
+                if s.step is not None
+                else []
+            )
             cont = step + _backedge(b) + [ast.Continue()]
             body = self._loop_body(s.body, cont)
-            step2 = _at(self._s_ExprStmt(n.ExprStmt(s.step.pos, s.step)), s.step.pos) if s.step is not None else []
+            step2 = (
+                _at(self._s_ExprStmt(n.ExprStmt(s.step.pos, s.step)), s.step.pos)
+                if s.step is not None
+                else []
+            )
             out.append(_countdown_init(b))
             out.append(ast.While(test=test, body=body + step2 + _backedge(b), orelse=[]))
             return out
@@ -288,17 +336,32 @@ class FunctionLowerer(ExprLowering, AccessLowering):
         if ivar is None:
             return None
         sym = self.scope.lookup(ivar)
-        if not isinstance(sym, VarSym) or sym.storage != "local" or sym.type not in (ct.INT, ct.I64, ct.U32):
+        if (
+            not isinstance(sym, VarSym)
+            or sym.storage != "local"
+            or sym.type not in (ct.INT, ct.I64, ct.U32)
+        ):
             return None
         cond, step = s.cond, s.step
-        if not (isinstance(cond, n.Binary) and cond.op in ("<", "<=", ">", ">=")
-                and isinstance(cond.left, n.Name) and cond.left.id == ivar):
+        if not (
+            isinstance(cond, n.Binary)
+            and cond.op in ("<", "<=", ">", ">=")
+            and isinstance(cond.left, n.Name)
+            and cond.left.id == ivar
+        ):
             return None
         inc = self._step_of(step, ivar)
         assigned = _assigned_names(s.body)
         step_var = None
-        if inc is None and isinstance(step, n.Assign) and step.op == "+=" and isinstance(step.target, n.Name) \
-                and step.target.id == ivar and cond.op in ("<", "<=") and self._invariant(step.value, assigned):
+        if (
+            inc is None
+            and isinstance(step, n.Assign)
+            and step.op == "+="
+            and isinstance(step.target, n.Name)
+            and step.target.id == ivar
+            and cond.op in ("<", "<=")
+            and self._invariant(step.value, assigned)
+        ):
             try:
                 sv = self.expr(step.value)
             except SemanticError:
@@ -309,7 +372,9 @@ class FunctionLowerer(ExprLowering, AccessLowering):
             inc = "var"
         if inc is None:
             return None
-        if inc != "var" and ((inc > 0) != (cond.op in ("<", "<=")) or (inc < 0 and not sym.type.signed)):
+        if inc != "var" and (
+            (inc > 0) != (cond.op in ("<", "<=")) or (inc < 0 and not sym.type.signed)
+        ):
             return None
         if ivar in assigned or not self._invariant(cond.right, assigned):
             return None
@@ -323,7 +388,11 @@ class FunctionLowerer(ExprLowering, AccessLowering):
             return None
         stop = self.convert(bound, sym.type, cond.pos)
         if cond.op in ("<=", ">="):
-            stop = ast.BinOp(left=stop, op=ast.Add() if inc == "var" or inc > 0 else ast.Sub(), right=ast.Constant(1))
+            stop = ast.BinOp(
+                left=stop,
+                op=ast.Add() if inc == "var" or inc > 0 else ast.Sub(),
+                right=ast.Constant(1),
+            )
         b = self.temp()
         cont = _backedge(b) + [ast.Continue()]
         start = self._start_range(s)
@@ -345,8 +414,11 @@ class FunctionLowerer(ExprLowering, AccessLowering):
             st = self.temp()
             pre.append(ast.Assign(targets=[name(st, True)], value=step_var))
             ok = ast.Compare(left=name(st), ops=[ast.Gt()], comparators=[ast.Constant(0)])
-            rng = ast.IfExp(test=ok, body=call("range", name(sym.pyname), stop, name(st)),
-                            orelse=call("_odd_step", name(sym.pyname), name(st), ast.Constant(sym.type.bits)))
+            rng = ast.IfExp(
+                test=ok,
+                body=call("range", name(sym.pyname), stop, name(st)),
+                orelse=call("_odd_step", name(sym.pyname), name(st), ast.Constant(sym.type.bits)),
+            )
         else:
             rng = call("range", name(sym.pyname), stop, const(inc))
         outlives = not isinstance(s.init, n.DeclStmt)
@@ -355,9 +427,15 @@ class FunctionLowerer(ExprLowering, AccessLowering):
             r = self.temp()
             pre.append(ast.Assign(targets=[name(r, True)], value=rng))
             rng = name(r)
-            final = ast.BinOp(left=ast.Attribute(value=name(r), attr="start", ctx=ast.Load()), op=ast.Add(),
-                              right=ast.BinOp(left=call("len", name(r)), op=ast.Mult(),
-                                              right=ast.Attribute(value=name(r), attr="step", ctx=ast.Load())))
+            final = ast.BinOp(
+                left=ast.Attribute(value=name(r), attr="start", ctx=ast.Load()),
+                op=ast.Add(),
+                right=ast.BinOp(
+                    left=call("len", name(r)),
+                    op=ast.Mult(),
+                    right=ast.Attribute(value=name(r), attr="step", ctx=ast.Load()),
+                ),
+            )
             orelse = [ast.Assign(targets=[name(sym.pyname, True)], value=final)]
         loop = ast.For(target=name(sym.pyname, True), iter=rng, body=body, orelse=orelse)
         return pre + [loop]
@@ -397,7 +475,11 @@ class FunctionLowerer(ExprLowering, AccessLowering):
         if isinstance(step, (n.Postfix, n.Unary)) and step.op in ("++", "--"):
             if isinstance(step.operand, n.Name) and step.operand.id == ivar:
                 return 1 if step.op == "++" else -1
-        if isinstance(step, n.Assign) and step.op in ("+=", "-=") and isinstance(step.target, n.Name):
+        if (
+            isinstance(step, n.Assign)
+            and step.op in ("+=", "-=")
+            and isinstance(step.target, n.Name)
+        ):
             if step.target.id == ivar and isinstance(step.value, n.IntLit) and step.value.value > 0:
                 return step.value.value if step.op == "+=" else -step.value.value
         return None
@@ -410,7 +492,9 @@ class FunctionLowerer(ExprLowering, AccessLowering):
             if e.id in assigned:
                 return False
             sym = self.scope.lookup(e.id) or self.prog.global_symbol(e.id, self.task)
-            return isinstance(sym, VarSym) and (sym.storage == "local" or sym.const_value is not None)
+            return isinstance(sym, VarSym) and (
+                sym.storage == "local" or sym.const_value is not None
+            )
         if isinstance(e, n.Binary) and e.op in ("+", "-", "*", "<<", ">>", "&", "|"):
             return self._invariant(e.left, assigned) and self._invariant(e.right, assigned)
         if isinstance(e, n.Unary) and e.op in ("-", "+"):
@@ -433,7 +517,10 @@ class FunctionLowerer(ExprLowering, AccessLowering):
         while level >= 0 and self.loops[level].kind == "switch":
             sw = self.loops[level]
             sw.flag_used = True
-            return [ast.Assign(targets=[name(sw.flag, True)], value=ast.Constant(True)), ast.Break()]
+            return [
+                ast.Assign(targets=[name(sw.flag, True)], value=ast.Constant(True)),
+                ast.Break(),
+            ]
         if level < 0:
             raise self.fail(pos, "'continue' outside a loop")
         return [self._clone(x) for x in self.loops[level].cont]
@@ -484,16 +571,25 @@ class FunctionLowerer(ExprLowering, AccessLowering):
                 for lab in labels:
                     if isinstance(lab, n.Default):
                         others = ast.Tuple(elts=[const(k) for k in values], ctx=ast.Load())
-                        tests.append(ast.Compare(left=name(sw), ops=[ast.NotIn()], comparators=[others]))
+                        tests.append(
+                            ast.Compare(left=name(sw), ops=[ast.NotIn()], comparators=[others])
+                        )
                     else:
                         try:
                             cv = ct.wrap_int(self.const_int(lab.value), t)
                         except SemanticError:
                             continue
-                        tests.append(ast.Compare(left=name(sw), ops=[ast.Eq()], comparators=[const(cv)]))
+                        tests.append(
+                            ast.Compare(left=name(sw), ops=[ast.Eq()], comparators=[const(cv)])
+                        )
                 inner = [ast.Assign(targets=[name(matched, True)], value=ast.Constant(True))]
                 inner += self.stmts(stmts)
-                body.extend(_at([ast.If(test=ast.BoolOp(op=ast.Or(), values=tests), body=inner, orelse=[])], labels[0].pos))
+                body.extend(
+                    _at(
+                        [ast.If(test=ast.BoolOp(op=ast.Or(), values=tests), body=inner, orelse=[])],
+                        labels[0].pos,
+                    )
+                )
         finally:
             self.scope = saved
             self.loops.pop()
@@ -502,7 +598,11 @@ class FunctionLowerer(ExprLowering, AccessLowering):
             out.append(ast.Assign(targets=[name(flag, True)], value=ast.Constant(False)))
         out.append(ast.While(test=ast.Constant(True), body=body, orelse=[]))
         if ctx.flag_used:
-            out.append(ast.If(test=name(flag), body=self._continue_from(len(self.loops) - 1, s.pos), orelse=[]))
+            out.append(
+                ast.If(
+                    test=name(flag), body=self._continue_from(len(self.loops) - 1, s.pos), orelse=[]
+                )
+            )
         return out
 
     def _s_Case(self, s: n.Case) -> list[ast.stmt]:
@@ -517,14 +617,23 @@ class FunctionLowerer(ExprLowering, AccessLowering):
         ret = self.func.type.ret
         if s.value is None:
             if not isinstance(ret, ct.VoidT):
-                raise self.fail(s.pos, f"'return' with no value in function '{self.func.name}' returning '{ret}'")
+                raise self.fail(
+                    s.pos,
+                    f"'return' with no value in function '{self.func.name}' returning '{ret}'",
+                )
             return [ast.Return(value=None)]
         v = self.expr(s.value)
         if isinstance(ret, ct.VoidT):
             if not isinstance(v.type, ct.VoidT):
                 raise self.fail(s.pos, f"'return' with a value in void function '{self.func.name}'")
             return [ast.Expr(value=v.node), ast.Return(value=None)]
-        return [ast.Return(value=self.assign_convert(v, ret, s.value.pos, f" in the return value of '{self.func.name}'"))]
+        return [
+            ast.Return(
+                value=self.assign_convert(
+                    v, ret, s.value.pos, f" in the return value of '{self.func.name}'"
+                )
+            )
+        ]
 
     # ------------------------------------------------------------ constants
 
@@ -574,17 +683,32 @@ class FunctionLowerer(ExprLowering, AccessLowering):
         finally:
             self.scope = saved
         lbl, g, b = self.temp(), self.temp(), self.temp()
+        self.has_yield = True
         tries: list[ast.stmt] = []
         for k, seg in enumerate(segments):
             test = ast.Compare(left=name(lbl), ops=[ast.LtE()], comparators=[ast.Constant(k)])
             tries.append(ast.If(test=test, body=seg or [ast.Pass()], orelse=[]))
         tries.append(ast.Break())
-        handler = ast.ExceptHandler(type=name("_Goto"), name=g, body=[
-            ast.Assign(targets=[name(lbl, True)],
-                       value=ast.Subscript(value=ast.Attribute(value=name(g), attr="args", ctx=ast.Load()),
-                                           slice=ast.Constant(0), ctx=ast.Load())),
-        ] + _backedge(b))
-        loop = ast.While(test=ast.Constant(True), body=[ast.Try(body=tries, handlers=[handler], orelse=[], finalbody=[])], orelse=[])
+        handler = ast.ExceptHandler(
+            type=name("_Goto"),
+            name=g,
+            body=[
+                ast.Assign(
+                    targets=[name(lbl, True)],
+                    value=ast.Subscript(
+                        value=ast.Attribute(value=name(g), attr="args", ctx=ast.Load()),
+                        slice=ast.Constant(0),
+                        ctx=ast.Load(),
+                    ),
+                ),
+            ]
+            + _backedge(b),
+        )
+        loop = ast.While(
+            test=ast.Constant(True),
+            body=[ast.Try(body=tries, handlers=[handler], orelse=[], finalbody=[])],
+            orelse=[],
+        )
         pre = [ast.Assign(targets=[name(lbl, True)], value=ast.Constant(0)), _countdown_init(b)]
         return _at(pre + [loop], body.pos)
 
@@ -593,7 +717,10 @@ class FunctionLowerer(ExprLowering, AccessLowering):
         if k is None:
             from motionvm.source.suggest import did_you_mean
 
-            raise self.fail(s.pos, f"label '{s.label}' used but not defined{did_you_mean(s.label, list(getattr(self, 'labels', {})))}")
+            raise self.fail(
+                s.pos,
+                f"label '{s.label}' used but not defined{did_you_mean(s.label, list(getattr(self, 'labels', {})))}",
+            )
         return [ast.Raise(exc=call("_Goto", ast.Constant(k)), cause=None)]
 
     def _s_Label(self, s: n.Label) -> list[ast.stmt]:
@@ -623,17 +750,43 @@ class FunctionLowerer(ExprLowering, AccessLowering):
             zero = ast.Constant(0.0 if sym.type.ret.is_float else 0)
             body.append(_at([ast.Return(value=zero)], f.pos)[0])
         if self.frame_size:
-            push = _parsed(f"_s = _stack\n_fp = _s.push({self.frame_size}, {bytes(self.frame_valid)!r})", f.pos)
-            body = push + [ast.Try(body=body or [ast.Pass()], handlers=[], orelse=[],
-                                   finalbody=_parsed("_s.pop(_fp)", f.pos))]
-        gl = sorted(self.globals_stored | ({"_budget"} if _contains_yield(body) else set()))
+            push = _parsed(
+                f"_s = _stack\n_fp = _s.push({self.frame_size}, {bytes(self.frame_valid)!r})", f.pos
+            )
+            body = push + [
+                ast.Try(
+                    body=body or [ast.Pass()],
+                    handlers=[],
+                    orelse=[],
+                    finalbody=_parsed("_s.pop(_fp)", f.pos),
+                )
+            ]
+        gl = sorted(self.globals_stored | ({"_budget"} if self.has_yield else set()))
         if gl:
             body.insert(0, ast.Global(names=gl))
-        if sym.is_generator and not _contains_yield(body):
-            body.append(ast.If(test=ast.Constant(False), body=[ast.Expr(value=ast.Yield(value=None))], orelse=[]))
-        fn = ast.FunctionDef(name=sym.pyname, args=ast.arguments(posonlyargs=[], args=params, vararg=None,
-                             kwonlyargs=[], kw_defaults=[], kwarg=None, defaults=[]),
-                             body=_at(body or [ast.Pass()], f.pos), decorator_list=[], returns=None)
+        if sym.is_generator and not self.has_yield:
+            body.append(
+                ast.If(
+                    test=ast.Constant(False),
+                    body=[ast.Expr(value=ast.Yield(value=None))],
+                    orelse=[],
+                )
+            )
+        fn = ast.FunctionDef(
+            name=sym.pyname,
+            args=ast.arguments(
+                posonlyargs=[],
+                args=params,
+                vararg=None,
+                kwonlyargs=[],
+                kw_defaults=[],
+                kwarg=None,
+                defaults=[],
+            ),
+            body=_at(body or [ast.Pass()], f.pos),
+            decorator_list=[],
+            returns=None,
+        )
         return _at([fn], f.pos)[0]
 
 
@@ -656,11 +809,14 @@ def _assigned_names(body) -> set[str]:
         t = type(x)
         if t is n.Assign and type(x.target) is n.Name:
             out.add(x.target.id)
-        elif (t is n.Postfix or t is n.Unary) and x.op in ("++", "--", "&") and type(x.operand) is n.Name:
+        elif (
+            (t is n.Postfix or t is n.Unary)
+            and x.op in ("++", "--", "&")
+            and type(x.operand) is n.Name
+        ):
             out.add(x.operand.id)
     return out
 
 
 def _contains_yield(body: list[ast.stmt]) -> bool:
     return any(isinstance(x, (ast.Yield, ast.YieldFrom)) for s in body for x in ast.walk(s))
-

@@ -9,8 +9,8 @@ a compound assignment or `x++` evaluates them exactly once, as C requires.
 from __future__ import annotations
 
 import ast
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable
 
 from motionvm.lang.hmpl import ctypes_ as ct
 
@@ -37,8 +37,11 @@ def view_code(t: ct.CType) -> str:
     raise TypeError(f"no scalar view for {t}")
 
 
+_LOAD, _STORE = ast.Load(), ast.Store()  # context objects are immutable and may be shared
+
+
 def name(id_: str, store: bool = False) -> ast.Name:
-    return ast.Name(id=id_, ctx=ast.Store() if store else ast.Load())
+    return ast.Name(id_, _STORE if store else _LOAD)
 
 
 def const(v) -> ast.expr:
@@ -82,7 +85,7 @@ class LValue:
     def addr(self) -> ast.expr | None:
         return None
 
-    def bind(self, temp: TempMaker) -> tuple[list[ast.expr], "LValue"]:
+    def bind(self, temp: TempMaker) -> tuple[list[ast.expr], LValue]:
         """(walrus expressions to evaluate first, an equivalent LValue using temporaries)."""
         return [], self
 

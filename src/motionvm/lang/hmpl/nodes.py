@@ -58,7 +58,17 @@ class InitList:
     """A brace initializer `{a, b, {c, d}}`."""
 
     pos: SourcePos
-    items: tuple["Expr | InitList", ...]
+    items: tuple["Expr | InitList | Designated", ...]
+
+
+@dataclass(frozen=True, slots=True)
+class Designated:
+    """`.field = value` or `[index] = value` inside a brace initializer (C99)."""
+
+    pos: SourcePos
+    field: str | None
+    index: "Expr | None"
+    value: "Expr | InitList"
 
 
 @dataclass(frozen=True, slots=True)

@@ -183,7 +183,11 @@ class Parser:
             self.i += 1
             return t
         if key == ";" and self.i > 0:
-            self._error(_end_of(self.toks[self.i - 1]), f"expected ';' {context}".rstrip())
+            prev = self.toks[self.i - 1]
+            self._error(_end_of(prev), f"expected ';' {context}".rstrip())
+            t = self.toks[self.i]
+            if t.pos.line != prev.pos.line or self.keys[self.i] in ("}", ""):
+                return t  # the line just lacks its ';': carry on as if it were there
         elif self.i > 0 and self.toks[self.i].pos.line != self.toks[self.i - 1].pos.line:
             # the line ended too early: point at its end, not at the next line
             self._error(_end_of(self.toks[self.i - 1]), f"expected '{key}' {context}".rstrip())
@@ -584,22 +588,42 @@ class Parser:
         return n.VarDecl(name_tok.pos, _with_pointers(spec, pointers), name_tok.text,
                          _infer_first_dim(dims, init), init)
 
-    # BNF: initializer = assignment_expression | "{" [ initializer { "," initializer } [ "," ] ] "}"
+    # BNF: initializer = assignment_expression
+    # BNF:     | "{" [ initializer_item { "," initializer_item } [ "," ] ] "}"
     def _parse_initializer(self) -> n.Expr | n.InitList:
         if self.keys[self.i] != "{":
             return self._parse_assignment_expression()
         lbrace = self._advance()
         self._enter()
-        items: list[n.Expr | n.InitList] = []
+        items: list[n.Expr | n.InitList | n.Designated] = []
         while self.keys[self.i] != "}":
             if self.keys[self.i] in (".", "["):
-                raise self._fail_here("designated initializers are not supported in HMPL")
-            items.append(self._parse_initializer())
+                items.append(self._parse_designated_initializer())
+            else:
+                items.append(self._parse_initializer())
             if not self._accept(","):
                 break
         self._expect("}", "at end of initializer list" if self.keys[self.i] == "" else "")
         self.depth -= 1
         return n.InitList(lbrace.pos, tuple(items))
+
+    # BNF: initializer_item = [ ( "." NAME | "[" conditional_expression "]" ) "=" ] initializer
+    def _parse_designated_initializer(self) -> n.Designated:
+        t = self._advance()
+        field: str | None = None
+        index: n.Expr | None = None
+        if t.text == ".":
+            if self.kinds[self.i] != "name":
+                raise self._fail_here(f"expected a member name after '.' before {_describe(self._tok())}")
+            field = self._advance().text
+        else:
+            index = self._parse_conditional_expression()
+            self._expect("]", "after designator index")
+        if self.keys[self.i] in (".", "["):
+            raise self._fail_here("nested designators ('.a.b =', '[i][j] =') are not supported in HMPL; "
+                                  "use nested braces")
+        self._expect("=", "after designator")
+        return n.Designated(t.pos, field, index, self._parse_initializer())
 
     # ------------------------------------------------------------ statements
 
@@ -1011,7 +1035,9 @@ def _infer_first_dim(
             count = len(init.value) + 1
     elif isinstance(init, n.InitList):
         items = init.items
-        if len(dims) == 1:
+        if any(isinstance(x, n.Designated) for x in items):
+            count = _designated_count(items)
+        elif len(dims) == 1:
             if len(items) == 1 and isinstance(items[0], n.StrLit):
                 count = len(items[0].value) + 1
             else:
@@ -1028,3 +1054,17 @@ def _infer_first_dim(
     if count is None:
         return dims
     return (n.IntLit(init.pos, count), *dims[1:])
+
+
+def _designated_count(items: tuple) -> int | None:
+    """Elements of `T a[] = {..., [k] = v, ...}`: one past the highest index; None when an
+    index is no literal (the checker evaluates it) or a member designator is used."""
+    count = i = 0
+    for x in items:
+        if isinstance(x, n.Designated):
+            if not isinstance(x.index, n.IntLit):
+                return None
+            i = x.index.value
+        i += 1
+        count = max(count, i)
+    return count

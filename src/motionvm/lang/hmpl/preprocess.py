@@ -448,6 +448,7 @@ class Preprocessor:
                 return out
             if m.params is None:
                 body = self._subst(m, None, hs | {m.name}, t.pos, hs_map)
+                _end_at(body, t, t, hs_map)
                 stack.extend(reversed(body))
                 continue
             nxt = src.peek()
@@ -478,6 +479,7 @@ class Preprocessor:
             r_entry = hs_map.get(id(rparen))
             r_hs = r_entry[1] if r_entry is not None and r_entry[0] is rparen else _EMPTY
             body = self._subst(m, args, (hs & r_hs) | {m.name}, t.pos, hs_map)
+            _end_at(body, t, rparen, hs_map)
             stack.extend(reversed(body))
 
     def _collect_args(self, src: "_Source", m: Macro) -> tuple[list[list[Token]], Token] | None:
@@ -624,6 +626,25 @@ class _Source:
 
 
 _text = attrgetter("text")
+
+
+def _end_at(body: list[Token], use: Token, last: Token, hs_map: dict) -> None:
+    """Make the expansion end where the macro use ends (its name or its ')').
+
+    Its last token is placed so that "just after it" (where a missing ';' is
+    reported) is just after the use, not inside the macro name.
+    """
+    if not body or body[-1].pos is not use.pos or last.pos.file != use.pos.file:
+        return  # the expansion ends with an argument: that token keeps its own place
+    end = body[-1]
+    col = max(1, last.pos.col + len(last.text) - len(end.text))
+    if last.pos.line == use.pos.line and col < use.pos.col:
+        col = use.pos.col
+    nt = Token(end.kind, end.text, SourcePos(last.pos.file, last.pos.line, col), end.value,
+               end.suffix)
+    old = hs_map.get(id(end))
+    hs_map[id(nt)] = (nt, old[1] if old is not None and old[0] is end else _EMPTY)
+    body[-1] = nt
 
 
 def _at(t: Token, pos: SourcePos) -> Token:

@@ -28,8 +28,18 @@ from motionvm.lang.hmpl.symbols import FuncSym, Scope, VarSym
 from motionvm.source.diagnostics import DiagnosticSink, TooManyErrors
 from motionvm.source.suggest import did_you_mean
 
-_PACK = {"i8": "b", "u8": "B", "i16": "h", "u16": "H", "i32": "i", "u32": "I",
-         "i64": "q", "u64": "Q", "f32": "f", "f64": "d"}
+_PACK = {
+    "i8": "b",
+    "u8": "B",
+    "i16": "h",
+    "u16": "H",
+    "i32": "i",
+    "u32": "I",
+    "i64": "q",
+    "u64": "Q",
+    "f32": "f",
+    "f64": "d",
+}
 
 
 @dataclass
@@ -151,7 +161,9 @@ class ProgramCompiler:
         if sv is not None:
             return sv
         if ident == "TimerInit":
-            return VarSym("TimerInit", ct.TIMER, "static", None, addr=self.timer_init, is_const=True)
+            return VarSym(
+                "TimerInit", ct.TIMER, "static", None, addr=self.timer_init, is_const=True
+            )
         if ident == "_TASKID_":
             return VarSym(ident, ct.INT, "const", None, const_value=task, is_const=True)
         c = self.constants.get(ident)
@@ -198,7 +210,9 @@ class ProgramCompiler:
                 t = scope.lookup_type(base)
                 if t is None:
                     known = list(ct.BASE_TYPES) + ["Timer", "Data_t"]
-                    raise self._fail(tr.pos, f"unknown type name '{base}'{did_you_mean(base, known)}")
+                    raise self._fail(
+                        tr.pos, f"unknown type name '{base}'{did_you_mean(base, known)}"
+                    )
         for _ in range(tr.pointers):
             t = ct.pointer_to(t)
         return t
@@ -233,7 +247,9 @@ class ProgramCompiler:
             outer = i == len(dims) - 1
             if dim is None:
                 if not outer:
-                    raise self._fail(d.pos, f"array '{d.name}' needs sizes for all but the first dimension")
+                    raise self._fail(
+                        d.pos, f"array '{d.name}' needs sizes for all but the first dimension"
+                    )
                 count = self._count_from_init(getattr(d, "init", None), t)
                 if count is None:
                     if isinstance(d, n.Param):
@@ -242,7 +258,9 @@ class ProgramCompiler:
             else:
                 count = self._const_int(dim, scope, task)
                 if count <= 0:
-                    raise self._fail(dim.pos, f"size of array '{d.name}' must be positive (it is {count})")
+                    raise self._fail(
+                        dim.pos, f"size of array '{d.name}' must be positive (it is {count})"
+                    )
             t = ct.array_of(t, count)
         if isinstance(d, n.Param) and isinstance(t, ct.ArrayT):
             return ct.pointer_to(t.elem)
@@ -279,15 +297,29 @@ class ProgramCompiler:
                 raise self._fail(init.pos, f"a string initializes only a char array, not '{t}'")
             data = init.value
             if t.n is not None and len(data) > t.n:
-                raise self._fail(init.pos, f"string of {len(data)} characters is too long for '{vname}' ({t.n} bytes)")
+                raise self._fail(
+                    init.pos,
+                    f"string of {len(data)} characters is too long for '{vname}' ({t.n} bytes)",
+                )
             image[off : off + len(data)] = data
             return
         if isinstance(t, ct.ArrayT):
             items = init.items if isinstance(init, n.InitList) else (init,)
-            if t.n is not None and len(items) > t.n:
-                raise self._fail(init.pos, f"too many initializers for '{vname}' ({len(items)} for {t.n} elements)")
-            for i, it in enumerate(items):
+            i = 0
+            for it in items:
+                if isinstance(it, n.Designated):
+                    if it.index is None:
+                        raise self._fail(
+                            it.pos, f"field designator '.{it.field}' in the initializer of an array"
+                        )
+                    i = lw.const_int(it.index)
+                    it = it.value
+                if t.n is not None and not 0 <= i < t.n:
+                    raise self._fail(
+                        init.pos, f"too many initializers for '{vname}' (element {i} of {t.n})"
+                    )
                 self._init_into(lw, t.elem, it, off + i * t.elem.size, image, stores, addr, vname)
+                i += 1
             return
         if isinstance(t, ct.StructT):
             if isinstance(init, n.Name) and init.id == "TimerInit" and t == ct.TIMER:
@@ -296,34 +328,74 @@ class ProgramCompiler:
                 v = lw.expr(init)
                 if v.type != t:
                     raise self._fail(init.pos, f"cannot initialize '{t}' from '{v.type}'")
-                stores.append(_at([ast.Expr(value=call("_copy", _offset(addr, off), v.node, ast.Constant(t.size)))], init.pos)[0])
+                stores.append(
+                    _at(
+                        [
+                            ast.Expr(
+                                value=call(
+                                    "_copy", _offset(addr, off), v.node, ast.Constant(t.size)
+                                )
+                            )
+                        ],
+                        init.pos,
+                    )[0]
+                )
                 return
-            members = t.fields[:1] if t.kind == "union" else t.fields
-            if len(init.items) > len(members):
-                raise self._fail(init.pos, f"too many initializers for '{t}'")
-            for (fname, foff, ft), it in zip(members, init.items):
+            members = (
+                [f for f in t.fields if not f[0].startswith("_")]
+                if t.tag != "Timer"
+                else list(t.fields)
+            )
+            k = 0
+            for it in init.items:
+                if isinstance(it, n.Designated):
+                    names = [f[0] for f in members]
+                    if it.field is None or it.field not in names:
+                        what = f"'.{it.field}'" if it.field else "an index designator"
+                        raise self._fail(
+                            it.pos,
+                            f"'{t}' has no member {what}{did_you_mean(it.field or '', names)}",
+                        )
+                    k = names.index(it.field)
+                    it = it.value
+                if k >= len(members) or (
+                    t.kind == "union" and k > 0 and not isinstance(init.items[0], n.Designated)
+                ):
+                    raise self._fail(init.pos, f"too many initializers for '{t}'")
+                fname, foff, ft = members[k]
                 self._init_into(lw, ft, it, off + foff, image, stores, addr, vname)
+                k += 1
             return
         # scalar element
         if isinstance(init, n.InitList):
             if len(init.items) != 1:
-                raise self._fail(init.pos, "braces around a scalar initializer need exactly one value")
+                raise self._fail(
+                    init.pos, "braces around a scalar initializer need exactly one value"
+                )
             init = init.items[0]
         v = lw.expr(init)
         node = lw.assign_convert(v, t, init.pos, f" in the initializer of '{vname}'")
         code = view_code(t)
-        if isinstance(node, ast.Constant) or (isinstance(node, ast.UnaryOp) and isinstance(node.operand, ast.Constant)):
+        if isinstance(node, ast.Constant) or (
+            isinstance(node, ast.UnaryOp) and isinstance(node.operand, ast.Constant)
+        ):
             value = node.value if isinstance(node, ast.Constant) else -node.operand.value
             struct.pack_into("<" + _PACK[code], image, off, value)
             return
-        target = ast.Subscript(value=name(VIEW_NAMES[code]), slice=_scaled(addr, off, t.size), ctx=ast.Store())
+        target = ast.Subscript(
+            value=name(VIEW_NAMES[code]), slice=_scaled(addr, off, t.size), ctx=ast.Store()
+        )
         stores.append(_at([ast.Assign(targets=[target], value=node)], init.pos)[0])
 
     # ------------------------------------------------------------ declarations
 
     def declare_units(self, units: list[Unit]) -> None:
         for u in sorted(units, key=lambda u: u.task):
-            scope = self.global_scope if u.task == 0 else self.task_scopes.setdefault(u.task, Scope(self.global_scope, "task"))
+            scope = (
+                self.global_scope
+                if u.task == 0
+                else self.task_scopes.setdefault(u.task, Scope(self.global_scope, "task"))
+            )
             info = self.tasks.setdefault(u.task, TaskInfo(u.task, u.path, init=f"_init_t{u.task}"))
             prefix = "g_" if u.task == 0 else f"t{u.task}_"
             for item in u.tu.items:
@@ -356,16 +428,27 @@ class ProgramCompiler:
             if isinstance(t, ct.VoidT):
                 raise self._fail(item.pos, f"variable '{item.name}' declared void")
             if t.is_scalar and item.name not in self.addr_taken:
-                sym = VarSym(item.name, t, "pyglobal", item.pos, pyname=prefix + item.name, is_const=item.type.is_const)
+                sym = VarSym(
+                    item.name,
+                    t,
+                    "pyglobal",
+                    item.pos,
+                    pyname=prefix + item.name,
+                    is_const=item.type.is_const,
+                )
             else:
                 addr = self.mem.alloc_static(t.size, item.name, align=max(8, t.align))
-                sym = VarSym(item.name, t, "static", item.pos, addr=addr, is_const=item.type.is_const)
+                sym = VarSym(
+                    item.name, t, "static", item.pos, addr=addr, is_const=item.type.is_const
+                )
             scope.names[item.name] = sym
             self._pending_inits.setdefault(task, []).append((sym, item))
         elif isinstance(item, n.FuncDef):
             self._declare_function(item, scope, task, prefix, info)
 
-    def _declare_function(self, f: n.FuncDef, scope: Scope, task: int, prefix: str, info: TaskInfo) -> None:
+    def _declare_function(
+        self, f: n.FuncDef, scope: Scope, task: int, prefix: str, info: TaskInfo
+    ) -> None:
         if f.name in self.builtins or f.name in catalog.MACRO_NAMES:
             raise self._fail(f.pos, f"'{f.name}' is a built-in function and cannot be redefined")
         ret = self.resolve_typeref(f.ret, scope, task)
@@ -432,7 +515,9 @@ class ProgramCompiler:
             facts = self.facts[id(f.node)]
             f.is_generator = facts.waits
             scope = self.task_scopes.get(f.task, self.global_scope)
-            calls[id(f)] = [c for c in (scope.lookup(nm) for nm in facts.callees) if isinstance(c, FuncSym)]
+            calls[id(f)] = [
+                c for c in (scope.lookup(nm) for nm in facts.callees) if isinstance(c, FuncSym)
+            ]
         changed = True
         while changed:
             changed = False
@@ -458,7 +543,13 @@ class ProgramCompiler:
                         sym = scope.names.get(item.name)
                         if not isinstance(sym, FuncSym) or sym.node is not item:
                             continue
-                        lw = FunctionLowerer(self, u.task, Scope(scope, "function"), sym, self.facts[id(item)].addr_taken)
+                        lw = FunctionLowerer(
+                            self,
+                            u.task,
+                            Scope(scope, "function"),
+                            sym,
+                            self.facts[id(item)].addr_taken,
+                        )
                         try:
                             fn = lw.function(item, sym)
                         except SemanticError:
@@ -484,16 +575,31 @@ class ProgramCompiler:
                 stmts = lw.init_var(sym, item.init, item.pos)
                 if sym.storage == "pyglobal":
                     lw.globals_stored.add(sym.pyname)
-                if any(isinstance(x, (ast.Yield, ast.YieldFrom)) for s in stmts for x in ast.walk(s)):
-                    raise self._fail(item.pos, f"the initializer of '{item.name}' must not call a function that waits")
+                if lw.has_yield:
+                    raise self._fail(
+                        item.pos,
+                        f"the initializer of '{item.name}' must not call a function that waits",
+                    )
                 body.extend(_at(stmts, item.pos))
             except SemanticError:
                 pass
         if lw.globals_stored:
             body.insert(0, ast.Global(names=sorted(lw.globals_stored)))
-        fn = ast.FunctionDef(name=f"_init_t{u.task}", args=ast.arguments(posonlyargs=[], args=[], vararg=None,
-                             kwonlyargs=[], kw_defaults=[], kwarg=None, defaults=[]),
-                             body=body or [ast.Pass()], decorator_list=[], returns=None)
+        fn = ast.FunctionDef(
+            name=f"_init_t{u.task}",
+            args=ast.arguments(
+                posonlyargs=[],
+                args=[],
+                vararg=None,
+                kwonlyargs=[],
+                kw_defaults=[],
+                kwarg=None,
+                defaults=[],
+            ),
+            body=body or [ast.Pass()],
+            decorator_list=[],
+            returns=None,
+        )
         return _at([fn], u.tu.pos)[0]
 
 

@@ -37,8 +37,17 @@ def _plain_to_gen(fn: Callable[[], object]):
 class HmplRuntime:
     """One loaded HMPL program on a controller (kernel + clock)."""
 
-    def __init__(self, controller, program: CompiledProgram, mem: Memory, *, emit: Callable[[str], None],
-                 report: Callable[[str], None], data_dir: Path, task_slice: int = 2000) -> None:
+    def __init__(
+        self,
+        controller,
+        program: CompiledProgram,
+        mem: Memory,
+        *,
+        emit: Callable[[str], None],
+        report: Callable[[str], None],
+        data_dir: Path,
+        task_slice: int = 2000,
+    ) -> None:
         self.controller = controller
         self.kernel: Kernel = controller.kernel
         self.program = program
@@ -54,7 +63,9 @@ class HmplRuntime:
         self.gpi = [0] * N_GPIO
         self.gpo = [0] * N_GPIO
         self.user_files = {fname for fname, _ in program.codes}
-        self.stacks = [TaskStack(mem, STATIC_SIZE + i * STACK_SIZE, STACK_SIZE) for i in range(N_TASKS)]
+        self.stacks = [
+            TaskStack(mem, STATIC_SIZE + i * STACK_SIZE, STACK_SIZE) for i in range(N_TASKS)
+        ]
         self.user_table_addr = program.sysvars["system_user_table"].addr
         self._time_addr = program.sysvars["system_timeInMs"].addr // 4
         self._fclk_addr = program.sysvars["system_fclk"].addr // 4
@@ -159,14 +170,18 @@ class HmplRuntime:
                 return 2
             pyname = info.entry
         else:
-            sym = info.functions.get(func_name) or self.program.tasks.get(0, info).functions.get(func_name)
+            sym = info.functions.get(func_name) or self.program.tasks.get(0, info).functions.get(
+                func_name
+            )
             if sym is None or sym.type.params:
                 return 3
             pyname = sym.pyname
         fn = self.ns[pyname]
         sym = next((s for s in info.functions.values() if s.pyname == pyname), None)
         if sym is None and 0 in self.program.tasks:
-            sym = next((s for s in self.program.tasks[0].functions.values() if s.pyname == pyname), None)
+            sym = next(
+                (s for s in self.program.tasks[0].functions.values() if s.pyname == pyname), None
+            )
         gen = fn() if sym is not None and sym.is_generator else _plain_to_gen(fn)
         self.stacks[task_id].reset()
         self.kernel.start(task_id, gen, func_name or "main")
@@ -186,8 +201,10 @@ class HmplRuntime:
         msg = self._fault_message(exc)
         if msg is None:
             detail = "".join(traceback.format_exception_only(type(exc), exc)).strip()
-            self._report(f"{where}: internal error in task {t.id}: {detail}\n"
-                         "  this is a bug in motionvm, not in your program; please file an issue with the program attached")
+            self._report(
+                f"{where}: internal error in task {t.id}: {detail}\n"
+                "  this is a bug in motionvm, not in your program; please file an issue with the program attached"
+            )
             return
         self._report(f"{where}: runtime error in task {t.id}: {msg}")
 

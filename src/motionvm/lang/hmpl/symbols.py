@@ -45,13 +45,13 @@ class FuncSym:
 class Scope:
     """One level of name lookup; `parent` is the enclosing scope."""
 
-    parent: "Scope | None"
+    parent: Scope | None
     kind: str  # 'global' | 'task' | 'function' | 'block'
-    names: dict[str, "VarSym | FuncSym"] = field(default_factory=dict)
+    names: dict[str, VarSym | FuncSym] = field(default_factory=dict)
     types: dict[str, ct.CType] = field(default_factory=dict)  # typedef names
     tags: dict[str, ct.StructT] = field(default_factory=dict)  # struct/union tags
 
-    def lookup(self, name: str) -> "VarSym | FuncSym | None":
+    def lookup(self, name: str) -> VarSym | FuncSym | None:
         s: Scope | None = self
         while s is not None:
             found = s.names.get(name)

@@ -26,7 +26,12 @@ def library_classes() -> list[type[Library]]:
                 raise
             continue
         for obj in vars(mod).values():
-            if isinstance(obj, type) and issubclass(obj, Library) and obj is not Library and obj.__module__ == modname:
+            if (
+                isinstance(obj, type)
+                and issubclass(obj, Library)
+                and obj is not Library
+                and obj.__module__ == modname
+            ):
                 out.append(obj)
     return out
 

@@ -159,7 +159,9 @@ class SystemLib(Library):
 
     def _task_id(self, task_id: int, fn: str) -> int:
         if not 0 <= task_id < len(self.rt.kernel.tasks):
-            raise RuntimeFault(f"{fn}: bad task id {task_id} (tasks are 0..{len(self.rt.kernel.tasks) - 1})")
+            raise RuntimeFault(
+                f"{fn}: bad task id {task_id} (tasks are 0..{len(self.rt.kernel.tasks) - 1})"
+            )
         return task_id
 
     @builtin()

@@ -1,0 +1,221 @@
+"""Scope recording: a registry of named channels and a recorder that samples them each cycle.
+
+A *channel* is one number observed over time: `axis0.ref_pos`, `system_dtest0`, `gpo3`,
+a program's global `count` or `table[4]`. Layers that own values offer them through a
+`ChannelSource` (`resolve(name)` gives a getter and a unit, or None if the name is not
+theirs); a `ChannelRegistry` asks each source in turn and turns failures into one clear
+error with close matches. The `ScopeRecorder` is a `Controller` client: its
+`end_cycle()` runs after tasks and motion, so a sample shows the state a cycle left
+behind, stamped with that cycle's time (`system_timeInMs` reads the same cycle).
+Writers for .csv, .png/.svg and .vcd live in `scope_writers.py`; the sources for HMPL
+variables, GPIO and axes in `scope_sources.py`.
+"""
+
+from __future__ import annotations
+
+import difflib
+from collections.abc import Callable, Iterable, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Protocol
+
+OUTPUT_SUFFIXES = (".csv", ".png", ".svg", ".vcd")
+PLOT_SUFFIXES = (".png", ".svg")
+PLOT_INSTALL_HINT = "pip install 'motionvm[plot]'"
+# Unit of a channel that is a single bit (drawn as steps, a 1-bit wire in VCD).
+BIT_UNIT = "bool"
+# Unit of a plain number with no physical unit (test variables, globals, counters).
+RAW_UNIT = "raw"
+
+
+class ScopeError(ValueError):
+    """A bad scope request (unknown channel, bad flag, unwritable output); exit code 3."""
+
+
+class ChannelSource(Protocol):
+    """Something that owns values the scope can record."""
+
+    def resolve(self, name: str) -> tuple[Callable[[], float], str] | None:
+        """(getter, unit) for a channel of this source; None if `name` is not one of ours.
+
+        A source may raise ScopeError for a name that is its own but wrong (an array
+        index out of range, an axis that does not exist), to say exactly what is wrong.
+        """
+        ...
+
+    def channel_names(self) -> Iterable[str]:
+        """Names offered for "did you mean" suggestions (may be a subset for big arrays)."""
+        ...
+
+
+@dataclass(frozen=True, slots=True)
+class Channel:
+    """One recorded quantity: its name, unit (`mm`, `mm/s`, `ms`, `bool`, `raw`...) and getter."""
+
+    name: str
+    unit: str
+    getter: Callable[[], float]
+
+    @property
+    def is_bit(self) -> bool:
+        return self.unit == BIT_UNIT
+
+
+class ChannelRegistry:
+    """Channel sources, asked in the order registered."""
+
+    def __init__(self, sources: Iterable[ChannelSource] = ()) -> None:
+        self.sources: list[ChannelSource] = list(sources)
+
+    def register(self, source: ChannelSource) -> None:
+        self.sources.append(source)
+
+    def names(self) -> list[str]:
+        out: list[str] = []
+        for s in self.sources:
+            names = getattr(s, "channel_names", None)
+            if names is not None:
+                out.extend(names())
+        return out
+
+    def resolve(self, name: str) -> Channel:
+        """The channel called `name`, or ScopeError naming the closest known channels."""
+        for s in self.sources:
+            found = s.resolve(name)
+            if found is not None:
+                getter, unit = found
+                return Channel(name, unit, getter)
+        close = difflib.get_close_matches(name, self.names(), n=5, cutoff=0.6)
+        hint = f"; did you mean {', '.join(close)}?" if close else ""
+        if not close and name.startswith("axis"):
+            hint = "; axis channels are axisN.<variable>, e.g. axis0.ref_pos, and need the machine's axes"
+        raise ScopeError(f"unknown scope channel '{name}'{hint}")
+
+    def resolve_all(self, names: Sequence[str]) -> list[Channel]:
+        """Resolve every name; all unknown names are reported in one error."""
+        channels, errors = [], []
+        for n in names:
+            try:
+                channels.append(self.resolve(n))
+            except ScopeError as exc:
+                errors.append(str(exc))
+        if errors:
+            raise ScopeError("\n".join(errors))
+        return channels
+
+
+def parse_channel_list(specs: Iterable[str]) -> list[str]:
+    """Channel names from one or more comma-separated `--scope` values, duplicates dropped."""
+    names: list[str] = []
+    for spec in specs:
+        for part in spec.split(","):
+            name = "".join(part.split())
+            if name and name not in names:
+                names.append(name)
+    return names
+
+
+def plotting_available() -> bool:
+    try:
+        import matplotlib  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
+@dataclass(frozen=True, slots=True)
+class ScopeRequest:
+    """What `--scope/--scope-out/--scope-every` asked for, checked before anything runs."""
+
+    channels: tuple[str, ...]
+    outputs: tuple[Path, ...]
+    every: int = 1
+
+    @classmethod
+    def from_options(cls, scope: Sequence[str], outputs: Sequence[str], every: int | None) -> "ScopeRequest | None":
+        """None when no scope was asked for; ScopeError for an incomplete or bad request."""
+        every = 1 if every is None else every
+        names = parse_channel_list(scope)
+        if not names and not outputs:
+            if every != 1:
+                raise ScopeError("--scope-every needs --scope and --scope-out")
+            return None
+        if not names:
+            raise ScopeError("--scope-out needs --scope CHANNEL,... (e.g. --scope axis0.ref_pos,system_dtest0)")
+        if not outputs:
+            raise ScopeError("--scope needs --scope-out FILE (.csv, .png, .svg or .vcd)")
+        if every < 1:
+            raise ScopeError(f"--scope-every must be a whole number of cycles >= 1, got {every}")
+        paths = tuple(Path(o) for o in outputs)
+        for p in paths:
+            check_output_path(p)
+        return cls(tuple(names), paths, every)
+
+
+def check_output_path(path: Path) -> None:
+    """ScopeError unless `path` has a known suffix, its folder exists, and plotting is possible."""
+    suffix = path.suffix.lower()
+    if suffix not in OUTPUT_SUFFIXES:
+        raise ScopeError(f"--scope-out {path}: unknown file type '{suffix or '(none)'}' "
+                         f"(expected {', '.join(OUTPUT_SUFFIXES)})")
+    folder = path.parent if str(path.parent) else Path(".")
+    if not folder.is_dir():
+        raise ScopeError(f"--scope-out {path}: folder '{folder}' does not exist")
+    if path.is_dir():
+        raise ScopeError(f"--scope-out {path}: is a folder")
+    if suffix in PLOT_SUFFIXES and not plotting_available():
+        raise ScopeError(f"--scope-out {path}: drawing a {suffix} plot needs matplotlib, "
+                         f"which is not installed; {PLOT_INSTALL_HINT}")
+
+
+class ScopeRecorder:
+    """Samples channels at the end of every `every`-th controller cycle.
+
+    Attach it after every other client, so it sees the cycle's final state. While it is
+    attached the controller steps every cycle (no jump-ahead), so no sample is skipped.
+    """
+
+    def __init__(self, channels: Sequence[Channel], cycle_time: float, every: int = 1) -> None:
+        if every < 1:
+            raise ValueError(f"every must be >= 1, got {every}")
+        self.channels = list(channels)
+        self.cycle_time = cycle_time
+        """Controller cycle time [s]."""
+        self.every = every
+        self.cycles: list[int] = []
+        """Controller cycle of each sample."""
+        self.columns: list[list[float]] = [[] for _ in self.channels]
+        """One list of values per channel, parallel to `cycles`."""
+        self._controller = None
+        self._first_cycle = 0
+        self._pairs = list(zip(self.columns, [c.getter for c in self.channels]))
+
+    def attach(self, controller) -> None:
+        """Become a client of `controller`, sampling from its current cycle on."""
+        self._controller = controller
+        self._first_cycle = controller.cycle
+        controller.allow_jump = False
+        controller.clients.append(self)
+
+    def begin_cycle(self) -> None:
+        pass
+
+    def end_cycle(self) -> None:
+        cycle = self._controller.cycle
+        if (cycle - self._first_cycle) % self.every:
+            return
+        self.cycles.append(cycle)
+        for column, get in self._pairs:
+            column.append(get())
+
+    @property
+    def times(self) -> list[float]:
+        """Simulated time of each sample [s], rounded to 1 ns so 3 * 0.001 prints as 0.003."""
+        dt = self.cycle_time
+        return [round(c * dt, 9) for c in self.cycles]
+
+    def save(self, path: str | Path, title: str = "") -> None:
+        """Write the recording; the format follows the suffix (.csv, .png, .svg, .vcd)."""
+        from motionvm.sim import scope_writers
+
+        scope_writers.write(Path(path), self, title=title)

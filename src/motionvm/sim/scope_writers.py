@@ -1,0 +1,198 @@
+"""Scope recording files: .csv table, .png/.svg plot (matplotlib), .vcd value-change dump.
+
+Every file is written atomically: into a temporary file in the target's folder, then
+moved over the target with `os.replace`, so a reader never sees half a file and a
+failed write leaves any previous file untouched. Outputs are deterministic (no dates,
+fixed SVG ids), so the same run gives the same bytes.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import numbers
+import os
+import tempfile
+from collections.abc import Iterator
+from pathlib import Path
+from typing import IO
+
+from motionvm.sim.scope import BIT_UNIT, PLOT_INSTALL_HINT, RAW_UNIT, ScopeError
+
+VCD_FIRST_ID, VCD_LAST_ID = 33, 126  # printable ASCII, as IEEE 1364 allows for identifier codes
+
+
+@contextlib.contextmanager
+def atomic_open(path: Path, binary: bool = False) -> Iterator[IO]:
+    """A temporary file next to `path` that replaces `path` only if the block succeeds."""
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    try:
+        with os.fdopen(fd, "wb" if binary else "w", **({} if binary else {"encoding": "utf-8", "newline": "\n"})) as f:
+            yield f
+        os.replace(tmp, path)
+    except BaseException:
+        with contextlib.suppress(OSError):
+            os.unlink(tmp)
+        raise
+
+
+def write(path: Path, recorder, title: str = "") -> None:
+    """Write `recorder`'s samples to `path` in the format its suffix names."""
+    suffix = path.suffix.lower()
+    if suffix == ".csv":
+        writer = write_csv
+    elif suffix == ".vcd":
+        writer = write_vcd
+    elif suffix in (".png", ".svg"):
+        writer = write_plot
+    else:
+        raise ScopeError(f"{path}: unknown scope file type '{suffix}'")
+    try:
+        writer(path, recorder, title)
+    except OSError as exc:
+        raise ScopeError(f"cannot write {path}: {exc.strerror or exc}") from None
+
+
+def format_number(v) -> str:
+    """Full precision: integers as integers, everything else as Python's shortest float repr."""
+    if isinstance(v, numbers.Integral):
+        return str(int(v))
+    return repr(float(v))
+
+
+def write_csv(path: Path, recorder, title: str = "") -> None:
+    """Header `time,<channel>...`; one row per sample; time [s]."""
+    columns = recorder.columns
+    with atomic_open(path) as f:
+        f.write(",".join(["time"] + [c.name for c in recorder.channels]) + "\n")
+        for row, t in enumerate(recorder.times):
+            f.write(",".join([format_number(t)] + [format_number(col[row]) for col in columns]) + "\n")
+
+
+# ---------------------------------------------------------------- VCD
+
+
+def _vcd_id(i: int) -> str:
+    base = VCD_LAST_ID - VCD_FIRST_ID + 1
+    code = ""
+    while True:
+        code += chr(VCD_FIRST_ID + i % base)
+        i = i // base - 1
+        if i < 0:
+            return code
+
+
+def _vcd_timescale(cycle_time: float) -> tuple[str, float]:
+    """1 us when the cycle is a whole number of microseconds, else 1 ns; (text, ticks per s)."""
+    us = cycle_time * 1e6
+    if abs(us - round(us)) < 1e-6:
+        return "1 us", 1e6
+    return "1 ns", 1e9
+
+
+def _vcd_value(v, bit: bool, ident: str) -> str:
+    if bit:
+        return f"{1 if v else 0}{ident}"
+    return f"r{format_number(v)} {ident}"
+
+
+def _same(a, b) -> bool:
+    return a == b or (a != a and b != b)  # NaN equals NaN here, or every sample would be a change
+
+
+def write_vcd(path: Path, recorder, title: str = "") -> None:
+    """IEEE 1364 value-change dump: `real` channels, `wire 1` bits; `axis0.x` goes in scope axis0."""
+    chans = recorder.channels
+    ids = [_vcd_id(i) for i in range(len(chans))]
+    timescale, ticks_per_s = _vcd_timescale(recorder.cycle_time)
+    groups: dict[str, list[int]] = {}
+    for i, ch in enumerate(chans):
+        scope, dot, _ = ch.name.partition(".")
+        groups.setdefault(scope if dot else "", []).append(i)
+
+    def var_line(i: int) -> str:
+        ch = chans[i]
+        ref = ch.name.partition(".")[2] or ch.name
+        kind = "wire 1" if ch.is_bit else "real 64"
+        return f"$var {kind} {ids[i]} {ref} $end\n"
+
+    with atomic_open(path) as f:
+        f.write("$version motionvm scope $end\n")
+        if title:
+            f.write(f"$comment {title} $end\n")
+        f.write(f"$comment channels: {', '.join(f'{c.name} [{c.unit}]' for c in chans)} $end\n")
+        f.write(f"$timescale {timescale} $end\n")
+        f.write("$scope module motionvm $end\n")
+        for i in groups.get("", []):
+            f.write(var_line(i))
+        for scope, members in groups.items():
+            if scope:
+                f.write(f"$scope module {scope} $end\n")
+                f.writelines(var_line(i) for i in members)
+                f.write("$upscope $end\n")
+        f.write("$upscope $end\n$enddefinitions $end\n")
+        last: list = [None] * len(chans)
+        bits = [c.is_bit for c in chans]
+        dt = recorder.cycle_time
+        for row, cycle in enumerate(recorder.cycles):
+            stamp = int(round(cycle * dt * ticks_per_s))
+            if row == 0:
+                f.write(f"#{stamp}\n$dumpvars\n")
+                for i, col in enumerate(recorder.columns):
+                    last[i] = col[0]
+                    f.write(_vcd_value(col[0], bits[i], ids[i]) + "\n")
+                f.write("$end\n")
+                continue
+            changes = []
+            for i, col in enumerate(recorder.columns):
+                v = col[row]
+                if not _same(v, last[i]):
+                    last[i] = v
+                    changes.append(_vcd_value(v, bits[i], ids[i]))
+            if changes:
+                f.write(f"#{stamp}\n" + "\n".join(changes) + "\n")
+
+
+# ---------------------------------------------------------------- plot
+
+
+def _panel_label(unit: str) -> str:
+    if unit == BIT_UNIT:
+        return "bit (0/1)"
+    if unit == RAW_UNIT:
+        return "value"
+    return f"[{unit}]"
+
+
+def write_plot(path: Path, recorder, title: str = "") -> None:
+    """Time on x; one panel per unit, channels of that unit in it with a legend."""
+    try:
+        import matplotlib
+        from matplotlib.backends.backend_agg import FigureCanvasAgg
+        from matplotlib.figure import Figure
+    except ImportError:
+        raise ScopeError(f"{path}: drawing a plot needs matplotlib; {PLOT_INSTALL_HINT}") from None
+    panels: dict[str, list[int]] = {}
+    for i, ch in enumerate(recorder.channels):
+        panels.setdefault(ch.unit, []).append(i)
+    fig = Figure(figsize=(10, 1.2 + 2.4 * len(panels)), layout="constrained")
+    FigureCanvasAgg(fig)
+    axes = fig.subplots(len(panels), 1, sharex=True, squeeze=False)[:, 0]
+    times = recorder.times
+    for ax, (unit, members) in zip(axes, panels.items()):
+        for i in members:
+            style = {"drawstyle": "steps-post"} if unit == BIT_UNIT else {}
+            ax.plot(times, recorder.columns[i], label=recorder.channels[i].name, linewidth=1.0, **style)
+        ax.set_ylabel(_panel_label(unit))
+        if unit == BIT_UNIT:
+            ax.set_ylim(-0.1, 1.1)
+            ax.set_yticks([0, 1])
+        ax.grid(True, linewidth=0.3)
+        ax.legend(loc="upper right", fontsize="small")
+    axes[-1].set_xlabel("time [s]")
+    every = f", every {recorder.every} cycles" if recorder.every > 1 else ""
+    fig.suptitle(f"{title or 'motionvm scope'} ({len(times)} samples{every})")
+    fmt = path.suffix.lower()[1:]
+    metadata = {"Date": None} if fmt == "svg" else {"Software": None}
+    with matplotlib.rc_context({"svg.hashsalt": "motionvm", "svg.fonttype": "path"}):
+        with atomic_open(path, binary=True) as f:
+            fig.savefig(f, format=fmt, metadata=metadata)
