@@ -38,6 +38,21 @@ def _parser() -> argparse.ArgumentParser:
     )
     r.add_argument("--realtime", action="store_true", help="pace the simulation to the wall clock")
     r.add_argument("--scenario", metavar="FILE.toml", help="GDL: timed input changes")
+    r.add_argument(
+        "--scope",
+        action="append",
+        default=[],
+        metavar="CH,CH,...",
+        help="record channels each cycle: axis0.ref_pos, system_dtest0, gpo3, a global ...",
+    )
+    r.add_argument(
+        "--scope-out",
+        action="append",
+        default=[],
+        metavar="FILE",
+        help="write the recording to FILE: .csv, .png, .svg or .vcd (repeatable)",
+    )
+    r.add_argument("--scope-every", type=int, metavar="N", help="record every N cycles (default 1)")
     r.add_argument("--start", metavar="LABEL", help="PDL: start the task at this label")
     c = sub.add_parser("check", help="compile only; report errors")
     c.add_argument("files", nargs="+", metavar="FILE")
@@ -69,6 +84,11 @@ def main(argv: list[str] | None = None) -> int:
     except UsageError as exc:
         print(f"motionvm: error: {exc}", file=sys.stderr)
         return EXIT_USAGE
+    except BrokenPipeError:  # output piped into e.g. `head`: stop quietly
+        import os
+
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return EXIT_OK
     except KeyboardInterrupt:
         print("motionvm: interrupted", file=sys.stderr)
         return EXIT_RUNTIME

@@ -78,6 +78,7 @@ def run(args) -> int:
             return EXIT_USAGE
     else:
         machine = DEFAULT_MACHINE
+    scope = _scope_request(args)
     prog, mem, _sink = _compile(args)
     if prog is None:
         return EXIT_COMPILE
@@ -97,10 +98,59 @@ def run(args) -> int:
     )
     rt.stamp = bool(args.stamp)
     ctl.clients.append(rt)
+    recorder = _scope_start(scope, ctl, rt) if scope else None
     rt.boot()
-    ctl.run(args.until)
+    try:
+        ctl.run(args.until)
+    except KeyboardInterrupt:
+        if recorder is not None:  # keep what was recorded up to the interrupt
+            _scope_save(scope, recorder, args)
+        raise
     out.flush()
+    if recorder is not None:
+        _scope_save(scope, recorder, args)
     return EXIT_RUNTIME if rt.faults else EXIT_OK
+
+
+# ---------------------------------------------------------------- --scope (README "Scope")
+
+
+def _scope_request(args):
+    from motionvm.sim.scope import ScopeError, ScopeRequest
+
+    try:
+        return ScopeRequest.from_options(
+            getattr(args, "scope", []),
+            getattr(args, "scope_out", []),
+            getattr(args, "scope_every", None),
+        )
+    except ScopeError as exc:
+        raise UsageError(str(exc)) from None
+
+
+def _scope_start(scope, ctl, rt):
+    """Resolve the channels (unknown ones: exit 3, before anything runs) and attach a recorder."""
+    from motionvm.sim.scope import ScopeError, ScopeRecorder
+    from motionvm.sim.scope_sources import registry_for
+
+    try:
+        channels = registry_for(ctl, rt).resolve_all(scope.channels)
+    except ScopeError as exc:
+        raise UsageError(str(exc)) from None
+    recorder = ScopeRecorder(channels, ctl.cycle_time, scope.every)
+    recorder.attach(ctl)
+    return recorder
+
+
+def _scope_save(scope, recorder, args) -> None:
+    from motionvm.sim.scope import ScopeError
+
+    title = " ".join(list(args.files) + list(args.task))
+    for path in scope.outputs:
+        try:
+            recorder.save(path, title=title)
+        except ScopeError as exc:
+            raise UsageError(str(exc)) from None
 
 
 def dump_stage(path: str, stage: str, task_id: int) -> int:

@@ -43,6 +43,10 @@ class Controller:
         for c in self.clients:
             c.begin_cycle()
         self.kernel.run_cycle()
+        for c in self.clients:  # optional hook: sees the state the cycle left (scope recording)
+            end = getattr(c, "end_cycle", None)
+            if end is not None:
+                end()
         self.kernel.cycle += 1
 
     def busy(self) -> bool:

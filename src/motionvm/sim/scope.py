@@ -85,7 +85,7 @@ class ChannelRegistry:
             if found is not None:
                 getter, unit = found
                 return Channel(name, unit, getter)
-        close = difflib.get_close_matches(name, self.names(), n=5, cutoff=0.6)
+        close = difflib.get_close_matches(name, self.names(), n=4, cutoff=0.6)
         hint = f"; did you mean {', '.join(close)}?" if close else ""
         if not close and name.startswith("axis"):
             hint = "; axis channels are axisN.<variable>, e.g. axis0.ref_pos, and need the machine's axes"
@@ -99,8 +99,12 @@ class ChannelRegistry:
                 channels.append(self.resolve(n))
             except ScopeError as exc:
                 errors.append(str(exc))
+        if len(errors) == 1:
+            raise ScopeError(errors[0])
         if errors:
-            raise ScopeError("\n".join(errors))
+            raise ScopeError(
+                f"{len(errors)} bad scope channels:\n" + "\n".join(f"  {e}" for e in errors)
+            )
         return channels
 
 
@@ -132,7 +136,9 @@ class ScopeRequest:
     every: int = 1
 
     @classmethod
-    def from_options(cls, scope: Sequence[str], outputs: Sequence[str], every: int | None) -> "ScopeRequest | None":
+    def from_options(
+        cls, scope: Sequence[str], outputs: Sequence[str], every: int | None
+    ) -> ScopeRequest | None:
         """None when no scope was asked for; ScopeError for an incomplete or bad request."""
         every = 1 if every is None else every
         names = parse_channel_list(scope)
@@ -141,7 +147,9 @@ class ScopeRequest:
                 raise ScopeError("--scope-every needs --scope and --scope-out")
             return None
         if not names:
-            raise ScopeError("--scope-out needs --scope CHANNEL,... (e.g. --scope axis0.ref_pos,system_dtest0)")
+            raise ScopeError(
+                "--scope-out needs --scope CHANNEL,... (e.g. --scope axis0.ref_pos,system_dtest0)"
+            )
         if not outputs:
             raise ScopeError("--scope needs --scope-out FILE (.csv, .png, .svg or .vcd)")
         if every < 1:
@@ -156,16 +164,20 @@ def check_output_path(path: Path) -> None:
     """ScopeError unless `path` has a known suffix, its folder exists, and plotting is possible."""
     suffix = path.suffix.lower()
     if suffix not in OUTPUT_SUFFIXES:
-        raise ScopeError(f"--scope-out {path}: unknown file type '{suffix or '(none)'}' "
-                         f"(expected {', '.join(OUTPUT_SUFFIXES)})")
+        raise ScopeError(
+            f"--scope-out {path}: unknown file type '{suffix or '(none)'}' "
+            f"(expected {', '.join(OUTPUT_SUFFIXES)})"
+        )
     folder = path.parent if str(path.parent) else Path(".")
     if not folder.is_dir():
         raise ScopeError(f"--scope-out {path}: folder '{folder}' does not exist")
     if path.is_dir():
         raise ScopeError(f"--scope-out {path}: is a folder")
     if suffix in PLOT_SUFFIXES and not plotting_available():
-        raise ScopeError(f"--scope-out {path}: drawing a {suffix} plot needs matplotlib, "
-                         f"which is not installed; {PLOT_INSTALL_HINT}")
+        raise ScopeError(
+            f"--scope-out {path}: drawing a {suffix} plot needs matplotlib, "
+            f"which is not installed; {PLOT_INSTALL_HINT}"
+        )
 
 
 class ScopeRecorder:

@@ -51,15 +51,19 @@ class HmplSource:
         elem_t = getattr(t, "elem", None)
         if index is None:
             if elem_t is not None:
-                raise ScopeError(f"scope channel '{name}' is an array of {t.n}; "
-                                 f"record one element, e.g. '{base}[0]'")
+                raise ScopeError(
+                    f"scope channel '{name}' is an array of {t.n}; "
+                    f"record one element, e.g. '{base}[0]'"
+                )
             return self._scalar(name, sym, t, sym.addr), self._unit(base)
         if elem_t is None:
             raise ScopeError(f"scope channel '{name}': '{base}' is not an array")
         i = int(index)
         if t.n is not None and i >= t.n:
-            raise ScopeError(f"scope channel '{name}': index {i} is out of range for {base}[{t.n}] "
-                             f"(0..{t.n - 1})")
+            raise ScopeError(
+                f"scope channel '{name}': index {i} is out of range for {base}[{t.n}] "
+                f"(0..{t.n - 1})"
+            )
         return self._scalar(name, sym, elem_t, sym.addr + i * elem_t.size), self._unit(base)
 
     def _scalar(self, name: str, sym, t, addr: int) -> Callable[[], float]:
@@ -108,7 +112,9 @@ class GpioSource:
         bits = self.runtime.gpi if m.group(1) == "gpi" else self.runtime.gpo
         i = int(m.group(2))
         if i >= len(bits):
-            raise ScopeError(f"scope channel '{name}': the controller has {m.group(1)}0..{len(bits) - 1}")
+            raise ScopeError(
+                f"scope channel '{name}': the controller has {m.group(1)}0..{m.group(1)}{len(bits) - 1}"
+            )
         return partial(bits.__getitem__, i), BIT_UNIT
 
     def channel_names(self) -> Iterable[str]:
@@ -120,8 +126,14 @@ class GpioSource:
 
 def _manual_axis_units() -> dict[str, str | None]:
     """variable -> the manual's unit text (table 5.1.1.x), e.g. 'mm/s^2 or deg/s^2'."""
-    data = json.loads(resources.files("motionvm.data").joinpath("hmpl_variables.json").read_text("utf-8"))
-    return {row["variable"]: row.get("unit") for t in data["axis_variables"]["tables"] for row in t["rows"]}
+    data = json.loads(
+        resources.files("motionvm.data").joinpath("hmpl_variables.json").read_text("utf-8")
+    )
+    return {
+        row["variable"]: row.get("unit")
+        for t in data["axis_variables"]["tables"]
+        for row in t["rows"]
+    }
 
 
 def axis_unit(axis, variable: str, manual: dict[str, str | None]) -> str:
@@ -167,8 +179,11 @@ class AxisSource:
             import difflib
 
             close = difflib.get_close_matches(variable, known, n=5, cutoff=0.5)
-            hint = f"did you mean {', '.join(f'axis{n}.{c}' for c in close)}?" if close else \
-                f"axis variables are: {', '.join(known)}"
+            hint = (
+                f"did you mean {', '.join(f'axis{n}.{c}' for c in close)}?"
+                if close
+                else f"axis variables are: {', '.join(known)}"
+            )
             raise ScopeError(f"unknown scope channel '{name}'; {hint}")
         if self._manual is None:
             self._manual = _manual_axis_units()

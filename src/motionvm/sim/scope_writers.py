@@ -9,6 +9,7 @@ fixed SVG ids), so the same run gives the same bytes.
 from __future__ import annotations
 
 import contextlib
+import math
 import numbers
 import os
 import tempfile
@@ -21,12 +22,23 @@ from motionvm.sim.scope import BIT_UNIT, PLOT_INSTALL_HINT, RAW_UNIT, ScopeError
 VCD_FIRST_ID, VCD_LAST_ID = 33, 126  # printable ASCII, as IEEE 1364 allows for identifier codes
 
 
+def _umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
+
+
 @contextlib.contextmanager
 def atomic_open(path: Path, binary: bool = False) -> Iterator[IO]:
     """A temporary file next to `path` that replaces `path` only if the block succeeds."""
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
     try:
-        with os.fdopen(fd, "wb" if binary else "w", **({} if binary else {"encoding": "utf-8", "newline": "\n"})) as f:
+        os.chmod(tmp, 0o666 & ~_umask())  # mkstemp makes 0600; give the mode open() would
+        with os.fdopen(
+            fd,
+            "wb" if binary else "w",
+            **({} if binary else {"encoding": "utf-8", "newline": "\n"}),
+        ) as f:
             yield f
         os.replace(tmp, path)
     except BaseException:
@@ -65,7 +77,9 @@ def write_csv(path: Path, recorder, title: str = "") -> None:
     with atomic_open(path) as f:
         f.write(",".join(["time"] + [c.name for c in recorder.channels]) + "\n")
         for row, t in enumerate(recorder.times):
-            f.write(",".join([format_number(t)] + [format_number(col[row]) for col in columns]) + "\n")
+            f.write(
+                ",".join([format_number(t)] + [format_number(col[row]) for col in columns]) + "\n"
+            )
 
 
 # ---------------------------------------------------------------- VCD
@@ -96,7 +110,12 @@ def _vcd_value(v, bit: bool, ident: str) -> str:
 
 
 def _same(a, b) -> bool:
-    return a == b or (a != a and b != b)  # NaN equals NaN here, or every sample would be a change
+    """Equal, counting NaN as equal to NaN (else a NaN channel would change every sample)."""
+    return a == b or (_is_nan(a) and _is_nan(b))
+
+
+def _is_nan(v) -> bool:
+    return isinstance(v, float) and math.isnan(v)
 
 
 def write_vcd(path: Path, recorder, title: str = "") -> None:
@@ -134,7 +153,7 @@ def write_vcd(path: Path, recorder, title: str = "") -> None:
         bits = [c.is_bit for c in chans]
         dt = recorder.cycle_time
         for row, cycle in enumerate(recorder.cycles):
-            stamp = int(round(cycle * dt * ticks_per_s))
+            stamp = round(cycle * dt * ticks_per_s)
             if row == 0:
                 f.write(f"#{stamp}\n$dumpvars\n")
                 for i, col in enumerate(recorder.columns):
@@ -181,18 +200,20 @@ def write_plot(path: Path, recorder, title: str = "") -> None:
     for ax, (unit, members) in zip(axes, panels.items()):
         for i in members:
             style = {"drawstyle": "steps-post"} if unit == BIT_UNIT else {}
-            ax.plot(times, recorder.columns[i], label=recorder.channels[i].name, linewidth=1.0, **style)
+            ax.plot(
+                times, recorder.columns[i], label=recorder.channels[i].name, linewidth=1.0, **style
+            )
         ax.set_ylabel(_panel_label(unit))
         if unit == BIT_UNIT:
             ax.set_ylim(-0.1, 1.1)
             ax.set_yticks([0, 1])
         ax.grid(True, linewidth=0.3)
-        ax.legend(loc="upper right", fontsize="small")
+        ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize="small")
     axes[-1].set_xlabel("time [s]")
     every = f", every {recorder.every} cycles" if recorder.every > 1 else ""
     fig.suptitle(f"{title or 'motionvm scope'} ({len(times)} samples{every})")
     fmt = path.suffix.lower()[1:]
     metadata = {"Date": None} if fmt == "svg" else {"Software": None}
-    with matplotlib.rc_context({"svg.hashsalt": "motionvm", "svg.fonttype": "path"}):
-        with atomic_open(path, binary=True) as f:
-            fig.savefig(f, format=fmt, metadata=metadata)
+    rc = {"svg.hashsalt": "motionvm", "svg.fonttype": "path"}  # same run, same bytes
+    with matplotlib.rc_context(rc), atomic_open(path, binary=True) as f:
+        fig.savefig(f, format=fmt, metadata=metadata)

@@ -202,6 +202,14 @@ def test_gdl_until_ends_the_run(tmp_path: Path) -> None:
             "event 1: give exactly one of set, force, release",
         ),
         ('[initial]\n"STATUS go" = "ON"\n', "'STATUS go' is not 'KEYWORD OF object'"),
+        (
+            '[[event]]\nat = 0\nforce = "DIAGN$STATUS OF io"\nvalue = "BROKEN"\n',
+            "event 1: DIAGN$STATUS OF io takes one of NO$FAULT, FAULT, not 'BROKEN'",
+        ),
+        (
+            '[[event]]\nat = 0\nrelease = "VALUE OF memo"\nline = 2\n',
+            "event 1: 'during' and 'line' go together",
+        ),
     ],
 )
 def test_gdl_bad_scenarios_exit_3(tmp_path: Path, toml: str, message: str) -> None:
@@ -213,6 +221,22 @@ def test_gdl_bad_scenarios_exit_3(tmp_path: Path, toml: str, message: str) -> No
         return
     assert rc == 3
     assert message in out.getvalue()
+
+
+def test_gdl_scenario_refuses_to_force_rw(tmp_path: Path) -> None:
+    app = _app(
+        tmp_path,
+        TOGGLE.replace(
+            "IO$BOARD io [ SLOT = 1 ];",
+            "IO$BOARD io [ SLOT = 1 ];\n  DC$MOTOR$AXIS motor [ AXIS$NUMBER = 1 ];",
+        ),
+    )
+    out = io.StringIO()
+    s = _scenario(
+        tmp_path, '[[event]]\nat = 0\nforce = "CONSTANT$STATUS OF motor"\nvalue = "ENABLED"\n'
+    )
+    assert run_app(app, s, None, out) == 3
+    assert "CONSTANT$STATUS of DC$MOTOR$AXIS cannot be forced (access rw, no 'f')" in out.getvalue()
 
 
 def test_gdl_scenario_refuses_to_change_a_constant(tmp_path: Path) -> None:

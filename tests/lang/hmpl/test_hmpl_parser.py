@@ -585,3 +585,34 @@ def test_designated_initializers():
     first = ps.init.items[0]
     assert isinstance(first, n.Designated) and isinstance(first.value, n.InitList)
     assert first.value.items[0].field == "x"
+
+
+def test_enums_become_integer_constants():
+    tu = parse_ok(
+        "enum Mode { IDLE, RUN = 5, STOP, LAST = RUN * 2 + 'a' - 97, NEG = -1, };\n"
+        "enum Mode m = STOP;\n"
+        "enum { A = 1 << 3, B = (int)A | 1, C = A > 4 ? 10 : 20 } e;\n"
+        "int v[LAST];\n"
+        "void f(enum Mode mode) { switch (mode) { case RUN: x = C + B; } }\n"
+    )
+    m, e, v, f = tu.items
+    assert (m.type.base, sx(m.init)) == ("int32_t", "6")
+    assert e.type.base == "int32_t"
+    assert sx(v.dims[0]) == "10"
+    assert f.params[0].type.base == "int32_t"
+    case, assign = f.body.items[0].body.items
+    assert sx(case.value) == "5"
+    assert sx(assign.expr) == "(= x (+ 10 9))"
+
+
+def test_every_parse_method_has_a_bnf_line():
+    import inspect
+    import re
+
+    from motionvm.lang.hmpl import parser
+
+    lines = inspect.getsource(parser).splitlines()
+    methods = [k for k, line in enumerate(lines) if re.match(r"\s+def _parse_\w+\(", line)]
+    assert len(methods) > 30
+    for k in methods:
+        assert lines[k - 1].strip().startswith("# BNF:"), lines[k]

@@ -92,10 +92,10 @@ def errors_of(text: str) -> list[str]:
         ("int struct S s;", "1:5: error: invalid combination of type specifiers"),
         ("int while;", "1:5: error: 'while' is a keyword and cannot be used as a name"),
         ("int 5;", "1:5: error: expected a name before '5'"),
-        ("P p = {.x.y = 1};", "1:10: error: nested designators ('.a.b =', '[i][j] =') are not "
+        ("Data_t p = {.x.y = 1};", "1:15: error: nested designators ('.a.b =', '[i][j] =') are not "
          "supported in HMPL; use nested braces"),
-        ("P p = {. = 1};", "1:10: error: expected a member name after '.' before '='"),
-        ("P p = {.x 1};", "1:11: error: expected '=' after designator"),
+        ("Data_t p = {. = 1};", "1:15: error: expected a member name after '.' before '='"),
+        ("Data_t p = {.x 1};", "1:16: error: expected '=' after designator"),
         ("int a[3] = {[0 = 1};", "1:16: error: expected ']' after designator index"),
         ("void f(...);", "1:8: error: variadic functions ('...') are not supported in HMPL"),
         ("void f() { (int){1}; }", "1:17: error: compound literals are not supported in HMPL"),
@@ -271,3 +271,23 @@ def test_manual_examples_never_raise():
         assert isinstance(tu, n.TranslationUnit)
         clean += not sink.errors()
     assert clean > len(blocks) // 3
+
+
+@pytest.mark.parametrize(
+    "text, first",
+    [
+        ("enum E { A = x };", "1:14: error: the value of enumerator 'A' is not an integer "
+         "constant"),
+        ("enum E { A = 1 << 40 };", "1:10: error: enumerator value 1099511627776 of 'A' is "
+         "outside the range of int [-2147483648, 2147483647]"),
+        ("enum E { A, A };", "1:13: error: 'A' is already an enumerator"),
+        ("enum E { A }; int A;", "1:19: error: 'A' is already an enumerator"),
+        ("enum E { A }; void f(int A) {}", "1:26: error: 'A' is already an enumerator"),
+        ("enum E { 1 };", "1:10: error: expected an enumerator name before '1'"),
+        ("enum E { A B };", "1:12: error: expected '}' at end of enum E"),
+        ("enum;", "1:5: error: expected a tag name or '{' after 'enum'"),
+    ],
+)
+def test_enum_errors(text, first):
+    errors = errors_of(text)
+    assert errors and errors[0] == first, errors

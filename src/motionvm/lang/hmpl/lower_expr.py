@@ -477,8 +477,11 @@ class ExprLowering:
         size = p.type.target.size if not isinstance(p.type.target, ct.VoidT) else 1
         if size == 0:
             raise self.fail(pos, f"arithmetic on a pointer to incomplete type '{p.type}'")
-        off = self.exact(i)
-        if size != 1:
-            off = ast.BinOp(left=off, op=ast.Mult(), right=ast.Constant(size))
+        if isinstance(i.const, int):
+            off = const(i.const * size)
+        else:
+            off = self.exact(i)
+            if size != 1:
+                off = ast.BinOp(left=off, op=ast.Mult(), right=ast.Constant(size))
         pyop = ast.Add() if op == "+" else ast.Sub()
         return Val(ast.BinOp(left=p.node, op=pyop, right=off), p.type)

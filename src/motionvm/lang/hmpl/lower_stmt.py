@@ -393,8 +393,9 @@ class FunctionLowerer(ExprLowering, AccessLowering):
                 op=ast.Add() if inc == "var" or inc > 0 else ast.Sub(),
                 right=ast.Constant(1),
             )
+        chunked = inc != "var" and not _breaks_out(s.body)
         b = self.temp()
-        cont = _backedge(b) + [ast.Continue()]
+        cont = [ast.Continue()] if chunked else _backedge(b) + [ast.Continue()]
         start = self._start_range(s)
         known = None
         if start is not None and bound.rng is not None and inc != "var":
@@ -405,9 +406,11 @@ class FunctionLowerer(ExprLowering, AccessLowering):
         if known is not None:
             self.known_ranges[sym.pyname] = known  # lets indexing skip its bounds check
         try:
-            body = self._loop_body(s.body, cont) + _backedge(b)
+            body = self._loop_body(s.body, cont) + ([] if chunked else _backedge(b))
         finally:
             self.known_ranges.pop(sym.pyname, None)
+        if chunked:
+            return self._chunked_range(sym, stop, inc, body, outlives=not isinstance(s.init, n.DeclStmt))
         pre: list[ast.stmt] = [_countdown_init(b)]
         if inc == "var":
             # a run-time step: range() for a positive one; C's endless or downward loop otherwise
@@ -439,6 +442,46 @@ class FunctionLowerer(ExprLowering, AccessLowering):
             orelse = [ast.Assign(targets=[name(sym.pyname, True)], value=final)]
         loop = ast.For(target=name(sym.pyname, True), iter=rng, body=body, orelse=orelse)
         return pre + [loop]
+
+    def _chunked_range(self, sym: VarSym, stop: ast.expr, inc: int, body: list[ast.stmt],
+                       outlives: bool) -> list[ast.stmt]:
+        """The counting loop in chunks of CHUNK values, charging the budget once per chunk:
+
+            _r = range(v_i, STOP, STEP)
+            for _k in range(0, len(_r), 64):
+                for v_i in _r[_k:_k + 64]:
+                    BODY
+                _budget -= 64
+                if _budget < 0:
+                    yield
+            else:
+                v_i = _r.start + len(_r) * _r.step   # C's value after the loop, if i outlives it
+        """
+        r, k = self.temp(), self.temp()
+        pre = [ast.Assign(targets=[name(r, True)], value=call("range", name(sym.pyname), stop, const(inc)))]
+        chunk = ast.Subscript(
+            value=name(r),
+            slice=ast.Slice(lower=name(k), upper=ast.BinOp(left=name(k), op=ast.Add(), right=ast.Constant(CHUNK))),
+            ctx=ast.Load(),
+        )
+        inner = ast.For(target=name(sym.pyname, True), iter=chunk, body=body or [ast.Pass()], orelse=[])
+        over = ast.Compare(left=name("_budget"), ops=[ast.Lt()], comparators=[ast.Constant(0)])
+        charge = [
+            ast.AugAssign(target=name("_budget", True), op=ast.Sub(), value=ast.Constant(CHUNK)),
+            ast.If(test=over, body=[ast.Expr(value=ast.Yield(value=None))], orelse=[]),
+        ]
+        orelse: list[ast.stmt] = []
+        if outlives:
+            final = ast.BinOp(
+                left=ast.Attribute(value=name(r), attr="start", ctx=ast.Load()),
+                op=ast.Add(),
+                right=ast.BinOp(left=call("len", name(r)), op=ast.Mult(),
+                                right=ast.Attribute(value=name(r), attr="step", ctx=ast.Load())),
+            )
+            orelse = [ast.Assign(targets=[name(sym.pyname, True)], value=final)]
+        outer = ast.For(target=name(k, True), iter=call("range", ast.Constant(0), call("len", name(r)), ast.Constant(CHUNK)),
+                        body=[inner] + charge, orelse=orelse)
+        return pre + [outer]
 
     def _start_range(self, s: n.For) -> tuple[int, int] | None:
         """Known bounds of a range-for counter's start value."""
@@ -798,6 +841,25 @@ def _parsed(src: str, pos) -> list[ast.stmt]:
             node.lineno = node.end_lineno = pos.line
             node.col_offset = node.end_col_offset = max(0, pos.col - 1)
     return body
+
+
+def _breaks_out(body) -> bool:
+    """True if a `break` in `body` would leave this loop (not a nested loop or switch)."""
+    stack = [body]
+    while stack:
+        x = stack.pop()
+        t = type(x)
+        if t is n.Break:
+            return True
+        if t in (n.While, n.DoWhile, n.For, n.Switch):
+            continue
+        if t is n.Block:
+            stack.extend(x.items)
+        elif t is n.If:
+            stack.append(x.then)
+            if x.else_ is not None:
+                stack.append(x.else_)
+    return False
 
 
 def _assigned_names(body) -> set[str]:

@@ -34,8 +34,9 @@ INTN_TYPES = frozenset(
 BASIC_WORDS = frozenset("void char short int long float double signed unsigned".split())
 QUALIFIERS = frozenset(("const", "volatile"))
 STORAGE = frozenset(("static", "extern"))
-DECL_START = BASIC_WORDS | INTN_TYPES | QUALIFIERS | STORAGE | {"struct", "union", "typedef"}
-TYPE_START = BASIC_WORDS | INTN_TYPES | QUALIFIERS | {"struct", "union"}
+DECL_START = BASIC_WORDS | INTN_TYPES | QUALIFIERS | STORAGE | {"struct", "union", "enum", "typedef"}
+TYPE_START = BASIC_WORDS | INTN_TYPES | QUALIFIERS | {"struct", "union", "enum"}
+INT32_MIN, INT32_MAX = -(1 << 31), (1 << 31) - 1
 
 BINARY_PREC = {
     "||": 1,
@@ -135,6 +136,8 @@ class Parser:
         self.i = 0
         self.sink = sink
         self.typedefs: set[str] = set(PREDEFINED_TYPES)
+        # enum constants are replaced by their values as they are parsed
+        self.enumerators: dict[str, int] = {}
         self.items: list = []
         self.new_structs: list[n.StructDef] = []
         self.depth = 0
@@ -391,6 +394,8 @@ class Parser:
             raise self._fail_here(f"expected parameter type before {_describe(t)}")
         spec, _ = self._parse_declaration_specifiers("param")
         pointers, name_tok, dims = self._parse_declarator(abstract=True)
+        if name_tok is not None:
+            self._not_an_enumerator(name_tok)
         name = name_tok.text if name_tok is not None else ""
         pos = name_tok.pos if name_tok is not None else t.pos
         return n.Param(pos, _with_pointers(spec, pointers), name, dims)
@@ -457,6 +462,11 @@ class Parser:
                 if named is not None or words:
                     raise self._fail_here("invalid combination of type specifiers")
                 named, struct_def = self._parse_struct_or_union_specifier(scope)
+            elif k == "enum":
+                if named is not None or words:
+                    raise self._fail_here("invalid combination of type specifiers")
+                self._parse_enum_specifier()
+                named = "int32_t"
             else:
                 break
         if named is None:
@@ -534,6 +544,44 @@ class Parser:
                 break
         self._expect(";", "after struct member")
 
+    # BNF: enum_specifier = "enum" ( NAME [ "{" enumerator_list "}" ] | "{" enumerator_list "}" )
+    # BNF: enumerator_list = enumerator { "," enumerator } [ "," ]
+    # BNF: enumerator = NAME [ "=" conditional_expression ]
+    def _parse_enum_specifier(self) -> None:
+        self.i += 1
+        tag = self._advance().text if self.kinds[self.i] == "name" else ""
+        if self.keys[self.i] != "{":
+            if not tag:
+                raise self._fail_here(f"expected a tag name or '{{' after 'enum'")
+            return
+        self.i += 1
+        value = 0
+        while self.keys[self.i] != "}":
+            if self.kinds[self.i] != "name":
+                raise self._fail_here(f"expected an enumerator name before {_describe(self._tok())}")
+            name = self._advance()
+            self._not_an_enumerator(name)
+            if self._accept("="):
+                e = self._parse_conditional_expression()
+                folded = _fold(e)
+                if folded is None:
+                    self._error(e.pos, f"the value of enumerator '{name.text}' is not an "
+                                       "integer constant")
+                    folded = value
+                value = folded
+            if not INT32_MIN <= value <= INT32_MAX:
+                self._error(name.pos, f"enumerator value {value} of '{name.text}' is outside "
+                                      f"the range of int [{INT32_MIN}, {INT32_MAX}]")
+            self.enumerators[name.text] = value
+            value += 1
+            if not self._accept(","):
+                break
+        self._expect("}", f"at end of enum{' ' + tag if tag else ''}")
+
+    def _not_an_enumerator(self, name: Token) -> None:
+        if name.text in self.enumerators:
+            self._error(name.pos, f"'{name.text}' is already an enumerator")
+
     # BNF: declarator = { "*" { "const" | "volatile" } } NAME { "[" [ conditional_expression ] "]" }
     def _parse_declarator(
         self, abstract: bool = False
@@ -580,6 +628,7 @@ class Parser:
         dims: tuple[n.Expr | None, ...],
     ) -> n.VarDecl:
         assert name_tok is not None
+        self._not_an_enumerator(name_tok)
         init = None
         if self._accept("="):
             init = self._parse_initializer()
@@ -710,12 +759,12 @@ class Parser:
     # BNF: if_statement = "if" "(" expression ")" statement [ "else" statement ]
     def _parse_if_statement(self) -> n.If:
         kw = self._advance()
-        cond = self._parse_condition("if")
+        cond = self._condition("if")
         then = self._parse_statement()
         else_ = self._parse_statement() if self._accept("else") else None
         return n.If(kw.pos, cond, then, else_)
 
-    def _parse_condition(self, keyword: str) -> n.Expr:
+    def _condition(self, keyword: str) -> n.Expr:
         """'(' expression ')' after if/while/switch; a broken condition is skipped."""
         if self.keys[self.i] != "(":
             raise self._fail_here(f"expected '(' after '{keyword}'")
@@ -748,7 +797,7 @@ class Parser:
     # BNF: while_statement = "while" "(" expression ")" statement
     def _parse_while_statement(self) -> n.While:
         kw = self._advance()
-        cond = self._parse_condition("while")
+        cond = self._condition("while")
         return n.While(kw.pos, cond, self._parse_statement())
 
     # BNF: do_statement = "do" statement "while" "(" expression ")" ";"
@@ -758,7 +807,7 @@ class Parser:
         if self.keys[self.i] != "while":
             raise self._fail_here(f"expected 'while' after 'do' body before {_describe(self._tok())}")
         self.i += 1
-        cond = self._parse_condition("while")
+        cond = self._condition("while")
         self._expect(";", "after do/while statement")
         return n.DoWhile(kw.pos, body, cond)
 
@@ -788,7 +837,7 @@ class Parser:
     # BNF: switch_statement = "switch" "(" expression ")" statement
     def _parse_switch_statement(self) -> n.Switch:
         kw = self._advance()
-        expr = self._parse_condition("switch")
+        expr = self._condition("switch")
         return n.Switch(kw.pos, expr, self._parse_statement())
 
     # BNF: case_label = "case" conditional_expression ":"
@@ -886,7 +935,7 @@ class Parser:
         keys = self.keys
         i = self.i
         kind = self.kinds[i]
-        if kind == "name" and keys[i + 1] not in POSTFIX_START:
+        if kind == "name" and keys[i + 1] not in POSTFIX_START and keys[i] not in self.enumerators:
             # the common operand, a plain name: skip the cast/unary/postfix/primary chain
             t = self.toks[i]
             left: n.Expr = n.Name(t.pos, t.text)
@@ -986,6 +1035,9 @@ class Parser:
         k = t.kind
         if k == "name":
             self.i += 1
+            value = self.enumerators.get(t.text)
+            if value is not None:
+                return n.IntLit(t.pos, value)
             return n.Name(t.pos, t.text)
         if k == "int":
             self.i += 1
@@ -1068,3 +1120,40 @@ def _designated_count(items: tuple) -> int | None:
         i += 1
         count = max(count, i)
     return count
+
+
+def _fold(e: n.Expr) -> int | None:
+    """The value of an integer constant expression (enumerator values), or None."""
+    if isinstance(e, (n.IntLit, n.CharLit)):
+        return e.value
+    if isinstance(e, n.Cast) and e.type.pointers == 0 and e.type.base not in ("float", "double"):
+        return _fold(e.expr)
+    if isinstance(e, n.Unary) and e.op in ("-", "+", "~", "!"):
+        v = _fold(e.operand)
+        if v is None:
+            return None
+        return {"-": -v, "+": v, "~": ~v, "!": int(not v)}[e.op]
+    if isinstance(e, n.Cond):
+        c = _fold(e.cond)
+        return None if c is None else _fold(e.then if c else e.else_)
+    if isinstance(e, n.Binary):
+        a, b = _fold(e.left), _fold(e.right)
+        if a is None or b is None:
+            return None
+        op = e.op
+        if op in ("/", "%"):
+            if b == 0:
+                return None
+            q = abs(a) // abs(b) * (1 if (a < 0) == (b < 0) else -1)
+            return q if op == "/" else a - q * b
+        if op in ("<<", ">>"):
+            return (a << b if op == "<<" else a >> b) if 0 <= b < 64 else None
+        table = {
+            "+": lambda: a + b, "-": lambda: a - b, "*": lambda: a * b,
+            "&": lambda: a & b, "|": lambda: a | b, "^": lambda: a ^ b,
+            "==": lambda: int(a == b), "!=": lambda: int(a != b), "<": lambda: int(a < b),
+            ">": lambda: int(a > b), "<=": lambda: int(a <= b), ">=": lambda: int(a >= b),
+            "&&": lambda: int(bool(a and b)), "||": lambda: int(bool(a or b)),
+        }
+        return table[op]() if op in table else None
+    return None

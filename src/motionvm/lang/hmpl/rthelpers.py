@@ -112,6 +112,7 @@ def make_helpers(mem: Memory) -> dict[str, object]:
     for code, vname in VIEW_NAMES.items():
         ns[vname] = getattr(mem, code)
     sh = mem.shadow
+    ns["_SH"] = sh
 
     def make_access(code: str):
         view = getattr(mem, code)

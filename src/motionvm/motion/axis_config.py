@@ -1,0 +1,171 @@
+"""The configuration of one axis (a machine file's `[[axis]]` table), validated at load time.
+
+Every key has a default, so `{}` is the default machine's axis: a linear axis of
+10000 counts/mm on an ideal drive that follows its command one cycle late.
+
+| key | unit | default | meaning |
+|---|---|---|---|
+| type | | "linear" | "linear" (mm) or "rotary" (deg) |
+| counts_per_unit | counts/mm or counts/deg | 10000 / 1000 | encoder resolution |
+| max_vel, max_acc, max_dec | mm/s, mm/s^2 | 1000, 10000, 10000 | profile limits (SetVel ...) |
+| kill_dec | mm/s^2 | 100000 | emergency deceleration (SetKillDec) |
+| smooth_time_ms | ms | 0 | moving-average time Ts (SetSMTime, 0..500) |
+| sw_left, sw_right | mm | -1000, 1000 | software limits (SetSWLL/SetSWRL) |
+| max_pos_err | mm | 10 | position error protection range |
+| inpos_radius | mm | 0.01 | in-position target radius |
+| inpos_debounce_ms | ms | 1 | in-position debounce time |
+| hw_left, hw_right | mm or false | -1050, 1050 | limit switch positions (false: none) |
+| home_pos, home_width | mm | 0, 5 | home switch active on [home_pos, home_pos + home_width] |
+| index_spacing, index_offset | mm | 10, 0 | encoder index pulses at offset + n * spacing |
+| vel_limit, acc_limit | mm/s, mm/s^2 | 5000, 1000000 | protection range of PVT motion |
+| start_position | mm | 0 | motor position at power-on |
+| enable_timeout_ms | ms | 1000 | Enable fails with eERR_AXIS_DRIVE_ENABLE_TOUT after it |
+| torque_constant | N*m/A | 0.5 | for GetCurrFb |
+| drive | table | {} | `Cia402Drive.create` keys except the sensor positions; its |
+|       |       |    | `mechanics` default to ideal with delay_cycles = 1 |
+
+The continuous torque of MoveTrq is the drive's rated_torque [N*m] (default 1).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+
+class AxisConfigError(ValueError):
+    """A bad axis setting; `key` names it (a dotted path below the axis table)."""
+
+    def __init__(self, key: str, message: str):
+        super().__init__(message)
+        self.key = key
+
+
+_SENSOR_KEYS = ("negative_limit", "positive_limit", "home_low", "home_high", "index_spacing", "index_offset")
+
+
+@dataclass
+class AxisConfig:
+    """Validated settings of one axis; units as in the module table."""
+
+    rotary: bool = False
+    counts_per_unit: float = 10000.0
+    max_vel: float = 1000.0
+    max_acc: float = 10000.0
+    max_dec: float = 10000.0
+    kill_dec: float = 100000.0
+    smooth_time_ms: float = 0.0
+    sw_left: float = -1000.0
+    sw_right: float = 1000.0
+    max_pos_err: float = 10.0
+    inpos_radius: float = 0.01
+    inpos_debounce_ms: float = 1.0
+    hw_left: float | None = -1050.0
+    hw_right: float | None = 1050.0
+    home_pos: float | None = 0.0
+    home_width: float = 5.0
+    index_spacing: float | None = 10.0
+    index_offset: float = 0.0
+    vel_limit: float = 5000.0
+    acc_limit: float = 1_000_000.0
+    start_position: float = 0.0
+    enable_timeout_ms: float = 1000.0
+    torque_constant: float = 0.5
+    drive: dict = field(default_factory=dict)
+
+    def drive_config(self) -> dict:
+        """The `Cia402Drive.create` table: the user's drive keys plus sensors in counts."""
+        cfg = dict(self.drive)
+        cpu = self.counts_per_unit
+        mech = dict(cfg.get("mechanics", {"model": "ideal", "delay_cycles": 1}))
+        mech.setdefault("counts_per_rev", max(1, round(cpu * (360.0 if self.rotary else 10.0))))
+        cfg["mechanics"] = mech
+        if self.hw_left is not None:
+            cfg["negative_limit"] = self.hw_left * cpu
+        if self.hw_right is not None:
+            cfg["positive_limit"] = self.hw_right * cpu
+        if self.home_pos is not None:
+            cfg["home_low"] = self.home_pos * cpu
+            cfg["home_high"] = (self.home_pos + self.home_width) * cpu
+        if self.index_spacing is not None:
+            cfg["index_spacing"] = self.index_spacing * cpu
+            cfg["index_offset"] = self.index_offset * cpu
+        cfg["position"] = self.start_position * cpu
+        return cfg
+
+
+def _number(table: dict, key: str, default: float, *, positive=False, nonneg=False, optional=False):
+    if key not in table:
+        return default
+    value = table[key]
+    if optional and value is False:
+        return None
+    ok = isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
+    if ok and positive:
+        ok = value > 0
+    if ok and nonneg:
+        ok = value >= 0
+    if not ok:
+        want = "a positive number" if positive else "a number >= 0" if nonneg else "a finite number"
+        if optional:
+            want += " or false"
+        raise AxisConfigError(key, f"{key} = {value!r}: must be {want}")
+    return float(value)
+
+
+def create(table: dict) -> AxisConfig:
+    """Validate an `[[axis]]` table; an unknown key or a bad value raises AxisConfigError."""
+    known = set(AxisConfig.__dataclass_fields__) - {"rotary"} | {"type"}
+    for key in table:
+        if key not in known:
+            raise AxisConfigError(key, f"unknown key '{key}' in [[axis]] (known: {', '.join(sorted(known))})")
+    kind = table.get("type", "linear")
+    if kind not in ("linear", "rotary"):
+        raise AxisConfigError("type", f"type = {kind!r}: must be \"linear\" or \"rotary\"")
+    rotary = kind == "rotary"
+    c = AxisConfig(rotary=rotary, counts_per_unit=1000.0 if rotary else 10000.0)
+    c.counts_per_unit = _number(table, "counts_per_unit", c.counts_per_unit, positive=True)
+    for key in ("max_vel", "max_acc", "max_dec", "kill_dec", "max_pos_err", "inpos_radius",
+                "vel_limit", "acc_limit", "enable_timeout_ms", "torque_constant"):
+        setattr(c, key, _number(table, key, getattr(c, key), positive=True))
+    for key in ("inpos_debounce_ms", "home_width"):
+        setattr(c, key, _number(table, key, getattr(c, key), nonneg=True))
+    for key in ("sw_left", "sw_right", "index_offset", "start_position"):
+        setattr(c, key, _number(table, key, getattr(c, key)))
+    for key in ("hw_left", "hw_right", "home_pos"):
+        setattr(c, key, _number(table, key, getattr(c, key), optional=True))
+    c.index_spacing = _number(table, "index_spacing", c.index_spacing, positive=True, optional=True)
+    c.smooth_time_ms = _number(table, "smooth_time_ms", 0.0, nonneg=True)
+    if c.smooth_time_ms > 500:
+        raise AxisConfigError("smooth_time_ms", f"smooth_time_ms = {c.smooth_time_ms:g}: must be 0 to 500")
+    if c.sw_left >= c.sw_right:
+        raise AxisConfigError("sw_right", f"sw_right = {c.sw_right:g} must be above sw_left = {c.sw_left:g}")
+    if c.hw_left is not None and c.hw_right is not None and c.hw_left >= c.hw_right:
+        raise AxisConfigError("hw_right", f"hw_right = {c.hw_right:g} must be above hw_left = {c.hw_left:g}")
+    if abs(c.start_position) * c.counts_per_unit >= 2**31:
+        raise AxisConfigError("start_position", f"start_position = {c.start_position:g} is outside the int32 encoder range")
+    drive = table.get("drive", {})
+    if not isinstance(drive, dict):
+        raise AxisConfigError("drive", f"drive = {drive!r}: must be a table")
+    for key in _SENSOR_KEYS + ("position",):
+        if key in drive:
+            raise AxisConfigError(f"drive.{key}", f"drive.{key}: set the switches and index in the axis table "
+                                  "(hw_left, hw_right, home_pos, home_width, index_spacing, index_offset, start_position)")
+    c.drive = drive
+    return c
+
+
+def build_drive(config: AxisConfig):
+    """The axis's Cia402Drive; a bad drive key raises AxisConfigError naming it."""
+    from motionvm.drives.cia402 import Cia402Drive
+
+    try:
+        return Cia402Drive.create(config.drive_config())
+    except ValueError as exc:
+        msg = str(exc)
+        key = "drive"
+        for word in msg.replace("=", " ").replace("'", " ").split():
+            if word in Cia402Drive.KEYS or word in ("model", "delay_cycles", "bandwidth", "damping", "inertia"):
+                key = f"drive.mechanics.{word}" if msg.startswith("mechanics") else f"drive.{word}"
+                break
+        raise AxisConfigError(key, msg) from None
