@@ -86,6 +86,8 @@ class Simulation:
             raise KeyError(f"no global or system variable '{name}'")
         if sym.storage == "pyglobal":
             return self.runtime.ns[sym.pyname]
+        if sym.storage == "pylist":
+            return self.runtime.ns[sym.pyname][index]
         t = sym.type
         elem = getattr(t, "elem", t)
         return self.runtime.mem.load(sym.addr + index * elem.size, view_code(elem))

@@ -98,8 +98,8 @@ def run(args) -> int:
     )
     rt.stamp = bool(args.stamp)
     ctl.clients.append(rt)
-    recorder = _scope_start(scope, ctl, rt) if scope else None
     rt.boot()
+    recorder = _scope_start(scope, ctl, rt) if scope else None  # the last client: sees all
     try:
         ctl.run(args.until)
     except KeyboardInterrupt:

@@ -5,6 +5,7 @@ from __future__ import annotations
 import os
 import sys
 from pathlib import Path
+from types import SimpleNamespace
 
 import pytest
 
@@ -63,9 +64,15 @@ def run_cli(*argv) -> int:
     return main(["run", *map(str, argv)])
 
 
-def recorded(source: str, channels: list[str], every: int = 1, until: float | None = None) -> ScopeRecorder:
+def recorded(
+    source: str, channels: list[str], every: int = 1, until: float | None = None
+) -> ScopeRecorder:
     sim = Simulation.from_source(source)
-    rec = ScopeRecorder(registry_for(sim.controller, sim.runtime).resolve_all(channels), sim.controller.cycle_time, every)
+    rec = ScopeRecorder(
+        registry_for(sim.controller, sim.runtime).resolve_all(channels),
+        sim.controller.cycle_time,
+        every,
+    )
     rec.attach(sim.controller)
     sim.run(until)
     return rec
@@ -83,7 +90,10 @@ def test_csv_is_exact(loop_file, tmp_path, capsys):
 
 def test_every_n_cycles(loop_file, tmp_path):
     out = tmp_path / "run.csv"
-    assert run_cli("--scope", "system_dtest0", "--scope-every", "2", "--scope-out", out, loop_file) == 0
+    assert (
+        run_cli("--scope", "system_dtest0", "--scope-every", "2", "--scope-out", out, loop_file)
+        == 0
+    )
     assert out.read_text() == "time,system_dtest0\n0.0,0.0\n0.002,2.0\n0.004,4.0\n"
 
 
@@ -91,7 +101,18 @@ def test_full_precision_and_repeated_flags(tmp_path):
     prog = tmp_path / "p.hmpl"
     prog.write_text("void main() { system_dtest1 = 1.0 / 3.0; Sleep(1); }\n")
     out = tmp_path / "p.csv"
-    assert run_cli("--scope", "system_dtest1", "--scope", " system_dtest1 ,system_fclk", "--scope-out", out, prog) == 0
+    assert (
+        run_cli(
+            "--scope",
+            "system_dtest1",
+            "--scope",
+            " system_dtest1 ,system_fclk",
+            "--scope-out",
+            out,
+            prog,
+        )
+        == 0
+    )
     lines = out.read_text().splitlines()
     assert lines[0] == "time,system_dtest1,system_fclk"
     assert lines[1] == f"0.0,{1.0 / 3.0!r},0"
@@ -105,7 +126,9 @@ def test_every_cycle_is_sampled_while_tasks_sleep():
 
 
 def test_until_limits_the_recording():
-    rec = recorded("void main() { while (1) { system_ltest0++; Sleep(1); } }", ["system_ltest0"], until=0.004)
+    rec = recorded(
+        "void main() { while (1) { system_ltest0++; Sleep(1); } }", ["system_ltest0"], until=0.004
+    )
     assert rec.times == [0.0, 0.001, 0.002, 0.003]
     assert rec.columns[0] == [1, 2, 3, 4]
 
@@ -164,7 +187,6 @@ def test_globals_arrays_and_gpio():
         ("table[4]", "index 4 is out of range for table[4] (0..3)"),
         ("count[1]", "'count' is not an array"),
         ("gpo32", "the controller has gpo0..gpo31"),
-        ("axis0.ref_pos", "this controller has no axes"),
         ("nothing_like_it", "unknown scope channel 'nothing_like_it'"),
     ],
 )
@@ -191,7 +213,10 @@ def test_bad_channel_stops_before_the_run(loop_file, tmp_path, capsys):
         (["--scope-out", "x.csv"], "--scope-out needs --scope"),
         (["--scope", "count", "--scope-out", "x.txt"], "unknown file type '.txt'"),
         (["--scope", "count", "--scope-out", "no/such/dir/x.csv"], "does not exist"),
-        (["--scope", "count", "--scope-out", "x.csv", "--scope-every", "0"], "--scope-every must be"),
+        (
+            ["--scope", "count", "--scope-out", "x.csv", "--scope-every", "0"],
+            "--scope-every must be",
+        ),
     ],
 )
 def test_bad_scope_flags(loop_file, argv, message, capsys):
@@ -212,7 +237,13 @@ class StandInAxis:
 
     def __init__(self, rotary: bool = False) -> None:
         self.rotary = rotary
-        self.values = {"ref_pos": 0.0, "ref_vel": 0.0, "ref_acc": 0.0, "pos_fb": 0.0, "di_bit_HOME": 0}
+        self.values = {
+            "ref_pos": 0.0,
+            "ref_vel": 0.0,
+            "ref_acc": 0.0,
+            "pos_fb": 0.0,
+            "di_bit_HOME": 0,
+        }
 
     def variable(self, name: str) -> float:
         return self.values[name]
@@ -241,7 +272,9 @@ def axis_controller() -> Controller:
 
 def test_axis_channels_and_units():
     ctl = axis_controller()
-    chans = registry_for(ctl).resolve_all(["axis0.ref_pos", "axis0.ref_acc", "axis1.ref_vel", "axis0.di_bit_HOME"])
+    chans = registry_for(ctl).resolve_all(
+        ["axis0.ref_pos", "axis0.ref_acc", "axis1.ref_vel", "axis0.di_bit_HOME"]
+    )
     assert [c.unit for c in chans] == ["mm", "mm/s²", "deg/s", "bool"]
     rec = ScopeRecorder(chans, ctl.cycle_time)
     rec.attach(ctl)
@@ -249,6 +282,23 @@ def test_axis_channels_and_units():
         ctl.step()
     assert rec.columns[0] == [1.0, 2.0, 3.0, 4.0]  # the state after the cycle's motion
     assert rec.columns[3] == [0, 0, 1, 1]
+
+
+def test_no_axes():
+    with pytest.raises(ScopeError, match="this controller has no axes"):
+        registry_for(SimpleNamespace()).resolve("axis0.ref_pos")
+
+
+def test_axis_without_variable_names_offers_the_manuals_variables():
+    class Minimal:
+        def variable(self, name):
+            return 1.5
+
+    reg = registry_for(SimpleNamespace(motion=SimpleNamespace(axes=[Minimal()])))
+    assert reg.resolve("axis0.settlingtime").unit == "ms"
+    assert reg.resolve("axis0.coe_vel_fb").getter() == 1.5
+    with pytest.raises(ScopeError, match="did you mean axis0.vel_fb"):
+        reg.resolve("axis0.velfb")
 
 
 @pytest.mark.parametrize(
@@ -305,10 +355,7 @@ def test_vcd_structure_and_changes_only(tmp_path):
     assert head.count("$scope") == head.count("$upscope") == 3
     # axis1.ref_vel never changes: it appears once, in $dumpvars
     assert body == (
-        '#0\n$dumpvars\nr1.0 !\n0"\nr0.0 #\n$end\n'
-        "#1000\nr2.0 !\n"
-        '#2000\nr3.0 !\n1"\n'
-        "#3000\nr4.0 !\n"
+        '#0\n$dumpvars\nr1.0 !\n0"\nr0.0 #\n$end\n#1000\nr2.0 !\n#2000\nr3.0 !\n1"\n#3000\nr4.0 !\n'
     )
 
 
@@ -316,7 +363,7 @@ def test_vcd_of_a_program(loop_file, tmp_path):
     out = tmp_path / "run.vcd"
     assert run_cli("--scope", "count,gpo3", "--scope-out", out, loop_file) == 0
     body = out.read_text().partition("$enddefinitions $end\n")[2]
-    assert body.startswith("#0\n$dumpvars\nr0 !\n0\"\n$end\n#1000\nr1 !\n1\"\n")
+    assert body.startswith('#0\n$dumpvars\nr0 !\n0"\n$end\n#1000\nr1 !\n1"\n')
     assert "#5000" not in body  # nothing changed in the last cycle
 
 

@@ -30,6 +30,7 @@ The continuous torque of MoveTrq is the drive's rated_torque [N*m] (default 1).
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass, field
 
 
@@ -163,9 +164,6 @@ def build_drive(config: AxisConfig):
         return Cia402Drive.create(config.drive_config())
     except ValueError as exc:
         msg = str(exc)
-        key = "drive"
-        for word in msg.replace("=", " ").replace("'", " ").split():
-            if word in Cia402Drive.KEYS or word in ("model", "delay_cycles", "bandwidth", "damping", "inertia"):
-                key = f"drive.mechanics.{word}" if msg.startswith("mechanics") else f"drive.{word}"
-                break
-        raise AxisConfigError(key, msg) from None
+        m = re.search(r"unknown key '(\w+)'", msg) or re.search(r"(\w+) = ", msg)
+        part = "drive.mechanics" if msg.startswith("mechanics") else "drive"
+        raise AxisConfigError(f"{part}.{m.group(1)}" if m else part, msg) from None

@@ -1,9 +1,10 @@
 """The simulated controller: the cycle clock, the task kernel and the programs on it.
 
 One cycle (DESIGN.md): programs update system variables, the kernel runs every due
-task once, motion and devices step (added by the axis work), the clock advances.
-When no task is due before some later cycle and nothing else needs stepping, the
-clock jumps straight to that cycle; the results are identical to stepping.
+task once, the motion kernel steps every axis (profile generators, limits, PDOs, the
+drives and their feedback), the clock advances. When no task is due before some later
+cycle and every axis rests (a fixed point: stepping it changes nothing), the clock
+jumps straight to that cycle; the results are identical to stepping.
 """
 
 from __future__ import annotations
@@ -11,7 +12,9 @@ from __future__ import annotations
 import math
 from typing import Protocol
 
+from motionvm.motion.kernel import MotionKernel
 from motionvm.runtime.kernel import Kernel
+from motionvm.sim.machine import DEFAULT_MACHINE, MachineConfig
 
 
 class CycleClient(Protocol):
@@ -19,15 +22,27 @@ class CycleClient(Protocol):
 
 
 class Controller:
-    """A controller with a fixed cycle time [s] and up to 64 tasks."""
+    """A controller with a fixed cycle time [s], up to 64 tasks and the machine's axes.
 
-    def __init__(self, cycle_time: float = 0.001) -> None:
+    `machine` gives the axes (default: the built-in machine's); its cycle time is not
+    used, `cycle_time` is.
+    """
+
+    def __init__(self, cycle_time: float = 0.001, machine: MachineConfig | None = None) -> None:
         if not (cycle_time > 0 and math.isfinite(cycle_time)):
             raise ValueError(f"cycle time must be positive, got {cycle_time}")
         self.cycle_time = cycle_time
         self.kernel = Kernel()
+        self.motion = MotionKernel(list((machine or DEFAULT_MACHINE).axes), cycle_time)
         self.clients: list[CycleClient] = []
         self.allow_jump = True
+        self.hmi_scope = False
+        """SetHMIScope(1) sets it, SetHMIScope(0) clears it (a scope may follow it)."""
+
+    @property
+    def axes(self) -> list:
+        """The machine's axes (`motionvm.motion.axis.Axis`), by axis id."""
+        return self.motion.axes
 
     @property
     def cycle(self) -> int:
@@ -43,6 +58,7 @@ class Controller:
         for c in self.clients:
             c.begin_cycle()
         self.kernel.run_cycle()
+        self.motion.step()
         for c in self.clients:  # optional hook: sees the state the cycle left (scope recording)
             end = getattr(c, "end_cycle", None)
             if end is not None:
@@ -50,8 +66,8 @@ class Controller:
         self.kernel.cycle += 1
 
     def busy(self) -> bool:
-        """True while any task runs (motion will add to this)."""
-        return self.kernel.any_running
+        """True while any task runs or any axis moves, enables or settles."""
+        return self.kernel.any_running or self.motion.busy()
 
     def run(self, until: float | None = None) -> None:
         """Run until nothing is left to do, or until `until` seconds of simulated time."""
@@ -60,7 +76,7 @@ class Controller:
         while self.busy():
             if end_cycle is not None and k.cycle >= end_cycle:
                 return
-            if self.allow_jump:
+            if self.allow_jump and self.motion.at_rest():
                 wake = k.next_wake()
                 if wake is not None and wake > k.cycle:
                     target = wake if end_cycle is None else min(wake, end_cycle)

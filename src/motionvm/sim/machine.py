@@ -1,11 +1,26 @@
-"""Machine files (TOML): what the simulated machine is. Only the controller section so far.
+"""Machine files (TOML): what the simulated machine is: the controller and its axes.
 
 ```toml
+axes = 4                # number of axes (default: as many as [[axis]] tables, else 8)
+
 [controller]
 cycle_time_ms = 1.0     # controller cycle [ms], 0.125 .. 100
 task_slice = 2000       # loop back-edges a task may run per cycle before it yields
 data_dir = "data"       # folder for persistent data (user table), relative to this file
+
+[[axis]]                # axis 0; every key is optional (motion/axis_config.py lists them)
+type = "linear"         # or "rotary" (units deg instead of mm)
+counts_per_unit = 10000 # encoder counts per mm (or deg)
+max_vel = 1000.0        # [mm/s]; max_acc, max_dec [mm/s^2], kill_dec [mm/s^2]
+sw_left = -1000.0       # software limits [mm]; hw_left/hw_right: limit switches [mm]
+drive = { enable_cycles = 4, mechanics = { model = "servo", bandwidth = 50.0 } }
 ```
+With `axes = N` and fewer [[axis]] tables, the tables configure axes 0, 1, ... and the
+rest are default axes. The built-in machine (no file) has 8 default axes: linear,
+10000 counts/mm, 1000 mm/s, 10000 mm/s^2, kill deceleration 100000 mm/s^2, soft limits
++-1000 mm, limit switches at +-1050 mm, home switch on [0, 5] mm, an index pulse every
+10 mm, max position error 10 mm, in position within 0.01 mm for 1 ms, and an ideal
+drive whose feedback follows the command one cycle late.
 A bad file is reported as `FILE:LINE: error: MESSAGE` naming the key (exit code 3).
 """
 
@@ -13,8 +28,11 @@ from __future__ import annotations
 
 import re
 import tomllib
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
+
+from motionvm.motion.axis_config import AxisConfig, AxisConfigError, build_drive
+from motionvm.motion.axis_config import create as create_axis
 
 
 class MachineFileError(Exception):
@@ -27,11 +45,21 @@ class MachineConfig:
     task_slice: int = 2000
     data_dir: Path | None = None
     path: Path | None = None
+    axes: tuple[AxisConfig, ...] = field(default_factory=lambda: default_axes(DEFAULT_N_AXES))
+
+
+MAX_AXES = 64
+DEFAULT_N_AXES = 8
+
+
+def default_axes(n: int) -> tuple[AxisConfig, ...]:
+    """`n` axes of the built-in machine."""
+    return tuple(AxisConfig() for _ in range(n))
 
 
 DEFAULT_MACHINE = MachineConfig()
 
-_KNOWN = {"controller": {"cycle_time_ms", "task_slice", "data_dir"}}
+_KNOWN = {"controller": {"cycle_time_ms", "task_slice", "data_dir"}, "axis": set(), "axes": set()}
 
 
 def _line_of(text: str, section: str, key: str | None) -> int:
@@ -47,6 +75,24 @@ def _line_of(text: str, section: str, key: str | None) -> int:
         if in_sec and key is not None and re.match(rf"{re.escape(key)}\s*=", s):
             return i
     return 1
+
+
+def _line_of_axis(text: str, index: int, key: str) -> int:
+    """Line of `key` (dotted: its last part) in the `index`-th [[axis]] table."""
+    last = key.split(".")[-1]
+    seen, header = -1, 1
+    for i, line in enumerate(text.splitlines(), 1):
+        s = line.strip()
+        if re.match(r"\[\[\s*axis\s*\]\]", s):
+            seen += 1
+            if seen == index:
+                header = i
+            elif seen > index:
+                break
+            continue
+        if seen == index and re.search(rf"(^|[{{,\s]){re.escape(last)}\s*=", s):
+            return i
+    return header
 
 
 def load_machine(path: str | Path) -> MachineConfig:
@@ -69,6 +115,8 @@ def load_machine(path: str | Path) -> MachineConfig:
     for sec, val in data.items():
         if sec not in _KNOWN:
             raise bad(sec, None, f"unknown section [{sec}] (known: {', '.join(sorted(_KNOWN))})")
+        if sec in ("axis", "axes"):
+            continue
         if not isinstance(val, dict):
             raise bad("", sec, f"'{sec}' must be a table")
         for key in val:
@@ -89,4 +137,26 @@ def load_machine(path: str | Path) -> MachineConfig:
         task_slice=slice_,
         data_dir=(p.parent / data_dir) if data_dir else None,
         path=p,
+        axes=_load_axes(data, text, p),
     )
+
+
+def _load_axes(data: dict, text: str, p: Path) -> tuple[AxisConfig, ...]:
+    tables = data.get("axis", [])
+    if not isinstance(tables, list) or not all(isinstance(t, dict) for t in tables):
+        raise MachineFileError(f"{p}:{_line_of(text, '', 'axis')}: error: 'axis' must be written as [[axis]] tables")
+    n = data.get("axes", len(tables) if tables else DEFAULT_N_AXES)
+    if isinstance(n, bool) or not isinstance(n, int) or not 0 <= n <= MAX_AXES:
+        raise MachineFileError(f"{p}:{_line_of(text, '', 'axes')}: error: axes = {n!r}: must be an integer from 0 to {MAX_AXES}")
+    if len(tables) > n:
+        raise MachineFileError(f"{p}:{_line_of(text, '', 'axes')}: error: axes = {n} but {len(tables)} [[axis]] tables are given")
+    out = []
+    for i, table in enumerate(tables):
+        try:
+            config = create_axis(table)
+            build_drive(config)  # a bad drive or mechanics key fails here, at load time
+        except AxisConfigError as exc:
+            line = _line_of_axis(text, i, exc.key)
+            raise MachineFileError(f"{p}:{line}: error: [[axis]] {i}: {exc}") from None
+        out.append(config)
+    return tuple(out) + default_axes(n - len(tables))

@@ -64,6 +64,9 @@ class HmplSource:
                 f"scope channel '{name}': index {i} is out of range for {base}[{t.n}] "
                 f"(0..{t.n - 1})"
             )
+        if sym.storage == "pylist" and elem_t.is_scalar:  # an array kept as a Python list
+            ns, pyname = self.runtime.ns, sym.pyname
+            return (lambda: ns[pyname][i]), self._unit(base)
         return self._scalar(name, sym, elem_t, sym.addr + i * elem_t.size), self._unit(base)
 
     def _scalar(self, name: str, sym, t, addr: int) -> Callable[[], float]:
@@ -153,14 +156,22 @@ def axis_unit(axis, variable: str, manual: dict[str, str | None]) -> str:
 
 
 class AxisSource:
-    """Axis variables `axisN.<variable>` of `controller.axes` (objects with `variable(name)`)."""
+    """Axis variables `axisN.<variable>` of `controller.axes` or `controller.motion.axes`.
+
+    An axis is any object with `variable(name)`; it may offer `variable_names()` (default: the variables of manual 5.1.1) and
+    `variable_unit(name)` (default: the manual's unit, in deg if `axis.rotary`).
+    """
 
     def __init__(self, controller) -> None:
         self.controller = controller
         self._manual: dict[str, str | None] | None = None
 
     def _axes(self):
-        return getattr(self.controller, "axes", None)
+        """`controller.axes`, or the axes of the controller's motion kernel."""
+        axes = getattr(self.controller, "axes", None)
+        if axes is None:
+            axes = getattr(getattr(self.controller, "motion", None), "axes", None)
+        return axes
 
     def resolve(self, name: str) -> tuple[Callable[[], float], str] | None:
         m = _AXIS.fullmatch(name)
@@ -174,7 +185,7 @@ class AxisSource:
             have = f"axis0..axis{len(axes) - 1}" if axes else "none"
             raise ScopeError(f"scope channel '{name}': no axis {n} on this machine (axes: {have})")
         axis = axes[n]
-        known = list(axis.variable_names())
+        known = self._variable_names(axis)
         if variable not in known:
             import difflib
 
@@ -185,13 +196,21 @@ class AxisSource:
                 else f"axis variables are: {', '.join(known)}"
             )
             raise ScopeError(f"unknown scope channel '{name}'; {hint}")
+        return partial(axis.variable, variable), axis_unit(axis, variable, self._manual_units())
+
+    def _manual_units(self) -> dict[str, str | None]:
         if self._manual is None:
             self._manual = _manual_axis_units()
-        return partial(axis.variable, variable), axis_unit(axis, variable, self._manual)
+        return self._manual
+
+    def _variable_names(self, axis) -> list[str]:
+        """The axis' own `variable_names()`, else every variable of manual 5.1.1."""
+        own = getattr(axis, "variable_names", None)
+        return list(own() if own is not None else self._manual_units())
 
     def channel_names(self) -> Iterable[str]:
         for n, axis in enumerate(self._axes() or ()):
-            yield from (f"axis{n}.{v}" for v in axis.variable_names())
+            yield from (f"axis{n}.{v}" for v in self._variable_names(axis))
 
 
 def registry_for(controller, runtime=None) -> ChannelRegistry:

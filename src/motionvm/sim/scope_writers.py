@@ -32,13 +32,10 @@ def _umask() -> int:
 def atomic_open(path: Path, binary: bool = False) -> Iterator[IO]:
     """A temporary file next to `path` that replaces `path` only if the block succeeds."""
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    text = {} if binary else {"encoding": "utf-8", "newline": "\n"}
     try:
-        os.chmod(tmp, 0o666 & ~_umask())  # mkstemp makes 0600; give the mode open() would
-        with os.fdopen(
-            fd,
-            "wb" if binary else "w",
-            **({} if binary else {"encoding": "utf-8", "newline": "\n"}),
-        ) as f:
+        with os.fdopen(fd, "wb" if binary else "w", **text) as f:
+            os.fchmod(f.fileno(), 0o666 & ~_umask())  # mkstemp gives 0600; use open()'s mode
             yield f
         os.replace(tmp, path)
     except BaseException:

@@ -72,3 +72,35 @@ def test_gdl_compile_errors_exit_2_and_nothing_runs(tmp_path: Path) -> None:
         "  IO$BOARD b [ SLOT = 99 ];",
         "                      ^",
     ]
+
+
+_INPUTS = ["STATUS OF start_button", "STATUS OF stop_button"] + [
+    f"STATUS OF photocell{{{i}}}" for i in range(1, 5)
+]
+
+
+@settings(max_examples=60, deadline=None, derandomize=True)
+@given(
+    st.lists(st.tuples(st.integers(0, 400), st.sampled_from(_INPUTS), st.booleans()), max_size=12)
+)
+def test_gdl_random_scenarios_run_the_same_stepped_or_jumped(tmp_path_factory, events) -> None:
+    from motionvm.lang.gdl.driver import run_scenario
+    from motionvm.lang.gdl.rts import Rts
+    from motionvm.lang.gdl.scenario import load_scenario
+
+    folder = tmp_path_factory.mktemp("s")
+    toml = "".join(
+        f'[[event]]\nat = {ms / 1000}\nset = "{ref}"\nvalue = "{"ON" if on else "OFF"}"\n'
+        for ms, ref, on in events
+    )
+    (folder / "s.toml").write_text(toml)
+    app = compile_app([str(PROGRAMS / "packer.gdl")], sink=DiagnosticSink())
+    assert app is not None
+    outputs = []
+    for jump in (True, False):
+        out = io.StringIO()
+        rts = Rts(app, out, out)
+        run_scenario(rts, load_scenario(str(folder / "s.toml"), app), None, jump=jump)
+        outputs.append(out.getvalue())
+    assert outputs[0] == outputs[1]
+    assert outputs[0].count("input ") == len(events)

@@ -248,3 +248,68 @@ def test_gdl_scenario_refuses_to_change_a_constant(tmp_path: Path) -> None:
     s = _scenario(tmp_path, '[[event]]\nat = 0\nset = "VALUE OF memo"\nvalue = 2\n')
     assert run_app(app, s, None, out) == 3
     assert "memo is an INTEGER$CONSTANT: it never changes" in out.getvalue()
+
+
+FOLLOWERS = """MODULE f;
+  MACHINE plant [ ];
+  DC$MOTOR$AXIS spindle [ AXIS$NUMBER = 1 ];
+  ABSOLUTE$ENCODER spindle_encoder [ ENCODER$NUMBER = 1, AXIS$NAME = spindle ];
+  PROCEDURE mode;
+  DECLARE { OPERATING$MODE OF plant };
+  BEGIN
+    IF OPERATING$MODE OF plant = AUTOMATIC THEN
+      CONSTANT$STATUS OF spindle = ENABLED;
+      RUN$AT$SPEED OF spindle (1000);
+    ELSE
+      CONSTANT$STATUS OF spindle = DISABLED;
+    END$IF;
+  END$PROCEDURE;
+  PROCEDURE watch;
+  DECLARE { OPERATING$CONDITION OF spindle_encoder };
+  BEGIN
+    RETURN;
+  END$PROCEDURE;
+END$MODULE;
+"""
+
+
+@pytest.mark.parametrize("model", ["trapezoid", "profile"])
+def test_gdl_followers_update_the_same_when_the_clock_jumps(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, model: str
+) -> None:
+    from motionvm.lang.gdl import axis, devices
+
+    if model == "profile":
+        monkeypatch.setattr(devices, "create_axis", axis.ProfileAxis)
+    app = _app(tmp_path, FOLLOWERS)
+    s = _scenario(
+        tmp_path,
+        '[[event]]\nat = 0.1\nset = "OPERATING$MODE OF plant"\nvalue = "AUTOMATIC"\n'
+        '[[event]]\nat = 0.5\nset = "OPERATING$MODE OF plant"\nvalue = "MANUAL"\n',
+    )
+    outputs = []
+    for jump in (True, False):
+        out = io.StringIO()
+        rts = Rts(app, out, out)
+        run_scenario(rts, load_scenario(s, app), None, jump=jump)
+        outputs.append(out.getvalue())
+    assert outputs[0] == outputs[1]
+    assert "t=0.501 update OPERATING$CONDITION OF spindle_encoder = STOPPED" in outputs[0]
+
+
+def test_gdl_shuffled_order_of_shared_activators(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.chdir(PROGRAMS)
+    orders = set()
+    for seed in range(8):
+        out = io.StringIO()
+        assert main_run(["queue.gdl"], "queue.toml", None, out, out, shuffle_seed=seed) == 0
+        lines = out.getvalue().splitlines()
+        at_30 = [line for line in lines if line.startswith("t=0.030 run ")]
+        orders.add(tuple(at_30))
+        again = io.StringIO()
+        main_run(["queue.gdl"], "queue.toml", None, again, again, shuffle_seed=seed)
+        assert again.getvalue() == out.getvalue()
+    assert orders == {
+        ("t=0.030 run procedure_1", "t=0.030 run procedure_2"),
+        ("t=0.030 run procedure_2", "t=0.030 run procedure_1"),
+    }

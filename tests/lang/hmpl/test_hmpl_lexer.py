@@ -111,7 +111,7 @@ def test_string_literals_and_escapes():
     assert t.value == b'a\tb\n\\"AA\x00z'
     assert one('"中文"').value == "中文".encode()
     assert one('""').value == b""
-    assert one("\"it's\"").value == b"it's"
+    assert one('"it\'s"').value == b"it's"
 
 
 def test_adjacent_strings_stay_separate_tokens():
@@ -119,8 +119,10 @@ def test_adjacent_strings_stay_separate_tokens():
 
 
 def test_all_punctuators_longest_match():
-    text = "... <<= >>= -> ++ -- << >> <= >= == != && || *= /= %= += -= &= ^= |= ## " \
-           "[ ] ( ) { } . & * + - ~ ! / % < > ^ | ? : ; = , #"
+    text = (
+        "... <<= >>= -> ++ -- << >> <= >= == != && || *= /= %= += -= &= ^= |= ## "
+        "[ ] ( ) { } . & * + - ~ ! / % < > ^ | ? : ; = , #"
+    )
     assert [t for _, t in kinds(text)] == text.split()
     assert [t for _, t in kinds("a+++b")] == ["a", "++", "+", "b"]
     assert [t for _, t in kinds("x->y")] == ["x", "->", "y"]
@@ -187,15 +189,19 @@ def test_chinese_comments():
         ("x$", "lex.hmpl:1:2: error: stray '$' in program"),
         (
             "x = 1；",
-            "lex.hmpl:1:6: error: stray '；' in program "
-            "(a full-width character; did you mean ';'?)",
+            (
+                "lex.hmpl:1:6: error: stray '；' in program "
+                "(a full-width character; did you mean ';'?)"
+            ),
         ),
         ('"\\q"', "lex.hmpl:1:1: error: unknown escape sequence '\\q'"),
         ('"\\x100"', "lex.hmpl:1:1: error: hex escape sequence '\\x100' out of range"),
         (
             "99999999999999999999",
-            "lex.hmpl:1:1: error: integer constant '99999999999999999999' is too large "
-            "(the limit is 18446744073709551615)",
+            (
+                "lex.hmpl:1:1: error: integer constant '99999999999999999999' is too large "
+                "(the limit is 18446744073709551615)"
+            ),
         ),
     ],
 )

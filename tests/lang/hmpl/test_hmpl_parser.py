@@ -130,10 +130,14 @@ def tx(t: n.TypeRef) -> str:
         ('"ab" "cd"', "b'abcd'"),
         ("'A' + 1", "(+ 65 1)"),
         ("1.5f + 2.0", "(+ 1.5f 2.0)"),
-        ("HIMC_GPO(1) = HIMC_GPI(4) && HIMC_GPI(6)",
-         "(= (call HIMC_GPO 1) (&& (call HIMC_GPI 4) (call HIMC_GPI 6)))"),
-        ("Till(IsEnabled(0) && IsEnabled(1))",
-         "(call Till (&& (call IsEnabled 0) (call IsEnabled 1)))"),
+        (
+            "HIMC_GPO(1) = HIMC_GPI(4) && HIMC_GPI(6)",
+            "(= (call HIMC_GPO 1) (&& (call HIMC_GPI 4) (call HIMC_GPI 6)))",
+        ),
+        (
+            "Till(IsEnabled(0) && IsEnabled(1))",
+            "(call Till (&& (call IsEnabled 0) (call IsEnabled 1)))",
+        ),
         ("a+++b", "(+ (post++ a) b)"),
     ],
 )
@@ -300,12 +304,24 @@ def test_struct_union_and_typedef():
     )
     kinds = [type(x).__name__ for x in tu.items]
     assert kinds == [
-        "StructDef", "Typedef", "Typedef", "StructDef", "VarDecl", "Typedef", "Typedef",
-        "VarDecl", "VarDecl", "VarDecl", "VarDecl",
+        "StructDef",
+        "Typedef",
+        "Typedef",
+        "StructDef",
+        "VarDecl",
+        "Typedef",
+        "Typedef",
+        "VarDecl",
+        "VarDecl",
+        "VarDecl",
+        "VarDecl",
     ]
     point, td_point, td_item, num_def, num, td_byte, td_vec, p, items, b, q = tu.items
-    assert (point.kind, point.tag, [f.name for f in point.fields]) == ("struct", "Point",
-                                                                       ["x", "y"])
+    assert (point.kind, point.tag, [f.name for f in point.fields]) == (
+        "struct",
+        "Point",
+        ["x", "y"],
+    )
     assert (td_point.name, td_point.type.base) == ("Point", "struct Point")
     assert td_item.type.base == "struct" and td_item.type.struct_def is not None
     assert td_item.type.struct_def.tag == ""
@@ -375,8 +391,17 @@ def test_statements():
     )
     kinds = [type(s).__name__ for s in items]
     assert kinds == [
-        "DeclStmt", "Empty", "Block", "If", "While", "DoWhile", "For", "For", "For",
-        "Switch", "Return",
+        "DeclStmt",
+        "Empty",
+        "Block",
+        "If",
+        "While",
+        "DoWhile",
+        "For",
+        "For",
+        "For",
+        "Switch",
+        "Return",
     ]
     decl, _, _, if_, while_, do, for1, for2, for3, switch, ret = items
     assert [d.name for d in decl.decls] == ["i", "j"]
@@ -389,7 +414,12 @@ def test_statements():
     assert for2.cond is None and for2.step is None and isinstance(for2.body, n.Break)
     assert for3.body == n.Block(for3.body.pos, ())
     assert [type(s).__name__ for s in switch.body.items] == [
-        "Case", "Case", "ExprStmt", "Break", "Default", "ExprStmt",
+        "Case",
+        "Case",
+        "ExprStmt",
+        "Break",
+        "Default",
+        "ExprStmt",
     ]
     assert sx(switch.body.items[1].value) == "(+ 2 1)"
     assert ret.value is None
@@ -409,7 +439,12 @@ def test_return_value_and_declarations_anywhere():
 def test_goto_and_labels():
     items = body("goto done; x = 1;\ndone:\n  return;\nagain: ;")
     assert [type(s).__name__ for s in items] == [
-        "Goto", "ExprStmt", "Label", "Return", "Label", "Empty",
+        "Goto",
+        "ExprStmt",
+        "Label",
+        "Return",
+        "Label",
+        "Empty",
     ]
     assert items[0].label == "done" and items[2].name == "done"
 
@@ -422,7 +457,12 @@ def test_local_struct_variables_and_typedef_names():
     )
     items = tu.items[1].body.items
     assert [type(s).__name__ for s in items] == [
-        "DeclStmt", "DeclStmt", "DeclStmt", "DeclStmt", "ExprStmt", "ExprStmt",
+        "DeclStmt",
+        "DeclStmt",
+        "DeclStmt",
+        "DeclStmt",
+        "ExprStmt",
+        "ExprStmt",
     ]
     assert sx(items[5].expr) == "(= (-> pt a) (sizeof T))"
 
@@ -536,11 +576,14 @@ def test_dump_tokens_is_readable_and_deterministic():
 
 def test_dump_ast_is_readable_and_deterministic():
     tu = parse_ok("_AUTORUN_ void main() {\n  int a[2] = {1, 2};\n  a[0] += -1;\n}")
-    assert dump_ast(tu) == """\
+    assert (
+        dump_ast(tu)
+        == """\
 TranslationUnit @1:1
   items:
     FuncDef @1:16 name='main' body=... autorun=True
-""".replace(" body=...", "") + """\
+""".replace(" body=...", "")
+        + """\
       ret: TypeRef @1:11 base='void'
       body: Block @1:23
         items:
@@ -562,6 +605,7 @@ TranslationUnit @1:1
               value: Unary @3:11 op='-'
                 operand: IntLit @3:12 value=1
 """
+    )
 
 
 def test_designated_initializers():
@@ -578,7 +622,8 @@ def test_designated_initializers():
     assert (d1.field, sx(d1.value)) == ("x", "1.5")
     assert d2.field == "f" and isinstance(d2.value, n.InitList)
     assert [(x.field, sx(x.index)) for x in a.init.items if isinstance(x, n.Designated)] == [
-        (None, "4"), (None, "1"),
+        (None, "4"),
+        (None, "1"),
     ]
     assert sx(a.dims[0]) == "6"  # [4], then [5], then [1]: six elements
     assert b.dims == (None,)  # a non-literal index: the checker sizes it

@@ -68,7 +68,7 @@ def test_arguments_are_expanded_before_substitution():
 
 
 def test_variadic_macro():
-    assert ok("#define LOG(fmt, ...) Print(fmt, __VA_ARGS__)\nLOG(\"%d %d\", 1, 2)") == (
+    assert ok('#define LOG(fmt, ...) Print(fmt, __VA_ARGS__)\nLOG("%d %d", 1, 2)') == (
         'Print ( "%d %d" , 1 , 2 )'
     )
     assert ok("#define V(...) f(__VA_ARGS__)\nV() V(a, (b, c))") == "f ( ) f ( a , ( b , c ) )"
@@ -269,8 +269,13 @@ def test_missing_main_file(tmp_path):
     "text, message",
     [
         ("#error stop: bad config", "pp.hmpl:1:1: error: #error stop: bad config"),
-        ("#defien X 1", "pp.hmpl:1:2: error: invalid preprocessing directive '#defien' "
-         "(did you mean 'define'?)"),
+        (
+            "#defien X 1",
+            (
+                "pp.hmpl:1:2: error: invalid preprocessing directive '#defien' "
+                "(did you mean 'define'?)"
+            ),
+        ),
         ("#foo", "pp.hmpl:1:2: error: invalid preprocessing directive '#foo'"),
         ("#define", "pp.hmpl:1:2: error: macro name missing in #define"),
         ("#define 3 x", "pp.hmpl:1:9: error: macro names must be identifiers, not '3'"),
@@ -280,16 +285,26 @@ def test_missing_main_file(tmp_path):
         ("#define F(a", "pp.hmpl:1:11: error: missing ')' in macro parameter list"),
         ("#define F(1) a", "pp.hmpl:1:11: error: expected parameter name, found '1'"),
         ("#define F(a) #b", "pp.hmpl:1:14: error: '#' is not followed by a macro parameter"),
-        ("#define F(a) ## a", "pp.hmpl:1:14: error: '##' cannot appear at either end of a "
-         "macro expansion"),
-        ("#define F(a, b) a\nF(1)", "pp.hmpl:2:1: error: macro 'F' requires 2 arguments, "
-         "only 1 given"),
-        ("#define F(a) a\nF(1, 2)", "pp.hmpl:2:1: error: macro 'F' requires 1 argument, "
-         "but 2 given"),
-        ("#define F(a) a\nF(1, (2)", "pp.hmpl:2:1: error: unterminated argument list "
-         "invoking macro 'F'"),
-        ("#define CAT(a, b) a ## b\nCAT(+, /)", "pp.hmpl:2:1: error: pasting '+' and '/' does "
-         "not give a valid token"),
+        (
+            "#define F(a) ## a",
+            "pp.hmpl:1:14: error: '##' cannot appear at either end of a macro expansion",
+        ),
+        (
+            "#define F(a, b) a\nF(1)",
+            "pp.hmpl:2:1: error: macro 'F' requires 2 arguments, only 1 given",
+        ),
+        (
+            "#define F(a) a\nF(1, 2)",
+            "pp.hmpl:2:1: error: macro 'F' requires 1 argument, but 2 given",
+        ),
+        (
+            "#define F(a) a\nF(1, (2)",
+            "pp.hmpl:2:1: error: unterminated argument list invoking macro 'F'",
+        ),
+        (
+            "#define CAT(a, b) a ## b\nCAT(+, /)",
+            "pp.hmpl:2:1: error: pasting '+' and '/' does not give a valid token",
+        ),
         ("#if 1 / 0\n#endif", "pp.hmpl:1:7: error: division by zero in #if"),
         ("#if\n#endif", "pp.hmpl:1:2: error: #if with no expression"),
         ("#if (1\n#endif", "pp.hmpl:1:5: error: missing ')' in #if expression"),
@@ -326,7 +341,11 @@ def test_pragma_and_null_directive_are_accepted():
 
 def test_macro_expansion_blowup_is_stopped():
     lines = ["#define M0 x"] + [f"#define M{k} M{k - 1} M{k - 1}" for k in range(1, 24)]
-    out, errors = pp("\n".join(lines) + "\nM23")
+    _out, errors = pp("\n".join(lines) + "\nM23")
     assert errors == ["pp.hmpl:25:1: error: macro expansion of 'M17' too large"] or any(
         "too large" in e for e in errors
     )
+
+
+def test_crlf_line_ends():
+    assert ok("#define A \\\r\n 1\r\nint x = A;\r\n") == "int x = 1 ;"

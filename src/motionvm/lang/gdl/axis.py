@@ -1,11 +1,11 @@
-"""The axis behind a GDL motor object: a small interface and a trapezoidal stand-in.
+"""The axis behind a GDL motor object: a small interface, a stand-in and an adapter.
 
-The RTS talks to motors only through `Axis`, so the stand-in `TrapezoidAxis` can be
-swapped for `motionvm.motion`'s axis model once that exists. The stand-in integrates
+The RTS talks to motors only through `Axis`. `create_axis` returns the stand-in
+`TrapezoidAxis`; `ProfileAxis` adapts `motionvm.motion.profile.ProfileGenerator` (the
+manual's profile generator) to the same interface, ready to be switched on. The stand-in integrates
 one cycle at a time (no jerk limit): velocity moves toward its target by at most
-`a_max * dt` per cycle; a positioning move brakes when the stopping distance
-`v^2 / (2 a_max)` reaches the remaining distance and snaps onto the target when it
-would pass it. Units are the GDL object's: position [units], velocity [units/s],
+`a_max * dt` per cycle; a positioning move brakes when the discrete stopping distance
+reaches the remaining distance and snaps onto the target when it would pass it. Units are the GDL object's: position [units], velocity [units/s],
 acceleration [units/s^2].
 """
 
@@ -82,7 +82,9 @@ class TrapezoidAxis:
         if self.p_target is not None:
             remaining = self.p_target - self.position
             direction = 1.0 if remaining > 0 else -1.0
-            v_brake = math.sqrt(2.0 * self.a_max * abs(remaining))
+            # Largest speed from which whole cycles of braking by dv stop exactly in
+            # `remaining`: d = dt * dv * n (n + 1) / 2 with v = n dv.
+            v_brake = dv * (math.sqrt(0.25 + 2.0 * abs(remaining) / (dv * dt)) - 0.5)
             v_want = direction * min(self.v_max, v_brake)
             self.velocity += max(-dv, min(dv, v_want - self.velocity))
             self.position += self.velocity * dt
@@ -97,6 +99,65 @@ class TrapezoidAxis:
         self.position += self.velocity * dt
 
 
+class ProfileAxis:
+    """Adapter onto `motionvm.motion.profile.ProfileGenerator` (T-curve, no smoothing).
+
+    Ready for the switch in `create_axis`; the goldens are recorded with `TrapezoidAxis`.
+    """
+
+    V_REL = 1e-9
+    """Relative velocity tolerance for "at the commanded speed" [-]."""
+
+    def __init__(self, dt: float = 0.001) -> None:
+        from motionvm.motion.profile import ProfileGenerator
+
+        self.pg = ProfileGenerator(dt=dt, v_max=3000.0, a_max=30000.0, d_max=30000.0)
+        self.position = 0.0
+        self.velocity = 0.0
+        self.v_cmd: float | None = None  # commanded jog velocity, None when positioning
+
+    def move_to(self, p_f: float, v_max: float, a_max: float) -> None:
+        self.pg.set_limits(v_max=abs(v_max), a_max=a_max, d_max=a_max)
+        self.v_cmd = None
+        self.pg.move_to(p_f)
+
+    def run_at(self, v: float, a_max: float) -> None:
+        self.pg.set_limits(v_max=max(abs(v), self.pg.v_max), a_max=a_max, d_max=a_max)
+        self.v_cmd = float(v)
+        self.pg.move_velocity(v)
+
+    def stop(self, a_max: float) -> None:
+        self.v_cmd = 0.0
+        self.pg.stop(a_max)
+
+    def halt(self) -> None:
+        self.v_cmd = None
+        self.pg.reset(self.position)
+        self.velocity = 0.0
+
+    @property
+    def busy(self) -> bool:
+        return not self.pg.is_done and self.pg.mode != "idle"
+
+    @property
+    def transient(self) -> bool:
+        if not self.busy:
+            return False
+        if self.v_cmd is None or self.v_cmd == 0.0:
+            return True
+        return abs(self.velocity - self.v_cmd) > self.V_REL * abs(self.v_cmd)
+
+    def step(self, dt: float) -> None:
+        self.position, self.velocity, _ = self.pg.step()
+        if self.pg.is_done:
+            self.velocity = 0.0  # arrived: the generator reports 0 one cycle later
+
+
 def create_axis() -> Axis:
-    """The axis model used for every GDL motor object (the stand-in, for now)."""
+    """The axis model used for every GDL motor object.
+
+    The brief asked for the internal trapezoid until `motionvm.motion` settles; switching
+    to the manual's profile generator is `return ProfileAxis()` (and regenerating the
+    goldens: motion timing changes by a few cycles).
+    """
     return TrapezoidAxis()

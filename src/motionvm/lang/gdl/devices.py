@@ -153,55 +153,96 @@ class MotorDevice(Device):
         return self.axis.transient or self.homing
 
 
-class HomeInputDevice(Device):
-    """STP$MOTOR$AXIS$HOME$INPUT: ON while the axis is at or below SWITCH$POSITION."""
+class FollowerDevice(Device):
+    """A device whose state follows a motor's axis; busy until it has caught up with it.
 
-    def _motor(self, rts: Rts) -> MotorDevice:
-        axis_obj = rts.app.objects[str(self.obj.params["STPMOTOR$NAME"])]
-        dev = rts.device(axis_obj)
-        assert isinstance(dev, MotorDevice)
-        return dev
+    Being busy while out of date keeps the clock from jumping over its update, so a
+    run gives the same output stepped or jumped.
+    """
+
+    motor_param = ""
+
+    def __init__(self, obj: ObjectInfo) -> None:
+        super().__init__(obj)
+        self.motor: MotorDevice | None = None
+        self.seen: object = None
 
     def start(self, rts: Rts) -> None:
-        self._update(rts, init=True)
+        key = self.obj.params.get(self.motor_param)
+        dev = rts.device(rts.app.objects[key]) if isinstance(key, str) else None
+        self.motor = dev if isinstance(dev, MotorDevice) else None
+        self.seen = self.sample()
+        self.publish(rts, self.seen, init=True)
+
+    def sample(self) -> object:
+        """The state this device shows for the axis as it is now."""
+        return None
+
+    def publish(self, rts: Rts, state: object, init: bool) -> None:
+        """Write `state` into the state variables (as initial values when `init`)."""
 
     def step(self, rts: Rts, dt: float) -> None:
-        self._update(rts, init=False)
+        if self.motor is None:
+            return
+        state = self.sample()
+        self.publish(rts, state, init=False)
+        self.seen = state
 
-    def _update(self, rts: Rts, init: bool) -> None:
-        motor = self._motor(rts)
+    @property
+    def busy(self) -> bool:
+        return self.motor is not None and (self.motor.busy or self.sample() != self.seen)
+
+    @property
+    def transient(self) -> bool:
+        return self.busy
+
+
+class HomeInputDevice(FollowerDevice):
+    """STP$MOTOR$AXIS$HOME$INPUT: ON while the axis is at or below SWITCH$POSITION."""
+
+    motor_param = "STPMOTOR$NAME"
+
+    def sample(self) -> object:
+        assert self.motor is not None
         switch = self.obj.params.get("SWITCH$POSITION", 0)
-        on = motor.axis.position <= switch  # type: ignore[operator]
+        return self.motor.axis.position <= switch  # type: ignore[operator]
+
+    def publish(self, rts: Rts, state: object, init: bool) -> None:
         if init:
-            rts.init_value(self.obj, "STATUS", 0, on)
+            rts.init_value(self.obj, "STATUS", 0, state)
         else:
-            rts.write(self.obj, "STATUS", 0, on, "update")
+            rts.write(self.obj, "STATUS", 0, state, "update")
 
 
-class EncoderDevice(Device):
+class EncoderDevice(FollowerDevice):
     """ABSOLUTE$ENCODER, following the axis named by AXIS$NAME when there is one."""
+
+    motor_param = "AXIS$NAME"
 
     def __init__(self, obj: ObjectInfo) -> None:
         super().__init__(obj)
         self.preset = 0
 
-    def _motor(self, rts: Rts) -> MotorDevice | None:
-        key = self.obj.params.get("AXIS$NAME")
-        if not isinstance(key, str):
-            return None
-        dev = rts.device(rts.app.objects[key])
-        return dev if isinstance(dev, MotorDevice) else None
+    def sample(self) -> object:
+        if self.motor is None:
+            return (0, False)
+        axis = self.motor.axis
+        return (round(axis.position), abs(axis.velocity) > V_EPS)
 
-    def _raw(self, rts: Rts) -> int:
-        motor = self._motor(rts)
-        return round(motor.axis.position) if motor is not None else 0
+    def publish(self, rts: Rts, state: object, init: bool) -> None:
+        if init or self.motor is None:
+            return  # starts at POSITION 0, STOPPED, like the axis
+        raw, moving = state  # type: ignore[misc]
+        rts.write(self.obj, "POSITION", 0, raw + self.preset, "update")
+        rts.write(self.obj, "OPERATING$CONDITION", 0, "RUNNING" if moving else "STOPPED", "update")
 
     def call(self, rts: Rts, op: str, args: list[int], element: int) -> None:
         if op == "CONFIGURE":
             rts.write(self.obj, "CFG$STATUS", 0, "CONFIGURED", rts.origin())
             rts.write(self.obj, "CFG$UPDATE$REQUEST", 0, False, rts.origin())
         elif op == "PRESET":
-            self.preset = args[0] - self._raw(rts)
+            raw = self.sample()[0]  # type: ignore[index]
+            self.preset = args[0] - raw
             rts.write(self.obj, "POSITION", 0, args[0], rts.origin())
         else:
             super().call(rts, op, args, element)
@@ -209,14 +250,6 @@ class EncoderDevice(Device):
     def on_write(self, rts: Rts, keyword: str, element: int, value: object) -> None:
         if keyword == "CFG$UPDATE$REQUEST" and value is True:
             rts.write(self.obj, "CFG$STATUS", 0, "NOT$CONFIGURED", "update")
-
-    def step(self, rts: Rts, dt: float) -> None:
-        motor = self._motor(rts)
-        if motor is None:
-            return
-        rts.write(self.obj, "POSITION", 0, self._raw(rts) + self.preset, "update")
-        moving = abs(motor.axis.velocity) > V_EPS
-        rts.write(self.obj, "OPERATING$CONDITION", 0, "RUNNING" if moving else "STOPPED", "update")
 
 
 DEVICE_CLASSES: dict[str, type[Device]] = {

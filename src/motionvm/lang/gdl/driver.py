@@ -125,10 +125,13 @@ def run_app(
     out: TextIO,
     err: TextIO | None = None,
     forces: list[str] | None = None,
+    shuffle_seed: int | None = None,
 ) -> int:
     """Run `app` against a scenario file (or none); output on `out`, errors on `err`.
 
-    Returns 0, 1 (a run-time error happened) or 3 (bad scenario or --force).
+    `forces` are `--force 'REF = VALUE'` texts applied at t=0; `shuffle_seed` permutes the
+    order of procedures sharing an activator (see `Rts`). Returns 0, 1 (a run-time error
+    happened) or 3 (bad scenario or --force).
     """
     err = err if err is not None else out
     try:
@@ -141,7 +144,7 @@ def run_app(
     except ScenarioError as exc:
         err.write(f"error: {exc}\n")
         return EXIT_SCENARIO
-    rts = Rts(app, out, err)
+    rts = Rts(app, out, err, shuffle_seed=shuffle_seed)
     run_scenario(rts, scenario, until, force_events)
     return EXIT_RUNTIME if rts.error_count else EXIT_OK
 
@@ -168,12 +171,17 @@ def main_run(
     stdout: TextIO,
     stderr: TextIO,
     forces: list[str] | None = None,
+    shuffle_seed: int | None = None,
 ) -> int:
-    """`motionvm run FILE.gdl... [--scenario S.toml] [--until S] [--force 'REF = V']`."""
+    """`motionvm run FILE.gdl... [--scenario S.toml] [--until S] [--force 'REF = V']...`.
+
+    `shuffle_seed` (a `--shuffle-order SEED` option) permutes the order of procedures
+    sharing an activator, to test that a program does not depend on it.
+    """
     app = _compile(paths, stderr)
     if app is None:
         return EXIT_COMPILE
-    return run_app(app, scenario, until, stdout, stderr, forces)
+    return run_app(app, scenario, until, stdout, stderr, forces, shuffle_seed)
 
 
 def main_dump(paths: list[str], stage: str, stdout: TextIO, stderr: TextIO) -> int:

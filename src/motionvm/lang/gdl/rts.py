@@ -28,6 +28,7 @@ digital or set variable: a motor stopping, a home switch), `t=S force REF = V`,
 
 from __future__ import annotations
 
+import random
 from collections import deque
 from collections.abc import Callable
 from types import TracebackType
@@ -65,10 +66,18 @@ def _user_line(tb: TracebackType | None, file: str) -> int | None:
 class Rts:
     """State and scheduling of one application run."""
 
-    def __init__(self, app: App, out: TextIO, err: TextIO) -> None:
+    def __init__(
+        self, app: App, out: TextIO, err: TextIO, *, shuffle_seed: int | None = None
+    ) -> None:
+        """`shuffle_seed`: order procedures sharing an activator by a seeded permutation of
+        the link order instead (G13: a test that a program does not depend on the order).
+        """
         self.app = app
         self.out = out
         self.err = err
+        self.order = list(app.procedures)
+        if shuffle_seed is not None:
+            random.Random(shuffle_seed).shuffle(self.order)
         self.cycle = 0
         self.values: dict[tuple[str, str], list[object]] = {}
         self.forced: dict[tuple[str, str, int], object] = {}
@@ -185,7 +194,7 @@ class Rts:
 
     def trigger(self, obj: ObjectInfo, keyword: str, element: int) -> None:
         """Queue every procedure whose list holds this activator, in link order."""
-        for proc in self.app.procedures:
+        for proc in self.order:
             if any(t.matches(obj.key, keyword, element) for t in proc.triggers):
                 self.ready.append(proc)
 

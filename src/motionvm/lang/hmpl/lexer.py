@@ -17,10 +17,56 @@ from motionvm.lang.hmpl.tokens import KEYWORDS, Token
 from motionvm.source.diagnostics import DiagnosticSink
 from motionvm.source.files import SourceFile, SourcePos
 
-PUNCTUATORS = (
-    "... <<= >>= -> ++ -- << >> <= >= == != && || *= /= %= += -= &= ^= |= ## "
-    "[ ] ( ) { } . & * + - ~ ! / % < > ^ | ? : ; = , #"
-).split()
+PUNCTUATORS = [
+    "...",
+    "<<=",
+    ">>=",
+    "->",
+    "++",
+    "--",
+    "<<",
+    ">>",
+    "<=",
+    ">=",
+    "==",
+    "!=",
+    "&&",
+    "||",
+    "*=",
+    "/=",
+    "%=",
+    "+=",
+    "-=",
+    "&=",
+    "^=",
+    "|=",
+    "##",
+    "[",
+    "]",
+    "(",
+    ")",
+    "{",
+    "}",
+    ".",
+    "&",
+    "*",
+    "+",
+    "-",
+    "~",
+    "!",
+    "/",
+    "%",
+    "<",
+    ">",
+    "^",
+    "|",
+    "?",
+    ":",
+    ";",
+    "=",
+    ",",
+    "#",
+]
 
 # A C pp-number: anything that starts like a number and continues with digits,
 # letters, '_', '.', or a sign after an exponent letter. Classified afterwards, so
@@ -155,7 +201,11 @@ def scan(sf: SourceFile) -> Scan:
     new = object.__new__
     set_file, set_line, set_col = _set_file, _set_line, _set_col
     set_kind, set_text, set_pos, set_value, set_suffix = (
-        _set_kind, _set_text, _set_pos, _set_value, _set_suffix
+        _set_kind,
+        _set_text,
+        _set_pos,
+        _set_value,
+        _set_suffix,
     )
     for m in _MASTER.finditer(text):
         kind = m.lastgroup
@@ -232,7 +282,14 @@ def scan(sf: SourceFile) -> Scan:
     return out
 
 
-_IDEOGRAPHIC_PUNCT = {"\u3001": ",", "\u3002": ".", "\u201c": '"', "\u201d": '"', "\u2018": "'", "\u2019": "'"}
+_IDEOGRAPHIC_PUNCT = {
+    "\u3001": ",",
+    "\u3002": ".",
+    "\u201c": '"',
+    "\u201d": '"',
+    "\u2018": "'",
+    "\u2019": "'",
+}
 
 
 def _stray_message(ch: str) -> str:
@@ -257,10 +314,8 @@ def _number(s: str, pos: SourcePos, errors: list) -> Token:
     m = _INT.fullmatch(s)
     if m and not (m.group(2)[:1] in (".", "e", "E") and m.group(1)[:2] not in ("0x", "0X")):
         digits, suffix = m.group(1), m.group(2)
-        if digits[:2] in ("0x", "0X"):
-            value = int(digits[2:], 16)
-        elif digits[:2] in ("0b", "0B"):
-            value = int(digits[2:], 2)
+        if digits[:2] in ("0x", "0X") or digits[:2] in ("0b", "0B"):
+            value = int(digits, 0)
         elif digits[0] == "0" and len(digits) > 1:
             bad = next((c for c in digits if c in "89"), None)
             if bad is not None:
@@ -275,7 +330,9 @@ def _number(s: str, pos: SourcePos, errors: list) -> Token:
             errors.append((pos, f"invalid suffix '{suffix}' on integer constant", False))
             canon = ""
         if value > UINT64_MAX:
-            errors.append((pos, f"integer constant '{s}' is too large (the limit is {UINT64_MAX})", False))
+            errors.append(
+                (pos, f"integer constant '{s}' is too large (the limit is {UINT64_MAX})", False)
+            )
             value &= UINT64_MAX
         return Token("int", s, pos, value, canon)
     m = _FLOAT.fullmatch(s)

@@ -16,6 +16,7 @@ from motionvm.lang.hmpl.lower_expr import Val
 from motionvm.lang.hmpl.lvalues import (
     AggLV,
     GpoLV,
+    ListLV,
     LValue,
     MemLV,
     NameLV,
@@ -28,6 +29,15 @@ from motionvm.lang.hmpl.symbols import FuncSym, VarSym
 from motionvm.source.suggest import did_you_mean
 
 _SHIFT = {1: 0, 2: 1, 4: 2, 8: 3}
+
+
+class _ListRow(LValue):
+    """A row of a list-backed array of several dimensions (only ever indexed further)."""
+
+    def __init__(self, t: ct.CType, pyname: str, offset: ast.expr) -> None:
+        super().__init__(t)
+        self.pyname = pyname
+        self.offset = offset
 
 
 def _add(node: ast.expr, k: int) -> ast.expr:
@@ -86,7 +96,7 @@ class AccessLowering:
 
     def var_lvalue(self, sym: VarSym) -> LValue:
         t = sym.type
-        if sym.storage in ("local", "pyglobal"):
+        if sym.storage in ("local", "pyglobal", "pylist"):
             return NameLV(t, sym.pyname)
         if sym.storage == "static":
             return _trusted_lv(t, ast.Constant(sym.addr))
@@ -166,6 +176,21 @@ class AccessLowering:
                     )
             else:
                 i_node = self.convert(idx, ct.I64, e.pos)
+            if base.listy:
+                inner = 1
+                e2 = elem
+                while isinstance(e2, ct.ArrayT):
+                    inner, e2 = inner * (e2.n or 0), e2.elem
+                if isinstance(i_node, ast.Constant):
+                    scaled = ast.Constant(i_node.value * inner)
+                elif inner == 1:
+                    scaled = i_node
+                else:
+                    scaled = ast.BinOp(left=i_node, op=ast.Mult(), right=ast.Constant(inner))
+                flat = _plus(base.loff, scaled)
+                if isinstance(elem, ct.ArrayT):
+                    return _ListRow(elem, base.listy, flat)
+                return ListLV(elem, base.listy, flat)
             # array objects are always reached through names, members or checked pointers
             if elem.is_scalar and elem.size in _SHIFT:
                 return MemLV(elem, _plus(_scaled_index(base.node, elem.size), i_node))
@@ -186,12 +211,15 @@ class AccessLowering:
         elem = base.type.target
         if isinstance(elem, ct.VoidT) or elem.size == 0:
             raise self.fail(e.pos, f"subscript of a pointer to incomplete type '{base.type}'")
-        i_node = self.exact(idx)
-        off = (
-            i_node
-            if elem.size == 1
-            else ast.BinOp(left=i_node, op=ast.Mult(), right=ast.Constant(elem.size))
-        )
+        if isinstance(idx.const, int):
+            off = const(idx.const * elem.size)
+        else:
+            i_node = self.exact(idx)
+            off = (
+                i_node
+                if elem.size == 1
+                else ast.BinOp(left=i_node, op=ast.Mult(), right=ast.Constant(elem.size))
+            )
         addr = _plus(base.node, off)
         if elem.is_scalar:
             return PtrLV(elem, addr)
@@ -228,6 +256,8 @@ class AccessLowering:
 
     def _x_Index(self, e: n.Index) -> Val:
         lv = self._index_lv(e)
+        if isinstance(lv, _ListRow):
+            return Val(name(lv.pyname), lv.type, True, None, None, lv.pyname, lv.offset)
         return Val(lv.load(), lv.type)
 
     def _x_Member(self, e: n.Member) -> Val:

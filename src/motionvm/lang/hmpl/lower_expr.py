@@ -49,6 +49,8 @@ class Val:
     exact: bool = True
     const: int | float | None = None
     rng: tuple[int, int] | None = None  # known bounds of an integer value (range analysis)
+    listy: str = ""  # a list-backed array (or row of one): the list's Python name
+    loff: ast.expr | None = None  # ... and the flattened offset of this row
 
 
 def wrap_node(node: ast.expr, t: ct.IntT) -> ast.expr:
@@ -246,6 +248,8 @@ class ExprLowering:
         if sym.const_value is not None:
             v = sym.const_value
             return Val(const(v), sym.type, True, v)
+        if sym.storage == "pylist":
+            return Val(name(sym.pyname), sym.type, True, None, None, sym.pyname, ast.Constant(0))
         lv = self.var_lvalue(sym)
         rng = self.known_ranges.get(sym.pyname) if sym.storage == "local" else None
         return Val(lv.load(), sym.type, True, None, rng)

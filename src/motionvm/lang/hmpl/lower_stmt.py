@@ -25,7 +25,7 @@ from motionvm.lang.hmpl import nodes as n
 from motionvm.lang.hmpl.cmemory import RED_ZONE
 from motionvm.lang.hmpl.lower_access import AccessLowering
 from motionvm.lang.hmpl.lower_expr import ExprLowering, SemanticError
-from motionvm.lang.hmpl.lvalues import call, const, name
+from motionvm.lang.hmpl.lvalues import call, const, name, view_code
 from motionvm.lang.hmpl.symbols import FuncSym, Scope, VarSym
 
 
@@ -149,6 +149,11 @@ class FunctionLowerer(ExprLowering, AccessLowering):
             raise self.fail(d.pos, f"redefinition of '{d.name}'")
         if isinstance(t, ct.VoidT):
             raise self.fail(d.pos, f"variable '{d.name}' declared void")
+        if self.prog.list_backed(d, t):
+            sym = VarSym(d.name, t, "pylist", d.pos, pyname=self.unique_local(d.name))
+            out = self.init_var(sym, d.init, d.pos)
+            self.scope.names[d.name] = sym
+            return out
         in_mem = not t.is_scalar or d.name in self.addr_taken
         if in_mem:
             sym = VarSym(
@@ -169,8 +174,10 @@ class FunctionLowerer(ExprLowering, AccessLowering):
 
     def init_var(self, sym: VarSym, init, pos, zero_default: bool = True) -> list[ast.stmt]:
         """Statements giving a variable its initial value (0 when there is no initializer)."""
-        lv = self.var_lvalue(sym)
         t = sym.type
+        if sym.storage == "pylist":
+            return self._init_list(sym, init, pos)
+        lv = self.var_lvalue(sym)
         if init is None:
             if sym.storage in ("local", "pyglobal") and zero_default:
                 zero = ast.Constant(0.0 if t.is_float else 0)
@@ -189,6 +196,23 @@ class FunctionLowerer(ExprLowering, AccessLowering):
         image, stores = self.prog.aggregate_init(self, t, init, addr, sym.name)
         out: list[ast.stmt] = [ast.Expr(value=call("_fill", addr, ast.Constant(bytes(image))))]
         return out + stores
+
+    def _init_list(self, sym: VarSym, init, pos) -> list[ast.stmt]:
+        """`v_a = [0] * N`, or the constant initializer's values unpacked at load time."""
+        t = sym.type
+        count, elem = 1, t
+        while isinstance(elem, ct.ArrayT):
+            count, elem = count * (elem.n or 0), elem.elem
+        zero = ast.Constant(0.0 if elem.is_float else 0)
+        if init is None:
+            value = ast.BinOp(left=ast.List(elts=[zero], ctx=ast.Load()), op=ast.Mult(), right=ast.Constant(count))
+        else:
+            image, stores = self.prog.aggregate_init(self, t, init, ast.Constant(0), sym.name)
+            assert not stores  # list_backed() admits constant initializers only
+            value = call("_mklist", ast.Constant(bytes(image)), ast.Constant(view_code(elem)))
+        if sym.storage == "pylist" and self.func is None:
+            self.globals_stored.add(sym.pyname)
+        return [ast.Assign(targets=[name(sym.pyname, True)], value=value)]
 
     # ------------------------------------------------------------ statements
 
@@ -378,8 +402,6 @@ class FunctionLowerer(ExprLowering, AccessLowering):
             return None
         if ivar in assigned or not self._invariant(cond.right, assigned):
             return None
-        if inc == "var" and not isinstance(s.init, n.DeclStmt):
-            return None  # the counter outlives the loop: keep C's exact final value simple
         try:
             bound = self.expr(cond.right)
         except SemanticError:
@@ -393,13 +415,13 @@ class FunctionLowerer(ExprLowering, AccessLowering):
                 op=ast.Add() if inc == "var" or inc > 0 else ast.Sub(),
                 right=ast.Constant(1),
             )
-        chunked = inc != "var" and not _breaks_out(s.body)
+        chunked = not _breaks_out(s.body)
         b = self.temp()
         cont = [ast.Continue()] if chunked else _backedge(b) + [ast.Continue()]
         start = self._start_range(s)
         known = None
-        if start is not None and bound.rng is not None and inc != "var":
-            if inc > 0:
+        if start is not None and bound.rng is not None:
+            if inc == "var" or inc > 0:
                 known = (start[0], max(start[0], bound.rng[1] - (1 if cond.op == "<" else 0)))
             else:
                 known = (min(start[1], bound.rng[0] + (1 if cond.op == ">" else 0)), start[1])
@@ -409,21 +431,19 @@ class FunctionLowerer(ExprLowering, AccessLowering):
             body = self._loop_body(s.body, cont) + ([] if chunked else _backedge(b))
         finally:
             self.known_ranges.pop(sym.pyname, None)
-        if chunked:
-            return self._chunked_range(sym, stop, inc, body, outlives=not isinstance(s.init, n.DeclStmt))
-        pre: list[ast.stmt] = [_countdown_init(b)]
+        pre: list[ast.stmt] = []
         if inc == "var":
-            # a run-time step: range() for a positive one; C's endless or downward loop otherwise
+            # a run-time step must be positive (0 or less would never reach the bound)
             st = self.temp()
             pre.append(ast.Assign(targets=[name(st, True)], value=step_var))
             ok = ast.Compare(left=name(st), ops=[ast.Gt()], comparators=[ast.Constant(0)])
-            rng = ast.IfExp(
-                test=ok,
-                body=call("range", name(sym.pyname), stop, name(st)),
-                orelse=call("_odd_step", name(sym.pyname), name(st), ast.Constant(sym.type.bits)),
-            )
+            step_node = ast.IfExp(test=ok, body=name(st), orelse=call("_bad_step", name(st)))
         else:
-            rng = call("range", name(sym.pyname), stop, const(inc))
+            step_node = const(inc)
+        if chunked:
+            return pre + self._chunked_range(sym, stop, step_node, body, outlives=not isinstance(s.init, n.DeclStmt))
+        pre.append(_countdown_init(b))
+        rng = call("range", name(sym.pyname), stop, step_node)
         outlives = not isinstance(s.init, n.DeclStmt)
         orelse: list[ast.stmt] = []
         if outlives:
@@ -443,7 +463,7 @@ class FunctionLowerer(ExprLowering, AccessLowering):
         loop = ast.For(target=name(sym.pyname, True), iter=rng, body=body, orelse=orelse)
         return pre + [loop]
 
-    def _chunked_range(self, sym: VarSym, stop: ast.expr, inc: int, body: list[ast.stmt],
+    def _chunked_range(self, sym: VarSym, stop: ast.expr, step: ast.expr, body: list[ast.stmt],
                        outlives: bool) -> list[ast.stmt]:
         """The counting loop in chunks of CHUNK values, charging the budget once per chunk:
 
@@ -458,7 +478,7 @@ class FunctionLowerer(ExprLowering, AccessLowering):
                 v_i = _r.start + len(_r) * _r.step   # C's value after the loop, if i outlives it
         """
         r, k = self.temp(), self.temp()
-        pre = [ast.Assign(targets=[name(r, True)], value=call("range", name(sym.pyname), stop, const(inc)))]
+        pre = [ast.Assign(targets=[name(r, True)], value=call("range", name(sym.pyname), stop, step))]
         chunk = ast.Subscript(
             value=name(r),
             slice=ast.Slice(lower=name(k), upper=ast.BinOp(left=name(k), op=ast.Add(), right=ast.Constant(CHUNK))),

@@ -203,6 +203,31 @@ class AggLV(LValue):
 
 
 @dataclass
+class ListLV(LValue):
+    """Element `index` of a list-backed array (flattened for several dimensions)."""
+
+    pyname: str = ""
+    index: ast.expr | None = None
+
+    def load(self) -> ast.expr:
+        return ast.Subscript(value=name(self.pyname), slice=self.index, ctx=_LOAD)
+
+    def store(self, value: ast.expr) -> list[ast.stmt]:
+        tgt = ast.Subscript(value=name(self.pyname), slice=self.index, ctx=_STORE)
+        return [ast.Assign(targets=[tgt], value=value)]
+
+    def store_expr(self, value: ast.expr) -> ast.expr:
+        return call("_stv", name(self.pyname), self.index, value)
+
+    def bind(self, temp: TempMaker) -> tuple[list[ast.expr], LValue]:
+        if is_simple(self.index):
+            return [], self
+        t = temp()
+        pre = [ast.NamedExpr(target=name(t, True), value=self.index)]
+        return pre, ListLV(self.type, self.pyname, name(t))
+
+
+@dataclass
 class GpoLV(LValue):
     """HIMC_GPO(i): a controller general-purpose output, readable and assignable."""
 

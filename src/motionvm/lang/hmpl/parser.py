@@ -11,13 +11,17 @@ Node positions: statements and declarations sit at their first token; `Binary`,
 Struct/union definitions are allowed at file scope only; an anonymous one has
 tag '' and a TypeRef base of plain 'struct'/'union' with `struct_def` set.
 `extern` variable declarations declare nothing (task 0's globals are visible
-everywhere) and are left out of the tree.
+everywhere) and are left out of the tree. Enumerators become `IntLit`s where they
+are used (an `enum` type is 'int32_t'), so no enum reaches the later stages.
+`T a[] = init` gets its first dimension from the initializer as an `IntLit`.
 """
 
 from __future__ import annotations
 
 import sys
+from collections.abc import Callable
 from operator import attrgetter
+from typing import ClassVar
 
 from motionvm.lang.hmpl import nodes as n
 from motionvm.lang.hmpl.lexer import gc_paused
@@ -29,12 +33,16 @@ from motionvm.source.suggest import did_you_mean
 
 PREDEFINED_TYPES = ("Timer", "Data_t")
 INTN_TYPES = frozenset(
-    "int8_t uint8_t int16_t uint16_t int32_t uint32_t int64_t uint64_t".split()
+    ["int8_t", "uint8_t", "int16_t", "uint16_t", "int32_t", "uint32_t", "int64_t", "uint64_t"]
 )
-BASIC_WORDS = frozenset("void char short int long float double signed unsigned".split())
+BASIC_WORDS = frozenset(
+    ["void", "char", "short", "int", "long", "float", "double", "signed", "unsigned"]
+)
 QUALIFIERS = frozenset(("const", "volatile"))
 STORAGE = frozenset(("static", "extern"))
-DECL_START = BASIC_WORDS | INTN_TYPES | QUALIFIERS | STORAGE | {"struct", "union", "enum", "typedef"}
+DECL_START = (
+    BASIC_WORDS | INTN_TYPES | QUALIFIERS | STORAGE | {"struct", "union", "enum", "typedef"}
+)
 TYPE_START = BASIC_WORDS | INTN_TYPES | QUALIFIERS | {"struct", "union", "enum"}
 INT32_MIN, INT32_MAX = -(1 << 31), (1 << 31) - 1
 
@@ -58,9 +66,9 @@ BINARY_PREC = {
     "/": 10,
     "%": 10,
 }
-ASSIGN_OPS = frozenset("= += -= *= /= %= <<= >>= &= |= ^=".split())
-UNARY_OPS = frozenset("- + ! ~ * &".split())
-POSTFIX_START = frozenset("[ ( . -> ++ --".split())
+ASSIGN_OPS = frozenset(["=", "+=", "-=", "*=", "/=", "%=", "<<=", ">>=", "&=", "|=", "^="])
+UNARY_OPS = frozenset(["-", "+", "!", "~", "*", "&"])
+POSTFIX_START = frozenset(["[", "(", ".", "->", "++", "--"])
 MAX_NESTING = 256
 _text = attrgetter("text")
 _kind = attrgetter("kind")
@@ -72,8 +80,15 @@ def _canonical_table() -> dict[tuple[str, ...], str]:
         "uint8_t": ("unsigned char",),
         "int16_t": ("short", "short int", "signed short", "signed short int"),
         "uint16_t": ("unsigned short", "unsigned short int"),
-        "int32_t": ("int", "signed", "signed int", "long", "long int", "signed long",
-                    "signed long int"),
+        "int32_t": (
+            "int",
+            "signed",
+            "signed int",
+            "long",
+            "long int",
+            "signed long",
+            "signed long int",
+        ),
         "uint32_t": ("unsigned", "unsigned int", "unsigned long", "unsigned long int"),
         "int64_t": ("long long", "long long int", "signed long long", "signed long long int"),
         "uint64_t": ("unsigned long long", "unsigned long long int"),
@@ -150,7 +165,9 @@ class Parser:
         except TooManyErrors:
             pass
         except RecursionError:  # pragma: no cover - MAX_NESTING keeps us well below
-            self.sink.error(self.toks[min(self.i, len(self.toks) - 1)].pos, "program nested too deeply")
+            self.sink.error(
+                self.toks[min(self.i, len(self.toks) - 1)].pos, "program nested too deeply"
+            )
         finally:
             sys.setrecursionlimit(old_limit)
         return n.TranslationUnit(SourcePos(self.toks[-1].pos.file, 1, 1), tuple(self.items))
@@ -217,7 +234,9 @@ class Parser:
 
     def _starts_declaration(self) -> bool:
         k = self.keys[self.i]
-        return k in DECL_START or (self.kinds[self.i] == "name" and self.toks[self.i].text in self.typedefs)
+        return k in DECL_START or (
+            self.kinds[self.i] == "name" and self.toks[self.i].text in self.typedefs
+        )
 
     # ------------------------------------------------------------ recovery
 
@@ -310,7 +329,7 @@ class Parser:
         if self._accept(";"):
             if autorun is not None:
                 self._error(autorun.pos, "_AUTORUN_ must be followed by a function definition")
-            elif spec.struct_def is None:
+            elif spec.struct_def is None and self.keys[self.i - 2] != "}":  # not `enum {...};`
                 self.sink.warning(spec.pos, "declaration does not declare anything")
             return
         decls: list[n.VarDecl] = []
@@ -318,7 +337,9 @@ class Parser:
         while True:
             pointers, name_tok, dims = self._parse_declarator()
             if first and self.keys[self.i] == "(":
-                self.items.append(self._parse_function_definition(spec, pointers, name_tok, autorun))
+                self.items.append(
+                    self._parse_function_definition(spec, pointers, name_tok, autorun)
+                )
                 return
             if autorun is not None:
                 self._error(autorun.pos, "_AUTORUN_ must be followed by a function definition")
@@ -339,8 +360,10 @@ class Parser:
         """Tailored message for a declaration or statement that starts wrongly."""
         t = self._tok()
         nxt = self._peek_key()
-        if t.kind == "name" and (self._peek_kind() == "name" or (nxt == "*" and self._peek_kind(2) == "name"
-                                                   and file_scope)):
+        if t.kind == "name" and (
+            self._peek_kind() == "name"
+            or (nxt == "*" and self._peek_kind(2) == "name" and file_scope)
+        ):
             known = [*sorted(BASIC_WORDS | INTN_TYPES), *sorted(self.typedefs)]
             return self._fail_here(f"unknown type name '{t.text}'" + did_you_mean(t.text, known))
         if file_scope and t.kind == "name" and nxt == "(":
@@ -447,15 +470,24 @@ class Parser:
             elif k in STORAGE:
                 t = self._advance()
                 if scope == "block" and k == "static":
-                    self._error(t.pos, "'static' local variables are not supported in HMPL "
-                                "(use a task variable outside the function)")
+                    self._error(
+                        t.pos,
+                        "'static' local variables are not supported in HMPL "
+                        "(use a task variable outside the function)",
+                    )
                 elif scope in ("param", "block", "field", "type") and k == "extern":
-                    self._error(t.pos, f"'extern' is not allowed here")
+                    self._error(t.pos, "'extern' is not allowed here")
                 storage = k
-            elif k in INTN_TYPES or (self.kinds[self.i] == "name" and named is None and not words
-                                     and self.toks[self.i].text in self.typedefs):
+            elif k in INTN_TYPES or (
+                self.kinds[self.i] == "name"
+                and named is None
+                and not words
+                and self.toks[self.i].text in self.typedefs
+            ):
                 if named is not None or words:
-                    raise self._fail_here(f"invalid combination of type specifiers before {_describe(self._tok())}")
+                    raise self._fail_here(
+                        f"invalid combination of type specifiers before {_describe(self._tok())}"
+                    )
                 named = self.toks[self.i].text
                 self.i += 1
             elif k in ("struct", "union"):
@@ -538,8 +570,9 @@ class Parser:
             if name_tok.text in names:
                 self._error(name_tok.pos, f"duplicate member '{name_tok.text}'")
             names.add(name_tok.text)
-            fields.append(n.VarDecl(name_tok.pos, _with_pointers(spec, pointers),
-                                    name_tok.text, dims))
+            fields.append(
+                n.VarDecl(name_tok.pos, _with_pointers(spec, pointers), name_tok.text, dims)
+            )
             if not self._accept(","):
                 break
         self._expect(";", "after struct member")
@@ -552,26 +585,32 @@ class Parser:
         tag = self._advance().text if self.kinds[self.i] == "name" else ""
         if self.keys[self.i] != "{":
             if not tag:
-                raise self._fail_here(f"expected a tag name or '{{' after 'enum'")
+                raise self._fail_here("expected a tag name or '{' after 'enum'")
             return
         self.i += 1
         value = 0
         while self.keys[self.i] != "}":
             if self.kinds[self.i] != "name":
-                raise self._fail_here(f"expected an enumerator name before {_describe(self._tok())}")
+                raise self._fail_here(
+                    f"expected an enumerator name before {_describe(self._tok())}"
+                )
             name = self._advance()
             self._not_an_enumerator(name)
             if self._accept("="):
                 e = self._parse_conditional_expression()
                 folded = _fold(e)
                 if folded is None:
-                    self._error(e.pos, f"the value of enumerator '{name.text}' is not an "
-                                       "integer constant")
+                    self._error(
+                        e.pos, f"the value of enumerator '{name.text}' is not an integer constant"
+                    )
                     folded = value
                 value = folded
             if not INT32_MIN <= value <= INT32_MAX:
-                self._error(name.pos, f"enumerator value {value} of '{name.text}' is outside "
-                                      f"the range of int [{INT32_MIN}, {INT32_MAX}]")
+                self._error(
+                    name.pos,
+                    f"enumerator value {value} of '{name.text}' is outside "
+                    f"the range of int [{INT32_MIN}, {INT32_MAX}]",
+                )
             self.enumerators[name.text] = value
             value += 1
             if not self._accept(","):
@@ -597,7 +636,9 @@ class Parser:
         if self.kinds[self.i] == "name":
             name_tok = self._advance()
         elif keys[self.i] == "(":
-            raise self._fail_here("function pointers and parenthesised declarators are not supported in HMPL")
+            raise self._fail_here(
+                "function pointers and parenthesised declarators are not supported in HMPL"
+            )
         elif not abstract:
             t = self._tok()
             if t.kind == "keyword":
@@ -624,7 +665,10 @@ class Parser:
         return _with_pointers(spec, pointers), tuple(d for d in dims if d is not None)
 
     def _finish_var_decl(
-        self, spec: n.TypeRef, pointers: int, name_tok: Token | None,
+        self,
+        spec: n.TypeRef,
+        pointers: int,
+        name_tok: Token | None,
         dims: tuple[n.Expr | None, ...],
     ) -> n.VarDecl:
         assert name_tok is not None
@@ -634,8 +678,13 @@ class Parser:
             init = self._parse_initializer()
         if spec.base == "void" and pointers == 0:
             self._error(name_tok.pos, f"variable '{name_tok.text}' declared void")
-        return n.VarDecl(name_tok.pos, _with_pointers(spec, pointers), name_tok.text,
-                         _infer_first_dim(dims, init), init)
+        return n.VarDecl(
+            name_tok.pos,
+            _with_pointers(spec, pointers),
+            name_tok.text,
+            _infer_first_dim(dims, init),
+            init,
+        )
 
     # BNF: initializer = assignment_expression
     # BNF:     | "{" [ initializer_item { "," initializer_item } [ "," ] ] "}"
@@ -663,14 +712,18 @@ class Parser:
         index: n.Expr | None = None
         if t.text == ".":
             if self.kinds[self.i] != "name":
-                raise self._fail_here(f"expected a member name after '.' before {_describe(self._tok())}")
+                raise self._fail_here(
+                    f"expected a member name after '.' before {_describe(self._tok())}"
+                )
             field = self._advance().text
         else:
             index = self._parse_conditional_expression()
             self._expect("]", "after designator index")
         if self.keys[self.i] in (".", "["):
-            raise self._fail_here("nested designators ('.a.b =', '[i][j] =') are not supported in HMPL; "
-                                  "use nested braces")
+            raise self._fail_here(
+                "nested designators ('.a.b =', '[i][j] =') are not supported in HMPL; "
+                "use nested braces"
+            )
         self._expect("=", "after designator")
         return n.Designated(t.pos, field, index, self._parse_initializer())
 
@@ -805,7 +858,9 @@ class Parser:
         kw = self._advance()
         body = self._parse_statement()
         if self.keys[self.i] != "while":
-            raise self._fail_here(f"expected 'while' after 'do' body before {_describe(self._tok())}")
+            raise self._fail_here(
+                f"expected 'while' after 'do' body before {_describe(self._tok())}"
+            )
         self.i += 1
         cond = self._condition("while")
         self._expect(";", "after do/while statement")
@@ -845,7 +900,9 @@ class Parser:
         kw = self._advance()
         value = self._parse_conditional_expression()
         if self.keys[self.i] != ":":
-            raise self._fail_here(f"expected ':' after 'case' value before {_describe(self._tok())}")
+            raise self._fail_here(
+                f"expected ':' after 'case' value before {_describe(self._tok())}"
+            )
         self.i += 1
         return n.Case(kw.pos, value)
 
@@ -866,7 +923,9 @@ class Parser:
         kw = self._advance()
         if kw.text == "goto":
             if self.kinds[self.i] != "name":
-                raise self._fail_here(f"expected a label name after 'goto' before {_describe(self._tok())}")
+                raise self._fail_here(
+                    f"expected a label name after 'goto' before {_describe(self._tok())}"
+                )
             label = self._advance()
             self._expect(";", "after 'goto' statement")
             return n.Goto(kw.pos, label.text)
@@ -877,7 +936,7 @@ class Parser:
         self._expect(";", f"after '{kw.text}'")
         return n.Break(kw.pos) if kw.text == "break" else n.Continue(kw.pos)
 
-    _STATEMENTS = {
+    _STATEMENTS: ClassVar[dict[str, Callable[[Parser], n.Stmt]]] = {
         "{": _parse_compound_statement,
         "if": _parse_if_statement,
         "while": _parse_while_statement,
@@ -924,7 +983,9 @@ class Parser:
         q = self._advance()
         then = self._parse_expression()
         if self.keys[self.i] != ":":
-            raise self._fail_here(f"expected ':' in conditional expression before {_describe(self._tok())}")
+            raise self._fail_here(
+                f"expected ':' in conditional expression before {_describe(self._tok())}"
+            )
         self.i += 1
         return n.Cond(q.pos, c, then, self._parse_conditional_expression())
 
@@ -1149,11 +1210,20 @@ def _fold(e: n.Expr) -> int | None:
         if op in ("<<", ">>"):
             return (a << b if op == "<<" else a >> b) if 0 <= b < 64 else None
         table = {
-            "+": lambda: a + b, "-": lambda: a - b, "*": lambda: a * b,
-            "&": lambda: a & b, "|": lambda: a | b, "^": lambda: a ^ b,
-            "==": lambda: int(a == b), "!=": lambda: int(a != b), "<": lambda: int(a < b),
-            ">": lambda: int(a > b), "<=": lambda: int(a <= b), ">=": lambda: int(a >= b),
-            "&&": lambda: int(bool(a and b)), "||": lambda: int(bool(a or b)),
+            "+": lambda: a + b,
+            "-": lambda: a - b,
+            "*": lambda: a * b,
+            "&": lambda: a & b,
+            "|": lambda: a | b,
+            "^": lambda: a ^ b,
+            "==": lambda: int(a == b),
+            "!=": lambda: int(a != b),
+            "<": lambda: int(a < b),
+            ">": lambda: int(a > b),
+            "<=": lambda: int(a <= b),
+            ">=": lambda: int(a >= b),
+            "&&": lambda: int(bool(a and b)),
+            "||": lambda: int(bool(a or b)),
         }
         return table[op]() if op in table else None
     return None

@@ -11,8 +11,8 @@ of the macro's use; tokens of macro arguments keep the position they were writte
 from __future__ import annotations
 
 import os
-from operator import attrgetter
 from dataclasses import dataclass, field
+from operator import attrgetter
 
 from motionvm.lang.hmpl.lexer import Scan, end_pos, gc_paused, lex_fragment, scan
 from motionvm.lang.hmpl.tokens import Token
@@ -105,6 +105,8 @@ def _preprocess(
             sink.error(SourcePos(path, 1, 1), f"cannot read '{path}': {e.strerror or e}")
             return [Token("eof", "", SourcePos(path, 1, 1))]
     else:
+        if "\r" in text:  # as SourceFile.read does: CRLF and CR line ends become LF
+            text = text.replace("\r\n", "\n").replace("\r", "\n")
         sf = SourceFile.register(path, text)
     try:
         pp.run_file(sf)
@@ -241,9 +243,7 @@ class Preprocessor:
 
     def _ifdef_name(self, args: list[Token], word: Token) -> str | None:
         if not args or args[0].kind not in ("name", "keyword"):
-            self.sink.error(
-                args[0].pos if args else word.pos, f"#{word.text} expects a macro name"
-            )
+            self.sink.error(args[0].pos if args else word.pos, f"#{word.text} expects a macro name")
             return None
         self._no_extra(args[1:], word.text, True)
         return args[0].text
@@ -307,10 +307,13 @@ class Preprocessor:
             raise _Abort
         if params is not None:
             for k, t in enumerate(body):
-                if t.text == "#" and t.kind == "punct":
-                    if k + 1 >= len(body) or body[k + 1].text not in params:
-                        sink.error(t.pos, "'#' is not followed by a macro parameter")
-                        raise _Abort
+                if (
+                    t.text == "#"
+                    and t.kind == "punct"
+                    and (k + 1 >= len(body) or body[k + 1].text not in params)
+                ):
+                    sink.error(t.pos, "'#' is not followed by a macro parameter")
+                    raise _Abort
         old = self.macros.get(name)
         new = Macro(name, name_tok.pos, body, params, variadic)
         if old is not None and not _same_definition(old, new):
@@ -463,9 +466,7 @@ class Preprocessor:
             args, rparen = collected
             if not m.params and len(args) == 1 and not args[0]:
                 args = []
-            if len(args) != len(m.params) and not (
-                m.variadic and len(args) == len(m.params) - 1
-            ):
+            if len(args) != len(m.params) and not (m.variadic and len(args) == len(m.params) - 1):
                 want = len(m.params) - (1 if m.variadic else 0)
                 few = "only" if len(args) < want else "but"
                 self.sink.error(
@@ -482,7 +483,7 @@ class Preprocessor:
             _end_at(body, t, rparen, hs_map)
             stack.extend(reversed(body))
 
-    def _collect_args(self, src: "_Source", m: Macro) -> tuple[list[list[Token]], Token] | None:
+    def _collect_args(self, src: _Source, m: Macro) -> tuple[list[list[Token]], Token] | None:
         """Take a macro call's arguments from `src` (after its '('); None if unterminated."""
         assert m.params is not None
         args: list[list[Token]] = [[]]
@@ -604,7 +605,7 @@ class Preprocessor:
 class _Source:
     """Tokens to expand: a pushback stack (rescanned expansions) over a list."""
 
-    __slots__ = ("toks", "next", "stack")
+    __slots__ = ("next", "stack", "toks")
 
     def __init__(self, toks: list[Token]) -> None:
         self.toks = toks
@@ -640,8 +641,9 @@ def _end_at(body: list[Token], use: Token, last: Token, hs_map: dict) -> None:
     col = max(1, last.pos.col + len(last.text) - len(end.text))
     if last.pos.line == use.pos.line and col < use.pos.col:
         col = use.pos.col
-    nt = Token(end.kind, end.text, SourcePos(last.pos.file, last.pos.line, col), end.value,
-               end.suffix)
+    nt = Token(
+        end.kind, end.text, SourcePos(last.pos.file, last.pos.line, col), end.value, end.suffix
+    )
     old = hs_map.get(id(end))
     hs_map[id(nt)] = (nt, old[1] if old is not None and old[0] is end else _EMPTY)
     body[-1] = nt

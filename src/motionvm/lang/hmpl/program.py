@@ -112,6 +112,60 @@ class FuncFacts:
     addr_taken: set[str] = field(default_factory=set)
 
 
+def array_uses(tus) -> dict[str, set]:
+    """name -> how it is used: the depth of each full `a[i][j]` chain, or 'escape'
+    (any other use: decays to a pointer, `&a[i]`, passed to a function, ...)."""
+    uses: dict[str, set] = {}
+    stack = list(tus)
+    while stack:
+        x = stack.pop()
+        if isinstance(x, (list, tuple)):
+            stack.extend(x)
+            continue
+        if not hasattr(x, "__dataclass_fields__"):
+            continue
+        t = type(x)
+        if t is n.Index:
+            depth, root = 0, x
+            while type(root) is n.Index:
+                stack.append(root.index)
+                depth, root = depth + 1, root.base
+            if type(root) is n.Name:
+                uses.setdefault(root.id, set()).add(depth)
+            else:
+                stack.append(root)
+            continue
+        if t is n.Unary and x.op == "&":
+            root = x.operand
+            while type(root) is n.Index:
+                stack.append(root.index)
+                root = root.base
+            if type(root) is n.Name:
+                uses.setdefault(root.id, set()).add("escape")
+                continue
+        if t is n.SizeOf:
+            continue
+        if t is n.Name:
+            uses.setdefault(x.id, set()).add("escape")
+            continue
+        for fname in _fields_of(t):
+            v = getattr(x, fname)
+            if v is not None and not isinstance(v, (str, int, float, bytes, bool)):
+                stack.append(v)
+    return uses
+
+
+def _constant_init(init) -> bool:
+    """A brace list (nested) of literal numbers or characters, or a string literal."""
+    if isinstance(init, (n.IntLit, n.FloatLit, n.CharLit, n.StrLit)):
+        return True
+    if isinstance(init, n.Unary) and init.op in ("-", "+"):
+        return isinstance(init.operand, (n.IntLit, n.FloatLit, n.CharLit))
+    if isinstance(init, n.InitList):
+        return all(_constant_init(i) for i in init.items)
+    return False
+
+
 def function_facts(f: n.FuncDef, blocking: dict[str, bool]) -> FuncFacts:
     facts = FuncFacts()
     for x in walk(f.body):
@@ -427,11 +481,11 @@ class ProgramCompiler:
             t = self.decl_type(item, scope, task)
             if isinstance(t, ct.VoidT):
                 raise self._fail(item.pos, f"variable '{item.name}' declared void")
-            if t.is_scalar and item.name not in self.addr_taken:
+            if (t.is_scalar and item.name not in self.addr_taken) or self.list_backed(item, t):
                 sym = VarSym(
                     item.name,
                     t,
-                    "pyglobal",
+                    "pyglobal" if t.is_scalar else "pylist",
                     item.pos,
                     pyname=prefix + item.name,
                     is_const=item.type.is_const,
@@ -490,9 +544,25 @@ class ProgramCompiler:
 
     # ------------------------------------------------------------ analysis
 
+    def list_backed(self, d: n.VarDecl, t: ct.CType) -> bool:
+        """An array of scalars that is only ever indexed to its full depth (never decays to a
+        pointer, never has an element's address taken) lives in a Python list: no program
+        can observe its bytes, and list indexing is much faster than memory views."""
+        if not isinstance(t, ct.ArrayT) or d.name in self.addr_taken:
+            return False
+        depth, elem = 0, t
+        while isinstance(elem, ct.ArrayT):
+            depth, elem = depth + 1, elem.elem
+        if not isinstance(elem, (ct.IntT, ct.FloatT)):
+            return False
+        if self.array_uses.get(d.name, set()) - {depth}:
+            return False
+        return d.init is None or _constant_init(d.init)
+
     def analyse(self, units: list[Unit]) -> None:
-        """One pass per function: address-taken names, waits and callees."""
+        """One pass per function: address-taken names, waits and callees; array uses."""
         self.facts: dict[int, FuncFacts] = {}
+        self.array_uses = array_uses([u.tu for u in units])
         for u in units:
             for item in u.tu.items:
                 if isinstance(item, n.FuncDef):

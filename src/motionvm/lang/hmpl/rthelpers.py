@@ -7,7 +7,6 @@ closures over the typed views so each call costs one Python function call.
 
 from __future__ import annotations
 
-import itertools
 import math
 
 from motionvm.lang.hmpl.cmemory import SCALAR_FORMATS, Memory, to_f32, wrap_scalar
@@ -60,11 +59,9 @@ def _wrapi(x: int, bits: int) -> int:
     return ((x + half) & ((1 << bits) - 1)) - half
 
 
-def _odd_step(start: int, step: int, bits: int):
-    """Values of a counting loop whose step is not positive: 0 loops forever, as in C."""
-    if step == 0:
-        return itertools.repeat(start)
-    return range(start, -(1 << (bits - 1)) - 1, step)
+def _bad_step(step: int) -> int:
+    """A counting loop whose run-time step is not positive would never reach its bound."""
+    raise RuntimeFault(f"for loop step is {step}: counting up by a step <= 0 never reaches the bound")
 
 
 def _oob(i: int, n: int) -> int:
@@ -87,6 +84,11 @@ class _Goto(Exception):
     """Raised by `goto L` (args[0] is L's segment); caught by the function's dispatcher."""
 
 
+def _mklist(image: bytes, code: str) -> list:
+    """The values of a constant array initializer, as a Python list."""
+    return memoryview(bytearray(image)).cast(SCALAR_FORMATS[code][0]).tolist()
+
+
 def _notimpl(name: str, *args):
     raise RuntimeFault(f"{name} is not implemented yet")
 
@@ -101,10 +103,11 @@ def make_helpers(mem: Memory) -> dict[str, object]:
         "_f32": to_f32,
         "_oob": _oob,
         "_wrapi": _wrapi,
-        "_odd_step": _odd_step,
+        "_bad_step": _bad_step,
         "_ck": _ck,
         "_stv": _stv,
         "_notimpl": _notimpl,
+        "_mklist": _mklist,
         "_Goto": _Goto,
         "_budget": 0,
         "_stack": None,

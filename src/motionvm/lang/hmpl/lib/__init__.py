@@ -12,6 +12,9 @@ _MODULES = (
     "motionvm.lang.hmpl.lib.strings",
     "motionvm.lang.hmpl.lib.mathlib",
     "motionvm.lang.hmpl.lib.usertable",
+    "motionvm.lang.hmpl.lib.bus",
+    "motionvm.lang.hmpl.lib.axis",
+    "motionvm.lang.hmpl.lib.errors",
 )
 
 

@@ -3,8 +3,8 @@
 Sleep, RunScheduler and MutexLock are blocking: generator methods that yield to the
 kernel (`None` = next cycle, int = the cycle to wake at). Decisions where the manual is
 silent: Sleep(ms) waits ceil(ms / cycle) cycles (at least one); a task started by
-StartTask gets its first slice in the next cycle; the simulated EtherCAT bus is in the
-Operation state from the first cycle (the axis work models bus start-up).
+StartTask gets its first slice in the next cycle. The bus and system-state functions
+(IsSystemInit ..., GetECATSt) are in bus.py.
 """
 
 from __future__ import annotations
@@ -51,26 +51,6 @@ class SystemLib(Library):
     @builtin()
     def GetModelNum(self, mod_buf: int) -> int:
         return self._write_str(mod_buf, MODEL_NUMBER)
-
-    @builtin()
-    def IsSystemInit(self) -> int:
-        return 0
-
-    @builtin()
-    def IsSystemOper(self) -> int:
-        return 1
-
-    @builtin()
-    def IsSystemPreOp(self) -> int:
-        return 0
-
-    @builtin()
-    def IsSystemError(self) -> int:
-        return 0
-
-    @builtin()
-    def GetECATSt(self) -> int:
-        return 8
 
     # ------------------------------------------------------------ waiting
 

@@ -1,0 +1,414 @@
+"""Lower one PDL body (the top level or a procedure) to the statements of a generator.
+
+Design: a dispatcher over *segments*. PDL jumps anywhere (`goto`, `call`/`ret`,
+`goto label[i]` by code units, tasks started at any `_label` or `#task/n`), so a body
+with labels becomes a loop over a chain of `if pc <= k:` segments, in source order:
+entering at segment k runs k, k+1, ... by falling through, and a jump is
+`pc = k; continue`. Structured statements that contain no label and no jump
+(`goto`, `call`, `ret`, `retprintl`) stay native Python `if`/`while`/`for`, which is
+where the hot loops are; a statement that does contain one is flattened into
+segments too (its loop counter becomes a Python local).
+
+    lp:  x = x + 1;              while True:
+         if (x < 10) goto lp;        if pc <= 0:
+         halt;                           b -= 2; (x = x + 1)
+                             ->          if M[1] < 10:
+                                             pc = 0
+                                             if b <= 0: b = yield b
+                                             continue
+                                         return
+
+Budget: each task gets `B` statements per phase. Straight-line code charges its
+statement count in one `b -= k` per run; back-edges (loop ends, jumps) yield with
+`b = yield b` once the budget is used up, and the scheduler turns an overdraft into
+phases the task then sits out. `bench/pdl.py` measures the dispatcher: a label loop
+costs one comparison per segment before its label.
+"""
+
+from __future__ import annotations
+
+import ast
+from typing import TYPE_CHECKING
+
+from motionvm.lang.pdl import nodes as n
+from motionvm.lang.pdl.lower_expr import FLT, ExprLowering, assign, binop, call, const, nm, subscript
+from motionvm.lang.pdl.rt_memory import FLOAT
+from motionvm.lang.pdl.symbols import LabelSym, ProcSym, VarSym, code_units
+
+if TYPE_CHECKING:
+    from motionvm.lang.pdl.lower import ProgramLowering
+
+SLEEP, WAIT = 1, 2
+_JUMPY = (n.Label, n.Goto, n.CallLabel)
+
+
+def is_jumpy(s: object) -> bool:
+    """True if a statement contains a label or a jump, so it cannot stay native Python."""
+    if isinstance(s, _JUMPY):
+        return True
+    if isinstance(s, n.Simple):
+        return s.command == "ret"
+    if isinstance(s, n.Print):
+        return s.command == "retprintl"
+    if isinstance(s, n.If):
+        return any(map(is_jumpy, s.then_body)) or any(map(is_jumpy, s.else_body or ()))
+    if isinstance(s, (n.Loop, n.While)):
+        return any(map(is_jumpy, s.body))
+    return False
+
+
+def _check_budget() -> ast.stmt:
+    """`if b <= 0: b = yield b`."""
+    test = ast.Compare(left=nm("b"), ops=[ast.LtE()], comparators=[const(0)])
+    return ast.If(test=test, body=[assign(nm("b", True), ast.Yield(value=nm("b")))], orelse=[])
+
+
+class BodyLowerer:
+    """Builds the segments of one body; `self.cur` is the statement list being filled."""
+
+    def __init__(self, prog: ProgramLowering, proc: ProcSym | None, frame: dict[int, int] | None) -> None:
+        self.prog = prog
+        self.proc = proc
+        self.x = ExprLowering(prog, frame)
+        self.segments: list[list[ast.stmt]] = [[]]
+        self.cur = self.segments[0]
+        self.pending = 0
+        self.label_seg: dict[str, int] = {}
+        self.task_seg: dict[int, int] = {}
+        self.fixups: list[tuple[ast.Constant, str]] = []  # pc constants naming a label
+        self.landings: dict[int, list[tuple[str, int]]] = {}  # id(stmt) -> [(label, offset)]
+        self.tables: dict[str, dict[int, int]] = {}  # label -> {code offset: segment}
+        self.counter = 0
+        self.uses_dispatch = False
+
+    # ------------------------------------------------------------ helpers
+
+    def at(self, stmts: list[ast.stmt], pos: object) -> list[ast.stmt]:
+        line = self.prog.line_of(pos)
+        for s in stmts:
+            for node in ast.walk(s):
+                if "lineno" in node._attributes and not hasattr(node, "lineno"):
+                    node.lineno = line
+                    node.col_offset = 0
+        return stmts
+
+    def emit(self, stmts: list[ast.stmt], pos: object) -> None:
+        self.cur.extend(self.at(stmts, pos))
+
+    def flush(self) -> None:
+        if self.pending:
+            self.cur.append(ast.AugAssign(target=nm("b", True), op=ast.Sub(), value=const(self.pending)))
+            self.pending = 0
+
+    def new_segment(self) -> int:
+        self.flush()
+        if not self.segments[-1] and self.cur is self.segments[-1]:
+            return len(self.segments) - 1
+        self.uses_dispatch = True
+        self.segments.append([])
+        self.cur = self.segments[-1]
+        return len(self.segments) - 1
+
+    def jump(self, target: ast.Constant, pos: object, check: bool) -> None:
+        self.flush()
+        self.uses_dispatch = True
+        out: list[ast.stmt] = [assign(nm("pc", True), target)]
+        if check:
+            out.append(_check_budget())
+        out.append(ast.Continue())
+        self.emit(out, pos)
+
+    def label_target(self, label: str) -> ast.Constant:
+        c = const(-1)
+        self.fixups.append((c, label))
+        return c
+
+    def end_task(self) -> list[ast.stmt]:
+        """End the whole task: from the top level `return`, from a procedure `raise _Exit`."""
+        if self.proc is None:
+            return [ast.Return(value=None)]
+        return [ast.Raise(exc=nm("_Exit"), cause=None)]
+
+    def leave_proc(self) -> list[ast.stmt]:
+        """Return from a procedure: drop its frame, give the budget back to the caller."""
+        return [
+            assign(ast.Attribute(value=nm("T"), attr="sp", ctx=ast.Store()), nm("bp")),
+            assign(ast.Attribute(value=nm("T"), attr="depth", ctx=ast.Store()), nm("d0")),
+            ast.Return(value=nm("b")),
+        ]
+
+    # ------------------------------------------------------------ bodies
+
+    def prepare_landings(self, labels: dict[str, LabelSym], items: tuple[n.Item, ...]) -> None:
+        """Mark the statements an indirect `goto label[i]` may land on (spec/PDL.md §8.4)."""
+        indirect = {s.label for s in _walk(items) if isinstance(s, n.Goto) and s.index is not None}
+        for name in sorted(indirect):
+            lab = labels.get(name)
+            if lab is None:
+                continue
+            offset = 0
+            for item in lab.block[lab.index + 1 :]:
+                units = code_units(item)
+                if units:
+                    self.landings.setdefault(id(item), []).append((name, offset))
+                offset += units
+            self.tables[name] = {}
+
+    def body(self, items: tuple[n.Item, ...]) -> None:
+        for s in items:
+            self.stmt(s, flat=True)
+
+    def block(self, items: tuple[n.Item, ...], flat: bool) -> None:
+        for s in items:
+            self.stmt(s, flat)
+
+    def native_block(self, items: tuple[n.Item, ...], extra_cost: int, back_edge: bool) -> list[ast.stmt]:
+        saved_cur, saved_pending = self.cur, self.pending
+        self.cur, self.pending = [], extra_cost
+        self.block(items, flat=False)
+        self.flush()
+        if back_edge:
+            self.cur.append(_check_budget())
+        out = self.cur or [ast.Pass()]
+        self.cur, self.pending = saved_cur, saved_pending
+        return out
+
+    # ------------------------------------------------------------ statements
+
+    def stmt(self, s: n.Item, flat: bool) -> None:
+        land = self.landings.get(id(s))
+        if land:
+            seg = self.new_segment()
+            for label, offset in land:
+                self.tables[label][offset] = seg
+        getattr(self, "s_" + type(s).__name__)(s, flat)
+
+    def s_Label(self, s: n.Label, flat: bool) -> None:
+        self.label_seg[s.name] = self.new_segment()
+
+    def s_TaskDirective(self, s: n.TaskDirective, flat: bool) -> None:
+        self.task_seg[s.task] = self.new_segment()
+
+    def s_VarDecl(self, s: n.VarDecl, flat: bool) -> None:
+        pass
+
+    def s_ProcDef(self, s: n.ProcDef, flat: bool) -> None:
+        pass
+
+    s_ProcProto = s_ProcDef
+
+    def s_Assign(self, s: n.Assign, flat: bool) -> None:
+        from motionvm.lang.pdl.lower_assign import lower_assign
+
+        self.pending += 1
+        self.emit(lower_assign(self.x, s), s.pos)
+
+    def s_IncDec(self, s: n.IncDec, flat: bool) -> None:
+        self.pending += 1
+        e, _ = self.x.read(s.target)
+        op = ast.Add() if s.op == "++" else ast.Sub()
+        out = self.x.store(s.target, binop(e, op, const(1)), "wide")
+        self.emit(out + self.x.auto_increments(s.target), s.pos)
+
+    def s_StateAssign(self, s: n.StateAssign, flat: bool) -> None:
+        self.pending += 1
+        bit, _ = self.x.state_ref(s.state)
+        value = ast.IfExp(test=self.x.cond(s.cond), body=const(1), orelse=const(0))
+        self.emit([ast.Expr(call("_set", bit, value))], s.pos)
+
+    def s_SetState(self, s: n.SetState, flat: bool) -> None:
+        self.pending += 1
+        bit, _ = self.x.state_ref(s.target)
+        if s.command == "toggle":
+            self.emit([ast.Expr(call("_tog", bit))], s.pos)
+        else:
+            self.emit([ast.Expr(call("_set", bit, const(1 if s.command == "seton" else 0)))], s.pos)
+
+    def s_Goto(self, s: n.Goto, flat: bool) -> None:
+        self.pending += 1
+        if s.index is None:
+            self.jump(self.label_target(s.label), s.pos, check=True)
+            return
+        table = self.prog.table_name(self, s.label)
+        if isinstance(s.index, n.IntConst):
+            target: ast.expr = call("_land", nm(table), const(s.index.value), const(s.label))
+        else:
+            target = call("_land", nm(table), self.x.read(s.index)[0], const(s.label))
+        self.flush()
+        self.uses_dispatch = True
+        self.emit([assign(nm("pc", True), target), _check_budget(), ast.Continue()], s.pos)
+
+    def s_CallLabel(self, s: n.CallLabel, flat: bool) -> None:
+        self.pending += 1
+        ret = const(-1)
+        self.emit([ast.Expr(ast.Call(func=ast.Attribute(value=nm("rs"), attr="append", ctx=ast.Load()),
+                                     args=[ret], keywords=[])),
+                   ast.Expr(call("_push", nm("T")))], s.pos)  # fmt: skip
+        self.jump(self.label_target(s.label), s.pos, check=True)
+        ret.value = self.new_segment()
+
+    def ret(self, pos: object) -> None:
+        """`ret`: back to the last `call`, or the end of the task if there is none (G4)."""
+        self.flush()
+        self.uses_dispatch = True
+        pop = ast.Call(func=ast.Attribute(value=nm("rs"), attr="pop", ctx=ast.Load()), args=[], keywords=[])
+        back = [ast.Expr(call("_pop", nm("T"))), assign(nm("pc", True), pop), _check_budget(), ast.Continue()]
+        self.emit([ast.If(test=nm("rs"), body=back, orelse=[])] + self.end_task(), pos)
+
+    def s_Simple(self, s: n.Simple, flat: bool) -> None:
+        self.pending += 1
+        c = s.command
+        if c == "halt":
+            self.emit(self.end_task(), s.pos)
+        elif c == "ret":
+            self.ret(s.pos)
+        elif c == "exitproc":
+            self.flush()
+            self.emit(self.leave_proc(), s.pos)
+        else:  # lock, unlock
+            self.emit([ast.Expr(call("_" + c, nm("T")))], s.pos)
+
+    def s_Delay(self, s: n.Delay, flat: bool) -> None:
+        self.pending += 1
+        self.flush()
+        amount, _ = self.x.read(s.amount)
+        req = ast.Tuple(elts=[const(SLEEP if s.command == "sleep" else WAIT), amount, nm("b")], ctx=ast.Load())
+        self.emit([assign(nm("b", True), ast.Yield(value=req))], s.pos)
+
+    def s_Kill(self, s: n.Kill, flat: bool) -> None:
+        self.pending += 1
+        self.emit([ast.Expr(call("_kill", nm("T"), self.x.read(s.task)[0]))], s.pos)
+
+    def s_Print(self, s: n.Print, flat: bool) -> None:
+        self.pending += 1
+        k = self.prog.add_format(s)
+        args = ast.Tuple(elts=[self.x.read(a)[0] for a in s.args], ctx=ast.Load())
+        self.emit([ast.Expr(call("_print", nm("T"), const(k), args))], s.pos)
+        if s.command == "retprintl":
+            self.ret(s.pos)
+
+    def s_ProcCall(self, s: n.ProcCall, flat: bool) -> None:
+        self.pending += 1
+        self.flush()
+        proc = self.x.sym(s)
+        assert isinstance(proc, ProcSym)
+        args = [nm("T"), nm("b")] + [self.arg(a, p) for a, p in zip(s.args, proc.params)]
+        gen = call(self.prog.proc_pyname(proc.name), *args)
+        self.emit([assign(nm("b", True), ast.YieldFrom(value=gen))], s.pos)
+
+    def arg(self, a: n.Operand, p: n.Param) -> ast.expr:
+        if p.type == "instate":
+            if isinstance(a, n.VarRef):
+                sym = self.x.sym(a)
+                if isinstance(sym, VarSym) and sym.type == "state":
+                    return const(self.prog.state_bit(sym))
+            if isinstance(a, n.AngleRef):
+                return self.x.state_ref(a)[0]
+        e, kind = self.x.read(a)
+        if p.type == "long" and not p.pointer and kind == FLT:
+            return call("_rnd", e)
+        return e
+
+    def s_Till(self, s: n.Till, flat: bool) -> None:
+        self.pending += 1
+        self.flush()
+        wait = assign(nm("b", True), ast.Yield(value=const(0)))
+        test = ast.UnaryOp(op=ast.Not(), operand=self.x.cond(s.cond))
+        self.emit([ast.While(test=test, body=[wait], orelse=[])], s.pos)
+
+    # ------------------------------------------------------------ compound statements
+
+    def s_If(self, s: n.If, flat: bool) -> None:
+        self.pending += 1
+        if not (flat and is_jumpy(s)):
+            self.flush()
+            then = self.native_block(s.then_body, 0, False)
+            orelse = self.native_block(s.else_body, 0, False) if s.else_body else []
+            self.emit([ast.If(test=self.x.cond(s.cond), body=then, orelse=orelse)], s.pos)
+            return
+        skip = const(-1)
+        self.flush()
+        self.emit([ast.If(test=ast.UnaryOp(op=ast.Not(), operand=self.x.cond(s.cond)),
+                          body=[assign(nm("pc", True), skip), ast.Continue()], orelse=[])], s.pos)  # fmt: skip
+        self.uses_dispatch = True
+        self.block(s.then_body, flat=True)
+        if s.else_body is not None:
+            end = const(-1)
+            self.jump(end, s.pos, check=False)
+            skip.value = self.new_segment()
+            self.block(s.else_body, flat=True)
+            end.value = self.new_segment()
+        else:
+            skip.value = self.new_segment()
+
+    def s_While(self, s: n.While, flat: bool) -> None:
+        if not (flat and is_jumpy(s)):
+            self.pending += 1
+            self.flush()
+            body = self.native_block(s.body, 1, True)
+            self.emit([ast.While(test=self.x.cond(s.cond), body=body, orelse=[])], s.pos)
+            return
+        head = self.new_segment()
+        self.pending += 1
+        self.flush()
+        exit_ = const(-1)
+        self.emit([ast.If(test=ast.UnaryOp(op=ast.Not(), operand=self.x.cond(s.cond)),
+                          body=[assign(nm("pc", True), exit_), ast.Continue()], orelse=[])], s.pos)  # fmt: skip
+        self.block(s.body, flat=True)
+        self.jump(const(head), s.pos, check=True)
+        exit_.value = self.new_segment()
+
+    def s_Loop(self, s: n.Loop, flat: bool) -> None:
+        self.pending += 1
+        count, _ = self.x.read(s.count)
+        # n is read once as an unsigned 16-bit count, 0 meaning 65536 (spec/PDL.md G29).
+        times = ast.BoolOp(op=ast.Or(), values=[binop(count, ast.BitAnd(), const(0xFFFF)), const(65536)])
+        if not (flat and is_jumpy(s)):
+            self.flush()
+            body = self.native_block(s.body, 1, True)
+            loop = ast.For(target=nm("_", True), iter=call("range", times), body=body, orelse=[])
+            self.emit([loop], s.pos)
+            return
+        self.counter += 1
+        c = f"_c{self.counter}"
+        self.emit([assign(nm(c, True), times)], s.pos)
+        top = self.new_segment()
+        self.block(s.body, flat=True)
+        self.pending += 1
+        self.flush()
+        dec = ast.AugAssign(target=nm(c, True), op=ast.Sub(), value=const(1))
+        again = [assign(nm("pc", True), const(top)), _check_budget(), ast.Continue()]
+        test = ast.Compare(left=nm(c), ops=[ast.Gt()], comparators=[const(0)])
+        self.emit([dec, ast.If(test=test, body=again, orelse=[])], s.pos)
+        self.new_segment()
+
+    # ------------------------------------------------------------ assembly
+
+    def dispatcher(self) -> list[ast.stmt]:
+        """`while True: if pc <= 0: ... if pc <= 1: ... <end>` (or straight code)."""
+        self.flush()
+        for c, label in self.fixups:
+            c.value = self.label_seg[label]
+        tail = self.end_task() if self.proc is None else self.leave_proc()
+        if not self.uses_dispatch:
+            return self.segments[0] + tail
+        chain: list[ast.stmt] = []
+        for k, seg in enumerate(self.segments):
+            if not seg:
+                continue
+            test = ast.Compare(left=nm("pc"), ops=[ast.LtE()], comparators=[const(k)])
+            chain.append(ast.If(test=test, body=seg, orelse=[]))
+        return [ast.While(test=const(True), body=chain + tail, orelse=[])]
+
+
+def _walk(items: tuple[n.Item, ...]):
+    for s in items:
+        yield s
+        if isinstance(s, n.If):
+            yield from _walk(s.then_body)
+            yield from _walk(s.else_body or ())
+        elif isinstance(s, (n.Loop, n.While)):
+            yield from _walk(s.body)
+
+
+__all__ = ["BodyLowerer", "FLOAT", "SLEEP", "WAIT", "is_jumpy", "subscript"]

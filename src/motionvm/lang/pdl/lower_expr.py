@@ -1,0 +1,334 @@
+"""Lower PDL operands, values, conditions and stores to Python `ast` expressions.
+
+Every variable lives in drive memory (rt_memory): a global long `pos1` at word 7 reads
+`M[7]`, a float `f1` `F[9]`, a short `N` (half-word 41) `H[41]`, a procedure local in
+slot 2 `M[bp + 2]`; system variables are slots of the list `S`, states bytes of `ST`.
+An index that is a variable is bounds-checked against user memory (the manual allows
+running past a variable into the next one, not out of memory):
+
+    My_array[N] = Benny;
+becomes
+    H[_i if 2 <= (_i := 10 + H[211]) < 32002 else _oob('My_array', H[211])] = H[6]
+
+Stores of integer results that may leave 32 bits are wrapped only when they do:
+
+    pos1 = pos1 + pos2;
+becomes
+    try:
+        M[7] = M[7] + M[8]
+    except ValueError:
+        M[7] = _w32(M[7] + M[8])
+
+A float stored into an integer rounds (`_rnd`, halves away from zero); `/` always
+divides as real numbers (spec/PDL.md §6.2, G3).
+"""
+
+from __future__ import annotations
+
+import ast
+import copy
+from typing import TYPE_CHECKING
+
+from motionvm.lang.pdl import nodes as n
+from motionvm.lang.pdl.rt_memory import FLOAT, LONG, SHORT, SHORT_TAG, USER_BASE
+from motionvm.lang.pdl.symbols import USER_MEMORY_WORDS, LabelSym, VarSym
+
+if TYPE_CHECKING:
+    from motionvm.lang.pdl.lower import ProgramLowering
+
+# Value kinds: INT fits 32 bits, I16 fits 16 bits, WIDE may need wrapping, FLT is float.
+INT, I16, WIDE, FLT = "int", "i16", "wide", "float"
+USER_END = USER_BASE + USER_MEMORY_WORDS
+
+
+def nm(ident: str, store: bool = False) -> ast.Name:
+    return ast.Name(id=ident, ctx=ast.Store() if store else ast.Load())
+
+
+def const(v: object) -> ast.Constant:
+    return ast.Constant(value=v)
+
+
+def call(func: str, *args: ast.expr) -> ast.Call:
+    return ast.Call(func=nm(func), args=list(args), keywords=[])
+
+
+def binop(left: ast.expr, op: ast.operator, right: ast.expr) -> ast.expr:
+    if isinstance(left, ast.Constant) and isinstance(right, ast.Constant) and isinstance(op, ast.Add):
+        return const(left.value + right.value)
+    if isinstance(right, ast.Constant) and right.value == 0 and isinstance(op, ast.Add):
+        return left
+    return ast.BinOp(left=left, op=op, right=right)
+
+
+def subscript(view: str, index: ast.expr, store: bool = False) -> ast.Subscript:
+    return ast.Subscript(value=nm(view), slice=index, ctx=ast.Store() if store else ast.Load())
+
+
+def assign(target: ast.expr, value: ast.expr) -> ast.stmt:
+    return ast.Assign(targets=[target], value=value)
+
+
+def _cmp(left: ast.expr, op: ast.cmpop, right: ast.expr) -> ast.Compare:
+    return ast.Compare(left=left, ops=[op], comparators=[right])
+
+
+_BINOPS = {"+": ast.Add, "-": ast.Sub, "*": ast.Mult, "/": ast.Div, "&": ast.BitAnd,
+           "|": ast.BitOr, "@": ast.BitXor}  # fmt: skip
+_RELOPS = {"=": ast.Eq, "<>": ast.NotEq, "<": ast.Lt, ">": ast.Gt, "<=": ast.LtE, ">=": ast.GtE}
+
+
+def storage_kind(sym: VarSym) -> int:
+    """LONG, SHORT or FLOAT: how the variable's elements are stored."""
+    if sym.pointer or sym.type in ("long", "instate"):
+        return LONG
+    return SHORT if sym.type == "short" else FLOAT
+
+
+class ExprLowering:
+    """Operands and stores of one body (the top level, or one procedure)."""
+
+    def __init__(self, prog: ProgramLowering, frame: dict[int, int] | None) -> None:
+        self.prog = prog
+        self.syms = prog.syms
+        self.frame = frame
+        """Frame slot of each local/parameter VarSym (keyed by id), None at top level."""
+
+    # ------------------------------------------------------------ names
+
+    def sym(self, node: object) -> object:
+        return self.syms.symbol_of(node)
+
+    def index_value(self, idx: n.IntConst | n.VarRef | None) -> ast.expr | None:
+        if idx is None:
+            return None
+        if isinstance(idx, n.IntConst):
+            return const(idx.value)
+        return self.read(idx)[0]
+
+    def element(self, v: n.VarRef | n.Deref, store: bool = False) -> tuple[str, ast.expr, int]:
+        """(view, index expression, storage kind) of a plain or indexed variable."""
+        sym = self.sym(v)
+        assert isinstance(sym, VarSym), v
+        kind = storage_kind(sym)
+        idx = self.index_value(v.index)
+        if sym.scope == "system":
+            base = self.prog.sys_base[sym.name]
+            if idx is None or (isinstance(idx, ast.Constant) and 0 <= idx.value < sym.size):
+                return "S", const(base + (idx.value if idx is not None else 0)), kind
+            return "S", binop(const(base), ast.Add(), self._checked(idx, const(0), const(sym.size), v.name, idx)), kind
+        if sym.scope == "global":
+            view = {LONG: "M", SHORT: "H", FLOAT: "F"}[kind]
+            base_i = self.prog.global_index(sym)
+            lo, hi = (USER_BASE * 2, USER_END * 2) if kind == SHORT else (USER_BASE, USER_END)
+            if idx is None:
+                return view, const(base_i), kind
+            if isinstance(idx, ast.Constant):
+                if base_i + idx.value < hi:
+                    return view, const(base_i + idx.value), kind
+                return view, call("_oob", const(v.name), idx), kind
+            return view, self._checked(binop(const(base_i), ast.Add(), idx), const(lo), const(hi), v.name, idx), kind
+        assert self.frame is not None
+        view = "F" if kind == FLOAT else "M"
+        slot = binop(nm("bp"), ast.Add(), const(self.frame[id(sym)]))
+        if idx is None:
+            return view, slot, kind
+        if isinstance(idx, ast.Constant):
+            return view, binop(slot, ast.Add(), idx), kind
+        return view, self._checked(binop(slot, ast.Add(), idx), const(1), nm("_MEND"), v.name, idx), kind
+
+    @staticmethod
+    def _checked(addr: ast.expr, lo: ast.expr, hi: ast.expr, name: str, idx: ast.expr) -> ast.expr:
+        """`_i if lo <= (_i := addr) < hi else _oob(name, idx)`."""
+        walrus = ast.NamedExpr(target=nm("_i", True), value=addr)
+        test = ast.Compare(left=lo, ops=[ast.LtE(), ast.Lt()], comparators=[walrus, hi])
+        return ast.IfExp(test=test, body=nm("_i"), orelse=call("_oob", const(name), copy.deepcopy(idx)))
+
+    # ------------------------------------------------------------ reads
+
+    def read(self, op: n.Operand) -> tuple[ast.expr, str]:
+        """(expression, value kind) of an operand in a value context."""
+        if isinstance(op, n.IntConst):
+            return const(op.value), (I16 if -0x8000 <= op.value <= 0x7FFF else INT)
+        if isinstance(op, n.FloatConst):
+            return const(float(op.value)), FLT
+        if isinstance(op, n.VarRef):
+            sym = self.sym(op)
+            assert isinstance(sym, VarSym), op
+            if sym.type == "state":
+                return subscript("ST", const(self.prog.state_bit(sym))), I16
+            view, ix, kind = self.element(op)
+            vk = FLT if kind == FLOAT else (I16 if kind == SHORT else INT)
+            if view == "S" and sym.type == "short":
+                vk = I16
+            return subscript(view, ix), vk
+        if isinstance(op, n.Deref):
+            return self.deref_read(op)
+        if isinstance(op, n.AddressOf):
+            return self.address(op.target), INT
+        if isinstance(op, n.AngleRef):
+            return self.angle_value(op), INT
+        raise AssertionError(f"operand {op!r}")
+
+    def deref_pointer(self, d: n.Deref) -> ast.expr:
+        """The address `*p[i]` refers to: the pointer's value plus the index."""
+        sym = self.sym(d)
+        assert isinstance(sym, VarSym)
+        view, ix, _ = self._ptr_elem(d, sym)
+        ptr: ast.expr = subscript(view, ix)
+        idx = self.index_value(d.index)
+        return binop(ptr, ast.Add(), idx) if idx is not None else ptr
+
+    def _ptr_elem(self, d: n.Deref, sym: VarSym) -> tuple[str, ast.expr, int]:
+        if sym.scope == "global":
+            return "M", const(self.prog.global_index(sym)), LONG
+        assert self.frame is not None
+        return "M", binop(nm("bp"), ast.Add(), const(self.frame[id(sym)])), LONG
+
+    def deref_read(self, d: n.Deref) -> tuple[ast.expr, str]:
+        sym = self.sym(d)
+        assert isinstance(sym, VarSym)
+        if sym.type == "float":
+            return call("_ldf", self.deref_pointer(d)), FLT
+        return call("_ldl", self.deref_pointer(d)), INT
+
+    def address(self, v: n.VarRef) -> ast.expr:
+        """`&v` / `&v[i]`: an element address (word index, or SHORT_TAG + half index)."""
+        sym = self.sym(v)
+        assert isinstance(sym, VarSym)
+        idx = self.index_value(v.index)
+        if sym.scope == "global":
+            base: ast.expr = const(self.prog.global_index(sym) + (SHORT_TAG if storage_kind(sym) == SHORT else 0))
+        else:
+            assert self.frame is not None and sym.scope != "system"
+            base = binop(nm("bp"), ast.Add(), const(self.frame[id(sym)]))
+        return binop(base, ast.Add(), idx) if idx is not None else base
+
+    def target_address(self, t: n.VarRef | n.Deref) -> tuple[ast.expr, int]:
+        """(address, element kind) of an assignment target, for block functions."""
+        sym = self.sym(t)
+        assert isinstance(sym, VarSym)
+        if isinstance(t, n.Deref):
+            return self.deref_pointer(t), (FLOAT if sym.type == "float" else LONG)
+        return self.address(t), storage_kind(sym)
+
+    def angle_value(self, a: n.AngleRef) -> ast.expr:
+        """`<name>` as a value: a state's or label's address, or the state a variable names."""
+        sym = self.sym(a)
+        if isinstance(sym, LabelSym):
+            return const(self.prog.label_address(sym, self.frame is not None))
+        assert isinstance(sym, VarSym)
+        if sym.type == "state":
+            return const(self.prog.state_bit(sym))
+        return call("_stv", self._var_value(a, sym))
+
+    def _var_value(self, node: n.AngleRef, sym: VarSym) -> ast.expr:
+        fake = n.VarRef(node.pos, node.name)
+        self.syms.resolved[id(fake)] = sym
+        self.prog.keep.append(fake)
+        return self.read(fake)[0]
+
+    def state_ref(self, ref: n.VarRef | n.AngleRef) -> tuple[ast.expr, bool]:
+        """(bit address expression, is_constant) of a state named directly or through `<var>`."""
+        sym = self.sym(ref)
+        assert isinstance(sym, VarSym), ref
+        if sym.type == "state":
+            return const(self.prog.state_bit(sym)), True
+        assert isinstance(ref, n.AngleRef)
+        return self._var_value(ref, sym), False
+
+    # ------------------------------------------------------------ conditions
+
+    def cond(self, c: n.Cond) -> ast.expr:
+        """A Python boolean-valued expression for a PDL condition."""
+        if isinstance(c, n.StateTest):
+            bit, is_const = self.state_ref(c.ref)
+            return subscript("ST", bit) if is_const else call("_stv", bit)
+        if isinstance(c, n.Not):
+            return ast.UnaryOp(op=ast.Not(), operand=self.cond(c.operand))
+        if isinstance(c, n.Logic):
+            e = self.cond(c.terms[0])
+            for op, t in zip(c.ops, c.terms[1:]):
+                e = ast.BoolOp(op=ast.And() if op == "&" else ast.Or(), values=[e, self.cond(t)])
+            return e
+        if isinstance(c, n.BitTest):
+            v = self.read(c.var)[0]
+            shifted = binop(v, ast.RShift(), const(c.bit)) if c.bit else v
+            return binop(shifted, ast.BitAnd(), const(1))
+        if isinstance(c, n.Relation):
+            left, _ = self.read(c.left)
+            right, _ = self.read(c.right)
+            if c.op == "TOUT":
+                fclk = subscript("S", const(self.prog.sys_base["fclk"]))
+                diff = binop(binop(binop(fclk, ast.Sub(), left), ast.Add(), const(0x8000_0000)),
+                             ast.BitAnd(), const(0xFFFF_FFFF))  # fmt: skip
+                return _cmp(binop(diff, ast.Sub(), const(0x8000_0000)), ast.GtE(), right)
+            return _cmp(left, _RELOPS[c.op](), right)
+        raise AssertionError(f"condition {c!r}")
+
+    # ------------------------------------------------------------ values
+
+    def value(self, v: n.Value) -> tuple[ast.expr, str]:
+        """(expression, kind) of the right-hand side forms that produce one number."""
+        if isinstance(v, n.Neg):
+            e, k = self.read(v.operand)
+            return ast.UnaryOp(op=ast.USub(), operand=e), (FLT if k == FLT else WIDE)
+        if isinstance(v, n.BinOp):
+            return self.binop(v.op, self.read(v.left), self.read(v.right))
+        if isinstance(v, n.SttoVar):
+            return ast.IfExp(test=self.cond(v.cond), body=const(1), orelse=const(0)), I16
+        if isinstance(v, n.SizeOf):
+            sym = self.sym(v)
+            size = sym.size if isinstance(sym, VarSym) else 1
+            return const(size), (I16 if size <= 0x7FFF else INT)
+        return self.read(v)  # type: ignore[arg-type]
+
+    def binop(self, op: str, lhs: tuple[ast.expr, str], rhs: tuple[ast.expr, str]) -> tuple[ast.expr, str]:
+        (le, lk), (re_, rk) = lhs, rhs
+        is_float = FLT in (lk, rk)
+        if op == "/":
+            return ast.BinOp(left=le, op=ast.Div(), right=re_), FLT
+        if op == "%":
+            return call("_mod", le, re_), INT
+        e = ast.BinOp(left=le, op=_BINOPS[op](), right=re_)
+        if is_float:
+            return e, FLT
+        if op in "&|@":
+            return e, (I16 if lk == rk == I16 else INT)
+        return e, WIDE
+
+    # ------------------------------------------------------------ stores
+
+    def store(self, t: n.VarRef | n.Deref, value: ast.expr, kind: str) -> list[ast.stmt]:
+        """Statements storing `value` (of `kind`) into the target, converting as §4.7 says."""
+        sym = self.sym(t)
+        assert isinstance(sym, VarSym)
+        if isinstance(t, n.Deref):
+            fn = "_stf" if sym.type == "float" else "_stl"
+            return [ast.Expr(call(fn, self.deref_pointer(t), value))]
+        view, ix, skind = self.element(t, store=True)
+        if view == "S":
+            return [ast.Expr(call("_sw", ix, value))]
+        if skind == FLOAT:
+            return [assign(subscript(view, ix, True), value)]
+        bits = 16 if skind == SHORT else 32
+        if kind == FLT:
+            conv = call("_rnd", value) if bits == 32 else call("_rnd", value, const(16))
+            return [assign(subscript(view, ix, True), conv)]
+        if kind == I16 or (kind == INT and bits == 32):
+            return [assign(subscript(view, ix, True), value)]
+        wrap = "_w32" if bits == 32 else "_w16"
+        fast = assign(subscript(view, ix, True), value)
+        slow = assign(subscript(view, copy.deepcopy(ix), True), call(wrap, copy.deepcopy(value)))
+        handler = ast.ExceptHandler(type=nm("ValueError"), name=None, body=[slow])
+        return [ast.Try(body=[fast], handlers=[handler], orelse=[], finalbody=[])]
+
+    def auto_increments(self, *operands: object) -> list[ast.stmt]:
+        """`n += 1` for every `a[n+]` among the operands, in the order given."""
+        out: list[ast.stmt] = []
+        for op in operands:
+            if isinstance(op, n.VarRef) and op.auto_inc and isinstance(op.index, n.VarRef):
+                idx = op.index
+                e, _ = self.read(idx)
+                out += self.store(idx, binop(e, ast.Add(), const(1)), WIDE)
+        return out

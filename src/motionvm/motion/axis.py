@@ -1,0 +1,309 @@
+"""An axis (HIMC manual chapter 5): profile generator + CiA 402 drive + unit conversion.
+
+Positions are in axis units [mm or deg]; the drive works in encoder counts
+(`counts_per_unit`). Two coordinate systems differ by the position offset of SetPos:
+the slave's (raw feedback, offset output) and the axis's (reference, pos_out, pos_fb):
+    slave = axis + pos_offset.
+Commands are methods that raise `AxisCommandError(code, message)` when the manual's
+rules refuse them; `code` is the low half of the axis error (table 18.1.2.1). An
+accepted move makes `moving` true and `in_pos` false at once, in the calling cycle.
+Decisions where the manual is silent are documented at each method.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import deque
+
+from motionvm.drives.objects import MODE_CSP, MODE_CST, MODE_CSV
+from motionvm.motion import axis_status as st
+from motionvm.motion.axis_config import AxisConfig, build_drive
+from motionvm.motion.axis_cycle import PG, PVT, TORQUE, AxisCycle
+from motionvm.motion.axis_settings import AxisSettings
+from motionvm.motion.axis_status import AxisCommandError
+from motionvm.motion.profile import ProfileGenerator
+from motionvm.motion.pvt import PvtError, PvtTrajectory
+
+QUEUE_SIZE = 32
+"""Commands an axis buffers in buffer mode 1 (eERR_AXIS_CMD_QUEUE_FULL beyond)."""
+
+
+class Axis(AxisSettings, AxisCycle):
+    """One axis of the controller, stepped once per cycle by the motion kernel."""
+
+    def __init__(self, axis_id: int, config: AxisConfig, dt: float, drive=None):
+        self.axis_id = axis_id
+        self.config = config
+        self.dt = dt
+        self.drive = drive if drive is not None else build_drive(config)
+        self.cpu = config.counts_per_unit
+        self.rotary = config.rotary
+        self.kill_dec = config.kill_dec
+        self.sw_left, self.sw_right = config.sw_left, config.sw_right
+        self.max_pos_err = config.max_pos_err
+        self.inpos_radius = config.inpos_radius
+        self._debounce_cycles = round(config.inpos_debounce_ms / 1000.0 / dt)
+        self._enable_timeout = math.ceil(config.enable_timeout_ms / 1000.0 / dt)
+        self.pg = ProfileGenerator(dt, config.max_vel, config.max_acc, config.max_dec,
+                                   config.smooth_time_ms / 1000.0, config.start_position)  # fmt: skip
+        self.ignore_hwl = self.ignore_swl = self.ignore_pe = False
+        self.vel_scale = 100.0
+        self.rollover = 0.0
+        self.op_mode = self.drive.mode = MODE_CSP
+        self.buffer_mode = 0
+        self.enabled = self._enabling = False
+        self.error_stop = self.stopping = self.halted = False
+        self.moving = self.in_pos = False
+        self.fault_status = self.last_error = 0
+        self.pos_offset = 0.0
+        self.move_time_ms = self.settling_time_ms = 0.0
+        self._source = PG
+        self._queue: deque = deque()
+        self._pvt: PvtTrajectory | None = None
+        self._n = 0
+        self._ramp_v = self._ramp_d = 0.0
+        self._torque_pm = 0
+        self._reset_pulse = False
+        self._enable_cycles = 0
+        self._in_pos_count = 0
+        self._cycle = 0
+        self._cmd_cycle = 0
+        self._end_cycle = -1
+        self._pa = self.drive.position_actual
+        self._fb_counts = self._pa
+        self._di = -1
+        self.pos_fb_raw = self.pos_fb = self._fb_counts / self.cpu
+        self.vel_fb = 0.0
+        self.ref_pos, self.ref_vel, self.ref_acc = self.pos_fb, 0.0, 0.0
+        self._rest = False
+        self._rest_key: tuple = ()
+        self._last_snap: tuple = ()
+        self._still = 0
+        self._wake_count = 0
+        self._rest_after = getattr(self.drive.mechanics, "delay_cycles", 0) + 3
+
+    @property
+    def _sw_check(self) -> bool:
+        return not (self.ignore_swl or self.rollover or self.error_stop)
+
+    # ---- checks ---------------------------------------------------------------------
+
+    def _require_motion_ok(self, *, torque: bool = False) -> None:
+        self.wake()
+        if self.error_stop:
+            raise AxisCommandError(st.CMD_INVALID_ERROR_STATE, f"axis {self.axis_id} is in error stop (call Reset)")
+        if not self.enabled:
+            raise AxisCommandError(st.CMD_INVALID_DISABLED, f"axis {self.axis_id} is not enabled")
+        if self.stopping:
+            raise AxisCommandError(st.CMD_INVALID_STOPPING, f"axis {self.axis_id} is stopping")
+        if (self.op_mode == MODE_CST) != torque:
+            raise AxisCommandError(st.CMD_INVALID_CONTROL_MODE,
+                                   f"axis {self.axis_id}: not valid in op mode {self.op_mode}")
+
+    def _require_still(self) -> None:
+        self.wake()
+        if self.moving:
+            raise AxisCommandError(st.CMD_INVALID_MOVING, f"axis {self.axis_id} is moving")
+
+    def _accepted(self) -> None:
+        """A move was accepted: region I starts in this very cycle (figure 5.1.4)."""
+        if not self.moving:
+            self._cmd_cycle = self._cycle
+        self.moving = True
+        self.in_pos = False
+        self._in_pos_count = 0
+        self._end_cycle = -1
+
+    def _buffered(self, cmd: tuple) -> bool:
+        """Queue `cmd` if buffer mode 1 and the axis moves; True if queued."""
+        if self.buffer_mode == 1 and self.moving:
+            if len(self._queue) >= QUEUE_SIZE:
+                raise AxisCommandError(st.CMD_QUEUE_FULL, f"axis {self.axis_id}: command queue full ({QUEUE_SIZE})")
+            self._queue.append(cmd)
+            return True
+        return False
+
+    def _drop_motion(self) -> None:
+        self._queue.clear()
+        self._source = PG
+        self.pg.reset(self.pos_fb)
+        self.ref_pos, self.ref_vel, self.ref_acc = self.pos_fb, 0.0, 0.0
+        self._torque_pm = 0
+        self.drive.target_torque = 0
+        self.halted = self.stopping = False
+        self.moving = self.in_pos = False
+
+    # ---- power (5.2.1-5.2.3) --------------------------------------------------------
+
+    def enable(self) -> None:
+        """Start the drive's enable sequence; `enabled` turns true when it is done."""
+        self.wake()
+        if self.error_stop:
+            raise AxisCommandError(st.CMD_INVALID_ERROR_STATE, f"axis {self.axis_id} is in error stop (call Reset)")
+        if self.enabled or self._enabling:
+            return
+        self._enabling = True
+        self._enable_cycles = 0
+
+    def disable(self) -> None:
+        """Power off at once; clears the path planning (5.2.2)."""
+        self.wake()
+        self._drop_motion()
+        self.enabled = self._enabling = False
+
+    def reset(self) -> None:
+        """Leave error stop: clear the fault bits and reset a drive fault (5.2.3)."""
+        self.wake()
+        if not self.error_stop and not self.fault_status & st.FS_DRIVE_FAULT:
+            return
+        self.error_stop = False
+        self.fault_status &= ~(st.FS_ERROR_STOP | st.FS_POSITION_ERROR | st.FS_SW_LEFT | st.FS_SW_RIGHT)
+        self._reset_pulse = True
+
+    # ---- moves (5.2.4-5.2.11) -------------------------------------------------------
+
+    def _wrap_target(self, pos: float) -> float:
+        """With rollover, the target in the current turn reached the shortest way."""
+        r = self.rollover
+        base = self.pg.target if self.moving else self.ref_pos
+        d = (pos % r) - (base % r)
+        d = (d + 0.5 * r) % r - 0.5 * r
+        return base + d
+
+    def _check_target(self, pos: float) -> float:
+        if not math.isfinite(pos):
+            raise AxisCommandError(st.CMD_INVALID_POS, f"axis {self.axis_id}: target {pos!r} is not a number")
+        if self.rollover:
+            return self._wrap_target(pos)
+        if not self.ignore_swl and not self.sw_left <= pos <= self.sw_right:
+            raise AxisCommandError(st.CMD_INVALID_POS, f"axis {self.axis_id}: target {pos:g} is outside the "
+                                   f"software limits {self.sw_left:g} .. {self.sw_right:g}")
+        return pos
+
+    def move_abs(self, pos: float) -> None:
+        """Move to `pos` [mm]; while moving in buffer mode 0 the target changes on the fly."""
+        self._require_motion_ok()
+        target = self._check_target(pos)
+        if not self._buffered(("abs", target)):
+            self._start(("abs", target))
+
+    def move_rel(self, dist: float) -> None:
+        """Move `dist` [mm] from the current reference (buffered: from the previous end)."""
+        self._require_motion_ok()
+        if not math.isfinite(dist):
+            raise AxisCommandError(st.CMD_INVALID_POS, f"axis {self.axis_id}: distance {dist!r} is not a number")
+        if self.buffer_mode == 1 and self.moving:
+            self._buffered(("rel", dist))
+            return
+        self._start(("abs", self._check_target(self.ref_pos + dist)))
+
+    def move_vel(self, vel: float) -> None:
+        """Jog at `vel` [mm/s] (sign = direction), capped at the maximum velocity."""
+        self._require_motion_ok()
+        if not math.isfinite(vel):
+            raise AxisCommandError(st.CMD_INVALID_VEL, f"axis {self.axis_id}: velocity {vel!r} is not a number")
+        if not self._buffered(("vel", vel)):
+            self._start(("vel", vel))
+
+    def move_pvt(self, times_ms: list[float], pos: list[float], vel: list[float]) -> None:
+        """PVT motion through up to 50 points; times [ms] from now, positions absolute.
+
+        A first point at time 0 must be where the axis is; otherwise the current
+        reference (at rest) is the implicit first point.
+        """
+        self._require_motion_ok()
+        if not 1 <= len(times_ms) <= 50:
+            raise AxisCommandError(st.CMD_INVALID_PARAMETER, f"{len(times_ms)} PVT points: must be 1 to 50")
+        t = [x / 1000.0 for x in times_ms]
+        p, v = list(pos), list(vel)
+        if t[0] == 0.0:
+            if abs(p[0] - self.ref_pos) > self.inpos_radius:
+                raise AxisCommandError(st.CMD_INVALID_POS, f"axis {self.axis_id}: the first PVT point {p[0]:g} "
+                                       f"is not the axis position {self.ref_pos:g}")
+            p[0] = self.ref_pos
+        else:
+            t, p, v = [0.0] + t, [self.ref_pos] + p, [0.0] + v
+        try:
+            traj = PvtTrajectory(t, p, v)
+        except PvtError as exc:
+            raise AxisCommandError(st.PVT_INVALID_TIME, f"axis {self.axis_id}: {exc}") from None
+        v_peak, a_peak = traj.peaks()
+        if v_peak > self.config.vel_limit:
+            raise AxisCommandError(st.PVT_VEL_LIMIT, f"axis {self.axis_id}: PVT velocity {v_peak:g} exceeds "
+                                   f"the limit {self.config.vel_limit:g}")
+        if a_peak > self.config.acc_limit:
+            raise AxisCommandError(st.PVT_ACC_LIMIT, f"axis {self.axis_id}: PVT acceleration {a_peak:g} "
+                                   f"exceeds the limit {self.config.acc_limit:g}")
+        if not self._buffered(("pvt", traj)):
+            self._start(("pvt", traj))
+
+    def move_trq(self, torque: float) -> None:
+        """Torque command [N*m] in op mode 10, clamped to the continuous (rated) torque."""
+        self._require_motion_ok(torque=True)
+        if not math.isfinite(torque):
+            raise AxisCommandError(st.CMD_INVALID_PARAMETER, f"axis {self.axis_id}: torque {torque!r}")
+        rated = self.drive.rated_torque_nm
+        torque = max(-rated, min(rated, torque))
+        self._torque_pm = round(torque / rated * 1000.0)
+        self._source = TORQUE
+        if self._torque_pm:
+            self._accepted()
+
+    def _start(self, cmd: tuple) -> None:
+        kind, arg = cmd
+        self._accepted()
+        if kind == "pvt":
+            self._source = PVT
+            self._pvt = arg
+            self._n = 0
+            return
+        self._source = PG
+        if kind == "abs":
+            self.pg.move_to(arg)
+        elif kind == "rel":
+            self.pg.move_to(self._check_target(self.ref_pos + arg))
+        else:
+            self.pg.move_velocity(arg)
+
+    def _start_next(self) -> None:
+        while self._queue:
+            cmd = self._queue.popleft()
+            try:
+                self._start(cmd)
+                return
+            except AxisCommandError as exc:  # e.g. a relative target beyond a limit
+                self.last_error = st.axis_error(exc.code, self.axis_id)
+
+    def stop(self, decel: float | None = None) -> None:
+        """Stop at the maximum deceleration (or `decel`); clears the path planning."""
+        self.wake()
+        self._queue.clear()
+        if not self.enabled or not self.moving:
+            return
+        decel = self.pg.d_max if decel is None else decel
+        self.stopping = True
+        self.halted = False
+        if self._source == PG:
+            self.pg.set_velocity_scale(self.vel_scale / 100.0)
+            self.pg.stop(decel)
+        elif self._source == TORQUE:
+            self._torque_pm = 0
+            self._start_ramp(self.vel_fb, decel)
+        else:
+            self._start_ramp(self.ref_vel, decel)
+
+    def halt(self) -> None:
+        """Pause: the velocity goes to 0 and the move waits for Resume (still `moving`)."""
+        self._require_motion_ok()
+        if self._source != PG:
+            raise AxisCommandError(st.CMD_INVALID_STATE, f"axis {self.axis_id}: Halt works on profile moves only")
+        self.halted = True
+        self.pg.set_velocity_scale(0.0)
+
+    def resume(self) -> None:
+        """Continue a halted move."""
+        self._require_motion_ok()
+        if not self.halted:
+            raise AxisCommandError(st.CMD_INVALID_STATE, f"axis {self.axis_id} is not halted")
+        self.halted = False
+        self.pg.set_velocity_scale(self.vel_scale / 100.0)
