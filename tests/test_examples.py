@@ -4,7 +4,8 @@
 with a fresh data folder in MOTIONVM_DATA_DIR; it must exit with code 0 and print
 exactly the text of `NN_topic.out`. A multi-task example puts task K in
 `NN_topic.taskK.hmpl` (K = 1, 2, ...); such files are passed after the example and are
-not examples of their own. Set MOTIONVM_TEST_CMD to run another command instead of
+not examples of their own. A GDL example `NN_topic.gdl` runs with its scenario
+`NN_topic.toml` when there is one. Set MOTIONVM_TEST_CMD to run another command instead of
 `python -m motionvm` (see tests/lang/hmpl/test_hmpl_programs.py).
 """
 
@@ -22,7 +23,7 @@ import pytest
 
 REPO = Path(__file__).resolve().parents[1]
 EXAMPLES = REPO / "examples"
-SUFFIXES = (".hmpl",)
+SUFFIXES = (".hmpl", ".gdl")
 TIMEOUT_S = 60
 
 
@@ -61,7 +62,11 @@ def test_example(example: Path, tmp_path: Path) -> None:
     env["MOTIONVM_DATA_DIR"] = str(tmp_path)
     src = str(REPO / "src")
     env["PYTHONPATH"] = src + (os.pathsep + env["PYTHONPATH"] if env.get("PYTHONPATH") else "")
-    cmd = base_command() + ["run", example.name, *task_files(example)]
+    extra = task_files(example)
+    scenario = example.with_suffix(".toml")
+    if example.suffix == ".gdl" and scenario.is_file():
+        extra += ["--scenario", scenario.name]  # a GDL example's stimuli: NN_topic.toml
+    cmd = base_command() + ["run", example.name, *extra]
     try:
         proc = subprocess.run(
             cmd,

@@ -54,6 +54,10 @@ def _parser() -> argparse.ArgumentParser:
     )
     r.add_argument("--scope-every", type=int, metavar="N", help="record every N cycles (default 1)")
     r.add_argument("--start", metavar="LABEL", help="PDL: start the task at this label")
+    r.add_argument("--force", action="append", default=[], metavar="'REF = V'",
+                   help="GDL: force a state variable with f access (repeatable)")
+    r.add_argument("--shuffle-order", type=int, metavar="SEED",
+                   help="GDL: permute the order of procedures sharing an activator")
     c = sub.add_parser("check", help="compile only; report errors")
     c.add_argument("files", nargs="+", metavar="FILE")
     c.add_argument("--task", action="append", default=[], metavar="N=FILE")
@@ -135,9 +139,8 @@ def _gdl(args, files: list[str]) -> int:
     if args.cmd == "check":
         return gdl_cli.main_check(files, sys.stdout, sys.stderr)
     if args.cmd == "run":
-        return gdl_cli.main_run(
-            files, getattr(args, "scenario", None), args.until, sys.stdout, sys.stderr
-        )
+        return gdl_cli.main_run(files, args.scenario, args.until, sys.stdout, sys.stderr,
+                                args.force or None, args.shuffle_order)
     raise UsageError("'compile' supports HMPL files only")
 
 
@@ -208,9 +211,38 @@ def cmd_builtins(args) -> int:
 
 
 def cmd_dump(args) -> int:
+    suffix = Path(args.file).suffix.lower()
+    if not Path(args.file).is_file():
+        raise UsageError(f"{args.file}: no such file")
+    if suffix == ".gdl":
+        from motionvm.lang.gdl import cli as gdl_cli
+
+        return gdl_cli.main_dump([args.file], args.stage, sys.stdout, sys.stderr)
+    if suffix == ".pdl":
+        return _pdl_dump(args.file, args.stage)
     from motionvm.hmpl_cli import dump_stage
 
     return dump_stage(args.file, args.stage, args.task_id)
+
+
+def _pdl_dump(path: str, stage: str) -> int:
+    from motionvm.lang.pdl import dump
+    from motionvm.lang.pdl.front import compile_front
+    from motionvm.lang.pdl.preprocess import preprocess
+    from motionvm.source.diagnostics import DiagnosticSink, render_diagnostic
+
+    sink = DiagnosticSink()
+    if stage == "tokens":
+        sys.stdout.write(dump.dump_tokens(preprocess(path, sink)) + "\n")
+    elif stage == "ast":
+        prog = compile_front(path, sink=sink)
+        if prog is not None:
+            sys.stdout.write(dump.dump_ast(prog) + "\n")
+    else:
+        raise UsageError("--stage py is not available for PDL yet (the PDL lowering is issue 4)")
+    for d in sorted(sink.items, key=lambda d: (d.pos.file, d.pos.line, d.pos.col)):
+        print(render_diagnostic(d), file=sys.stderr)
+    return EXIT_COMPILE if sink.has_errors else EXIT_OK
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -80,8 +80,7 @@ def _at(stmts: list[ast.stmt], pos) -> list[ast.stmt]:
                 continue
             node.lineno = node.end_lineno = line
             node.col_offset = node.end_col_offset = col
-        for fname in node._fields:
-            value = getattr(node, fname, None)
+        for value in node.__dict__.values():
             if type(value) is list:
                 for v in value:
                     if isinstance(v, _AST) and not isinstance(v, _EXPR_CONTEXT):
@@ -813,17 +812,15 @@ class FunctionLowerer(ExprLowering, AccessLowering):
             zero = ast.Constant(0.0 if sym.type.ret.is_float else 0)
             body.append(_at([ast.Return(value=zero)], f.pos)[0])
         if self.frame_size:
-            push = _parsed(
-                f"_s = _stack\n_fp = _s.push({self.frame_size}, {bytes(self.frame_valid)!r})", f.pos
-            )
-            body = push + [
-                ast.Try(
-                    body=body or [ast.Pass()],
-                    handlers=[],
-                    orelse=[],
-                    finalbody=_parsed("_s.pop(_fp)", f.pos),
-                )
+            push = [
+                ast.Assign(targets=[name("_s", True)], value=name("_stack")),
+                ast.Assign(targets=[name("_fp", True)], value=ast.Call(
+                    func=ast.Attribute(value=name("_s"), attr="push", ctx=ast.Load()),
+                    args=[ast.Constant(self.frame_size), ast.Constant(bytes(self.frame_valid))], keywords=[])),
             ]
+            pop = ast.Expr(value=ast.Call(func=ast.Attribute(value=name("_s"), attr="pop", ctx=ast.Load()),
+                                          args=[name("_fp")], keywords=[]))
+            body = push + [ast.Try(body=body or [ast.Pass()], handlers=[], orelse=[], finalbody=[pop])]
         gl = sorted(self.globals_stored | ({"_budget"} if self.has_yield else set()))
         if gl:
             body.insert(0, ast.Global(names=gl))
@@ -851,16 +848,6 @@ class FunctionLowerer(ExprLowering, AccessLowering):
             returns=None,
         )
         return _at([fn], f.pos)[0]
-
-
-def _parsed(src: str, pos) -> list[ast.stmt]:
-    """Statements parsed from Python text, placed at the user's position `pos`."""
-    body = ast.parse(src).body
-    for node in (x for s in body for x in ast.walk(s)):
-        if "lineno" in node._attributes:
-            node.lineno = node.end_lineno = pos.line
-            node.col_offset = node.end_col_offset = max(0, pos.col - 1)
-    return body
 
 
 def _breaks_out(body) -> bool:

@@ -33,7 +33,7 @@ DIRECTIVES = (
     "error",
     "pragma",
 )
-MAX_EXPANSIONS = 200_000  # macro expansions per text region before we give up
+MAX_EXPANSIONS = 200_000  # macro expansions in one text region before we give up
 MAX_NESTING = 200  # nested macro calls in arguments
 
 _EMPTY: frozenset[str] = frozenset()
@@ -145,6 +145,7 @@ class Preprocessor:
             line = toks[ds].pos.line
             self._flush_errors(st, line - 1, active)
             if active and ds > prev:
+                self._expansions = 0
                 self.out.extend(self.expand(toks[prev:ds]))
             end_line = toks[de - 1].pos.line
             self._flush_errors(st, end_line, active)
@@ -152,6 +153,7 @@ class Preprocessor:
             prev = de
         self._flush_errors(st, 1 << 60, active)
         if active and prev < len(toks):
+            self._expansions = 0
             self.out.extend(self.expand(toks[prev:]))
         for c in st.conds:
             self.sink.error(c.pos, "unterminated #if (no matching #endif)")
@@ -446,8 +448,9 @@ class Preprocessor:
                 append(t)
                 continue
             self._expansions += 1
-            if self._expansions > MAX_EXPANSIONS:
-                self.sink.error(t.pos, f"macro expansion of '{t.text}' too large")
+            if self._expansions >= MAX_EXPANSIONS:
+                if self._expansions == MAX_EXPANSIONS:
+                    self.sink.error(t.pos, f"macro expansion of '{t.text}' too large")
                 return out
             if m.params is None:
                 body = self._subst(m, None, hs | {m.name}, t.pos, hs_map)
@@ -549,15 +552,7 @@ class Preprocessor:
                     res.extend(arg if arg else [_PLACEMARKER])
                 else:
                     if k not in expanded:
-                        self._nesting += 1
-                        if self._nesting > MAX_NESTING:
-                            self._nesting = 0
-                            self.sink.error(pos, f"macro arguments nested too deeply in '{m.name}'")
-                            raise _Abort
-                        try:
-                            expanded[k] = self.expand(args[k], hs_map)
-                        finally:
-                            self._nesting -= 1
+                        expanded[k] = self._expand_argument(m, args[k], pos, hs_map)
                     res.extend(expanded[k])
                 i += 1
         if any(t is _PASTE for t in res):
@@ -571,6 +566,19 @@ class Preprocessor:
             hs_map[id(nt)] = (nt, (old[1] | hs) if old is not None and old[0] is t else hs)
             out.append(nt)
         return out
+
+    def _expand_argument(
+        self, m: Macro, arg: list[Token], pos: SourcePos, hs_map: dict
+    ) -> list[Token]:
+        if self._nesting >= MAX_NESTING:
+            self.sink.error(pos, f"macro calls nested more than {MAX_NESTING} deep in '{m.name}'")
+            self._expansions = MAX_EXPANSIONS  # give up on the rest of this text
+            return list(arg)
+        self._nesting += 1
+        try:
+            return self.expand(arg, hs_map)
+        finally:
+            self._nesting -= 1
 
     def _apply_pastes(self, res: list[Token], pos: SourcePos) -> list[Token]:
         out: list[Token] = []
