@@ -82,10 +82,6 @@ class Axis(AxisSettings, AxisCycle):
         self._wake_count = 0
         self._rest_after = getattr(self.drive.mechanics, "delay_cycles", 0) + 3
 
-    @property
-    def _sw_check(self) -> bool:
-        return not (self.ignore_swl or self.rollover or self.error_stop)
-
     # ---- checks ---------------------------------------------------------------------
 
     def _require_motion_ok(self, *, torque: bool = False) -> None:

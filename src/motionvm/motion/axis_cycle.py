@@ -31,6 +31,7 @@ from motionvm.drives.objects import (
     State,
 )
 from motionvm.motion import axis_status as st
+from motionvm.motion.axis_fast import fast_step
 
 PG, PVT, RAMP, TORQUE = 0, 1, 2, 3
 """Sources of the reference while enabled."""
@@ -40,6 +41,9 @@ CW_DISABLE, CW_SHUTDOWN, CW_ENABLE, CW_FAULT_RESET = 0x00, 0x06, 0x0F, 0x80
 
 class AxisCycle:
     """The cyclic part of `Axis` (a mixin: the attributes are set up by `Axis.__init__`)."""
+
+    fast_path = True
+    """Use `axis_fast.fast_step` where it applies (False: always the general path)."""
 
     # ---- 1. reference ---------------------------------------------------------------
 
@@ -77,17 +81,19 @@ class AxisCycle:
 
     def step(self) -> None:
         """Run this axis's part of one controller cycle."""
-        d = self.drive
         if self._rest:
             if self._wake_key() == self._rest_key:
                 return
             self._rest = False
             self._still = 0
+        if self.fast_path and fast_step(self):
+            return
+        d = self.drive
         self._cycle += 1
         if self.enabled:
             p, v, a = self._reference()
             self.ref_pos, self.ref_vel, self.ref_acc = p, v, a
-            if self._sw_check and self._source != TORQUE:
+            if not (self.ignore_swl or self.rollover or self.error_stop) and self._source != TORQUE:
                 if p >= self.sw_right and v > 0.0:
                     self._limit_stop(st.SWRL, st.FS_SW_RIGHT)
                 elif p <= self.sw_left and v < 0.0:
@@ -158,28 +164,34 @@ class AxisCycle:
             self._in_pos_count = 0
         di = d.digital_inputs
         if di != self._di:
-            self._di = di
-            fs = self.fault_status & ~(st.FS_HW_RIGHT | st.FS_HW_LEFT)
-            if not self.ignore_hwl:
-                if di & DI_POSITIVE_LIMIT:
-                    fs |= st.FS_HW_RIGHT
-                if di & DI_NEGATIVE_LIMIT:
-                    fs |= st.FS_HW_LEFT
-            self.fault_status = fs
+            self._hw_inputs(di)
         if self.enabled:
-            fs = self.fault_status
-            if fs & (st.FS_HW_RIGHT | st.FS_HW_LEFT):
-                v = self.ref_vel
-                if fs & st.FS_HW_RIGHT and v > 0.0 and not self._hw_stopping:
-                    self._limit_stop(st.HWRL, st.FS_HW_RIGHT)
-                    self._hw_stopping = True
-                elif fs & st.FS_HW_LEFT and v < 0.0 and not self._hw_stopping:
-                    self._limit_stop(st.HWLL, st.FS_HW_LEFT)
-                    self._hw_stopping = True
-            err = self.ref_pos - self.pos_fb
-            if (err > self.max_pos_err or -err > self.max_pos_err) and not self.ignore_pe:
-                self._fault_disable(st.PERR, st.FS_POSITION_ERROR)
+            self._enabled_checks()
         self._update_status()
+
+    def _hw_inputs(self, di: int) -> None:
+        """New digital inputs: the hardware limit bits of fault_status follow the switches."""
+        self._di = di
+        fs = self.fault_status & ~(st.FS_HW_RIGHT | st.FS_HW_LEFT)
+        if not self.ignore_hwl:
+            if di & DI_POSITIVE_LIMIT:
+                fs |= st.FS_HW_RIGHT
+            if di & DI_NEGATIVE_LIMIT:
+                fs |= st.FS_HW_LEFT
+        self.fault_status = fs
+
+    def _enabled_checks(self) -> None:
+        """Hardware limit in the direction of motion: kill stop; position error: disable."""
+        fs = self.fault_status
+        if fs & (st.FS_HW_RIGHT | st.FS_HW_LEFT) and not self.error_stop:
+            v = self.ref_vel
+            if fs & st.FS_HW_RIGHT and v > 0.0:
+                self._limit_stop(st.HWRL, st.FS_HW_RIGHT)
+            elif fs & st.FS_HW_LEFT and v < 0.0:
+                self._limit_stop(st.HWLL, st.FS_HW_LEFT)
+        err = self.ref_pos - self.pos_fb
+        if (err > self.max_pos_err or -err > self.max_pos_err) and not self.ignore_pe:
+            self._fault_disable(st.PERR, st.FS_POSITION_ERROR)
 
     def _update_status(self) -> None:
         if not self.enabled:
@@ -200,7 +212,7 @@ class AxisCycle:
             return
         if self.moving:  # region I ends
             self.moving = False
-            self.stopping = self._hw_stopping = False
+            self.stopping = False
             self.move_time_ms = (self._cycle - self._cmd_cycle) * self.dt * 1000.0
             self._end_cycle = self._cycle
         err = self.ref_pos - self.pos_fb

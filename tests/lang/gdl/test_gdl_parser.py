@@ -92,5 +92,5 @@ def test_gdl_case_insensitive_keywords_parse() -> None:
 
 
 def test_gdl_readme_reference_is_up_to_date() -> None:
-    readme = (HERE / "README.md").read_text()
+    readme = (Path(__file__).resolve().parents[3] / "docs" / "lang" / "gdl.md").read_text()
     assert readme == readme_with_reference(readme), "run: python -m motionvm.lang.gdl.doc"

@@ -154,10 +154,7 @@ class ProfileAxis:
 
 
 def create_axis() -> Axis:
-    """The axis model used for every GDL motor object.
-
-    The brief asked for the internal trapezoid until `motionvm.motion` settles; switching
-    to the manual's profile generator is `return ProfileAxis()` (and regenerating the
-    goldens: motion timing changes by a few cycles).
-    """
-    return TrapezoidAxis()
+    """The axis model used for every GDL motor object: the manual's profile generator
+    (`motion/profile.py`), the same one HMPL axes use. `TrapezoidAxis` stays as a
+    minimal reference model for tests."""
+    return ProfileAxis()

@@ -1,7 +1,7 @@
 """Generated GDL documentation: the object-type table and the grammar from `# BNF:` lines.
 
-`python -m motionvm.lang.gdl.doc > src/motionvm/lang/gdl/README.md` regenerates the
-reference part of the package README; a test checks that it is up to date.
+`python -m motionvm.lang.gdl.doc` regenerates the reference part of docs/lang/gdl.md
+(run from the repository root); a test checks that it is up to date.
 """
 
 from __future__ import annotations
@@ -106,5 +106,5 @@ def readme_with_reference(readme: str) -> str:
 
 
 if __name__ == "__main__":
-    path = HERE / "README.md"
+    path = Path("docs/lang/gdl.md")
     path.write_text(readme_with_reference(path.read_text() if path.exists() else ""))

@@ -191,6 +191,10 @@ class ProgramLowering:
         main, body = self.main()
         module = ast.Module(body=funcs + [main], type_ignores=[])
         ast.fix_missing_locations(module)
+        for node in ast.walk(module):
+            if hasattr(node, "end_lineno"):
+                node.end_lineno = node.lineno
+                node.end_col_offset = node.col_offset
         code = compile(module, filename=self.path, mode="exec")
         globals_: dict[str, GlobalVar] = {}
         kinds: list[tuple[int, int, int]] = []
