@@ -263,8 +263,14 @@ class StandInMotion:
         self.axis.values["di_bit_HOME"] = 1 if self.axis.values["ref_pos"] >= 3 else 0
 
 
+class StandInController(Controller):
+    """A controller whose axes are stand-ins, not the machine's."""
+
+    axes = None  # an attribute in place of the property
+
+
 def axis_controller() -> Controller:
-    ctl = Controller()
+    ctl = StandInController()
     ctl.axes = [StandInAxis(), StandInAxis(rotary=True)]
     ctl.clients.append(StandInMotion(ctl.axes[0]))
     return ctl
@@ -299,6 +305,19 @@ def test_axis_without_variable_names_offers_the_manuals_variables():
     assert reg.resolve("axis0.coe_vel_fb").getter() == 1.5
     with pytest.raises(ScopeError, match="did you mean axis0.vel_fb"):
         reg.resolve("axis0.velfb")
+
+
+def test_axis_channels_of_a_real_move(tmp_path):
+    prog = tmp_path / "move.hmpl"
+    prog.write_text(
+        "void main() { Enable(0); Till(IsEnabled(0)); MoveAbs(0, 20.0); Till(IsInPos(0)); }\n"
+    )
+    out = tmp_path / "move.csv"
+    assert run_cli("--scope", "axis0.ref_pos,axis0.pos_fb", "--scope-out", out, prog) == 0
+    rows = [line.split(",") for line in out.read_text().splitlines()]
+    assert rows[0] == ["time", "axis0.ref_pos", "axis0.pos_fb"]
+    ref_pos = [float(r[1]) for r in rows[1:]]
+    assert ref_pos == sorted(ref_pos) and ref_pos[-1] == 20.0
 
 
 @pytest.mark.parametrize(

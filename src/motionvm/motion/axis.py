@@ -60,6 +60,7 @@ class Axis(AxisSettings, AxisCycle):
         self._source = PG
         self._queue: deque = deque()
         self._pvt: PvtTrajectory | None = None
+        self._deferred: tuple | None = None
         self._n = 0
         self._ramp_v = self._ramp_d = 0.0
         self._torque_pm = 0
@@ -80,6 +81,8 @@ class Axis(AxisSettings, AxisCycle):
         self._last_snap: tuple = ()
         self._still = 0
         self._wake_count = 0
+        self._fast_ok: bool | None = None
+        self._band: tuple = (0.0, 0.0, 0, -1)
         self._rest_after = getattr(self.drive.mechanics, "delay_cycles", 0) + 3
 
     # ---- checks ---------------------------------------------------------------------
@@ -126,7 +129,11 @@ class Axis(AxisSettings, AxisCycle):
         self.ref_pos, self.ref_vel, self.ref_acc = self.pos_fb, 0.0, 0.0
         self._torque_pm = 0
         self.drive.target_torque = 0
-        self.halted = self.stopping = False
+        self._deferred = None
+        if self.halted:
+            self.halted = False
+            self.pg.set_velocity_scale(self.vel_scale / 100.0)
+        self.stopping = False
         self.moving = self.in_pos = False
 
     # ---- power (5.2.1-5.2.3) --------------------------------------------------------
@@ -246,8 +253,17 @@ class Axis(AxisSettings, AxisCycle):
             self._accepted()
 
     def _start(self, cmd: tuple) -> None:
+        """Start `cmd` now. A new move ends a Halt; at a velocity scale of 0 a move from
+        rest waits (moving) until the scale is raised, as the generator would drop it."""
         kind, arg = cmd
         self._accepted()
+        self._deferred = None
+        if self.halted:
+            self.halted = False
+            self.pg.set_velocity_scale(self.vel_scale / 100.0)
+        if kind != "pvt" and self.pg.velocity_scale == 0.0 and self.pg.is_done:
+            self._deferred = cmd
+            return
         if kind == "pvt":
             self._source = PVT
             self._pvt = arg
@@ -274,6 +290,7 @@ class Axis(AxisSettings, AxisCycle):
         """Stop at the maximum deceleration (or `decel`); clears the path planning."""
         self.wake()
         self._queue.clear()
+        self._deferred = None
         if not self.enabled or not self.moving:
             return
         decel = self.pg.d_max if decel is None else decel

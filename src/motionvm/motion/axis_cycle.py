@@ -88,6 +88,7 @@ class AxisCycle:
             self._still = 0
         if self.fast_path and fast_step(self):
             return
+        self._fast_ok = None
         d = self.drive
         self._cycle += 1
         if self.enabled:
@@ -200,7 +201,7 @@ class AxisCycle:
             return
         src = self._source
         if src == PG:
-            moving = not self.pg.is_done or bool(self._queue)
+            moving = not self.pg.is_done or bool(self._queue) or self._deferred is not None
         elif src == TORQUE:
             moving = self._torque_pm != 0
         else:
@@ -300,6 +301,7 @@ class AxisCycle:
     def wake(self) -> None:
         """Leave rest (every command calls this)."""
         self._wake_count += 1
+        self._fast_ok = None
         self._rest = False
         self._still = 0
 

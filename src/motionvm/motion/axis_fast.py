@@ -16,8 +16,11 @@ It reads and writes the drive's internal state; a change to `Cia402Drive._move`,
 
 from __future__ import annotations
 
+import math
+
 from motionvm.drives.mechanics import TWO_PI, IdealMechanics
 from motionvm.drives.objects import (
+    DI_INDEX_PULSE,
     ERR_FOLLOWING,
     MODE_CSP,
     SW_FOLLOWING_ERROR,
@@ -53,9 +56,48 @@ def eligible(axis) -> bool:
     )
 
 
+def _band(s, x: float, inputs: int) -> tuple[float, float, int, int]:
+    """(lo, hi, bits, external): on lo < x < hi no limit, home or index edge lies, and the
+    inputs are `bits | external` (no index pulse), as `Sensors.update` computes them."""
+    lo, hi = -math.inf, math.inf
+    for edge in (s.negative_limit, s.positive_limit, s.home_low, s.home_high):
+        if edge is not None:
+            if edge < x:
+                lo = max(lo, edge)
+            elif edge > x:
+                hi = min(hi, edge)
+            else:
+                return (0.0, 0.0, 0, -1)  # on an edge: no band
+    spacing = s.index_spacing
+    if spacing:
+        n = math.floor((x - s.index_offset) / spacing)
+        lo = max(lo, s.index_offset + n * spacing)
+        hi = min(hi, s.index_offset + (n + 1) * spacing)
+    margin = 1e-6 * max(1.0, abs(x))  # far above the rounding of the floor() above
+    bits = inputs & ~(DI_INDEX_PULSE | s.external)
+    return (lo + margin, hi - margin, bits, s.external)
+
+
+def _inputs(axis, s, x_0: float, x_1: float) -> int:
+    """`Sensors.update(x_0, x_1)`, skipped while both positions lie inside the last band."""
+    lo, hi, bits, external = axis._band
+    if lo < x_1 < hi and lo < x_0 < hi and external == s.external:
+        return bits | external
+    inputs = s.update(x_0, x_1)
+    axis._band = _band(s, x_1, inputs)
+    return inputs
+
+
 def fast_step(axis) -> bool:
     """One cycle of `axis` on the fast path; False (and nothing done) if not eligible."""
-    if not eligible(axis):
+    ok = axis._fast_ok
+    if ok is None:
+        ok = axis._fast_ok = eligible(axis)
+    if not ok:
+        return False
+    d = axis.drive
+    if d._fault is not None or d.controlword != _CW_ENABLE or d.mode != MODE_CSP or d.sensors.tp_function:
+        axis._fast_ok = None
         return False
     axis._cycle += 1
     dt = axis.dt
@@ -67,7 +109,6 @@ def fast_step(axis) -> bool:
         elif p <= axis.sw_left and v < 0.0:
             axis._limit_stop(st.SWLL, st.FS_SW_LEFT)
     c = round((p + axis.pos_offset) * axis.cpu)
-    d = axis.drive
     tp = d.target_position = ((c + 0x80000000) & 0xFFFFFFFF) - 0x80000000
     d.controlword = _CW_ENABLE
     # Cia402Drive._move, CSP
@@ -103,7 +144,7 @@ def fast_step(axis) -> bool:
     d.position_demand = ((demand + 0x80000000) & 0xFFFFFFFF) - 0x80000000
     d.following_error = fe = ((demand - enc + 0x80000000) & 0xFFFFFFFF) - 0x80000000
     s = d.sensors
-    di = d.digital_inputs = s.update(d._x_prev, x) if s.has_switches else s.external
+    di = d.digital_inputs = _inputs(axis, s, d._x_prev, x) if s.has_switches else s.external
     d._x_prev = x
     if abs(fe) > d.following_error_window:
         d.inject_fault(ERR_FOLLOWING)
@@ -123,7 +164,14 @@ def fast_step(axis) -> bool:
     axis.vel_fb = vel_a / axis.cpu
     if di != axis._di:
         axis._hw_inputs(di)
-    axis._enabled_checks()
+    if axis.fault_status & (st.FS_HW_RIGHT | st.FS_HW_LEFT) or axis.ignore_pe:
+        axis._enabled_checks()
+    else:
+        err = p - axis.pos_fb
+        if err > axis.max_pos_err or -err > axis.max_pos_err:
+            axis._fault_disable(st.PERR, st.FS_POSITION_ERROR)
+    if axis.error_stop:
+        axis._fast_ok = None
     if axis.moving and not axis.pg.is_done:
         axis.in_pos = False
         axis._in_pos_count = 0

@@ -138,6 +138,8 @@ class AxisSettings:
         self.vel_scale = percent
         if not self.halted:
             self.pg.set_velocity_scale(percent / 100.0)
+            if percent > 0.0 and self._deferred is not None:
+                self._start(self._deferred)
 
     def set_rollover(self, value: float) -> None:
         """Single-turn range [mm or deg], 0 = off; only while disabled (5.3.39)."""

@@ -34,6 +34,7 @@ DIRECTIVES = (
     "pragma",
 )
 MAX_EXPANSIONS = 200_000  # macro expansions in one text region before we give up
+MAX_TOKENS = 2_000_000  # tokens made by substitutions in one text region
 MAX_NESTING = 200  # nested macro calls in arguments
 
 _EMPTY: frozenset[str] = frozenset()
@@ -130,6 +131,7 @@ class Preprocessor:
             "_TASKID_": Macro("_TASKID_", here, [Token("int", str(task_id), here, task_id)])
         }
         self._expansions = 0
+        self._tokens_made = 0
         self._nesting = 0
 
     # ------------------------------------------------------------ files
@@ -145,7 +147,7 @@ class Preprocessor:
             line = toks[ds].pos.line
             self._flush_errors(st, line - 1, active)
             if active and ds > prev:
-                self._expansions = 0
+                self._expansions = self._tokens_made = 0
                 self.out.extend(self.expand(toks[prev:ds]))
             end_line = toks[de - 1].pos.line
             self._flush_errors(st, end_line, active)
@@ -153,7 +155,7 @@ class Preprocessor:
             prev = de
         self._flush_errors(st, 1 << 60, active)
         if active and prev < len(toks):
-            self._expansions = 0
+            self._expansions = self._tokens_made = 0
             self.out.extend(self.expand(toks[prev:]))
         for c in st.conds:
             self.sink.error(c.pos, "unterminated #if (no matching #endif)")
@@ -451,6 +453,10 @@ class Preprocessor:
             if self._expansions >= MAX_EXPANSIONS:
                 if self._expansions == MAX_EXPANSIONS:
                     self.sink.error(t.pos, f"macro expansion of '{t.text}' too large")
+                # give up expanding: the rest goes to the parser as it is
+                out.append(t)
+                out.extend(reversed(stack))
+                out.extend(toks[src.next :])
                 return out
             if m.params is None:
                 body = self._subst(m, None, hs | {m.name}, t.pos, hs_map)
@@ -555,6 +561,12 @@ class Preprocessor:
                         expanded[k] = self._expand_argument(m, args[k], pos, hs_map)
                     res.extend(expanded[k])
                 i += 1
+        self._tokens_made += len(res)
+        if self._tokens_made > MAX_TOKENS:
+            if self._expansions < MAX_EXPANSIONS:
+                self.sink.error(pos, f"macro expansion of '{m.name}' too large")
+            self._expansions = MAX_EXPANSIONS + 1
+            return []
         if any(t is _PASTE for t in res):
             res = self._apply_pastes(res, pos)
         out: list[Token] = []
@@ -572,7 +584,6 @@ class Preprocessor:
     ) -> list[Token]:
         if self._nesting >= MAX_NESTING:
             self.sink.error(pos, f"macro calls nested more than {MAX_NESTING} deep in '{m.name}'")
-            self._expansions = MAX_EXPANSIONS  # give up on the rest of this text
             return list(arg)
         self._nesting += 1
         try:

@@ -112,9 +112,12 @@ class Drive:
         self._axis_slots = {SYS_BASE[k]: k for k in ("X_trg", "X_jvl", "X_stop_m", "X_vel_max", "X_acc", "X_dcc", "X_new_sm_fac")}
         for slot in self._axis_slots:
             self.sysvars.hooks[slot] = self._axis_write
+        self.lcd = bytearray()
+        """Every byte written to `lcdout`, in order."""
+        self.sysvars.hooks[SYS_BASE["lcdout"]] = self._lcd_write
         self._bits = {k: lookup(k).address for k in ("x_run", "x_home", "LEFT_LIM", "X_LL")}  # type: ignore[union-attr]
         self.inputs: dict[int, int] = {}
-        self._cur = 0
+        self._cur = N_TASKS - 1
         self._left = 0
         self.reset()
 
@@ -144,7 +147,7 @@ class Drive:
         self.phase = 0
         S[self._slot["fclk"]] = self.config.fclk_start
         self.lock_owner = None
-        self._cur, self._left = 0, 0
+        self._cur, self._left = N_TASKS - 1, 0  # the first phase goes to the lowest task
         self._refresh_inputs()
         for n, pc in sorted(self.program.tasks.items()):
             self._launch(self.tasks[n], pc, f"#task/{n}")
@@ -163,6 +166,13 @@ class Drive:
                 self._launch(t, pc, label)
                 return t.id
         raise ValueError(f"refused: all {N_TASKS} tasks are busy")
+
+    def start_top(self, task: int = 0) -> None:
+        """Run the program from its first statement on `task` (tests, `--start top`)."""
+        t = self.tasks[task]
+        if t.gen is not None:
+            raise ValueError(f"refused: task {task} is running")
+        self._launch(t, 0, "")
 
     def kill(self, n: int) -> None:
         """Stop task n (killTask, or `kill n;` from another task)."""
@@ -222,6 +232,11 @@ class Drive:
     def _axis_write(self, slot: int, value: int | float) -> None:
         self.axis.write(self._axis_slots[slot], value)
         self._sync_axis()
+
+    def _lcd_write(self, slot: int, value: int | float) -> None:
+        byte = int(value) & 0xFF  # an 8-bit output register: the low byte is sent
+        self.sysvars.S[slot] = byte
+        self.lcd.append(byte)
 
     def _launch(self, t: Task, pc: int, label: str) -> None:
         t.sp = self.mem.stack_base(t.id)

@@ -181,6 +181,10 @@ class BodyLowerer:
             seg = self.new_segment()
             for label, offset in land:
                 self.tables[label][offset] = seg
+        if _reads_clock(s):
+            # Pay for the statements before it first, so `t0 = fclk;` sees the right time.
+            self.flush()
+            self.cur.append(_check_budget())
         getattr(self, "s_" + type(s).__name__)(s, flat)
 
     def s_Label(self, s: n.Label, flat: bool) -> None:
@@ -399,6 +403,22 @@ class BodyLowerer:
             test = ast.Compare(left=nm("pc"), ops=[ast.LtE()], comparators=[const(k)])
             chain.append(ast.If(test=test, body=seg, orelse=[]))
         return [ast.While(test=const(True), body=chain + tail, orelse=[])]
+
+
+def _reads_clock(node: object) -> bool:
+    """True if a statement (not counting nested bodies) reads fclk or tests TOUT."""
+    if isinstance(node, n.VarRef):
+        return node.name.lower() == "fclk"
+    if isinstance(node, n.Relation) and node.op == "TOUT":
+        return True
+    if isinstance(node, tuple):
+        return any(_reads_clock(x) for x in node)
+    fields = getattr(node, "__dataclass_fields__", None)
+    if not fields:
+        return False
+    return any(
+        _reads_clock(getattr(node, f)) for f in fields if f not in ("pos", "body", "then_body", "else_body")
+    )
 
 
 def _walk(items: tuple[n.Item, ...]):

@@ -301,16 +301,27 @@ class AxisLib(Library):
 
     # ------------------------------------------------------------ 5.4 status
 
+    # the three the manual's idioms poll every cycle (Till(IsInPos(a))) take a short path
+
     @builtin()
     def IsEnabled(self, axis_id: int) -> int:
+        axes = self.rt.controller.motion.axes
+        if 0 <= axis_id < len(axes):
+            return 1 if axes[axis_id].enabled else 0
         return self._flag(axis_id, "enabled")
 
     @builtin()
     def IsMoving(self, axis_id: int) -> int:
+        axes = self.rt.controller.motion.axes
+        if 0 <= axis_id < len(axes):
+            return 1 if axes[axis_id].moving else 0
         return self._flag(axis_id, "moving")
 
     @builtin()
     def IsInPos(self, axis_id: int) -> int:
+        axes = self.rt.controller.motion.axes
+        if 0 <= axis_id < len(axes):
+            return 1 if axes[axis_id].in_pos else 0
         return self._flag(axis_id, "in_pos")
 
     @builtin()
