@@ -236,3 +236,8 @@ def test_lex_fragment():
     toks = lex_fragment("x1", pos)
     assert toks is not None and [(t.kind, t.text, t.pos) for t in toks] == [("name", "x1", pos)]
     assert lex_fragment('"abc', pos) is None
+
+
+def test_too_many_errors_do_not_escape():
+    toks, errors = lex("@ " * 50 + "x")
+    assert len(errors) == 20 and toks[-2].text == "x"

@@ -349,3 +349,57 @@ def test_macro_expansion_blowup_is_stopped():
 
 def test_crlf_line_ends():
     assert ok("#define A \\\r\n 1\r\nint x = A;\r\n") == "int x = 1 ;"
+
+
+def test_c_standard_example_3():
+    # C11 6.10.3.5 EXAMPLE 3, token for token
+    text = r"""#define x 3
+#define f(a) f(x * (a))
+#undef x
+#define x 2
+#define g f
+#define z z[0]
+#define h g(~
+#define m(a) a(w)
+#define w 0,1
+#define t(a) a
+#define p() int
+#define q(x) x
+#define r(x,y) x ## y
+#define str(x) # x
+f(y+1) + f(f(z)) % t(t(g)(0) + t)(1);
+g(x+(3,4)-w) | h 5) & m
+(f)^m(m);
+p() i[q()] = { q(1), r(2,3), r(4,), r(,5), r(,) };
+char c[2][6] = { str(hello), str() };
+"""
+    expected = """f(2 * (y+1)) + f(2 * (f(2 * (z[0])))) % f(2 * (0)) + t(1);
+f(2 * (2+(3,4)-0,1)) | f(2 * (~ 5)) & f(2 * (0,1))^m(0,1);
+int i[] = { 1, 23, 4, 5, };
+char c[2][6] = { "hello", "" };"""
+    assert ok(text).replace(" ", "") == expected.replace(" ", "").replace("\n", "")
+
+
+def test_c_standard_example_4_stringize_and_glue():
+    text = r"""#define str(s) # s
+#define xstr(s) str(s)
+#define debug(s, t) printf("x" # s "= %d, x" # t "= %s", \
+ x ## s, x ## t)
+#define INCFILE(n) vers ## n
+#define glue(a, b) a ## b
+#define xglue(a, b) glue(a, b)
+#define HIGHLOW "hello"
+#define LOW LOW ", world"
+debug(1, 2);
+fputs(str(strncmp("abc\0d", "abc", '\4') // this goes away
+ == 0), s);
+xstr(INCFILE(2).h)
+glue(HIGH, LOW);
+xglue(HIGH, LOW)
+"""
+    assert ok(text).split(" ; ") == [
+        'printf ( "x" "1" "= %d, x" "2" "= %s" , x1 , x2 )',
+        'fputs ( "strncmp(\\"abc\\\\0d\\", \\"abc\\", \'\\\\4\') == 0" , s )',
+        '"vers2.h" "hello"',
+        '"hello" ", world"',
+    ]

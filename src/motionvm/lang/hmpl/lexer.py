@@ -14,7 +14,7 @@ from contextlib import contextmanager
 from dataclasses import dataclass, field
 
 from motionvm.lang.hmpl.tokens import KEYWORDS, Token
-from motionvm.source.diagnostics import DiagnosticSink
+from motionvm.source.diagnostics import DiagnosticSink, TooManyErrors
 from motionvm.source.files import SourceFile, SourcePos
 
 PUNCTUATORS = [
@@ -156,8 +156,11 @@ def tokenize(sf: SourceFile, sink: DiagnosticSink) -> list[Token]:
     """All tokens of a file, ending with an 'eof' token; lexical errors go to `sink`."""
     with gc_paused():
         sc = scan(sf)
-    for pos, msg, _ in sc.errors:
-        sink.error(pos, msg)
+    try:
+        for pos, msg, _ in sc.errors:
+            sink.error(pos, msg)
+    except TooManyErrors:
+        pass
     sc.tokens.append(Token("eof", "", end_pos(sf)))
     return sc.tokens
 

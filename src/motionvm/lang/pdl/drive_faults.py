@@ -21,12 +21,18 @@ _PYTHON_FAULTS = {
 def fault_line(program: PdlProgram, exc: BaseException) -> tuple[str, int]:
     """(file, line) of the PDL statement that raised `exc`."""
     tb = exc.__traceback__
-    lineno = 0
+    lines: list[tuple[int, int]] = []
     while tb is not None:
-        if tb.tb_frame.f_code.co_filename == program.path:
-            lineno = tb.tb_lineno
+        code = tb.tb_frame.f_code
+        if code.co_filename == program.path:
+            lines.append((tb.tb_lineno, code.co_firstlineno))
         tb = tb.tb_next
-    return program.where(lineno) if lineno else (program.path, 0)
+    if not lines:
+        return program.path, 0
+    lineno, first = lines[-1]
+    if lineno == first and len(lines) > 1:
+        lineno = lines[-2][0]  # a procedure's entry (frame set-up) faults at its call
+    return program.where(lineno)
 
 
 def fault_message(exc: BaseException) -> str:
