@@ -64,7 +64,7 @@ class Axis(AxisSettings, AxisCycle):
         self._n = 0
         self._ramp_v = self._ramp_d = 0.0
         self._torque_pm = 0
-        self._reset_pulse = False
+        self._clearing: int | None = None  # cycles spent resetting a drive fault
         self._enable_cycles = 0
         self._in_pos_count = 0
         self._cycle = 0
@@ -155,13 +155,23 @@ class Axis(AxisSettings, AxisCycle):
         self.enabled = self._enabling = False
 
     def reset(self) -> None:
-        """Leave error stop: clear the fault bits and reset a drive fault (5.2.3)."""
+        """Leave error stop: clear the fault bits (5.2.3).
+
+        A drive fault is reset first: the controlword's fault reset bit is pulsed until
+        the drive leaves Fault (after its fault reaction); the axis stays in error stop
+        until then, or fails with eERR_AXIS_DRIVE_CLEAR_ERROR_TOUT after the enable
+        timeout (e.g. a lost encoder).
+        """
         self.wake()
-        if not self.error_stop and not self.fault_status & st.FS_DRIVE_FAULT:
+        if self.fault_status & st.FS_DRIVE_FAULT:
+            if self._clearing is None:
+                self._clearing = 0
             return
+        self._clear_errors()
+
+    def _clear_errors(self) -> None:
         self.error_stop = False
         self.fault_status &= ~(st.FS_ERROR_STOP | st.FS_POSITION_ERROR | st.FS_SW_LEFT | st.FS_SW_RIGHT)
-        self._reset_pulse = True
 
     # ---- moves (5.2.4-5.2.11) -------------------------------------------------------
 

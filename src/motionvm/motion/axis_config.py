@@ -14,7 +14,7 @@ Every key has a default, so `{}` is the default machine's axis: a linear axis of
 | max_pos_err | mm | 10 | position error protection range |
 | inpos_radius | mm | 0.01 | in-position target radius |
 | inpos_debounce_ms | ms | 1 | in-position debounce time |
-| hw_left, hw_right | mm or false | -1050, 1050 | limit switch positions (false: none) |
+| hw_left, hw_right | mm or false | -1050, 1050 | limit switch positions (false: none; rotary: none) |
 | home_pos, home_width | mm | 0, 5 | home switch active on [home_pos, home_pos + home_width] |
 | index_spacing, index_offset | mm | 10, 0 | encoder index pulses at offset + n * spacing |
 | vel_limit, acc_limit | mm/s, mm/s^2 | 5000, 1000000 | protection range of PVT motion |
@@ -125,6 +125,8 @@ def create(table: dict) -> AxisConfig:
         raise AxisConfigError("type", f"type = {kind!r}: must be \"linear\" or \"rotary\"")
     rotary = kind == "rotary"
     c = AxisConfig(rotary=rotary, counts_per_unit=1000.0 if rotary else 10000.0)
+    if rotary:  # a rotary table turns on: no limit switches unless given
+        c.hw_left = c.hw_right = None
     c.counts_per_unit = _number(table, "counts_per_unit", c.counts_per_unit, positive=True)
     for key in ("max_vel", "max_acc", "max_dec", "kill_dec", "max_pos_err", "inpos_radius",
                 "vel_limit", "acc_limit", "enable_timeout_ms", "torque_constant"):

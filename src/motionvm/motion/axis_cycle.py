@@ -110,9 +110,8 @@ class AxisCycle:
             cw = CW_ENABLE
         else:
             cw = self._disabled_controlword()
-        if self._reset_pulse:
-            cw |= CW_FAULT_RESET
-            self._reset_pulse = False
+        if self._clearing is not None:
+            cw |= self._fault_reset_bit()
         d.controlword = cw
         d.step(self.dt)
         self._feedback()
@@ -135,6 +134,15 @@ class AxisCycle:
             return CW_DISABLE
         return CW_SHUTDOWN if d.state in (State.SWITCH_ON_DISABLED, State.NOT_READY_TO_SWITCH_ON) else CW_ENABLE
 
+    def _fault_reset_bit(self) -> int:
+        """Controlword bit 7 while a drive fault is reset: a rising edge every other cycle."""
+        self._clearing += 1
+        if self._clearing > self._enable_timeout:
+            self._clearing = None
+            self.last_error = st.axis_error(st.DRIVE_CLEAR_ERROR_TOUT, self.axis_id)
+            return 0
+        return CW_FAULT_RESET if self._clearing % 2 else 0
+
     # ---- 5. feedback and faults -----------------------------------------------------
 
     def _feedback(self) -> None:
@@ -153,7 +161,11 @@ class AxisCycle:
             if not self.error_stop:
                 self._fault_disable(st.DRIVE_FAULT, 0)
         else:
-            self.fault_status &= ~st.FS_DRIVE_FAULT
+            if self.fault_status & st.FS_DRIVE_FAULT:
+                self.fault_status &= ~st.FS_DRIVE_FAULT
+                if self._clearing is not None:
+                    self._clearing = None
+                    self._clear_errors()
             if self.enabled and state is not State.OPERATION_ENABLED:
                 self._fault_disable(st.DRIVE_ABNORMAL_DISABLE, 0)
         if self._enabling and state is State.OPERATION_ENABLED:
@@ -201,7 +213,10 @@ class AxisCycle:
             return
         src = self._source
         if src == PG:
-            moving = not self.pg.is_done or bool(self._queue) or self._deferred is not None
+            # region I lasts while the generator outputs new positions: until the
+            # first cycle that repeats the last one (the velocity is then 0)
+            moving = (not self.pg.is_done or self.ref_vel != 0.0 or bool(self._queue)
+                      or self._deferred is not None)  # fmt: skip
         elif src == TORQUE:
             moving = self._torque_pm != 0
         else:
@@ -214,8 +229,8 @@ class AxisCycle:
         if self.moving:  # region I ends
             self.moving = False
             self.stopping = False
-            self.move_time_ms = (self._cycle - self._cmd_cycle) * self.dt * 1000.0
-            self._end_cycle = self._cycle
+            self._end_cycle = end = max(self._cycle - 1, self._cmd_cycle)
+            self.move_time_ms = (end - self._cmd_cycle) * self.dt * 1000.0
         err = self.ref_pos - self.pos_fb
         if -self.inpos_radius <= err <= self.inpos_radius:
             self._in_pos_count += 1
@@ -263,7 +278,7 @@ class AxisCycle:
     # ---- resting --------------------------------------------------------------------
 
     def _idle_candidate(self) -> bool:
-        if self.moving or self._enabling or self._reset_pulse:
+        if self.moving or self._enabling or self._clearing is not None:
             return False
         if self.enabled:
             return self.in_pos and self._source == PG and not self._queue

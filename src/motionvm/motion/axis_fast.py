@@ -42,7 +42,7 @@ def eligible(axis) -> bool:
         axis.enabled
         and axis._source == 0
         and axis.op_mode == MODE_CSP
-        and not axis._reset_pulse
+        and axis._clearing is None
         and not axis._queue
         and d.state is _OE
         and d._settled is _OE

@@ -181,7 +181,9 @@ class AxisSettings:
 
     @property
     def accelerating(self) -> bool:
-        return self.moving and self.ref_vel * self.ref_acc > 0.0
+        """|ref_vel| grows; an |ref_acc| below 1e-6 * max_acc is rounding of a cruise."""
+        a = self.ref_acc
+        return self.moving and self.ref_vel * a > 0.0 and abs(a) > 1e-6 * self.pg.a_max
 
     @property
     def motion_status(self) -> int:

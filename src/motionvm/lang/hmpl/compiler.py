@@ -6,6 +6,7 @@ from dataclasses import dataclass
 
 from motionvm.lang.hmpl.cmemory import Memory
 from motionvm.lang.hmpl.lib import implemented_builtins
+from motionvm.lang.hmpl.lexer import gc_paused
 from motionvm.lang.hmpl.parser import parse_file
 from motionvm.lang.hmpl.program import CompiledProgram, ProgramCompiler, Unit
 from motionvm.source.diagnostics import DiagnosticSink
@@ -43,4 +44,5 @@ def compile_tasks(
     if sink.has_errors:
         return None, mem
     pc = ProgramCompiler(mem, sink, implemented_builtins())
-    return pc.compile(units), mem
+    with gc_paused():  # lowering builds many acyclic AST nodes; the collector only slows it
+        return pc.compile(units), mem

@@ -93,6 +93,7 @@ _MASTER = re.compile(
             r"(?P<chr>'(?:[^'\\\n]|\\(?s:.))*')",
             r"(?P<uchr>'(?:[^'\\\n]|\\(?s:.))*)",
             r"(?P<cont>\\\n)",
+            r"(?P<tail>\Z)",  # blanks at the very end of a file without a final newline
             r"(?P<bad>(?s:.))",
         ]
     )
@@ -212,6 +213,8 @@ def scan(sf: SourceFile) -> Scan:
     )
     for m in _MASTER.finditer(text):
         kind = m.lastgroup
+        if kind == "tail":
+            continue
         if kind == "name" or kind == "punct" or kind == "dec":
             # the hot path: build the frozen Token/SourcePos through their slot
             # descriptors, about twice as fast as the dataclass __init__

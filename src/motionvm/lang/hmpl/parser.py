@@ -450,7 +450,8 @@ class Parser:
 
     # BNF: declaration_specifiers = { "const" | "volatile" | "static" | "extern" | type_specifier }+
     # BNF: type_specifier = "void" | "char" | "short" | "int" | "long" | "float" | "double"
-    # BNF:     | "signed" | "unsigned" | INTN_T | struct_or_union_specifier | TYPEDEF_NAME
+    # BNF:     | "signed" | "unsigned" | INTN_T | struct_or_union_specifier | enum_specifier
+    # BNF:     | TYPEDEF_NAME
     def _parse_declaration_specifiers(self, scope: str) -> tuple[n.TypeRef, str | None]:
         start = self._tok()
         words: list[str] = []
@@ -531,7 +532,7 @@ class Parser:
             return f"{kw.text} {tag}", sd
         return kw.text, sd
 
-    # BNF: struct_declaration_list = "{" { declaration_specifiers declarator { "," declarator } ";" } "}"
+    # BNF: struct_declaration_list = "{" { struct_declaration } "}"
     def _parse_struct_declaration_list(self) -> tuple[n.VarDecl, ...]:
         lbrace = self._expect("{")
         fields: list[n.VarDecl] = []

@@ -22,7 +22,8 @@ from motionvm.lang.hmpl import ctypes_ as ct
 from motionvm.lang.hmpl import nodes as n
 from motionvm.lang.hmpl.cmemory import Memory
 from motionvm.lang.hmpl.lower_expr import SemanticError
-from motionvm.lang.hmpl.lower_stmt import FunctionLowerer, _at
+from motionvm.lang.hmpl.lower_stmt import FunctionLowerer
+from motionvm.lang.hmpl.lower_util import at as _at
 from motionvm.lang.hmpl.lvalues import VIEW_NAMES, call, name, view_code
 from motionvm.lang.hmpl.symbols import FuncSym, Scope, VarSym
 from motionvm.source.diagnostics import DiagnosticSink, TooManyErrors

@@ -94,7 +94,7 @@ class PdlProgram:
 class ProgramLowering:
     """Lays out memory, lowers every body and assembles the module."""
 
-    def __init__(self, path: str, syms: Symbols) -> None:
+    def __init__(self, path: str, syms: Symbols, promote: bool = True) -> None:
         self.path = path
         self.syms = syms
         self.sys_base = SYS_BASE
@@ -103,6 +103,13 @@ class ProgramLowering:
         self.tables: dict[str, dict[int, int]] = {}
         self.keep: list[object] = []
         self._addresses = _label_addresses(syms.program.items)
+        self.promote = promote
+        """Keep global scalars in locals across loops (lower_cache); off for comparison runs."""
+        self.decl_position: dict[str, tuple[int, int]] = {}
+        decls = [d for d in syms.program.items if isinstance(d, n.VarDecl)]
+        for k, d in enumerate(decls):
+            for j, item in enumerate(d.items):
+                self.decl_position[item.name] = (k, j)
 
     # ------------------------------------------------------------ services for the bodies
 
@@ -266,6 +273,6 @@ def _label_addresses(items: tuple[n.Item, ...]) -> dict[int, int]:
     return out
 
 
-def lower_program(path: str, syms: Symbols) -> PdlProgram:
-    """Lower and compile a checked program."""
-    return ProgramLowering(path, syms).lower()
+def lower_program(path: str, syms: Symbols, promote: bool = True) -> PdlProgram:
+    """Lower and compile a checked program (`promote`: scalars in locals across loops)."""
+    return ProgramLowering(path, syms, promote).lower()

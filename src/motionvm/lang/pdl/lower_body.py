@@ -31,6 +31,7 @@ import ast
 from typing import TYPE_CHECKING
 
 from motionvm.lang.pdl import nodes as n
+from motionvm.lang.pdl.lower_cache import Promotion, promote
 from motionvm.lang.pdl.lower_expr import FLT, ExprLowering, assign, binop, call, const, nm, subscript
 from motionvm.lang.pdl.rt_memory import FLOAT
 from motionvm.lang.pdl.symbols import LabelSym, ProcSym, VarSym, code_units
@@ -57,10 +58,13 @@ def is_jumpy(s: object) -> bool:
     return False
 
 
-def _check_budget() -> ast.stmt:
-    """`if b <= 0: b = yield b`."""
+def _check_budget(promo: Promotion | None = None) -> ast.stmt:
+    """`if b <= 0: b = yield b`, saving and reloading promoted scalars around the yield."""
     test = ast.Compare(left=nm("b"), ops=[ast.LtE()], comparators=[const(0)])
-    return ast.If(test=test, body=[assign(nm("b", True), ast.Yield(value=nm("b")))], orelse=[])
+    body = [assign(nm("b", True), ast.Yield(value=nm("b")))]
+    if promo is not None:
+        body = promo.stores() + body + promo.loads()
+    return ast.If(test=test, body=body, orelse=[])
 
 
 class BodyLowerer:
@@ -168,7 +172,7 @@ class BodyLowerer:
         self.block(items, flat=False)
         self.flush()
         if back_edge:
-            self.cur.append(_check_budget())
+            self.cur.append(_check_budget(self.x.promo))
         out = self.cur or [ast.Pass()]
         self.cur, self.pending = saved_cur, saved_pending
         return out
@@ -349,8 +353,9 @@ class BodyLowerer:
         if not (flat and is_jumpy(s)):
             self.pending += 1
             self.flush()
+            promo = self.begin_promotion(s)
             body = self.native_block(s.body, 1, True)
-            self.emit([ast.While(test=self.x.cond(s.cond), body=body, orelse=[])], s.pos)
+            self.emit(self.end_promotion(promo, [ast.While(test=self.x.cond(s.cond), body=body, orelse=[])]), s.pos)
             return
         head = self.new_segment()
         self.pending += 1
@@ -369,9 +374,13 @@ class BodyLowerer:
         times = ast.BoolOp(op=ast.Or(), values=[binop(count, ast.BitAnd(), const(0xFFFF)), const(65536)])
         if not (flat and is_jumpy(s)):
             self.flush()
+            promo = self.begin_promotion(s)
             body = self.native_block(s.body, 1, True)
+            if promo is not None:
+                count, _ = self.x.read(s.count)
+                times = ast.BoolOp(op=ast.Or(), values=[binop(count, ast.BitAnd(), const(0xFFFF)), const(65536)])
             loop = ast.For(target=nm("_", True), iter=call("range", times), body=body, orelse=[])
-            self.emit([loop], s.pos)
+            self.emit(self.end_promotion(promo, [loop]), s.pos)
             return
         self.counter += 1
         c = f"_c{self.counter}"
@@ -385,6 +394,19 @@ class BodyLowerer:
         test = ast.Compare(left=nm(c), ops=[ast.Gt()], comparators=[const(0)])
         self.emit([dec, ast.If(test=test, body=again, orelse=[])], s.pos)
         self.new_segment()
+
+    def begin_promotion(self, s: n.Loop | n.While) -> Promotion | None:
+        """Keep the loop's global scalars in locals, if nothing else can see them (lower_cache)."""
+        if self.x.promo is not None or not self.prog.promote:
+            return None
+        self.x.promo = promote(self.prog, s)
+        return self.x.promo
+
+    def end_promotion(self, promo: Promotion | None, stmts: list[ast.stmt]) -> list[ast.stmt]:
+        if promo is None:
+            return stmts
+        self.x.promo = None
+        return promo.wrap(stmts)
 
     # ------------------------------------------------------------ assembly
 

@@ -35,6 +35,7 @@ from motionvm.lang.pdl.symbols import USER_MEMORY_WORDS, LabelSym, VarSym
 
 if TYPE_CHECKING:
     from motionvm.lang.pdl.lower import ProgramLowering
+    from motionvm.lang.pdl.lower_cache import Promotion
 
 # Value kinds: INT fits 32 bits, I16 fits 16 bits, WIDE may need wrapping, FLT is float.
 INT, I16, WIDE, FLT = "int", "i16", "wide", "float"
@@ -78,6 +79,19 @@ _BINOPS = {"+": ast.Add, "-": ast.Sub, "*": ast.Mult, "/": ast.Div, "&": ast.Bit
 _RELOPS = {"=": ast.Eq, "<>": ast.NotEq, "<": ast.Lt, ">": ast.Gt, "<=": ast.LtE, ">=": ast.GtE}
 
 
+def _store_local(local: str, bits: int, value: ast.expr, kind: str) -> list[ast.stmt]:
+    """`local = value`, rounded or wrapped to the variable's width like a memory store."""
+    if kind == FLT:
+        return [assign(nm(local, True), call("_rnd", value, const(bits)))]
+    out = [assign(nm(local, True), value)]
+    if kind == I16 or (kind == INT and bits == 32):
+        return out
+    lo, hi = (-0x8000, 0x7FFF) if bits == 16 else (-0x8000_0000, 0x7FFF_FFFF)
+    inside = ast.Compare(left=const(lo), ops=[ast.LtE(), ast.LtE()], comparators=[nm(local), const(hi)])
+    fix = assign(nm(local, True), call("_w16" if bits == 16 else "_w32", nm(local)))
+    return out + [ast.If(test=ast.UnaryOp(op=ast.Not(), operand=inside), body=[fix], orelse=[])]
+
+
 def storage_kind(sym: VarSym) -> int:
     """LONG, SHORT or FLOAT: how the variable's elements are stored."""
     if sym.pointer or sym.type in ("long", "instate"):
@@ -93,6 +107,19 @@ class ExprLowering:
         self.syms = prog.syms
         self.frame = frame
         """Frame slot of each local/parameter VarSym (keyed by id), None at top level."""
+        self.promo: Promotion | None = None
+        """Scalars held in Python locals while lowering a promoted loop (lower_cache)."""
+
+    def promoted(self, v: n.VarRef | n.Deref) -> tuple[str, int] | None:
+        """(local name, bits) if `v` is a scalar the current loop keeps in a local."""
+        if self.promo is None or not isinstance(v, n.VarRef) or v.index is not None:
+            return None
+        sym = self.sym(v)
+        if not isinstance(sym, VarSym) or sym.scope != "global" or sym.type in ("state", "float"):
+            return None
+        kind = storage_kind(sym)
+        local = self.promo.local_of("H" if kind == SHORT else "M", self.prog.global_index(sym))
+        return (local, 16 if kind == SHORT else 32) if local else None
 
     # ------------------------------------------------------------ names
 
@@ -157,6 +184,9 @@ class ExprLowering:
             assert isinstance(sym, VarSym), op
             if sym.type == "state":
                 return subscript("ST", const(self.prog.state_bit(sym))), I16
+            local = self.promoted(op)
+            if local is not None:
+                return nm(local[0]), (I16 if local[1] == 16 else INT)
             view, ix, kind = self.element(op)
             vk = FLT if kind == FLOAT else (I16 if kind == SHORT else INT)
             if view == "S" and sym.type == "short":
@@ -306,6 +336,9 @@ class ExprLowering:
         if isinstance(t, n.Deref):
             fn = "_stf" if sym.type == "float" else "_stl"
             return [ast.Expr(call(fn, self.deref_pointer(t), value))]
+        local = self.promoted(t)
+        if local is not None:
+            return _store_local(local[0], local[1], value, kind)
         view, ix, skind = self.element(t, store=True)
         if view == "S":
             return [ast.Expr(call("_sw", ix, value))]

@@ -1,0 +1,211 @@
+"""Lower HMPL jumps: `break`, `continue`, `switch` with fall-through, `goto` and labels.
+
+A `switch` becomes a one-pass `while True:` whose groups test `matched or value == case`,
+so C fall-through and `break` keep their meaning; a `continue` inside it sets a flag, leaves
+the switch and continues the enclosing loop. `goto` raises `_Goto(k)`, caught by a
+dispatcher loop over the function's top-level label segments.
+"""
+
+from __future__ import annotations
+
+import ast
+import copy
+
+from motionvm.lang.hmpl import ctypes_ as ct
+from motionvm.lang.hmpl import nodes as n
+from motionvm.lang.hmpl.lower_expr import SemanticError
+from motionvm.lang.hmpl.lower_util import LoopCtx, at, backedge, countdown_init
+from motionvm.lang.hmpl.lvalues import call, const, name
+from motionvm.lang.hmpl.symbols import Scope
+
+
+class JumpLowering:
+    """Mixin of the function lowerer: break, continue, switch, goto."""
+
+    def _s_Break(self, s: n.Break) -> list[ast.stmt]:
+        if not self.loops:
+            raise self.fail(s.pos, "'break' outside a loop or switch")
+        return [ast.Break()]
+
+    def _s_Continue(self, s: n.Continue) -> list[ast.stmt]:
+        if not any(c.kind == "loop" for c in self.loops):
+            raise self.fail(s.pos, "'continue' outside a loop")
+        return self._continue_from(len(self.loops) - 1, s.pos)
+
+    def _continue_from(self, level: int, pos) -> list[ast.stmt]:
+        while level >= 0 and self.loops[level].kind == "switch":
+            sw = self.loops[level]
+            sw.flag_used = True
+            return [
+                ast.Assign(targets=[name(sw.flag, True)], value=ast.Constant(True)),
+                ast.Break(),
+            ]
+        if level < 0:
+            raise self.fail(pos, "'continue' outside a loop")
+        return [self._clone(x) for x in self.loops[level].cont]
+
+    @staticmethod
+    def _clone(node: ast.stmt) -> ast.stmt:
+        return copy.deepcopy(node)
+
+    def _s_Switch(self, s: n.Switch) -> list[ast.stmt]:
+        v = self.expr(s.expr)
+        if not v.type.is_integer:
+            raise self.fail(s.expr.pos, f"switch quantity is not an integer (it is '{v.type}')")
+        t = ct.promote(v.type)
+        sw, matched, flag = self.temp(), self.temp(), self.temp()
+        out: list[ast.stmt] = [
+            ast.Assign(targets=[name(sw, True)], value=self.convert(v, t, s.pos)),
+            ast.Assign(targets=[name(matched, True)], value=ast.Constant(False)),
+        ]
+        items = s.body.items if isinstance(s.body, n.Block) else (s.body,)
+        groups: list[tuple[list, list]] = []  # (labels, statements)
+        values: dict[int, object] = {}
+        for it in items:
+            if isinstance(it, (n.Case, n.Default)):
+                if groups and not groups[-1][1]:
+                    groups[-1][0].append(it)
+                else:
+                    groups.append(([it], []))
+                if isinstance(it, n.Case):
+                    try:
+                        cv = ct.wrap_int(self.const_int(it.value), t)
+                    except SemanticError:
+                        continue
+                    if cv in values:
+                        self.sink.error(it.pos, f"duplicate case value {cv}")
+                    values[cv] = it
+            elif groups:
+                groups[-1][1].append(it)
+            elif not isinstance(it, n.Empty):
+                self.sink.warning(it.pos, "statement before the first case label is never executed")
+        ctx = LoopCtx("switch", flag=flag)
+        self.loops.append(ctx)
+        saved = self.scope
+        self.scope = Scope(saved, "block")
+        try:
+            body: list[ast.stmt] = []
+            for labels, stmts in groups:
+                tests: list[ast.expr] = [name(matched)]
+                for lab in labels:
+                    if isinstance(lab, n.Default):
+                        others = ast.Tuple(elts=[const(k) for k in values], ctx=ast.Load())
+                        tests.append(
+                            ast.Compare(left=name(sw), ops=[ast.NotIn()], comparators=[others])
+                        )
+                    else:
+                        try:
+                            cv = ct.wrap_int(self.const_int(lab.value), t)
+                        except SemanticError:
+                            continue
+                        tests.append(
+                            ast.Compare(left=name(sw), ops=[ast.Eq()], comparators=[const(cv)])
+                        )
+                inner = [ast.Assign(targets=[name(matched, True)], value=ast.Constant(True))]
+                inner += self.stmts(stmts)
+                body.extend(
+                    at(
+                        [ast.If(test=ast.BoolOp(op=ast.Or(), values=tests), body=inner, orelse=[])],
+                        labels[0].pos,
+                    )
+                )
+        finally:
+            self.scope = saved
+            self.loops.pop()
+        body.append(ast.Break())
+        if ctx.flag_used:
+            out.append(ast.Assign(targets=[name(flag, True)], value=ast.Constant(False)))
+        out.append(ast.While(test=ast.Constant(True), body=body, orelse=[]))
+        if ctx.flag_used:
+            out.append(
+                ast.If(
+                    test=name(flag), body=self._continue_from(len(self.loops) - 1, s.pos), orelse=[]
+                )
+            )
+        return out
+
+    def _s_Case(self, s: n.Case) -> list[ast.stmt]:
+        raise self.fail(s.pos, "'case' label not directly inside a switch")
+
+    def _s_Default(self, s: n.Default) -> list[ast.stmt]:
+        raise self.fail(s.pos, "'default' label not directly inside a switch")
+
+    # ------------------------------------------------------------ goto
+
+    def function_body(self, body: n.Block) -> list[ast.stmt]:
+        """The body; with labels, a dispatcher loop over the segments between them.
+
+            _lbl = 0
+            while True:
+                try:
+                    if _lbl <= 0: <statements before the first label>
+                    if _lbl <= 1: <statements after label 1>
+                    break
+                except _Goto as _g:
+                    _lbl = _g.args[0]   # plus a budgeted back-edge
+
+        `goto L` raises `_Goto(index of L)`, so it leaves nested loops and switches too.
+        Labels must stand at the top level of the function body.
+        """
+        labels = [it for it in body.items if isinstance(it, n.Label)]
+        self.labels = {}
+        for lab in labels:
+            if lab.name in self.labels:
+                self.sink.error(lab.pos, f"duplicate label '{lab.name}'")
+            self.labels[lab.name] = len(self.labels) + 1
+        if not labels:
+            return self.block(body, "function")
+        saved = self.scope
+        self.scope = Scope(saved, "function")
+        try:
+            segments: list[list[ast.stmt]] = [[]]
+            for it in body.items:
+                if isinstance(it, n.Label):
+                    segments.append([])
+                    continue
+                segments[-1].extend(self.stmts([it]))
+        finally:
+            self.scope = saved
+        lbl, g, b = self.temp(), self.temp(), self.temp()
+        self.has_yield = True
+        tries: list[ast.stmt] = []
+        for k, seg in enumerate(segments):
+            test = ast.Compare(left=name(lbl), ops=[ast.LtE()], comparators=[ast.Constant(k)])
+            tries.append(ast.If(test=test, body=seg or [ast.Pass()], orelse=[]))
+        tries.append(ast.Break())
+        handler = ast.ExceptHandler(
+            type=name("_Goto"),
+            name=g,
+            body=[
+                ast.Assign(
+                    targets=[name(lbl, True)],
+                    value=ast.Subscript(
+                        value=ast.Attribute(value=name(g), attr="args", ctx=ast.Load()),
+                        slice=ast.Constant(0),
+                        ctx=ast.Load(),
+                    ),
+                ),
+            ]
+            + backedge(b),
+        )
+        loop = ast.While(
+            test=ast.Constant(True),
+            body=[ast.Try(body=tries, handlers=[handler], orelse=[], finalbody=[])],
+            orelse=[],
+        )
+        pre = [ast.Assign(targets=[name(lbl, True)], value=ast.Constant(0)), countdown_init(b)]
+        return at(pre + [loop], body.pos)
+
+    def _s_Goto(self, s: n.Goto) -> list[ast.stmt]:
+        k = getattr(self, "labels", {}).get(s.label)
+        if k is None:
+            from motionvm.source.suggest import did_you_mean
+
+            raise self.fail(
+                s.pos,
+                f"label '{s.label}' used but not defined{did_you_mean(s.label, list(getattr(self, 'labels', {})))}",
+            )
+        return [ast.Raise(exc=call("_Goto", ast.Constant(k)), cause=None)]
+
+    def _s_Label(self, s: n.Label) -> list[ast.stmt]:
+        raise self.fail(s.pos, f"label '{s.name}' must stand at the top level of the function body")

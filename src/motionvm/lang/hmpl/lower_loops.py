@@ -1,0 +1,370 @@
+"""Lower HMPL loops: `while`, `do`/`while`, `for`, with budgeted back-edges.
+
+A loop yields to the scheduler when the task's slice is used up: a local countdown
+charges the task budget every CHUNK iterations. Counting loops whose counter and bound
+the body leaves alone become `range` loops, in chunks of CHUNK values:
+
+    for (int i = 0; i < n; i++) s += a[i];
+becomes
+    _t1 = range(v_i, v_n, 1)
+    for _t2 in range(0, len(_t1), 64):
+        for v_i in _t1[_t2:_t2 + 64]:
+            v_s = ...
+        _budget -= 64
+        if _budget < 0:
+            yield
+"""
+
+from __future__ import annotations
+
+import ast
+
+from motionvm.lang.hmpl import ctypes_ as ct
+from motionvm.lang.hmpl import nodes as n
+from motionvm.lang.hmpl.lower_expr import SemanticError
+from motionvm.lang.hmpl.lower_util import CHUNK, LoopCtx, at, backedge, countdown_init
+from motionvm.lang.hmpl.lvalues import call, const, name
+from motionvm.lang.hmpl.symbols import Scope, VarSym
+
+
+class LoopLowering:
+    """Mixin of the function lowerer: loops."""
+
+    def _loop_body(self, body, cont: list[ast.stmt]) -> list[ast.stmt]:
+        self.has_yield = True  # every loop has a budgeted back-edge
+        self.loops.append(LoopCtx("loop", cont))
+        try:
+            return self.block(body)
+        finally:
+            self.loops.pop()
+
+    def _s_While(self, s: n.While) -> list[ast.stmt]:
+        test = self.cond(s.cond)
+        b = self.temp()
+        cont = backedge(b) + [ast.Continue()]
+        body = self._loop_body(s.body, cont) + backedge(b)
+        return [countdown_init(b), ast.While(test=test, body=body, orelse=[])]
+
+    def _s_DoWhile(self, s: n.DoWhile) -> list[ast.stmt]:
+        b = self.temp()
+        exit_ = [
+            ast.If(
+                test=ast.UnaryOp(op=ast.Not(), operand=self.cond(s.cond)),
+                body=[ast.Break()],
+                orelse=[],
+            )
+        ]
+        cont = at(exit_, s.cond.pos) + backedge(b) + [ast.Continue()]
+        body = self._loop_body(s.body, cont)
+        exit2 = [
+            ast.If(
+                test=ast.UnaryOp(op=ast.Not(), operand=self.cond(s.cond)),
+                body=[ast.Break()],
+                orelse=[],
+            )
+        ]
+        loop = ast.While(
+            test=ast.Constant(True), body=body + at(exit2, s.cond.pos) + backedge(b), orelse=[]
+        )
+        return [countdown_init(b), loop]
+
+    def _s_For(self, s: n.For) -> list[ast.stmt]:
+        saved = self.scope
+        self.scope = Scope(saved, "block")
+        try:
+            out: list[ast.stmt] = []
+            if s.init is not None:
+                out.extend(at(self.stmt(s.init), s.init.pos))
+            fast = self._range_for(s)
+            if fast is not None:
+                return out + fast
+            b = self.temp()
+            test = self.cond(s.cond) if s.cond is not None else ast.Constant(True)
+            step = (
+                at(self._s_ExprStmt(n.ExprStmt(s.step.pos, s.step)), s.step.pos)
+                if s.step is not None
+                else []
+            )
+            cont = step + backedge(b) + [ast.Continue()]
+            body = self._loop_body(s.body, cont)
+            step2 = (
+                at(self._s_ExprStmt(n.ExprStmt(s.step.pos, s.step)), s.step.pos)
+                if s.step is not None
+                else []
+            )
+            out.append(countdown_init(b))
+            out.append(ast.While(test=test, body=body + step2 + backedge(b), orelse=[]))
+            return out
+        finally:
+            self.scope = saved
+
+    def _range_for(self, s: n.For) -> list[ast.stmt] | None:
+        """`for (i = a; i < b; i += c)` with i and b untouched by the body -> `for v_i in range(...)`.
+
+        Only for a local int32/int64 (or increasing uint32) counter and a bound built from
+        constants and locals the body does not assign; the C value of i after the loop is
+        restored in the loop's `else` when i outlives the loop.
+        """
+        ivar = self._counter_of(s)
+        if ivar is None:
+            return None
+        sym = self.scope.lookup(ivar)
+        if (
+            not isinstance(sym, VarSym)
+            or sym.storage != "local"
+            or sym.type not in (ct.INT, ct.I64, ct.U32)
+        ):
+            return None
+        cond, step = s.cond, s.step
+        if not (
+            isinstance(cond, n.Binary)
+            and cond.op in ("<", "<=", ">", ">=")
+            and isinstance(cond.left, n.Name)
+            and cond.left.id == ivar
+        ):
+            return None
+        inc = self._step_of(step, ivar)
+        assigned = _assigned_names(s.body)
+        step_var = None
+        if (
+            inc is None
+            and isinstance(step, n.Assign)
+            and step.op == "+="
+            and isinstance(step.target, n.Name)
+            and step.target.id == ivar
+            and cond.op in ("<", "<=")
+            and self._invariant(step.value, assigned)
+        ):
+            try:
+                sv = self.expr(step.value)
+            except SemanticError:
+                return None
+            if not sv.type.is_integer or ct.common_arith(sym.type, sv.type) != sym.type:
+                return None
+            step_var = self.convert(sv, sym.type, step.pos)
+            inc = "var"
+        if inc is None:
+            return None
+        if inc != "var" and (
+            (inc > 0) != (cond.op in ("<", "<=")) or (inc < 0 and not sym.type.signed)
+        ):
+            return None
+        if ivar in assigned or not self._invariant(cond.right, assigned):
+            return None
+        try:
+            bound = self.expr(cond.right)
+        except SemanticError:
+            return None
+        if not bound.type.is_integer or ct.common_arith(sym.type, bound.type) != sym.type:
+            return None
+        stop = self.convert(bound, sym.type, cond.pos)
+        if cond.op in ("<=", ">="):
+            stop = ast.BinOp(
+                left=stop,
+                op=ast.Add() if inc == "var" or inc > 0 else ast.Sub(),
+                right=ast.Constant(1),
+            )
+        chunked = not _breaks_out(s.body)
+        b = self.temp()
+        cont = [ast.Continue()] if chunked else backedge(b) + [ast.Continue()]
+        start = self._start_range(s)
+        known = None
+        if start is not None and bound.rng is not None:
+            if inc == "var" or inc > 0:
+                known = (start[0], max(start[0], bound.rng[1] - (1 if cond.op == "<" else 0)))
+            else:
+                known = (min(start[1], bound.rng[0] + (1 if cond.op == ">" else 0)), start[1])
+        if known is not None:
+            self.known_ranges[sym.pyname] = known  # lets indexing skip its bounds check
+        try:
+            body = self._loop_body(s.body, cont) + ([] if chunked else backedge(b))
+        finally:
+            self.known_ranges.pop(sym.pyname, None)
+        pre: list[ast.stmt] = []
+        if inc == "var":
+            # a run-time step must be positive (0 or less would never reach the bound)
+            st = self.temp()
+            pre.append(ast.Assign(targets=[name(st, True)], value=step_var))
+            ok = ast.Compare(left=name(st), ops=[ast.Gt()], comparators=[ast.Constant(0)])
+            step_node = ast.IfExp(test=ok, body=name(st), orelse=call("_bad_step", name(st)))
+        else:
+            step_node = const(inc)
+        if chunked:
+            return pre + self._chunked_range(
+                sym, stop, step_node, body, outlives=not isinstance(s.init, n.DeclStmt)
+            )
+        pre.append(countdown_init(b))
+        rng = call("range", name(sym.pyname), stop, step_node)
+        outlives = not isinstance(s.init, n.DeclStmt)
+        orelse: list[ast.stmt] = []
+        if outlives:
+            r = self.temp()
+            pre.append(ast.Assign(targets=[name(r, True)], value=rng))
+            rng = name(r)
+            final = ast.BinOp(
+                left=ast.Attribute(value=name(r), attr="start", ctx=ast.Load()),
+                op=ast.Add(),
+                right=ast.BinOp(
+                    left=call("len", name(r)),
+                    op=ast.Mult(),
+                    right=ast.Attribute(value=name(r), attr="step", ctx=ast.Load()),
+                ),
+            )
+            orelse = [ast.Assign(targets=[name(sym.pyname, True)], value=final)]
+        loop = ast.For(target=name(sym.pyname, True), iter=rng, body=body, orelse=orelse)
+        return pre + [loop]
+
+    def _chunked_range(
+        self, sym: VarSym, stop: ast.expr, step: ast.expr, body: list[ast.stmt], outlives: bool
+    ) -> list[ast.stmt]:
+        """The counting loop in chunks of CHUNK values, charging the budget once per chunk:
+
+        _r = range(v_i, STOP, STEP)
+        for _k in range(0, len(_r), 64):
+            for v_i in _r[_k:_k + 64]:
+                BODY
+            _budget -= 64
+            if _budget < 0:
+                yield
+        else:
+            v_i = _r.start + len(_r) * _r.step   # C's value after the loop, if i outlives it
+        """
+        r, k = self.temp(), self.temp()
+        pre = [
+            ast.Assign(targets=[name(r, True)], value=call("range", name(sym.pyname), stop, step))
+        ]
+        chunk = ast.Subscript(
+            value=name(r),
+            slice=ast.Slice(
+                lower=name(k),
+                upper=ast.BinOp(left=name(k), op=ast.Add(), right=ast.Constant(CHUNK)),
+            ),
+            ctx=ast.Load(),
+        )
+        inner = ast.For(
+            target=name(sym.pyname, True), iter=chunk, body=body or [ast.Pass()], orelse=[]
+        )
+        over = ast.Compare(left=name("_budget"), ops=[ast.Lt()], comparators=[ast.Constant(0)])
+        charge = [
+            ast.AugAssign(target=name("_budget", True), op=ast.Sub(), value=ast.Constant(CHUNK)),
+            ast.If(test=over, body=[ast.Expr(value=ast.Yield(value=None))], orelse=[]),
+        ]
+        orelse: list[ast.stmt] = []
+        if outlives:
+            final = ast.BinOp(
+                left=ast.Attribute(value=name(r), attr="start", ctx=ast.Load()),
+                op=ast.Add(),
+                right=ast.BinOp(
+                    left=call("len", name(r)),
+                    op=ast.Mult(),
+                    right=ast.Attribute(value=name(r), attr="step", ctx=ast.Load()),
+                ),
+            )
+            orelse = [ast.Assign(targets=[name(sym.pyname, True)], value=final)]
+        outer = ast.For(
+            target=name(k, True),
+            iter=call("range", ast.Constant(0), call("len", name(r)), ast.Constant(CHUNK)),
+            body=[inner] + charge,
+            orelse=orelse,
+        )
+        return pre + [outer]
+
+    def _start_range(self, s: n.For) -> tuple[int, int] | None:
+        """Known bounds of a range-for counter's start value."""
+        init = s.init
+        e = None
+        if isinstance(init, n.DeclStmt):
+            e = init.decls[0].init
+        elif isinstance(init, n.ExprStmt) and isinstance(init.expr, n.Assign):
+            e = init.expr.value
+        if e is None:
+            return None
+        saved = self.sink.items[:]
+        try:
+            return self.expr(e).rng
+        except SemanticError:
+            return None
+        finally:
+            self.sink.items[:] = saved
+
+    @staticmethod
+    def _counter_of(s: n.For) -> str | None:
+        init = s.init
+        if isinstance(init, n.DeclStmt) and len(init.decls) == 1:
+            d = init.decls[0]
+            if not d.dims and d.init is not None and not isinstance(d.init, n.InitList):
+                return d.name
+        if isinstance(init, n.ExprStmt) and isinstance(init.expr, n.Assign) and init.expr.op == "=":
+            if isinstance(init.expr.target, n.Name):
+                return init.expr.target.id
+        return None
+
+    @staticmethod
+    def _step_of(step, ivar: str) -> int | None:
+        if isinstance(step, (n.Postfix, n.Unary)) and step.op in ("++", "--"):
+            if isinstance(step.operand, n.Name) and step.operand.id == ivar:
+                return 1 if step.op == "++" else -1
+        if (
+            isinstance(step, n.Assign)
+            and step.op in ("+=", "-=")
+            and isinstance(step.target, n.Name)
+        ):
+            if step.target.id == ivar and isinstance(step.value, n.IntLit) and step.value.value > 0:
+                return step.value.value if step.op == "+=" else -step.value.value
+        return None
+
+    def _invariant(self, e, assigned: set[str]) -> bool:
+        """True if `e` is built from constants and locals that the loop body does not assign."""
+        if isinstance(e, (n.IntLit, n.CharLit)):
+            return True
+        if isinstance(e, n.Name):
+            if e.id in assigned:
+                return False
+            sym = self.scope.lookup(e.id) or self.prog.global_symbol(e.id, self.task)
+            return isinstance(sym, VarSym) and (
+                sym.storage == "local" or sym.const_value is not None
+            )
+        if isinstance(e, n.Binary) and e.op in ("+", "-", "*", "<<", ">>", "&", "|"):
+            return self._invariant(e.left, assigned) and self._invariant(e.right, assigned)
+        if isinstance(e, n.Unary) and e.op in ("-", "+"):
+            return self._invariant(e.operand, assigned)
+        if isinstance(e, n.SizeOf):
+            return True
+        return False
+
+
+def _breaks_out(body) -> bool:
+    """True if a `break` in `body` would leave this loop (not a nested loop or switch)."""
+    stack = [body]
+    while stack:
+        x = stack.pop()
+        t = type(x)
+        if t is n.Break:
+            return True
+        if t in (n.While, n.DoWhile, n.For, n.Switch):
+            continue
+        if t is n.Block:
+            stack.extend(x.items)
+        elif t is n.If:
+            stack.append(x.then)
+            if x.else_ is not None:
+                stack.append(x.else_)
+    return False
+
+
+def _assigned_names(body) -> set[str]:
+    """Names the statement assigns, increments or takes the address of."""
+    from motionvm.lang.hmpl.program import walk
+
+    out: set[str] = set()
+    for x in walk(body):
+        t = type(x)
+        if t is n.Assign and type(x.target) is n.Name:
+            out.add(x.target.id)
+        elif (
+            (t is n.Postfix or t is n.Unary)
+            and x.op in ("++", "--", "&")
+            and type(x.operand) is n.Name
+        ):
+            out.add(x.operand.id)
+    return out

@@ -1,0 +1,164 @@
+"""Keep global scalars in Python locals across a native loop (scalar promotion).
+
+Every PDL variable lives in drive memory, and a memoryview access costs several
+times a Python local. Inside a loop that cannot see memory any other way, the
+loop's long/short global scalars are loaded into locals before it, used as locals,
+and written back after it, before each yield (other tasks share the globals; a yield
+is the only place where they can run) and when a fault unwinds it:
+
+    loop(100) do s = s + k; end;
+becomes
+    v1 = M[1]
+    v2 = M[2]
+    try:
+        for _ in range(100 & 65535 or 65536):
+            v1 = v1 + v2
+            if not -2147483648 <= v1 <= 2147483647:
+                v1 = _w32(v1)
+            b -= 2
+            if b <= 0:
+                M[1] = v1
+                b = yield b
+                v1 = M[1]
+                v2 = M[2]
+    except Exception:
+        M[1] = v1
+        raise
+    M[1] = v1
+
+A loop is promoted only if nothing in it reaches memory behind the compiler's back:
+no pointer indirection, procedure call, sleep/wait/till, block function (memcpy ...,
+initialiser lists, strings), halt/exitproc/kill. A scalar is left in memory if its
+address is taken in the loop, if it is indexed, if a constant index elsewhere lands
+on it, or if an array indexed by a variable in the loop precedes it in the same
+declaration (indexing past an array reaches the next variables, manual §1.2).
+Floats stay in memory: each store must round to float32 anyway.
+"""
+
+from __future__ import annotations
+
+import ast
+from typing import TYPE_CHECKING
+
+from motionvm.lang.pdl import nodes as n
+from motionvm.lang.pdl.lower_expr import assign, nm, storage_kind, subscript
+from motionvm.lang.pdl.rt_memory import LONG, SHORT
+from motionvm.lang.pdl.symbols import VarSym
+
+if TYPE_CHECKING:
+    from motionvm.lang.pdl.lower import ProgramLowering
+
+_BLOCKERS = (n.Deref, n.ProcCall, n.Delay, n.Till, n.InitList, n.StringConst, n.Kill, n.Label, n.Goto,
+             n.CallLabel, n.VarDecl)  # fmt: skip
+_BLOCK_FUNCS = ("memcpy", "memset", "memmin", "memmax", "memsum")
+
+
+def _nodes(node: object):
+    """Every AST node under `node` (itself included)."""
+    yield node
+    fields = getattr(node, "__dataclass_fields__", None)
+    if not fields:
+        return
+    for f in fields:
+        v = getattr(node, f)
+        if isinstance(v, tuple):
+            for x in v:
+                if hasattr(x, "__dataclass_fields__"):
+                    yield from _nodes(x)
+        elif hasattr(v, "__dataclass_fields__") and f != "pos":
+            yield from _nodes(v)
+
+
+class Promotion:
+    """The scalars of one loop kept in locals: memory key -> (view, index, local name)."""
+
+    def __init__(self, slots: dict[tuple[str, int], str], written: set[str]) -> None:
+        self.slots = slots
+        self.written = written
+
+    def local_of(self, view: str, index: int) -> str | None:
+        return self.slots.get((view, index))
+
+    def loads(self) -> list[ast.stmt]:
+        return [assign(nm(local, True), subscript(view, ast.Constant(i))) for (view, i), local in self.slots.items()]
+
+    def stores(self) -> list[ast.stmt]:
+        return [
+            assign(subscript(view, ast.Constant(i), True), nm(local))
+            for (view, i), local in self.slots.items()
+            if local in self.written
+        ]
+
+    def wrap(self, body: list[ast.stmt]) -> list[ast.stmt]:
+        """loads; try: body except Exception: stores; raise; stores."""
+        handler = ast.ExceptHandler(type=nm("Exception"), name=None, body=self.stores() + [ast.Raise()])
+        guarded = ast.Try(body=body, handlers=[handler], orelse=[], finalbody=[])
+        return self.loads() + [guarded] + self.stores()
+
+
+def promote(prog: ProgramLowering, loop: n.Loop | n.While) -> Promotion | None:
+    """The promotion for a top-level native loop, or None if it must stay in memory."""
+    syms = prog.syms
+    scalars: dict[int, VarSym] = {}
+    excluded: set[int] = set()
+    written: set[int] = set()
+    const_hits: set[tuple[str, int]] = set()
+    indexed_arrays: list[VarSym] = []
+    for node in _nodes(loop):
+        if isinstance(node, _BLOCKERS):
+            return None
+        if isinstance(node, n.Simple) and node.command in ("halt", "exitproc", "ret"):
+            return None
+        if isinstance(node, n.FuncCall) and node.func in _BLOCK_FUNCS:
+            return None
+        if isinstance(node, n.AddressOf):
+            sym = syms.symbol_of(node.target)
+            if isinstance(sym, VarSym):
+                excluded.add(id(sym))
+        if isinstance(node, (n.Assign, n.IncDec)) and isinstance(node.target, n.VarRef):
+            sym = syms.symbol_of(node.target)
+            if isinstance(sym, VarSym):
+                written.add(id(sym))
+        if isinstance(node, n.VarRef):
+            sym = syms.symbol_of(node)
+            if not isinstance(sym, VarSym) or sym.scope != "global" or sym.type in ("state", "float"):
+                continue
+            if node.auto_inc and isinstance(node.index, n.VarRef):
+                isym = syms.symbol_of(node.index)
+                if isinstance(isym, VarSym):
+                    written.add(id(isym))
+            if node.index is None and sym.size == 1 and storage_kind(sym) in (LONG, SHORT):
+                scalars[id(sym)] = sym
+            elif isinstance(node.index, n.IntConst):
+                excluded.add(id(sym))
+                view = "H" if storage_kind(sym) == SHORT else "M"
+                const_hits.add((view, prog.global_index(sym) + node.index.value))
+            elif node.index is not None:
+                excluded.add(id(sym))
+                indexed_arrays.append(sym)
+    slots: dict[tuple[str, int], str] = {}
+    names_written: set[str] = set()
+    for key, sym in scalars.items():
+        if key in excluded or _reachable(prog, sym, indexed_arrays):
+            continue
+        view = "H" if storage_kind(sym) == SHORT else "M"
+        index = prog.global_index(sym)
+        if (view, index) in const_hits:
+            continue
+        local = f"{'h' if view == 'H' else 'v'}{index}"
+        slots[(view, index)] = local
+        if key in written:
+            names_written.add(local)
+    return Promotion(slots, names_written) if slots else None
+
+
+def _reachable(prog: ProgramLowering, sym: VarSym, arrays: list[VarSym]) -> bool:
+    """True if indexing one of `arrays` past its end may reach `sym` (same declaration, later)."""
+    where = prog.decl_position.get(sym.name)
+    if where is None:
+        return True
+    for a in arrays:
+        pa = prog.decl_position.get(a.name)
+        if pa is None or (pa[0] == where[0] and pa[1] < where[1]):
+            return True
+    return False
