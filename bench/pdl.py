@@ -14,6 +14,8 @@ Targets (issue 4): real-time factor >= 5, kernel ratio <= 2.0.
 Run: python bench/pdl.py
 """
 
+# ruff: noqa: SIM113 — the Python kernels mirror the PDL statements, index counters included
+
 from __future__ import annotations
 
 import statistics

@@ -225,7 +225,9 @@ def test_set_pos_is_refused_while_moving():
 
 
 def test_rollover_wraps_positions_and_counts_turns():
-    a = make(type="rotary", max_vel=3600.0, max_acc=36000.0, max_dec=36000.0, sw_left=-1e5, sw_right=1e5)
+    a = make(
+        type="rotary", max_vel=3600.0, max_acc=36000.0, max_dec=36000.0, sw_left=-1e5, sw_right=1e5
+    )
     a.set_rollover(360.0)
     a.enable()
     run_until(a, lambda: a.enabled)

@@ -59,7 +59,10 @@ def _script(seed: int):
 
 
 @pytest.mark.parametrize("seed", range(6))
-@pytest.mark.parametrize("config", [{}, {"smooth_time_ms": 20, "drive": {"mechanics": {"model": "ideal", "delay_cycles": 3}}}])
+@pytest.mark.parametrize(
+    "config",
+    [{}, {"smooth_time_ms": 20, "drive": {"mechanics": {"model": "ideal", "delay_cycles": 3}}}],
+)
 def test_fast_and_general_paths_agree_bit_for_bit(seed, config):
     fast, slow = Axis(0, create(config), DT), _Generic(0, create(config), DT)
     assert fast.fast_path and not slow.fast_path
@@ -101,13 +104,13 @@ def test_the_fast_path_is_taken_for_profile_moves():
 
 
 LIMITS_SCRIPT = [
-    (10, "move_vel", (1500.0,)),        # runs into the software right limit
+    (10, "move_vel", (1500.0,)),  # runs into the software right limit
     (1500, "reset", ()),
     (1510, "set_ignore", ("swl", 1)),
-    (1520, "move_vel", (800.0,)),       # now into the hardware right limit switch
+    (1520, "move_vel", (800.0,)),  # now into the hardware right limit switch
     (2500, "reset", ()),
-    (2510, "move_abs", (0.0,)),          # back off the switch
-    (4000, "inject", ()),               # drive fault: disable
+    (2510, "move_abs", (0.0,)),  # back off the switch
+    (4000, "inject", ()),  # drive fault: disable
     (4100, "reset", ()),
     (4200, "enable", ()),
     (4300, "move_abs", (-30.0,)),

@@ -3,6 +3,7 @@ the fault reactions and of the in-position logic (Hypothesis, profiles `dev`/`ci
 
 from __future__ import annotations
 
+import itertools
 import os
 
 import pytest
@@ -46,7 +47,7 @@ def test_software_limit_stops_at_kill_deceleration_and_error_stops_until_reset()
     while a.moving:
         a.step()
         vels.append(a.ref_vel)
-    decel = max(-(v1 - v0) / DT for v0, v1 in zip(vels, vels[1:]))
+    decel = max(-(v1 - v0) / DT for v0, v1 in itertools.pairwise(vels))
     assert decel <= 50_000.0 * (1 + 1e-9) + limit_slack(50_000.0, 120.0, DT, 2)
     assert len(vels) <= 1000.0 / 50_000.0 / DT + 2
     assert a.enabled
@@ -101,7 +102,9 @@ def test_ignore_hwl_hides_the_switch():
 
 
 def test_position_error_disables_the_axis():
-    a = enabled(max_pos_err=0.5, drive={"mechanics": {"model": "servo", "bandwidth": 5.0, "damping": 0.7}})
+    a = enabled(
+        max_pos_err=0.5, drive={"mechanics": {"model": "servo", "bandwidth": 5.0, "damping": 0.7}}
+    )
     a.move_abs(200.0)
     run(a, 300)
     assert a.error_stop and not a.enabled
@@ -112,7 +115,9 @@ def test_position_error_disables_the_axis():
 
 
 def test_ignore_pe_lets_the_servo_lag():
-    a = enabled(max_pos_err=0.5, drive={"mechanics": {"model": "servo", "bandwidth": 5.0, "damping": 0.7}})
+    a = enabled(
+        max_pos_err=0.5, drive={"mechanics": {"model": "servo", "bandwidth": 5.0, "damping": 0.7}}
+    )
     a.set_ignore("pe", 1)
     a.move_abs(200.0)
     run(a, 300)

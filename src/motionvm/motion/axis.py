@@ -15,10 +15,11 @@ from __future__ import annotations
 import math
 from collections import deque
 
-from motionvm.drives.objects import MODE_CSP, MODE_CST, MODE_CSV
+from motionvm.drives.objects import MODE_CSP, MODE_CST
 from motionvm.motion import axis_status as st
 from motionvm.motion.axis_config import AxisConfig, build_drive
 from motionvm.motion.axis_cycle import PG, PVT, TORQUE, AxisCycle
+from motionvm.motion.axis_follow import AxisFollow
 from motionvm.motion.axis_settings import AxisSettings
 from motionvm.motion.axis_status import AxisCommandError
 from motionvm.motion.profile import ProfileGenerator
@@ -28,7 +29,7 @@ QUEUE_SIZE = 32
 """Commands an axis buffers in buffer mode 1 (eERR_AXIS_CMD_QUEUE_FULL beyond)."""
 
 
-class Axis(AxisSettings, AxisCycle):
+class Axis(AxisSettings, AxisCycle, AxisFollow):
     """One axis of the controller, stepped once per cycle by the motion kernel."""
 
     def __init__(self, axis_id: int, config: AxisConfig, dt: float, drive=None):
@@ -58,6 +59,7 @@ class Axis(AxisSettings, AxisCycle):
         self.pos_offset = 0.0
         self.move_time_ms = self.settling_time_ms = 0.0
         self._source = PG
+        self._ext = None  # the provider while following (axis_follow.py)
         self._queue: deque = deque()
         self._pvt: PvtTrajectory | None = None
         self._deferred: tuple | None = None
@@ -90,14 +92,18 @@ class Axis(AxisSettings, AxisCycle):
     def _require_motion_ok(self, *, torque: bool = False) -> None:
         self.wake()
         if self.error_stop:
-            raise AxisCommandError(st.CMD_INVALID_ERROR_STATE, f"axis {self.axis_id} is in error stop (call Reset)")
+            raise AxisCommandError(
+                st.CMD_INVALID_ERROR_STATE, f"axis {self.axis_id} is in error stop (call Reset)"
+            )
         if not self.enabled:
             raise AxisCommandError(st.CMD_INVALID_DISABLED, f"axis {self.axis_id} is not enabled")
         if self.stopping:
             raise AxisCommandError(st.CMD_INVALID_STOPPING, f"axis {self.axis_id} is stopping")
         if (self.op_mode == MODE_CST) != torque:
-            raise AxisCommandError(st.CMD_INVALID_CONTROL_MODE,
-                                   f"axis {self.axis_id}: not valid in op mode {self.op_mode}")
+            raise AxisCommandError(
+                st.CMD_INVALID_CONTROL_MODE,
+                f"axis {self.axis_id}: not valid in op mode {self.op_mode}",
+            )
 
     def _require_still(self) -> None:
         self.wake()
@@ -117,7 +123,9 @@ class Axis(AxisSettings, AxisCycle):
         """Queue `cmd` if buffer mode 1 and the axis moves; True if queued."""
         if self.buffer_mode == 1 and self.moving:
             if len(self._queue) >= QUEUE_SIZE:
-                raise AxisCommandError(st.CMD_QUEUE_FULL, f"axis {self.axis_id}: command queue full ({QUEUE_SIZE})")
+                raise AxisCommandError(
+                    st.CMD_QUEUE_FULL, f"axis {self.axis_id}: command queue full ({QUEUE_SIZE})"
+                )
             self._queue.append(cmd)
             return True
         return False
@@ -142,7 +150,9 @@ class Axis(AxisSettings, AxisCycle):
         """Start the drive's enable sequence; `enabled` turns true when it is done."""
         self.wake()
         if self.error_stop:
-            raise AxisCommandError(st.CMD_INVALID_ERROR_STATE, f"axis {self.axis_id} is in error stop (call Reset)")
+            raise AxisCommandError(
+                st.CMD_INVALID_ERROR_STATE, f"axis {self.axis_id} is in error stop (call Reset)"
+            )
         if self.enabled or self._enabling:
             return
         self._enabling = True
@@ -171,7 +181,9 @@ class Axis(AxisSettings, AxisCycle):
 
     def _clear_errors(self) -> None:
         self.error_stop = False
-        self.fault_status &= ~(st.FS_ERROR_STOP | st.FS_POSITION_ERROR | st.FS_SW_LEFT | st.FS_SW_RIGHT)
+        self.fault_status &= ~(
+            st.FS_ERROR_STOP | st.FS_POSITION_ERROR | st.FS_SW_LEFT | st.FS_SW_RIGHT
+        )
 
     # ---- moves (5.2.4-5.2.11) -------------------------------------------------------
 
@@ -185,12 +197,17 @@ class Axis(AxisSettings, AxisCycle):
 
     def _check_target(self, pos: float) -> float:
         if not math.isfinite(pos):
-            raise AxisCommandError(st.CMD_INVALID_POS, f"axis {self.axis_id}: target {pos!r} is not a number")
+            raise AxisCommandError(
+                st.CMD_INVALID_POS, f"axis {self.axis_id}: target {pos!r} is not a number"
+            )
         if self.rollover:
             return self._wrap_target(pos)
         if not self.ignore_swl and not self.sw_left <= pos <= self.sw_right:
-            raise AxisCommandError(st.CMD_INVALID_POS, f"axis {self.axis_id}: target {pos:g} is outside the "
-                                   f"software limits {self.sw_left:g} .. {self.sw_right:g}")
+            raise AxisCommandError(
+                st.CMD_INVALID_POS,
+                f"axis {self.axis_id}: target {pos:g} is outside the "
+                f"software limits {self.sw_left:g} .. {self.sw_right:g}",
+            )
         return pos
 
     def move_abs(self, pos: float) -> None:
@@ -204,7 +221,9 @@ class Axis(AxisSettings, AxisCycle):
         """Move `dist` [mm] from the current reference (buffered: from the previous end)."""
         self._require_motion_ok()
         if not math.isfinite(dist):
-            raise AxisCommandError(st.CMD_INVALID_POS, f"axis {self.axis_id}: distance {dist!r} is not a number")
+            raise AxisCommandError(
+                st.CMD_INVALID_POS, f"axis {self.axis_id}: distance {dist!r} is not a number"
+            )
         if self.buffer_mode == 1 and self.moving:
             self._buffered(("rel", dist))
             return
@@ -214,7 +233,9 @@ class Axis(AxisSettings, AxisCycle):
         """Jog at `vel` [mm/s] (sign = direction), capped at the maximum velocity."""
         self._require_motion_ok()
         if not math.isfinite(vel):
-            raise AxisCommandError(st.CMD_INVALID_VEL, f"axis {self.axis_id}: velocity {vel!r} is not a number")
+            raise AxisCommandError(
+                st.CMD_INVALID_VEL, f"axis {self.axis_id}: velocity {vel!r} is not a number"
+            )
         if not self._buffered(("vel", vel)):
             self._start(("vel", vel))
 
@@ -226,13 +247,18 @@ class Axis(AxisSettings, AxisCycle):
         """
         self._require_motion_ok()
         if not 1 <= len(times_ms) <= 50:
-            raise AxisCommandError(st.CMD_INVALID_PARAMETER, f"{len(times_ms)} PVT points: must be 1 to 50")
+            raise AxisCommandError(
+                st.CMD_INVALID_PARAMETER, f"{len(times_ms)} PVT points: must be 1 to 50"
+            )
         t = [x / 1000.0 for x in times_ms]
         p, v = list(pos), list(vel)
         if t[0] == 0.0:
             if abs(p[0] - self.ref_pos) > self.inpos_radius:
-                raise AxisCommandError(st.CMD_INVALID_POS, f"axis {self.axis_id}: the first PVT point {p[0]:g} "
-                                       f"is not the axis position {self.ref_pos:g}")
+                raise AxisCommandError(
+                    st.CMD_INVALID_POS,
+                    f"axis {self.axis_id}: the first PVT point {p[0]:g} "
+                    f"is not the axis position {self.ref_pos:g}",
+                )
             p[0] = self.ref_pos
         else:
             t, p, v = [0.0] + t, [self.ref_pos] + p, [0.0] + v
@@ -242,11 +268,17 @@ class Axis(AxisSettings, AxisCycle):
             raise AxisCommandError(st.PVT_INVALID_TIME, f"axis {self.axis_id}: {exc}") from None
         v_peak, a_peak = traj.peaks()
         if v_peak > self.config.vel_limit:
-            raise AxisCommandError(st.PVT_VEL_LIMIT, f"axis {self.axis_id}: PVT velocity {v_peak:g} exceeds "
-                                   f"the limit {self.config.vel_limit:g}")
+            raise AxisCommandError(
+                st.PVT_VEL_LIMIT,
+                f"axis {self.axis_id}: PVT velocity {v_peak:g} exceeds "
+                f"the limit {self.config.vel_limit:g}",
+            )
         if a_peak > self.config.acc_limit:
-            raise AxisCommandError(st.PVT_ACC_LIMIT, f"axis {self.axis_id}: PVT acceleration {a_peak:g} "
-                                   f"exceeds the limit {self.config.acc_limit:g}")
+            raise AxisCommandError(
+                st.PVT_ACC_LIMIT,
+                f"axis {self.axis_id}: PVT acceleration {a_peak:g} "
+                f"exceeds the limit {self.config.acc_limit:g}",
+            )
         if not self._buffered(("pvt", traj)):
             self._start(("pvt", traj))
 
@@ -254,7 +286,9 @@ class Axis(AxisSettings, AxisCycle):
         """Torque command [N*m] in op mode 10, clamped to the continuous (rated) torque."""
         self._require_motion_ok(torque=True)
         if not math.isfinite(torque):
-            raise AxisCommandError(st.CMD_INVALID_PARAMETER, f"axis {self.axis_id}: torque {torque!r}")
+            raise AxisCommandError(
+                st.CMD_INVALID_PARAMETER, f"axis {self.axis_id}: torque {torque!r}"
+            )
         rated = self.drive.rated_torque_nm
         torque = max(-rated, min(rated, torque))
         self._torque_pm = round(torque / rated * 1000.0)
@@ -319,7 +353,9 @@ class Axis(AxisSettings, AxisCycle):
         """Pause: the velocity goes to 0 and the move waits for Resume (still `moving`)."""
         self._require_motion_ok()
         if self._source != PG:
-            raise AxisCommandError(st.CMD_INVALID_STATE, f"axis {self.axis_id}: Halt works on profile moves only")
+            raise AxisCommandError(
+                st.CMD_INVALID_STATE, f"axis {self.axis_id}: Halt works on profile moves only"
+            )
         self.halted = True
         self.pg.set_velocity_scale(0.0)
 

@@ -42,7 +42,14 @@ class AxisConfigError(ValueError):
         self.key = key
 
 
-_SENSOR_KEYS = ("negative_limit", "positive_limit", "home_low", "home_high", "index_spacing", "index_offset")
+_SENSOR_KEYS = (
+    "negative_limit",
+    "positive_limit",
+    "home_low",
+    "home_high",
+    "index_spacing",
+    "index_offset",
+)
 
 
 @dataclass
@@ -119,17 +126,29 @@ def create(table: dict) -> AxisConfig:
     known = set(AxisConfig.__dataclass_fields__) - {"rotary"} | {"type"}
     for key in table:
         if key not in known:
-            raise AxisConfigError(key, f"unknown key '{key}' in [[axis]] (known: {', '.join(sorted(known))})")
+            raise AxisConfigError(
+                key, f"unknown key '{key}' in [[axis]] (known: {', '.join(sorted(known))})"
+            )
     kind = table.get("type", "linear")
     if kind not in ("linear", "rotary"):
-        raise AxisConfigError("type", f"type = {kind!r}: must be \"linear\" or \"rotary\"")
+        raise AxisConfigError("type", f'type = {kind!r}: must be "linear" or "rotary"')
     rotary = kind == "rotary"
     c = AxisConfig(rotary=rotary, counts_per_unit=1000.0 if rotary else 10000.0)
     if rotary:  # a rotary table turns on: no limit switches unless given
         c.hw_left = c.hw_right = None
     c.counts_per_unit = _number(table, "counts_per_unit", c.counts_per_unit, positive=True)
-    for key in ("max_vel", "max_acc", "max_dec", "kill_dec", "max_pos_err", "inpos_radius",
-                "vel_limit", "acc_limit", "enable_timeout_ms", "torque_constant"):
+    for key in (
+        "max_vel",
+        "max_acc",
+        "max_dec",
+        "kill_dec",
+        "max_pos_err",
+        "inpos_radius",
+        "vel_limit",
+        "acc_limit",
+        "enable_timeout_ms",
+        "torque_constant",
+    ):
         setattr(c, key, _number(table, key, getattr(c, key), positive=True))
     for key in ("inpos_debounce_ms", "home_width"):
         setattr(c, key, _number(table, key, getattr(c, key), nonneg=True))
@@ -140,20 +159,32 @@ def create(table: dict) -> AxisConfig:
     c.index_spacing = _number(table, "index_spacing", c.index_spacing, positive=True, optional=True)
     c.smooth_time_ms = _number(table, "smooth_time_ms", 0.0, nonneg=True)
     if c.smooth_time_ms > 500:
-        raise AxisConfigError("smooth_time_ms", f"smooth_time_ms = {c.smooth_time_ms:g}: must be 0 to 500")
+        raise AxisConfigError(
+            "smooth_time_ms", f"smooth_time_ms = {c.smooth_time_ms:g}: must be 0 to 500"
+        )
     if c.sw_left >= c.sw_right:
-        raise AxisConfigError("sw_right", f"sw_right = {c.sw_right:g} must be above sw_left = {c.sw_left:g}")
+        raise AxisConfigError(
+            "sw_right", f"sw_right = {c.sw_right:g} must be above sw_left = {c.sw_left:g}"
+        )
     if c.hw_left is not None and c.hw_right is not None and c.hw_left >= c.hw_right:
-        raise AxisConfigError("hw_right", f"hw_right = {c.hw_right:g} must be above hw_left = {c.hw_left:g}")
+        raise AxisConfigError(
+            "hw_right", f"hw_right = {c.hw_right:g} must be above hw_left = {c.hw_left:g}"
+        )
     if abs(c.start_position) * c.counts_per_unit >= 2**31:
-        raise AxisConfigError("start_position", f"start_position = {c.start_position:g} is outside the int32 encoder range")
+        raise AxisConfigError(
+            "start_position",
+            f"start_position = {c.start_position:g} is outside the int32 encoder range",
+        )
     drive = table.get("drive", {})
     if not isinstance(drive, dict):
         raise AxisConfigError("drive", f"drive = {drive!r}: must be a table")
     for key in _SENSOR_KEYS + ("position",):
         if key in drive:
-            raise AxisConfigError(f"drive.{key}", f"drive.{key}: set the switches and index in the axis table "
-                                  "(hw_left, hw_right, home_pos, home_width, index_spacing, index_offset, start_position)")
+            raise AxisConfigError(
+                f"drive.{key}",
+                f"drive.{key}: set the switches and index in the axis table "
+                "(hw_left, hw_right, home_pos, home_width, index_spacing, index_offset, start_position)",
+            )
     c.drive = drive
     return c
 

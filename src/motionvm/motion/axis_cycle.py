@@ -33,7 +33,9 @@ from motionvm.drives.objects import (
 from motionvm.motion import axis_status as st
 from motionvm.motion.axis_fast import fast_step
 
-PG, PVT, RAMP, TORQUE = 0, 1, 2, 3
+PG, PVT, RAMP, TORQUE, EXT = 0, 1, 2, 3, 4
+"""Reference sources: profile generator, PVT, kill ramp, torque mode, an external
+provider (gear slave, gantry, homing) set with `Axis.follow`."""
 """Sources of the reference while enabled."""
 
 CW_DISABLE, CW_SHUTDOWN, CW_ENABLE, CW_FAULT_RESET = 0x00, 0x06, 0x0F, 0x80
@@ -75,6 +77,8 @@ class AxisCycle:
                 self._source = PG
                 self.pg.reset(p)
             return p, v_1, (v_1 - v_0) / self.dt
+        if src == EXT:
+            return self._ext.reference(self)
         return self.pos_fb, self.vel_fb, 0.0  # torque mode: the reference follows
 
     # ---- the cycle ------------------------------------------------------------------
@@ -132,7 +136,11 @@ class AxisCycle:
             self._enabling = False
             self.last_error = st.axis_error(st.DRIVE_ENABLE_TOUT, self.axis_id)
             return CW_DISABLE
-        return CW_SHUTDOWN if d.state in (State.SWITCH_ON_DISABLED, State.NOT_READY_TO_SWITCH_ON) else CW_ENABLE
+        return (
+            CW_SHUTDOWN
+            if d.state in (State.SWITCH_ON_DISABLED, State.NOT_READY_TO_SWITCH_ON)
+            else CW_ENABLE
+        )
 
     def _fault_reset_bit(self) -> int:
         """Controlword bit 7 while a drive fault is reset: a rising edge every other cycle."""

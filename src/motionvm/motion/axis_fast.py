@@ -96,7 +96,12 @@ def fast_step(axis) -> bool:
     if not ok:
         return False
     d = axis.drive
-    if d._fault is not None or d.controlword != _CW_ENABLE or d.mode != MODE_CSP or d.sensors.tp_function:
+    if (
+        d._fault is not None
+        or d.controlword != _CW_ENABLE
+        or d.mode != MODE_CSP
+        or d.sensors.tp_function
+    ):
         axis._fast_ok = None
         return False
     axis._cycle += 1
@@ -139,7 +144,9 @@ def fast_step(axis) -> bool:
         pa = d.position_actual
         d.velocity_actual = vel_a = 0
     torque = round(torque_nm * d._per_mille_per_nm)
-    d.torque_actual = torque = torque if -32768 <= torque <= 32767 else max(-32768, min(32767, torque))
+    d.torque_actual = torque = (
+        torque if -32768 <= torque <= 32767 else max(-32768, min(32767, torque))
+    )
     demand = round(r)
     d.position_demand = ((demand + 0x80000000) & 0xFFFFFFFF) - 0x80000000
     d.following_error = fe = ((demand - enc + 0x80000000) & 0xFFFFFFFF) - 0x80000000

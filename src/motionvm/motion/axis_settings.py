@@ -10,7 +10,13 @@ from __future__ import annotations
 
 import math
 
-from motionvm.drives.objects import DI_HOME_SWITCH, DI_NEGATIVE_LIMIT, DI_POSITIVE_LIMIT, MODE_CSP, MODES
+from motionvm.drives.objects import (
+    DI_HOME_SWITCH,
+    DI_NEGATIVE_LIMIT,
+    DI_POSITIVE_LIMIT,
+    MODE_CSP,
+    MODES,
+)
 from motionvm.motion import axis_status as st
 from motionvm.motion.axis_cycle import PG
 from motionvm.motion.axis_status import AxisCommandError
@@ -56,11 +62,16 @@ class AxisSettings:
         """Ts [ms], 0..500; not while moving (5.3.16)."""
         self._require_still()
         if not (math.isfinite(ms) and 0.0 <= ms <= 500.0):
-            raise AxisCommandError(st.CMD_INVALID_SM_TIME, f"axis {self.axis_id}: smooth time {ms!r} ms is not in 0..500")
+            raise AxisCommandError(
+                st.CMD_INVALID_SM_TIME,
+                f"axis {self.axis_id}: smooth time {ms!r} ms is not in 0..500",
+            )
         try:
             self.pg.set_smooth_time(ms / 1000.0)
         except RuntimeError:
-            raise AxisCommandError(st.CMD_INVALID_MOVING, f"axis {self.axis_id} is moving") from None
+            raise AxisCommandError(
+                st.CMD_INVALID_MOVING, f"axis {self.axis_id} is moving"
+            ) from None
 
     @property
     def smooth_time_ms(self) -> float:
@@ -71,15 +82,21 @@ class AxisSettings:
     def set_sw_right(self, pos: float) -> None:
         self.wake()
         if not (math.isfinite(pos) and pos > self.sw_left):
-            raise AxisCommandError(st.CMD_INVALID_POS, f"axis {self.axis_id}: right limit {pos!r} is not above "
-                                   f"the left limit {self.sw_left:g}")
+            raise AxisCommandError(
+                st.CMD_INVALID_POS,
+                f"axis {self.axis_id}: right limit {pos!r} is not above "
+                f"the left limit {self.sw_left:g}",
+            )
         self.sw_right = pos
 
     def set_sw_left(self, pos: float) -> None:
         self.wake()
         if not (math.isfinite(pos) and pos < self.sw_right):
-            raise AxisCommandError(st.CMD_INVALID_POS, f"axis {self.axis_id}: left limit {pos!r} is not below "
-                                   f"the right limit {self.sw_right:g}")
+            raise AxisCommandError(
+                st.CMD_INVALID_POS,
+                f"axis {self.axis_id}: left limit {pos!r} is not below "
+                f"the right limit {self.sw_right:g}",
+            )
         self.sw_left = pos
 
     # ---- position (5.3.19-5.3.32) ---------------------------------------------------
@@ -88,7 +105,9 @@ class AxisSettings:
         """Make the current position read `pos` by changing the position offset (5.3.19)."""
         self._require_still()
         if self.error_stop:
-            raise AxisCommandError(st.CMD_INVALID_ERROR_STATE, f"axis {self.axis_id} is in error stop")
+            raise AxisCommandError(
+                st.CMD_INVALID_ERROR_STATE, f"axis {self.axis_id} is in error stop"
+            )
         if not math.isfinite(pos):
             raise AxisCommandError(st.CMD_INVALID_POS, f"axis {self.axis_id}: position {pos!r}")
         shift = pos - self.pos_fb
@@ -125,7 +144,9 @@ class AxisSettings:
         """IgnoreHWL / IgnoreSWL / IgnorePE: `which` is "hwl", "swl" or "pe"."""
         self.wake()
         if on not in (0, 1):
-            raise AxisCommandError(st.CMD_INVALID_PARAMETER, f"axis {self.axis_id}: cmd {on} must be 0 or 1")
+            raise AxisCommandError(
+                st.CMD_INVALID_PARAMETER, f"axis {self.axis_id}: cmd {on} must be 0 or 1"
+            )
         setattr(self, "ignore_" + which, bool(on))
         if which == "hwl":
             self._di = -1  # re-evaluate the switch bits next cycle
@@ -133,8 +154,10 @@ class AxisSettings:
     def set_vel_scale(self, percent: float) -> None:
         self.wake()
         if not (math.isfinite(percent) and 0.0 <= percent <= 100.0):
-            raise AxisCommandError(st.CMD_INVALID_VEL_SCALE, f"axis {self.axis_id}: velocity scale {percent!r} "
-                                   "is not in 0..100")
+            raise AxisCommandError(
+                st.CMD_INVALID_VEL_SCALE,
+                f"axis {self.axis_id}: velocity scale {percent!r} is not in 0..100",
+            )
         self.vel_scale = percent
         if not self.halted:
             self.pg.set_velocity_scale(percent / 100.0)
@@ -147,15 +170,19 @@ class AxisSettings:
         if self.enabled or self._enabling:
             raise AxisCommandError(st.CMD_INVALID_ENABLED, f"axis {self.axis_id} is enabled")
         if not (math.isfinite(value) and value >= 0.0):
-            raise AxisCommandError(st.CMD_INVALID_ROLLOVER_POS, f"axis {self.axis_id}: rollover {value!r} "
-                                   "must be positive (0: off)")
+            raise AxisCommandError(
+                st.CMD_INVALID_ROLLOVER_POS,
+                f"axis {self.axis_id}: rollover {value!r} must be positive (0: off)",
+            )
         self.rollover = value
 
     def set_op_mode(self, mode: int) -> None:
         """8 CSP, 9 CSV, 10 CST; not while moving. Leaving CST holds the position."""
         self._require_still()
         if mode not in MODES or mode < MODE_CSP:
-            raise AxisCommandError(st.CMD_INVALID_OP_MODE, f"axis {self.axis_id}: op mode {mode} is not 8, 9 or 10")
+            raise AxisCommandError(
+                st.CMD_INVALID_OP_MODE, f"axis {self.axis_id}: op mode {mode} is not 8, 9 or 10"
+            )
         self.op_mode = self.drive.mode = mode
         self._torque_pm = 0
         self.drive.target_torque = 0
@@ -167,9 +194,13 @@ class AxisSettings:
     def set_buffer_mode(self, mode: int) -> None:
         self.wake()
         if mode not in (0, 1):
-            raise AxisCommandError(st.CMD_INVALID_BUFFER_MODE, f"axis {self.axis_id}: buffer mode {mode} is not 0 or 1")
+            raise AxisCommandError(
+                st.CMD_INVALID_BUFFER_MODE, f"axis {self.axis_id}: buffer mode {mode} is not 0 or 1"
+            )
         if self._queue:
-            raise AxisCommandError(st.CMD_INVALID_SETBUFFERMODE, f"axis {self.axis_id} has buffered commands")
+            raise AxisCommandError(
+                st.CMD_INVALID_SETBUFFERMODE, f"axis {self.axis_id} has buffered commands"
+            )
         self.buffer_mode = mode
 
     @property

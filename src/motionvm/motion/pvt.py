@@ -33,7 +33,10 @@ class PvtTrajectory:
             raise PvtError("time", f"{n} PVT points: need 1 to {MAX_POINTS} besides the start")
         for k in range(1, n):
             if not times[k] > times[k - 1]:
-                raise PvtError("time", f"PVT time {times[k] * 1e3:g} ms does not follow {times[k - 1] * 1e3:g} ms")
+                raise PvtError(
+                    "time",
+                    f"PVT time {times[k] * 1e3:g} ms does not follow {times[k - 1] * 1e3:g} ms",
+                )
         for x in pos + vel + times:
             if not math.isfinite(x):
                 raise PvtError("time", f"PVT value {x!r} is not finite")

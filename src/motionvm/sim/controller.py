@@ -71,7 +71,7 @@ class Controller:
 
     def run(self, until: float | None = None) -> None:
         """Run until nothing is left to do, or until `until` seconds of simulated time."""
-        end_cycle = None if until is None else int(round(until / self.cycle_time))
+        end_cycle = None if until is None else round(until / self.cycle_time)
         k = self.kernel
         while self.busy():
             if end_cycle is not None and k.cycle >= end_cycle:

@@ -121,14 +121,30 @@ def load_machine(path: str | Path) -> MachineConfig:
             raise bad("", sec, f"'{sec}' must be a table")
         for key in val:
             if key not in _KNOWN[sec]:
-                raise bad(sec, key, f"unknown key '{key}' in [{sec}] (known: {', '.join(sorted(_KNOWN[sec]))})")
+                raise bad(
+                    sec,
+                    key,
+                    f"unknown key '{key}' in [{sec}] (known: {', '.join(sorted(_KNOWN[sec]))})",
+                )
     ctl = data.get("controller", {})
     cycle_ms = ctl.get("cycle_time_ms", 1.0)
-    if isinstance(cycle_ms, bool) or not isinstance(cycle_ms, (int, float)) or not 0.125 <= cycle_ms <= 100:
-        raise bad("controller", "cycle_time_ms", f"cycle_time_ms = {cycle_ms!r}: must be a number from 0.125 to 100")
+    if (
+        isinstance(cycle_ms, bool)
+        or not isinstance(cycle_ms, (int, float))
+        or not 0.125 <= cycle_ms <= 100
+    ):
+        raise bad(
+            "controller",
+            "cycle_time_ms",
+            f"cycle_time_ms = {cycle_ms!r}: must be a number from 0.125 to 100",
+        )
     slice_ = ctl.get("task_slice", 2000)
     if isinstance(slice_, bool) or not isinstance(slice_, int) or not 1 <= slice_ <= 10_000_000:
-        raise bad("controller", "task_slice", f"task_slice = {slice_!r}: must be an integer from 1 to 10000000")
+        raise bad(
+            "controller",
+            "task_slice",
+            f"task_slice = {slice_!r}: must be an integer from 1 to 10000000",
+        )
     data_dir = ctl.get("data_dir")
     if data_dir is not None and not isinstance(data_dir, str):
         raise bad("controller", "data_dir", f"data_dir = {data_dir!r}: must be a string (a folder)")
@@ -144,12 +160,18 @@ def load_machine(path: str | Path) -> MachineConfig:
 def _load_axes(data: dict, text: str, p: Path) -> tuple[AxisConfig, ...]:
     tables = data.get("axis", [])
     if not isinstance(tables, list) or not all(isinstance(t, dict) for t in tables):
-        raise MachineFileError(f"{p}:{_line_of(text, '', 'axis')}: error: 'axis' must be written as [[axis]] tables")
+        raise MachineFileError(
+            f"{p}:{_line_of(text, '', 'axis')}: error: 'axis' must be written as [[axis]] tables"
+        )
     n = data.get("axes", len(tables) if tables else DEFAULT_N_AXES)
     if isinstance(n, bool) or not isinstance(n, int) or not 0 <= n <= MAX_AXES:
-        raise MachineFileError(f"{p}:{_line_of(text, '', 'axes')}: error: axes = {n!r}: must be an integer from 0 to {MAX_AXES}")
+        raise MachineFileError(
+            f"{p}:{_line_of(text, '', 'axes')}: error: axes = {n!r}: must be an integer from 0 to {MAX_AXES}"
+        )
     if len(tables) > n:
-        raise MachineFileError(f"{p}:{_line_of(text, '', 'axes')}: error: axes = {n} but {len(tables)} [[axis]] tables are given")
+        raise MachineFileError(
+            f"{p}:{_line_of(text, '', 'axes')}: error: axes = {n} but {len(tables)} [[axis]] tables are given"
+        )
     out = []
     for i, table in enumerate(tables):
         try:

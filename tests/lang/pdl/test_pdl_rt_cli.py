@@ -22,7 +22,9 @@ def run(tmp_path: Path, text: str, start=None, until=5.0) -> tuple[int, str, str
 
 
 def test_run_prints_one_line_per_message(tmp_path: Path) -> None:
-    code, out, err = run(tmp_path, '#long a;\n#task/0;\na=41;\na++;\nprintl(" a=%ld ", a);\nhalt;\n')
+    code, out, err = run(
+        tmp_path, '#long a;\n#task/0;\na=41;\na++;\nprintl(" a=%ld ", a);\nhalt;\n'
+    )
     assert (code, out, err) == (0, " a=42 \n", "")
 
 
@@ -30,12 +32,14 @@ def test_run_starts_host_labels_in_order(tmp_path: Path) -> None:
     text = '_x:\nprintl("x");\nret;\n_y:\nprintl("y");\nret;\n'
     assert run(tmp_path, text, ["_y", "_x"])[:2] == (0, "y\nx\n")
     assert run(tmp_path, text, "_x")[:2] == (0, "x\n")
-    code, out, err = run(tmp_path, text, "top")
+    code, out, _err = run(tmp_path, text, "top")
     assert (code, out) == (0, "x\n")
 
 
 def test_run_reports_a_fault_and_exits_1(tmp_path: Path) -> None:
-    code, out, err = run(tmp_path, "#long a, z;\n#task/0;\na=a/z;\nhalt;\n#task/1;\nsleep 1;\nprintl(\"on\");\nhalt;\n")
+    code, out, err = run(
+        tmp_path, '#long a, z;\n#task/0;\na=a/z;\nhalt;\n#task/1;\nsleep 1;\nprintl("on");\nhalt;\n'
+    )
     assert code == 1
     assert out == "on\n"
     assert err == f"{tmp_path / 'prog.pdl'}:3: runtime error in task 0: division by zero\n"
@@ -80,3 +84,11 @@ def test_generated_python_keeps_the_users_lines() -> None:
     assert program.code.co_filename == str(path)
     src = program.python_source()
     assert "def _p_add3(T, b, a0, a1, a2, a3):" in src and "def _main(T, pc):" in src
+
+
+def test_stamp_prefixes_time_and_task(tmp_path: Path) -> None:
+    path = tmp_path / "prog.pdl"
+    path.write_text('#task/1;\nsleep 500;\nprintl("hi");\nhalt;\n')
+    out, err = io.StringIO(), io.StringIO()
+    assert main_run([str(path)], None, 2.0, out, err, stamp=True) == 0
+    assert out.getvalue() == "[t=0.500067][task 1] hi\n"

@@ -29,7 +29,9 @@ from motionvm.source import DiagnosticSink, render_diagnostic
 
 RUN = Path(__file__).parents[2] / "programs" / "pdl" / "run"
 PROGRAMS = sorted(RUN.rglob("*.pdl"))
-DIRECTIVE = re.compile(r"^\s*// (expect|expect runtime error|start|until|config|axis|input|write): ?(.*)$")
+DIRECTIVE = re.compile(
+    r"^\s*// (expect|expect runtime error|start|until|config|axis|input|write): ?(.*)$"
+)
 
 
 def _number(text: str) -> float | int | None:

@@ -32,7 +32,9 @@ def drive_of(text: str, **config: object) -> Drive:
     program = compile_pdl("mem/timing.pdl", sink=sink, text=text)
     assert program is not None, "\n".join(render_diagnostic(d) for d in sink.items)
     out: list[str] = []
-    drive = Drive(program, DriveConfig(**config), on_message=lambda m: out.append(m.text), on_fault=out.append)  # type: ignore[arg-type]
+    drive = Drive(
+        program, DriveConfig(**config), on_message=lambda m: out.append(m.text), on_fault=out.append
+    )  # type: ignore[arg-type]
     drive.out = out  # type: ignore[attr-defined]
     return drive
 
@@ -119,7 +121,9 @@ def test_fclk_wraps_as_signed_32_bit() -> None:
 
 
 def test_sleeping_drive_skips_ahead_exactly() -> None:
-    d = drive_of("#long t0, d;\n#task/0;\nt0=fclk;\nsleep 30000;\nd=fclk-t0;\nprintl(\"%ld\", d);\nhalt;\n")
+    d = drive_of(
+        '#long t0, d;\n#task/0;\nt0=fclk;\nsleep 30000;\nd=fclk-t0;\nprintl("%ld", d);\nhalt;\n'
+    )
     assert d.run(40.0)
     assert d.out == ["450001"]  # type: ignore[attr-defined]
 
@@ -170,3 +174,33 @@ halt;
     d.run(1.0)
     [text] = d.out  # type: ignore[attr-defined]
     assert 1500 <= int(text) <= 1505
+
+
+def test_host_writes_honour_ro_and_lp_w44() -> None:
+    d = drive_of("#float _ro v1;\n#float _lp(-0.5, 0.5) pgain;\n#task/0;\npgain=0.7;\nhalt;\n")
+    with pytest.raises(ValueError, match="read-only"):
+        d.write("v1", 1.0)
+    with pytest.raises(ValueError, match="outside the _lp limits"):
+        d.write("pgain", 0.7)
+    d.write("pgain", 0.25)
+    assert d.read("pgain") == 0.25
+    d.run(1.0)
+    assert d.read("pgain") == pytest.approx(0.7)  # PDL code itself may write it (G35)
+
+
+def test_promoted_loop_shares_globals_at_every_yield() -> None:
+    # task 0 counts in a loop whose scalars live in Python locals; task 1 must see them
+    d = drive_of("""
+#long c, seen;
+#task/0;
+loop(0) do c++; end;
+halt;
+#task/1;
+sleep 10;
+seen = c;
+printl("%ld", seen);
+halt;
+""")
+    d.run(0.1)
+    [text] = d.out  # type: ignore[attr-defined]
+    assert 70 <= int(text) <= 80  # 150 phases, half of them task 0's, 2 statements per pass

@@ -67,8 +67,12 @@ def main_run(
     stdout: TextIO,
     stderr: TextIO,
     config: DriveConfig | None = None,
+    stamp: bool = False,
 ) -> int:
-    """Compile one PDL program, run it on a simulated drive, print its messages."""
+    """Compile one PDL program, run it on a simulated drive, print its messages.
+
+    `stamp` prefixes each message with `[t=SECONDS][task N] ` (simulated time).
+    """
     if not _usage(paths, stderr):
         return EXIT_USAGE
     if len(paths) != 1:
@@ -90,8 +94,11 @@ def main_run(
             print(f"motionvm: --start {label}: the program has no label '{label}'", file=stderr)
             return EXIT_USAGE
 
+    rate = (config or DriveConfig()).phase_rate
+
     def show(m: Message) -> None:
-        print(m.text, file=stdout)
+        prefix = f"[t={m.phase / rate:.6f}][task {m.task}] " if stamp else ""
+        print(prefix + m.text, file=stdout)
 
     def fault(text: str) -> None:
         print(text, file=stderr)

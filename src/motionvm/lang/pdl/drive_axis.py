@@ -45,7 +45,9 @@ class PdlAxis:
     def __init__(self, phase_rate: float, config: AxisConfig) -> None:
         self.config = config
         self.dt = 1.0 / phase_rate
-        self.pg = ProfileGenerator(self.dt, config.v_max, config.acc, config.dcc, 0.0, config.position)
+        self.pg = ProfileGenerator(
+            self.dt, config.v_max, config.acc, config.dcc, 0.0, config.position
+        )
         self._pending_smooth: float | None = None
 
     # ---------------------------------------------------------------- commands
@@ -92,7 +94,9 @@ class PdlAxis:
 
     def home(self) -> bool:
         c = self.config
-        return c.home_position is not None and abs(self.position - c.home_position) <= c.home_width / 2
+        return (
+            c.home_position is not None and abs(self.position - c.home_position) <= c.home_width / 2
+        )
 
     def left_limit(self) -> bool:
         c = self.config

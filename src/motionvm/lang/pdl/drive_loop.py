@@ -71,7 +71,7 @@ def run_phases(d: Drive, count: int | None) -> bool:
                         if tk.gen is not None and tk.wake <= ph:
                             t, cur = tk, c
                             p = S[i_prior + c]
-                            left = p if p > 1 else 1
+                            left = max(1, p)
                             break
             if t is None:
                 if pg.mode == IDLE:
@@ -111,9 +111,15 @@ def run_phases(d: Drive, count: int | None) -> bool:
                             kind, amount, b = r
                             debt = -(b // budget) if b < 0 else 0
                             if kind == SLEEP:
-                                t.wake = ph + debt + (-(-amount * rate // 1000) if amount > 0 else 0)
+                                t.wake = (
+                                    ph + debt + (-(-amount * rate // 1000) if amount > 0 else 0)
+                                )
                             else:
-                                t.busy_until = ph + debt + (-(-amount * wait_num // 1_000_000) if amount > 0 else 0)
+                                t.busy_until = (
+                                    ph
+                                    + debt
+                                    + (-(-amount * wait_num // 1_000_000) if amount > 0 else 0)
+                                )
             ph += 1
             fclk += 1
             if fclk > _FCLK_MAX:

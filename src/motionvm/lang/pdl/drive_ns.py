@@ -143,7 +143,13 @@ def runtime_namespace(drive: Drive) -> dict[str, object]:
         "_enter": enter,
         "_land": land,
         "_Exit": TaskExit,
-        "__builtins__": {"range": range, "max": max, "min": min, "abs": abs, "ValueError": ValueError},
+        "__builtins__": {
+            "range": range,
+            "max": max,
+            "min": min,
+            "abs": abs,
+            "ValueError": ValueError,
+        },
     }
     ns.update(drive.program.tables)
     return ns

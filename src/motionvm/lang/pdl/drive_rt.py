@@ -25,7 +25,7 @@ from motionvm.lang.pdl.drive_ns import runtime_namespace
 from motionvm.lang.pdl.drive_sysvars import SYS_BASE, SysVarStore
 from motionvm.lang.pdl.lower import PdlProgram
 from motionvm.lang.pdl.lower_body import SLEEP
-from motionvm.lang.pdl.rt_memory import Memory
+from motionvm.lang.pdl.rt_memory import Memory, round_int
 from motionvm.lang.pdl.rt_print import format_message
 from motionvm.lang.pdl.symbols import USER_MEMORY_WORDS
 from motionvm.lang.pdl.sysvars import lookup
@@ -56,7 +56,7 @@ class DriveConfig:
 class Task:
     """One of the drive's 4 task slots."""
 
-    __slots__ = ("id", "gen", "sp", "limit", "depth", "wake", "busy_until", "debt", "label")
+    __slots__ = ("busy_until", "debt", "depth", "gen", "id", "label", "limit", "sp", "wake")
 
     def __init__(self, tid: int, base: int, words: int) -> None:
         self.id = tid
@@ -108,8 +108,14 @@ class Drive:
         ns = runtime_namespace(self)
         exec(program.code, ns)  # noqa: S102 — our own generated code
         self._main = ns["_main"]
-        self._slot = {name: SYS_BASE[name] for name in ("fclk", "task_num", "task_prior", "x_ref_pos", "ref_pos")}
-        self._axis_slots = {SYS_BASE[k]: k for k in ("X_trg", "X_jvl", "X_stop_m", "X_vel_max", "X_acc", "X_dcc", "X_new_sm_fac")}
+        self._slot = {
+            name: SYS_BASE[name]
+            for name in ("fclk", "task_num", "task_prior", "x_ref_pos", "ref_pos")
+        }
+        self._axis_slots = {
+            SYS_BASE[k]: k
+            for k in ("X_trg", "X_jvl", "X_stop_m", "X_vel_max", "X_acc", "X_dcc", "X_new_sm_fac")
+        }
         for slot in self._axis_slots:
             self.sysvars.hooks[slot] = self._axis_write
         self.lcd = bytearray()
@@ -155,7 +161,9 @@ class Drive:
     def start(self, label: str) -> int:
         """Run a `_label` on the lowest idle task (RunFuncPdlN); returns the task number."""
         if not label.startswith("_"):
-            raise ValueError(f"refused: the host can only run labels starting with '_', not '{label}'")
+            raise ValueError(
+                f"refused: the host can only run labels starting with '_', not '{label}'"
+            )
         pc = self.program.entries.get(label)
         if pc is None:
             raise ValueError(f"refused: the program has no label '{label}'")
@@ -199,7 +207,7 @@ class Drive:
             return self.sysvars.ST[sv.address]
         return self.sysvars.S[self.sysvars.slot(name, index)]
 
-    def write(self, name: str, value: int | float, index: int = 0) -> None:
+    def write(self, name: str, value: float, index: int = 0) -> None:
         """A host (KMI) write: refused for `_ro` variables and outside `_lp` limits."""
         g = self.program.globals.get(name)
         if g is None:
@@ -208,7 +216,9 @@ class Drive:
         if g.read_only:
             raise ValueError(f"refused: '{name}' is read-only (_ro)")
         if g.limits is not None and not g.limits[0] <= value <= g.limits[1]:
-            raise ValueError(f"refused: {value} is outside the _lp limits {g.limits[0]}..{g.limits[1]} of '{name}'")
+            raise ValueError(
+                f"refused: {value} is outside the _lp limits {g.limits[0]}..{g.limits[1]} of '{name}'"
+            )
         if g.type == "short" and not g.pointer:
             self.mem.H[g.index + index] = int(value)
         elif g.type == "float" and not g.pointer:
@@ -229,11 +239,11 @@ class Drive:
         self.messages.append(msg)
         self.on_message(msg)
 
-    def _axis_write(self, slot: int, value: int | float) -> None:
+    def _axis_write(self, slot: int, value: float) -> None:
         self.axis.write(self._axis_slots[slot], value)
         self._sync_axis()
 
-    def _lcd_write(self, slot: int, value: int | float) -> None:
+    def _lcd_write(self, slot: int, value: float) -> None:
         byte = int(value) & 0xFF  # an 8-bit output register: the low byte is sent
         self.sysvars.S[slot] = byte
         self.lcd.append(byte)
@@ -256,7 +266,7 @@ class Drive:
         if gen is not None:
             try:
                 gen.close()
-            except BaseException:  # noqa: BLE001 — the task is stopped either way
+            except BaseException:  # noqa: BLE001, S110 — the task is stopped either way
                 pass
 
     def fault(self, t: Task, exc: BaseException) -> None:
@@ -271,7 +281,7 @@ class Drive:
         ax = self.axis
         S, ST = self.sysvars.S, self.sysvars.ST
         p = ax.position
-        S[self._slot["x_ref_pos"]] = int(round(p))
+        S[self._slot["x_ref_pos"]] = round_int(p)
         S[self._slot["ref_pos"]] = p
         b = self._bits
         ST[b["x_run"]] = 1 if ax.moving else 0

@@ -53,7 +53,8 @@ class SysVarStore:
         self.input_written = False
         """Set when a program writes an input state; the drive refreshes inputs then."""
         self._is_input = bytes(
-            1 if (st := state_names().get(b)) is not None and st.is_input else 0 for b in range(N_STATES)
+            1 if (st := state_names().get(b)) is not None and st.is_input else 0
+            for b in range(N_STATES)
         )
 
     def slot(self, name: str, index: int = 0) -> int:
@@ -64,7 +65,7 @@ class SysVarStore:
             raise IndexError(f"{sv.name}[{index}] is outside 0..{sv.size - 1}")
         return SYS_BASE[sv.name] + index
 
-    def convert(self, slot: int, value: int | float) -> int | float:
+    def convert(self, slot: int, value: float) -> int | float:
         kind = SLOT_OWNER[slot].kind
         if kind == "float":
             return f32(float(value))
@@ -72,7 +73,7 @@ class SysVarStore:
             value = round_int(value, 16 if kind == "short" else 32)
         return w16(value) if kind == "short" else w32(value)
 
-    def write(self, slot: int, value: int | float) -> None:
+    def write(self, slot: int, value: float) -> None:
         """A program's write of a system variable (type conversion, then the reaction)."""
         v = self.convert(slot, value)
         self.S[slot] = v

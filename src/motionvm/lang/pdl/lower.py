@@ -41,7 +41,7 @@ from motionvm.lang.pdl.lower_body import BodyLowerer
 from motionvm.lang.pdl.lower_expr import assign, const, nm, storage_kind, subscript
 from motionvm.lang.pdl.rt_memory import FLOAT, SHORT, USER_BASE
 from motionvm.lang.pdl.rt_print import PrintFormat, compile_format
-from motionvm.lang.pdl.symbols import LabelSym, ProcSym, Symbols, VarSym, code_units
+from motionvm.lang.pdl.symbols import LabelSym, Symbols, VarSym, code_units
 from motionvm.source.files import SourcePos
 
 LINE_STRIDE = 100_000
@@ -152,7 +152,9 @@ class ProgramLowering:
 
     def main(self) -> tuple[ast.FunctionDef, BodyLowerer]:
         body = BodyLowerer(self, None, None)
-        items = tuple(i for i in self.syms.program.items if not isinstance(i, (n.ProcDef, n.ProcProto)))
+        items = tuple(
+            i for i in self.syms.program.items if not isinstance(i, (n.ProcDef, n.ProcProto))
+        )
         body.prepare_landings(self.syms.labels, items)
         body.body(items)
         body.uses_dispatch = True  # tasks enter at any label
@@ -178,18 +180,30 @@ class ProgramLowering:
         stmts = self._prologue() + [
             assign(nm("bp", True), ast.Attribute(value=nm("T"), attr="sp", ctx=ast.Load())),
             assign(nm("d0", True), ast.Attribute(value=nm("T"), attr="depth", ctx=ast.Load())),
-            ast.Expr(ast.Call(func=nm("_enter"), args=[nm("T"), const(bytes(kinds)), const(n_params)], keywords=[])),
+            ast.Expr(
+                ast.Call(
+                    func=nm("_enter"),
+                    args=[nm("T"), const(bytes(kinds)), const(n_params)],
+                    keywords=[],
+                )
+            ),
         ]
         for i, (p, v) in enumerate(zip(d.params, list(sym.locals.values())[:n_params])):
             view = "F" if storage_kind(v) == FLOAT and v.type != "instate" else "M"
-            slot = ast.BinOp(left=nm("bp"), op=ast.Add(), right=const(frame[id(v)])) if frame[id(v)] else nm("bp")
+            slot = (
+                ast.BinOp(left=nm("bp"), op=ast.Add(), right=const(frame[id(v)]))
+                if frame[id(v)]
+                else nm("bp")
+            )
             stmts.append(assign(subscript(view, slot, True), nm(f"a{i}")))
         if body.uses_dispatch:
             stmts.append(assign(nm("pc", True), const(0)))
         stmts.append(assign(nm("rs", True), ast.List(elts=[], ctx=ast.Load())))
         stmts += body.dispatcher()
         if not _contains_yield(stmts):
-            stmts.append(ast.If(test=const(False), body=[ast.Expr(ast.Yield(value=None))], orelse=[]))
+            stmts.append(
+                ast.If(test=const(False), body=[ast.Expr(ast.Yield(value=None))], orelse=[])
+            )
         params = ["T", "b"] + [f"a{i}" for i in range(n_params)]
         return _function(self.proc_pyname(d.name), params, stmts, d.pos.line)
 
@@ -209,7 +223,9 @@ class ProgramLowering:
             sk = storage_kind(g)
             index = self.global_index(g)
             limits = None
-            globals_[g.name] = GlobalVar(g.name, g.type, g.size, index, g.pointer, g.read_only, limits)
+            globals_[g.name] = GlobalVar(
+                g.name, g.type, g.size, index, g.pointer, g.read_only, limits
+            )
             if sk == SHORT:
                 kinds.append((index // 2, (index % 2 + g.size + 1) // 2, SHORT))
             else:
@@ -221,7 +237,9 @@ class ProgramLowering:
             module=module,
             entries=dict(body.label_seg),
             tasks=dict(body.task_seg),
-            label_addresses={lab.name: self.label_address(lab, False) for lab in self.syms.labels.values()},
+            label_addresses={
+                lab.name: self.label_address(lab, False) for lab in self.syms.labels.values()
+            },
             formats=self.formats,
             tables=self.tables,
             globals=globals_,

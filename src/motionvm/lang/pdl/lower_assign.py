@@ -60,11 +60,17 @@ def lower_assign(x: ExprLowering, s: n.Assign) -> list[ast.stmt]:
         return [ast.Expr(call("_fill", addr, const(values), const(ekind)))] + x.auto_increments(t)
     if isinstance(v, n.StringConst):
         addr, ekind = x.target_address(t)
-        return [ast.Expr(call("_fill", addr, const(pack_string(v.value)), const(ekind)))] + x.auto_increments(t)
+        return [
+            ast.Expr(call("_fill", addr, const(pack_string(v.value)), const(ekind)))
+        ] + x.auto_increments(t)
     if isinstance(v, n.FuncCall):
         return _func(x, t, v) + x.auto_increments(*v.args, t)
     value, kind = x.value(v)
-    sources = (v.left, v.right) if isinstance(v, n.BinOp) else ((v.operand,) if isinstance(v, n.Neg) else (v,))
+    sources = (
+        (v.left, v.right)
+        if isinstance(v, n.BinOp)
+        else ((v.operand,) if isinstance(v, n.Neg) else (v,))
+    )
     return x.store(t, value, kind) + x.auto_increments(*sources, t)
 
 
@@ -87,7 +93,10 @@ def _func(x: ExprLowering, t: n.VarRef | n.Deref, f: n.FuncCall) -> list[ast.stm
         got = call("_" + name, src, x.read(args[1])[0], const(kind))
         rkind = FLT if kind == FLOAT else (WIDE if name == "memsum" else INT)
         test = ast.Compare(left=nm("_t"), ops=[ast.IsNot()], comparators=[const(None)])
-        return [assign(nm("_t", True), got), ast.If(test=test, body=x.store(t, nm("_t"), rkind), orelse=[])]
+        return [
+            assign(nm("_t", True), got),
+            ast.If(test=test, body=x.store(t, nm("_t"), rkind), orelse=[]),
+        ]
     values = [x.read(a) for a in args]
     if name in ("max", "min"):
         kinds = {k for _, k in values}

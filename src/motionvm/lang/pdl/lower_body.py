@@ -31,46 +31,30 @@ import ast
 from typing import TYPE_CHECKING
 
 from motionvm.lang.pdl import nodes as n
-from motionvm.lang.pdl.lower_cache import Promotion, promote
-from motionvm.lang.pdl.lower_expr import FLT, ExprLowering, assign, binop, call, const, nm, subscript
+from motionvm.lang.pdl.lower_expr import (
+    FLT,
+    ExprLowering,
+    assign,
+    binop,
+    call,
+    const,
+    nm,
+    subscript,
+)
+from motionvm.lang.pdl.lower_flow import SLEEP, WAIT, FlowLowering, check_budget, is_jumpy
 from motionvm.lang.pdl.rt_memory import FLOAT
 from motionvm.lang.pdl.symbols import LabelSym, ProcSym, VarSym, code_units
 
 if TYPE_CHECKING:
     from motionvm.lang.pdl.lower import ProgramLowering
 
-SLEEP, WAIT = 1, 2
-_JUMPY = (n.Label, n.Goto, n.CallLabel)
 
-
-def is_jumpy(s: object) -> bool:
-    """True if a statement contains a label or a jump, so it cannot stay native Python."""
-    if isinstance(s, _JUMPY):
-        return True
-    if isinstance(s, n.Simple):
-        return s.command == "ret"
-    if isinstance(s, n.Print):
-        return s.command == "retprintl"
-    if isinstance(s, n.If):
-        return any(map(is_jumpy, s.then_body)) or any(map(is_jumpy, s.else_body or ()))
-    if isinstance(s, (n.Loop, n.While)):
-        return any(map(is_jumpy, s.body))
-    return False
-
-
-def _check_budget(promo: Promotion | None = None) -> ast.stmt:
-    """`if b <= 0: b = yield b`, saving and reloading promoted scalars around the yield."""
-    test = ast.Compare(left=nm("b"), ops=[ast.LtE()], comparators=[const(0)])
-    body = [assign(nm("b", True), ast.Yield(value=nm("b")))]
-    if promo is not None:
-        body = promo.stores() + body + promo.loads()
-    return ast.If(test=test, body=body, orelse=[])
-
-
-class BodyLowerer:
+class BodyLowerer(FlowLowering):
     """Builds the segments of one body; `self.cur` is the statement list being filled."""
 
-    def __init__(self, prog: ProgramLowering, proc: ProcSym | None, frame: dict[int, int] | None) -> None:
+    def __init__(
+        self, prog: ProgramLowering, proc: ProcSym | None, frame: dict[int, int] | None
+    ) -> None:
         self.prog = prog
         self.proc = proc
         self.x = ExprLowering(prog, frame)
@@ -101,7 +85,9 @@ class BodyLowerer:
 
     def flush(self) -> None:
         if self.pending:
-            self.cur.append(ast.AugAssign(target=nm("b", True), op=ast.Sub(), value=const(self.pending)))
+            self.cur.append(
+                ast.AugAssign(target=nm("b", True), op=ast.Sub(), value=const(self.pending))
+            )
             self.pending = 0
 
     def new_segment(self) -> int:
@@ -118,7 +104,7 @@ class BodyLowerer:
         self.uses_dispatch = True
         out: list[ast.stmt] = [assign(nm("pc", True), target)]
         if check:
-            out.append(_check_budget())
+            out.append(check_budget())
         out.append(ast.Continue())
         self.emit(out, pos)
 
@@ -166,13 +152,15 @@ class BodyLowerer:
         for s in items:
             self.stmt(s, flat)
 
-    def native_block(self, items: tuple[n.Item, ...], extra_cost: int, back_edge: bool) -> list[ast.stmt]:
+    def native_block(
+        self, items: tuple[n.Item, ...], extra_cost: int, back_edge: bool
+    ) -> list[ast.stmt]:
         saved_cur, saved_pending = self.cur, self.pending
         self.cur, self.pending = [], extra_cost
         self.block(items, flat=False)
         self.flush()
         if back_edge:
-            self.cur.append(_check_budget(self.x.promo))
+            self.cur.append(check_budget(self.x.promo))
         out = self.cur or [ast.Pass()]
         self.cur, self.pending = saved_cur, saved_pending
         return out
@@ -188,7 +176,7 @@ class BodyLowerer:
         if _reads_clock(s):
             # Pay for the statements before it first, so `t0 = fclk;` sees the right time.
             self.flush()
-            self.cur.append(_check_budget())
+            self.cur.append(check_budget())
         getattr(self, "s_" + type(s).__name__)(s, flat)
 
     def s_Label(self, s: n.Label, flat: bool) -> None:
@@ -244,7 +232,7 @@ class BodyLowerer:
             target = call("_land", nm(table), self.x.read(s.index)[0], const(s.label))
         self.flush()
         self.uses_dispatch = True
-        self.emit([assign(nm("pc", True), target), _check_budget(), ast.Continue()], s.pos)
+        self.emit([assign(nm("pc", True), target), check_budget(), ast.Continue()], s.pos)
 
     def s_CallLabel(self, s: n.CallLabel, flat: bool) -> None:
         self.pending += 1
@@ -259,8 +247,15 @@ class BodyLowerer:
         """`ret`: back to the last `call`, or the end of the task if there is none (G4)."""
         self.flush()
         self.uses_dispatch = True
-        pop = ast.Call(func=ast.Attribute(value=nm("rs"), attr="pop", ctx=ast.Load()), args=[], keywords=[])
-        back = [ast.Expr(call("_pop", nm("T"))), assign(nm("pc", True), pop), _check_budget(), ast.Continue()]
+        pop = ast.Call(
+            func=ast.Attribute(value=nm("rs"), attr="pop", ctx=ast.Load()), args=[], keywords=[]
+        )
+        back = [
+            ast.Expr(call("_pop", nm("T"))),
+            assign(nm("pc", True), pop),
+            check_budget(),
+            ast.Continue(),
+        ]
         self.emit([ast.If(test=nm("rs"), body=back, orelse=[])] + self.end_task(), pos)
 
     def s_Simple(self, s: n.Simple, flat: bool) -> None:
@@ -280,7 +275,9 @@ class BodyLowerer:
         self.pending += 1
         self.flush()
         amount, _ = self.x.read(s.amount)
-        req = ast.Tuple(elts=[const(SLEEP if s.command == "sleep" else WAIT), amount, nm("b")], ctx=ast.Load())
+        req = ast.Tuple(
+            elts=[const(SLEEP if s.command == "sleep" else WAIT), amount, nm("b")], ctx=ast.Load()
+        )
         self.emit([assign(nm("b", True), ast.Yield(value=req))], s.pos)
 
     def s_Kill(self, s: n.Kill, flat: bool) -> None:
@@ -324,90 +321,6 @@ class BodyLowerer:
         test = ast.UnaryOp(op=ast.Not(), operand=self.x.cond(s.cond))
         self.emit([ast.While(test=test, body=[wait], orelse=[])], s.pos)
 
-    # ------------------------------------------------------------ compound statements
-
-    def s_If(self, s: n.If, flat: bool) -> None:
-        self.pending += 1
-        if not (flat and is_jumpy(s)):
-            self.flush()
-            then = self.native_block(s.then_body, 0, False)
-            orelse = self.native_block(s.else_body, 0, False) if s.else_body else []
-            self.emit([ast.If(test=self.x.cond(s.cond), body=then, orelse=orelse)], s.pos)
-            return
-        skip = const(-1)
-        self.flush()
-        self.emit([ast.If(test=ast.UnaryOp(op=ast.Not(), operand=self.x.cond(s.cond)),
-                          body=[assign(nm("pc", True), skip), ast.Continue()], orelse=[])], s.pos)  # fmt: skip
-        self.uses_dispatch = True
-        self.block(s.then_body, flat=True)
-        if s.else_body is not None:
-            end = const(-1)
-            self.jump(end, s.pos, check=False)
-            skip.value = self.new_segment()
-            self.block(s.else_body, flat=True)
-            end.value = self.new_segment()
-        else:
-            skip.value = self.new_segment()
-
-    def s_While(self, s: n.While, flat: bool) -> None:
-        if not (flat and is_jumpy(s)):
-            self.pending += 1
-            self.flush()
-            promo = self.begin_promotion(s)
-            body = self.native_block(s.body, 1, True)
-            self.emit(self.end_promotion(promo, [ast.While(test=self.x.cond(s.cond), body=body, orelse=[])]), s.pos)
-            return
-        head = self.new_segment()
-        self.pending += 1
-        self.flush()
-        exit_ = const(-1)
-        self.emit([ast.If(test=ast.UnaryOp(op=ast.Not(), operand=self.x.cond(s.cond)),
-                          body=[assign(nm("pc", True), exit_), ast.Continue()], orelse=[])], s.pos)  # fmt: skip
-        self.block(s.body, flat=True)
-        self.jump(const(head), s.pos, check=True)
-        exit_.value = self.new_segment()
-
-    def s_Loop(self, s: n.Loop, flat: bool) -> None:
-        self.pending += 1
-        count, _ = self.x.read(s.count)
-        # n is read once as an unsigned 16-bit count, 0 meaning 65536 (spec/PDL.md G29).
-        times = ast.BoolOp(op=ast.Or(), values=[binop(count, ast.BitAnd(), const(0xFFFF)), const(65536)])
-        if not (flat and is_jumpy(s)):
-            self.flush()
-            promo = self.begin_promotion(s)
-            body = self.native_block(s.body, 1, True)
-            if promo is not None:
-                count, _ = self.x.read(s.count)
-                times = ast.BoolOp(op=ast.Or(), values=[binop(count, ast.BitAnd(), const(0xFFFF)), const(65536)])
-            loop = ast.For(target=nm("_", True), iter=call("range", times), body=body, orelse=[])
-            self.emit(self.end_promotion(promo, [loop]), s.pos)
-            return
-        self.counter += 1
-        c = f"_c{self.counter}"
-        self.emit([assign(nm(c, True), times)], s.pos)
-        top = self.new_segment()
-        self.block(s.body, flat=True)
-        self.pending += 1
-        self.flush()
-        dec = ast.AugAssign(target=nm(c, True), op=ast.Sub(), value=const(1))
-        again = [assign(nm("pc", True), const(top)), _check_budget(), ast.Continue()]
-        test = ast.Compare(left=nm(c), ops=[ast.Gt()], comparators=[const(0)])
-        self.emit([dec, ast.If(test=test, body=again, orelse=[])], s.pos)
-        self.new_segment()
-
-    def begin_promotion(self, s: n.Loop | n.While) -> Promotion | None:
-        """Keep the loop's global scalars in locals, if nothing else can see them (lower_cache)."""
-        if self.x.promo is not None or not self.prog.promote:
-            return None
-        self.x.promo = promote(self.prog, s)
-        return self.x.promo
-
-    def end_promotion(self, promo: Promotion | None, stmts: list[ast.stmt]) -> list[ast.stmt]:
-        if promo is None:
-            return stmts
-        self.x.promo = None
-        return promo.wrap(stmts)
-
     # ------------------------------------------------------------ assembly
 
     def dispatcher(self) -> list[ast.stmt]:
@@ -439,7 +352,9 @@ def _reads_clock(node: object) -> bool:
     if not fields:
         return False
     return any(
-        _reads_clock(getattr(node, f)) for f in fields if f not in ("pos", "body", "then_body", "else_body")
+        _reads_clock(getattr(node, f))
+        for f in fields
+        if f not in ("pos", "body", "then_body", "else_body")
     )
 
 
@@ -453,4 +368,4 @@ def _walk(items: tuple[n.Item, ...]):
             yield from _walk(s.body)
 
 
-__all__ = ["BodyLowerer", "FLOAT", "SLEEP", "WAIT", "is_jumpy", "subscript"]
+__all__ = ["FLOAT", "SLEEP", "WAIT", "BodyLowerer", "is_jumpy", "subscript"]

@@ -80,7 +80,10 @@ class Promotion:
         return self.slots.get((view, index))
 
     def loads(self) -> list[ast.stmt]:
-        return [assign(nm(local, True), subscript(view, ast.Constant(i))) for (view, i), local in self.slots.items()]
+        return [
+            assign(nm(local, True), subscript(view, ast.Constant(i)))
+            for (view, i), local in self.slots.items()
+        ]
 
     def stores(self) -> list[ast.stmt]:
         return [
@@ -91,7 +94,9 @@ class Promotion:
 
     def wrap(self, body: list[ast.stmt]) -> list[ast.stmt]:
         """loads; try: body except Exception: stores; raise; stores."""
-        handler = ast.ExceptHandler(type=nm("Exception"), name=None, body=self.stores() + [ast.Raise()])
+        handler = ast.ExceptHandler(
+            type=nm("Exception"), name=None, body=self.stores() + [ast.Raise()]
+        )
         guarded = ast.Try(body=body, handlers=[handler], orelse=[], finalbody=[])
         return self.loads() + [guarded] + self.stores()
 
@@ -121,7 +126,11 @@ def promote(prog: ProgramLowering, loop: n.Loop | n.While) -> Promotion | None:
                 written.add(id(sym))
         if isinstance(node, n.VarRef):
             sym = syms.symbol_of(node)
-            if not isinstance(sym, VarSym) or sym.scope != "global" or sym.type in ("state", "float"):
+            if (
+                not isinstance(sym, VarSym)
+                or sym.scope != "global"
+                or sym.type in ("state", "float")
+            ):
                 continue
             if node.auto_inc and isinstance(node.index, n.VarRef):
                 isym = syms.symbol_of(node.index)

@@ -55,7 +55,11 @@ def call(func: str, *args: ast.expr) -> ast.Call:
 
 
 def binop(left: ast.expr, op: ast.operator, right: ast.expr) -> ast.expr:
-    if isinstance(left, ast.Constant) and isinstance(right, ast.Constant) and isinstance(op, ast.Add):
+    if (
+        isinstance(left, ast.Constant)
+        and isinstance(right, ast.Constant)
+        and isinstance(op, ast.Add)
+    ):
         return const(left.value + right.value)
     if isinstance(right, ast.Constant) and right.value == 0 and isinstance(op, ast.Add):
         return left
@@ -87,9 +91,32 @@ def _store_local(local: str, bits: int, value: ast.expr, kind: str) -> list[ast.
     if kind == I16 or (kind == INT and bits == 32):
         return out
     lo, hi = (-0x8000, 0x7FFF) if bits == 16 else (-0x8000_0000, 0x7FFF_FFFF)
-    inside = ast.Compare(left=const(lo), ops=[ast.LtE(), ast.LtE()], comparators=[nm(local), const(hi)])
     fix = assign(nm(local, True), call("_w16" if bits == 16 else "_w32", nm(local)))
-    return out + [ast.If(test=ast.UnaryOp(op=ast.Not(), operand=inside), body=[fix], orelse=[])]
+    step = _constant_step(value)
+    if step is not None and step > 0:  # x + 1 can only overflow upwards
+        test: ast.expr = ast.Compare(left=nm(local), ops=[ast.Gt()], comparators=[const(hi)])
+    elif step is not None:
+        test = ast.Compare(left=nm(local), ops=[ast.Lt()], comparators=[const(lo)])
+    else:
+        inside = ast.Compare(
+            left=const(lo), ops=[ast.LtE(), ast.LtE()], comparators=[nm(local), const(hi)]
+        )
+        test = ast.UnaryOp(op=ast.Not(), operand=inside)
+    return out + [ast.If(test=test, body=[fix], orelse=[])]
+
+
+def _constant_step(value: ast.expr) -> int | None:
+    """c for `x + c`, -c for `x - c` (x an integer variable, c a small constant), else None."""
+    if not (isinstance(value, ast.BinOp) and isinstance(value.right, ast.Constant)):
+        return None
+    c = value.right.value
+    if type(c) is not int or not 0 < abs(c) < 0x8000_0000 or isinstance(value.left, ast.Constant):
+        return None
+    if isinstance(value.op, ast.Add):
+        return c
+    if isinstance(value.op, ast.Sub):
+        return -c
+    return None
 
 
 def storage_kind(sym: VarSym) -> int:
@@ -143,7 +170,15 @@ class ExprLowering:
             base = self.prog.sys_base[sym.name]
             if idx is None or (isinstance(idx, ast.Constant) and 0 <= idx.value < sym.size):
                 return "S", const(base + (idx.value if idx is not None else 0)), kind
-            return "S", binop(const(base), ast.Add(), self._checked(idx, const(0), const(sym.size), v.name, idx)), kind
+            return (
+                "S",
+                binop(
+                    const(base),
+                    ast.Add(),
+                    self._checked(idx, const(0), const(sym.size), v.name, idx),
+                ),
+                kind,
+            )
         if sym.scope == "global":
             view = {LONG: "M", SHORT: "H", FLOAT: "F"}[kind]
             base_i = self.prog.global_index(sym)
@@ -154,7 +189,13 @@ class ExprLowering:
                 if base_i + idx.value < hi:
                     return view, const(base_i + idx.value), kind
                 return view, call("_oob", const(v.name), idx), kind
-            return view, self._checked(binop(const(base_i), ast.Add(), idx), const(lo), const(hi), v.name, idx), kind
+            return (
+                view,
+                self._checked(
+                    binop(const(base_i), ast.Add(), idx), const(lo), const(hi), v.name, idx
+                ),
+                kind,
+            )
         assert self.frame is not None
         view = "F" if kind == FLOAT else "M"
         slot = binop(nm("bp"), ast.Add(), const(self.frame[id(sym)]))
@@ -162,14 +203,35 @@ class ExprLowering:
             return view, slot, kind
         if isinstance(idx, ast.Constant):
             return view, binop(slot, ast.Add(), idx), kind
-        return view, self._checked(binop(slot, ast.Add(), idx), const(1), nm("_MEND"), v.name, idx), kind
+        return (
+            view,
+            self._checked(binop(slot, ast.Add(), idx), const(1), nm("_MEND"), v.name, idx),
+            kind,
+        )
 
     @staticmethod
     def _checked(addr: ast.expr, lo: ast.expr, hi: ast.expr, name: str, idx: ast.expr) -> ast.expr:
-        """`_i if lo <= (_i := addr) < hi else _oob(name, idx)`."""
+        """`_i if lo <= (_i := addr) < hi else _oob(name, idx)`.
+
+        With a constant base and an index held in a Python local (a promoted scalar),
+        the cheaper `base + n if lo - base <= n < hi - base else _oob(name, n)`.
+        """
+        if (
+            isinstance(addr, ast.BinOp)
+            and isinstance(addr.left, ast.Constant)
+            and isinstance(idx, ast.Name)
+            and isinstance(lo, ast.Constant)
+            and isinstance(hi, ast.Constant)
+        ):
+            base = addr.left.value
+            test = ast.Compare(left=const(lo.value - base), ops=[ast.LtE(), ast.Lt()],
+                               comparators=[nm(idx.id), const(hi.value - base)])  # fmt: skip
+            return ast.IfExp(test=test, body=addr, orelse=call("_oob", const(name), nm(idx.id)))
         walrus = ast.NamedExpr(target=nm("_i", True), value=addr)
         test = ast.Compare(left=lo, ops=[ast.LtE(), ast.Lt()], comparators=[walrus, hi])
-        return ast.IfExp(test=test, body=nm("_i"), orelse=call("_oob", const(name), copy.deepcopy(idx)))
+        return ast.IfExp(
+            test=test, body=nm("_i"), orelse=call("_oob", const(name), copy.deepcopy(idx))
+        )
 
     # ------------------------------------------------------------ reads
 
@@ -228,7 +290,9 @@ class ExprLowering:
         assert isinstance(sym, VarSym)
         idx = self.index_value(v.index)
         if sym.scope == "global":
-            base: ast.expr = const(self.prog.global_index(sym) + (SHORT_TAG if storage_kind(sym) == SHORT else 0))
+            base: ast.expr = const(
+                self.prog.global_index(sym) + (SHORT_TAG if storage_kind(sym) == SHORT else 0)
+            )
         else:
             assert self.frame is not None and sym.scope != "system"
             base = binop(nm("bp"), ast.Add(), const(self.frame[id(sym)]))
@@ -313,7 +377,9 @@ class ExprLowering:
             return const(size), (I16 if size <= 0x7FFF else INT)
         return self.read(v)  # type: ignore[arg-type]
 
-    def binop(self, op: str, lhs: tuple[ast.expr, str], rhs: tuple[ast.expr, str]) -> tuple[ast.expr, str]:
+    def binop(
+        self, op: str, lhs: tuple[ast.expr, str], rhs: tuple[ast.expr, str]
+    ) -> tuple[ast.expr, str]:
         (le, lk), (re_, rk) = lhs, rhs
         is_float = FLT in (lk, rk)
         if op == "/":

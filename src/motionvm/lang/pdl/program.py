@@ -1,9 +1,9 @@
 """PDL from source text to a loadable program in one call: front end, then lowering.
 
-    sink = DiagnosticSink()
-    program = compile_pdl("prog.pdl", sink=sink)      # None if there were errors
-    drive = Drive(program)                             # drive_rt
-    drive.run(until=2.0)
+sink = DiagnosticSink()
+program = compile_pdl("prog.pdl", sink=sink)      # None if there were errors
+drive = Drive(program)                             # drive_rt
+drive.run(until=2.0)
 """
 
 from __future__ import annotations

@@ -27,7 +27,7 @@ def f32(x: float) -> float:
         return math.copysign(math.inf, x)
 
 
-def c_mod(a: int | float, b: int | float) -> int:
+def c_mod(a: float, b: float) -> int:
     """`a % b` as C: the remainder takes the sign of the dividend (spec/PDL.md §6.2)."""
     if b == 0:
         raise RuntimeFault("division by zero (remainder '%')")
@@ -35,7 +35,7 @@ def c_mod(a: int | float, b: int | float) -> int:
     return -r if a < 0 else r
 
 
-def divi(a: int | float, b: int | float) -> int:
+def divi(a: float, b: float) -> int:
     """The integer part of a / b, truncated toward zero (manual §2.3.7)."""
     if b == 0:
         raise RuntimeFault("division by zero in 'divi'")
@@ -45,7 +45,7 @@ def divi(a: int | float, b: int | float) -> int:
     return int(a / b)
 
 
-def sign(a: int | float) -> int:
+def sign(a: float) -> int:
     """1, -1 or 0 (manual §2.3.4)."""
     return 1 if a > 0 else (-1 if a < 0 else 0)
 
@@ -108,7 +108,7 @@ class MemFunctions:
         if n > 0:
             self.mem.write_block(dst, self.mem.read_block(src, n, kind), kind)
 
-    def memset(self, dst: int, value: int | float, n: int, kind: int) -> None:
+    def memset(self, dst: int, value: float, n: int, kind: int) -> None:
         if n > 0:
             self.mem.check_block(dst, n, "memset")
             self.mem.write_block(dst, [value] * n, kind)

@@ -23,6 +23,8 @@ outside the view's range raises ValueError; generated code catches it and wraps
 
 from __future__ import annotations
 
+import math
+
 from motionvm.runtime.errors import RuntimeFault
 
 FREE, LONG, FLOAT, SHORT = 0, 1, 2, 3
@@ -100,7 +102,7 @@ class Memory:
             return self.M[i]
         raise RuntimeFault(self._mismatch("long", addr, k))
 
-    def store_long(self, addr: int, v: int | float) -> None:
+    def store_long(self, addr: int, v: float) -> None:
         """`*p = v` through a long pointer (rounding a float, wrapping to the width)."""
         i, short = self._word_of(addr)
         if type(v) is float:
@@ -121,7 +123,7 @@ class Memory:
             raise RuntimeFault(self._mismatch("float", addr, k))
         return self.F[i]
 
-    def store_float(self, addr: int, v: int | float) -> None:
+    def store_float(self, addr: int, v: float) -> None:
         """`*p = v` through a float pointer."""
         i, short = self._word_of(addr)
         k = SHORT if short else self.kinds[i]
@@ -144,7 +146,9 @@ class Memory:
         if addr >= SHORT_TAG:
             h = addr - SHORT_TAG
             if not (USER_BASE * 2 <= h and h + n <= self.user_end * 2):
-                raise RuntimeFault(f"{what}: {n} elements from {self._where(addr)} leave user memory")
+                raise RuntimeFault(
+                    f"{what}: {n} elements from {self._where(addr)} leave user memory"
+                )
             return h, True
         if not (0 < addr and addr + n <= self.size):
             raise RuntimeFault(f"{what}: {n} elements from {self._where(addr)} leave the memory")
@@ -193,7 +197,7 @@ INT_LIMITS = {32: (-0x8000_0000, 0x7FFF_FFFF), 16: (-0x8000, 0x7FFF)}
 
 def round_int(x: float, bits: int = 32) -> int:
     """A float stored into an integer: nearest, halves away from zero, saturated (§4.7, G3)."""
-    if x != x:
+    if math.isnan(x):
         return 0
     lo, hi = INT_LIMITS[bits]
     if x >= hi:

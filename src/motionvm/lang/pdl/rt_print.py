@@ -50,7 +50,7 @@ def compile_format(fmt: str, mode1: int, mode2: int, command: str) -> PrintForma
     return PrintFormat(tuple(out), mode1, mode2, command)
 
 
-def _as_int(v: int | float) -> int:
+def _as_int(v: float) -> int:
     return round_int(v) if type(v) is float else int(v)
 
 

@@ -1,0 +1,148 @@
+"""Lower PDL's compound statements: `if`/`else`, `while`, `loop` (manual §2.2.7-§2.2.9).
+
+A statement without labels or jumps inside stays native Python (`if`, `while`,
+`for _ in range(n)`), with a budgeted back-edge at the end of each pass; its global
+scalars may live in locals meanwhile (lower_cache). One that contains a label or a
+jump is flattened into dispatcher segments (lower_body):
+
+    loop(n) do                _c1 = M[1] & 65535 or 65536
+       a: ...                 (segment k)  ...
+       if (x) goto a;                      _c1 -= 1
+    end;                                   if _c1 > 0: pc = k; <budget>; continue
+"""
+
+from __future__ import annotations
+
+import ast
+from typing import TYPE_CHECKING
+
+from motionvm.lang.pdl import nodes as n
+from motionvm.lang.pdl.lower_cache import Promotion, promote
+from motionvm.lang.pdl.lower_expr import assign, binop, call, const, nm
+
+if TYPE_CHECKING:
+    from motionvm.lang.pdl.lower_body import BodyLowerer
+
+SLEEP, WAIT = 1, 2
+_JUMPY = (n.Label, n.Goto, n.CallLabel)
+
+
+def is_jumpy(s: object) -> bool:
+    """True if a statement contains a label or a jump, so it cannot stay native Python."""
+    if isinstance(s, _JUMPY):
+        return True
+    if isinstance(s, n.Simple):
+        return s.command == "ret"
+    if isinstance(s, n.Print):
+        return s.command == "retprintl"
+    if isinstance(s, n.If):
+        return any(map(is_jumpy, s.then_body)) or any(map(is_jumpy, s.else_body or ()))
+    if isinstance(s, (n.Loop, n.While)):
+        return any(map(is_jumpy, s.body))
+    return False
+
+
+def check_budget(promo: Promotion | None = None) -> ast.stmt:
+    """`if b <= 0: b = yield b`, saving and reloading promoted scalars around the yield."""
+    test = ast.Compare(left=nm("b"), ops=[ast.LtE()], comparators=[const(0)])
+    body = [assign(nm("b", True), ast.Yield(value=nm("b")))]
+    if promo is not None:
+        body = promo.stores() + body + promo.loads()
+    return ast.If(test=test, body=body, orelse=[])
+
+
+class FlowLowering:
+    """The compound-statement half of `BodyLowerer` (a mixin: it uses its state)."""
+
+    def s_If(self: BodyLowerer, s: n.If, flat: bool) -> None:
+        self.pending += 1
+        if not (flat and is_jumpy(s)):
+            self.flush()
+            then = self.native_block(s.then_body, 0, False)
+            orelse = self.native_block(s.else_body, 0, False) if s.else_body else []
+            self.emit([ast.If(test=self.x.cond(s.cond), body=then, orelse=orelse)], s.pos)
+            return
+        skip = const(-1)
+        self.flush()
+        self.emit([ast.If(test=ast.UnaryOp(op=ast.Not(), operand=self.x.cond(s.cond)),
+                          body=[assign(nm("pc", True), skip), ast.Continue()], orelse=[])], s.pos)  # fmt: skip
+        self.uses_dispatch = True
+        self.block(s.then_body, flat=True)
+        if s.else_body is not None:
+            end = const(-1)
+            self.jump(end, s.pos, check=False)
+            skip.value = self.new_segment()
+            self.block(s.else_body, flat=True)
+            end.value = self.new_segment()
+        else:
+            skip.value = self.new_segment()
+
+    def s_While(self: BodyLowerer, s: n.While, flat: bool) -> None:
+        if not (flat and is_jumpy(s)):
+            self.pending += 1
+            self.flush()
+            promo = self.begin_promotion(s)
+            body = self.native_block(s.body, 1, True)
+            self.emit(
+                self.end_promotion(
+                    promo, [ast.While(test=self.x.cond(s.cond), body=body, orelse=[])]
+                ),
+                s.pos,
+            )
+            return
+        head = self.new_segment()
+        self.pending += 1
+        self.flush()
+        exit_ = const(-1)
+        self.emit([ast.If(test=ast.UnaryOp(op=ast.Not(), operand=self.x.cond(s.cond)),
+                          body=[assign(nm("pc", True), exit_), ast.Continue()], orelse=[])], s.pos)  # fmt: skip
+        self.block(s.body, flat=True)
+        self.jump(const(head), s.pos, check=True)
+        exit_.value = self.new_segment()
+
+    def s_Loop(self: BodyLowerer, s: n.Loop, flat: bool) -> None:
+        self.pending += 1
+        count, _ = self.x.read(s.count)
+        # n is read once as an unsigned 16-bit count, 0 meaning 65536 (spec/PDL.md G29).
+        times = ast.BoolOp(
+            op=ast.Or(), values=[binop(count, ast.BitAnd(), const(0xFFFF)), const(65536)]
+        )
+        if not (flat and is_jumpy(s)):
+            self.flush()
+            promo = self.begin_promotion(s)
+            body = self.native_block(s.body, 1, True)
+            if promo is not None:
+                count, _ = self.x.read(s.count)
+                times = ast.BoolOp(
+                    op=ast.Or(), values=[binop(count, ast.BitAnd(), const(0xFFFF)), const(65536)]
+                )
+            loop = ast.For(target=nm("_", True), iter=call("range", times), body=body, orelse=[])
+            self.emit(self.end_promotion(promo, [loop]), s.pos)
+            return
+        self.counter += 1
+        c = f"_c{self.counter}"
+        self.emit([assign(nm(c, True), times)], s.pos)
+        top = self.new_segment()
+        self.block(s.body, flat=True)
+        self.pending += 1
+        self.flush()
+        dec = ast.AugAssign(target=nm(c, True), op=ast.Sub(), value=const(1))
+        again = [assign(nm("pc", True), const(top)), check_budget(), ast.Continue()]
+        test = ast.Compare(left=nm(c), ops=[ast.Gt()], comparators=[const(0)])
+        self.emit([dec, ast.If(test=test, body=again, orelse=[])], s.pos)
+        self.new_segment()
+
+    def begin_promotion(self: BodyLowerer, s: n.Loop | n.While) -> Promotion | None:
+        """Keep the loop's global scalars in locals, if nothing else can see them (lower_cache)."""
+        if self.x.promo is not None or not self.prog.promote:
+            return None
+        self.x.promo = promote(self.prog, s)
+        return self.x.promo
+
+    def end_promotion(
+        self: BodyLowerer, promo: Promotion | None, stmts: list[ast.stmt]
+    ) -> list[ast.stmt]:
+        if promo is None:
+            return stmts
+        self.x.promo = None
+        return promo.wrap(stmts)
