@@ -101,7 +101,7 @@ def run(args) -> int:
     rt.boot()
     recorder = _scope_start(scope, ctl, rt) if scope else None  # the last client: sees all
     try:
-        ctl.run(args.until)
+        ctl.run(args.until, realtime=bool(getattr(args, "realtime", False)))
     except KeyboardInterrupt:
         if recorder is not None:  # keep what was recorded up to the interrupt
             _scope_save(scope, recorder, args)

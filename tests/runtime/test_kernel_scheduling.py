@@ -111,3 +111,13 @@ void main() {
     sim.on_event(lambda kind, payload: seen.append((kind, payload)))
     sim.run()
     assert seen == [("event", 42), ("msg", "variable: 88")]
+
+
+def test_realtime_pacing_never_runs_ahead_of_the_wall_clock():
+    import time
+
+    sim = _sim("void main() { Sleep(200); Print(\"%d\", system_timeInMs); }")
+    t0 = time.monotonic()
+    sim.controller.run(realtime=True)
+    assert time.monotonic() - t0 >= 0.19
+    assert sim.messages == ["200"]

@@ -89,104 +89,135 @@ def _inputs(axis, s, x_0: float, x_1: float) -> int:
 
 
 def fast_step(axis) -> bool:
-    """One cycle of `axis` on the fast path; False (and nothing done) if not eligible."""
-    ok = axis._fast_ok
-    if ok is None:
-        ok = axis._fast_ok = eligible(axis)
-    if not ok:
+    """One cycle of `axis` on the fast path; False (and nothing done) if not eligible.
+
+    `axis._fast_ok` caches the decision: None = check again, False = not eligible, else
+    the cycle function built for the axis. Any command (`Axis.wake`) and any cycle of
+    the general path reset it to None.
+    """
+    f = axis._fast_ok
+    if f is None:
+        f = axis._fast_ok = _make(axis) if eligible(axis) else False
+    if f is False:
         return False
-    d = axis.drive
-    if (
-        d._fault is not None
-        or d.controlword != _CW_ENABLE
-        or d.mode != MODE_CSP
-        or d.sensors.tp_function
-    ):
-        axis._fast_ok = None
-        return False
-    axis._cycle += 1
-    dt = axis.dt
-    p, v, a = axis.pg.step()
-    axis.ref_pos, axis.ref_vel, axis.ref_acc = p, v, a
-    if not (axis.ignore_swl or axis.rollover or axis.error_stop):
-        if p >= axis.sw_right and v > 0.0:
-            axis._limit_stop(st.SWRL, st.FS_SW_RIGHT)
-        elif p <= axis.sw_left and v < 0.0:
-            axis._limit_stop(st.SWLL, st.FS_SW_LEFT)
-    c = round((p + axis.pos_offset) * axis.cpu)
-    tp = d.target_position = ((c + 0x80000000) & 0xFFFFFFFF) - 0x80000000
-    d.controlword = _CW_ENABLE
-    # Cia402Drive._move, CSP
-    r = d._r + (((tp - d._target_prev) + 0x80000000) & 0xFFFFFFFF) - 0x80000000
-    d._r = r
-    d._target_prev = tp
-    # IdealMechanics.step_position -> _advance
-    m = d.mechanics
-    m._demand_vel = (r - m._demand) / dt
-    m._demand = r
-    line = m._line
-    line.append(r)
-    x = line.popleft()
-    v_m = (x - m.position) / dt
-    m.torque = torque_nm = m.inertia * (v_m - m.velocity) / dt * TWO_PI / m.counts_per_rev
-    m.velocity = v_m
-    m.position = x
-    d.mode_display = MODE_CSP
-    # Cia402Drive._feedback
-    if not d._encoder_lost:
-        d._enc = enc = round(x)
-        pa = ((enc + 0x80000000) & 0xFFFFFFFF) - 0x80000000
-        d.position_actual = pa
-        vel = round(v_m)
-        d.velocity_actual = vel_a = ((vel + 0x80000000) & 0xFFFFFFFF) - 0x80000000
-    else:
-        enc = d._enc
-        pa = d.position_actual
-        d.velocity_actual = vel_a = 0
-    torque = round(torque_nm * d._per_mille_per_nm)
-    d.torque_actual = torque = (
-        torque if -32768 <= torque <= 32767 else max(-32768, min(32767, torque))
-    )
-    demand = round(r)
-    d.position_demand = ((demand + 0x80000000) & 0xFFFFFFFF) - 0x80000000
-    d.following_error = fe = ((demand - enc + 0x80000000) & 0xFFFFFFFF) - 0x80000000
-    s = d.sensors
-    di = d.digital_inputs = _inputs(axis, s, d._x_prev, x) if s.has_switches else s.external
-    d._x_prev = x
-    if abs(fe) > d.following_error_window:
-        d.inject_fault(ERR_FOLLOWING)
-    sw = _SW_OE
-    if abs(torque) >= d.max_torque > 0:
-        sw |= SW_INTERNAL_LIMIT
-    if d._fault == ERR_FOLLOWING:
-        sw |= SW_FOLLOWING_ERROR
-    d.statusword = sw
-    # AxisCycle._feedback, enabled and no drive fault (a fault shows from the next cycle)
-    delta = pa - axis._pa
-    if delta:
-        axis._fb_counts += ((delta + 0x80000000) & 0xFFFFFFFF) - 0x80000000
-        axis._pa = pa
-        axis.pos_fb_raw = axis._fb_counts / axis.cpu
-        axis.pos_fb = axis.pos_fb_raw - axis.pos_offset
-    axis.vel_fb = vel_a / axis.cpu
-    if di != axis._di:
-        axis._hw_inputs(di)
-    if axis.fault_status & (st.FS_HW_RIGHT | st.FS_HW_LEFT) or axis.ignore_pe:
-        axis._enabled_checks()
-    else:
-        err = p - axis.pos_fb
-        if err > axis.max_pos_err or -err > axis.max_pos_err:
-            axis._fault_disable(st.PERR, st.FS_POSITION_ERROR)
-    if axis.error_stop:
-        axis._fast_ok = None
-    if axis.moving and not axis.pg.is_done:
-        axis.in_pos = False
-        axis._in_pos_count = 0
-        axis._still = 0
+    if f():
         return True
-    axis._update_status()
-    if axis._idle_candidate():
-        axis._watch_rest()
-    else:
-        axis._still = 0
-    return True
+    axis._fast_ok = None
+    return False
+
+
+def _make(axis):
+    """The cycle function of `axis`, with what stays fixed until the next wake bound."""
+    d = axis.drive
+    m = d.mechanics
+    s = d.sensors
+    line = m._line
+    pg = axis.pg
+    pg_step = pg.step
+    dt = axis.dt
+    cpu = axis.cpu
+    pos_offset = axis.pos_offset
+    sw_check = not (axis.ignore_swl or axis.rollover or axis.error_stop)
+    sw_left, sw_right = axis.sw_left, axis.sw_right
+    max_pos_err = axis.max_pos_err
+    ignore_pe = axis.ignore_pe
+    inertia, cpr = m.inertia, m.counts_per_rev
+    per_mille_per_nm = d._per_mille_per_nm
+    has_switches = s.has_switches
+    hw_bits = st.FS_HW_RIGHT | st.FS_HW_LEFT
+
+    def cycle() -> bool:
+        if d._fault is not None or d.controlword != _CW_ENABLE or d.mode != MODE_CSP or s.tp_function:
+            return False
+        axis._cycle += 1
+        p, v, a = pg_step()
+        axis.ref_pos, axis.ref_vel, axis.ref_acc = p, v, a
+        if sw_check:
+            if p >= sw_right and v > 0.0:
+                axis._limit_stop(st.SWRL, st.FS_SW_RIGHT)
+            elif p <= sw_left and v < 0.0:
+                axis._limit_stop(st.SWLL, st.FS_SW_LEFT)
+        c = round((p + pos_offset) * cpu)
+        tp = d.target_position = ((c + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+        d.controlword = _CW_ENABLE
+        # Cia402Drive._move, CSP
+        r = d._r + (((tp - d._target_prev) + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+        d._r = r
+        d._target_prev = tp
+        # IdealMechanics.step_position -> _advance
+        m._demand_vel = (r - m._demand) / dt
+        m._demand = r
+        line.append(r)
+        x = line.popleft()
+        v_m = (x - m.position) / dt
+        m.torque = torque_nm = inertia * (v_m - m.velocity) / dt * TWO_PI / cpr
+        m.velocity = v_m
+        m.position = x
+        d.mode_display = MODE_CSP
+        # Cia402Drive._feedback
+        if not d._encoder_lost:
+            d._enc = enc = round(x)
+            pa = d.position_actual = ((enc + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+            vel = round(v_m)
+            d.velocity_actual = vel_a = ((vel + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+        else:
+            enc = d._enc
+            pa = d.position_actual
+            d.velocity_actual = vel_a = 0
+        torque = round(torque_nm * per_mille_per_nm)
+        if not -32768 <= torque <= 32767:
+            torque = max(-32768, min(32767, torque))
+        d.torque_actual = torque
+        demand = round(r)
+        d.position_demand = ((demand + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+        d.following_error = fe = ((demand - enc + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+        if has_switches:
+            x_0 = d._x_prev
+            lo, hi, bits, external = axis._band
+            if lo < x < hi and lo < x_0 < hi and external == s.external:
+                di = bits | external  # what Sensors.update would give (see _inputs)
+            else:
+                di = _inputs(axis, s, x_0, x)
+        else:
+            di = s.external
+        d.digital_inputs = di
+        d._x_prev = x
+        if abs(fe) > d.following_error_window:
+            d.inject_fault(ERR_FOLLOWING)
+        sw = _SW_OE
+        if abs(torque) >= d.max_torque > 0:
+            sw |= SW_INTERNAL_LIMIT
+        if d._fault == ERR_FOLLOWING:
+            sw |= SW_FOLLOWING_ERROR
+        d.statusword = sw
+        # AxisCycle._feedback, enabled, no drive fault (a fault shows from the next cycle)
+        delta = pa - axis._pa
+        if delta:
+            axis._fb_counts += ((delta + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+            axis._pa = pa
+            axis.pos_fb_raw = raw = axis._fb_counts / cpu
+            axis.pos_fb = raw - pos_offset
+        axis.vel_fb = vel_a / cpu
+        if di != axis._di:
+            axis._hw_inputs(di)
+        if axis.fault_status & hw_bits or ignore_pe:
+            axis._enabled_checks()
+        else:
+            err = p - axis.pos_fb
+            if err > max_pos_err or -err > max_pos_err:
+                axis._fault_disable(st.PERR, st.FS_POSITION_ERROR)
+        if axis.moving and not axis.error_stop and not pg.is_done:
+            axis.in_pos = False
+            axis._in_pos_count = 0
+            axis._still = 0
+            return True
+        if axis.error_stop:
+            axis._fast_ok = None
+        axis._update_status()
+        if axis._idle_candidate():
+            axis._watch_rest()
+        else:
+            axis._still = 0
+        return True
+
+    return cycle

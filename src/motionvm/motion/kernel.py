@@ -48,6 +48,9 @@ class MotionKernel:
         if self._bus_steps:
             self.ecat_state = self._bus_steps.pop(0)
         for a in self.axes:
+            f = a._fast_ok  # the axis's fast cycle function, if it has one (axis_fast.py)
+            if f and not a._rest and f():
+                continue
             a.step()
 
     def busy(self) -> bool:

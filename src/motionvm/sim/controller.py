@@ -14,6 +14,7 @@ from typing import Protocol
 
 from motionvm.motion.kernel import MotionKernel
 from motionvm.runtime.kernel import Kernel
+from motionvm.sim.pacer import RealTimePacer
 from motionvm.sim.machine import DEFAULT_MACHINE, MachineConfig
 
 
@@ -69,11 +70,15 @@ class Controller:
         """True while any task runs or any axis moves, enables or settles."""
         return self.kernel.any_running or self.motion.busy()
 
-    def run(self, until: float | None = None) -> None:
-        """Run until nothing is left to do, or until `until` seconds of simulated time."""
+    def run(self, until: float | None = None, realtime: bool = False) -> None:
+        """Run until nothing is left to do, or until `until` seconds of simulated time;
+        with `realtime`, never ahead of the wall clock (sim/pacer.py)."""
         end_cycle = None if until is None else round(until / self.cycle_time)
         k = self.kernel
+        pacer = RealTimePacer(self.sim_time) if realtime else None
         while self.busy():
+            if pacer is not None:
+                pacer.wait(self.sim_time)
             if end_cycle is not None and k.cycle >= end_cycle:
                 return
             if self.allow_jump and self.motion.at_rest():

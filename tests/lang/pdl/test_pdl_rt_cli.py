@@ -91,4 +91,4 @@ def test_stamp_prefixes_time_and_task(tmp_path: Path) -> None:
     path.write_text('#task/1;\nsleep 500;\nprintl("hi");\nhalt;\n')
     out, err = io.StringIO(), io.StringIO()
     assert main_run([str(path)], None, 2.0, out, err, stamp=True) == 0
-    assert out.getvalue() == "[t=0.500067][task 1] hi\n"
+    assert out.getvalue() == "[t=0.500000][task 1] hi\n"

@@ -96,6 +96,7 @@ def run_phases(d: Drive, count: int | None) -> bool:
                     t.debt -= 1
                 elif t.busy_until <= ph:
                     S[i_tnum] = t.id
+                    d.phase = ph  # for the time stamp of messages
                     try:
                         r = t.gen.send(budget)  # type: ignore[union-attr]
                     except (StopIteration, TaskExit):
