@@ -127,7 +127,12 @@ def _make(axis):
     hw_bits = st.FS_HW_RIGHT | st.FS_HW_LEFT
 
     def cycle() -> bool:
-        if d._fault is not None or d.controlword != _CW_ENABLE or d.mode != MODE_CSP or s.tp_function:
+        if (
+            d._fault is not None
+            or d.controlword != _CW_ENABLE
+            or d.mode != MODE_CSP
+            or s.tp_function
+        ):
             return False
         axis._cycle += 1
         p, v, a = pg_step()
