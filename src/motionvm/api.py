@@ -36,7 +36,7 @@ class Simulation:
             raise CompileError(sink.errors())
         self.messages: list[str] = []
         self.faults: list[str] = []
-        self.controller = Controller(machine.cycle_time)
+        self.controller = Controller(machine.cycle_time, machine=machine)
         folder = (
             Path(data_dir) if data_dir is not None else (machine.data_dir or data_dir_default(None))
         )

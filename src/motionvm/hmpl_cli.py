@@ -91,7 +91,7 @@ def run(args) -> int:
         out.flush()
         print(line, file=sys.stderr)
 
-    ctl = Controller(machine.cycle_time)
+    ctl = Controller(machine.cycle_time, machine=machine)
     data_dir = machine.data_dir or data_dir_default(machine.path.parent if machine.path else None)
     rt = HmplRuntime(
         ctl, prog, mem, emit=emit, report=report, data_dir=data_dir, task_slice=machine.task_slice

@@ -36,7 +36,6 @@ from motionvm.motion.axis_fast import fast_step
 PG, PVT, RAMP, TORQUE, EXT = 0, 1, 2, 3, 4
 """Reference sources: profile generator, PVT, kill ramp, torque mode, an external
 provider (gear slave, gantry, homing) set with `Axis.follow`."""
-"""Sources of the reference while enabled."""
 
 CW_DISABLE, CW_SHUTDOWN, CW_ENABLE, CW_FAULT_RESET = 0x00, 0x06, 0x0F, 0x80
 

@@ -49,6 +49,7 @@ def eligible(axis) -> bool:
         and d._cw_prev == _CW_ENABLE
         and d._fault is None
         and d._mode_prev == MODE_CSP
+        and d.mode_display == MODE_CSP
         and d.mode == MODE_CSP
         and type(d.mechanics) is IdealMechanics
         and not d.sensors.tp_function
@@ -144,7 +145,7 @@ def _make(axis):
                 axis._limit_stop(st.SWLL, st.FS_SW_LEFT)
         c = round((p + pos_offset) * cpu)
         tp = d.target_position = ((c + 0x80000000) & 0xFFFFFFFF) - 0x80000000
-        d.controlword = _CW_ENABLE
+        # the controlword is 0x0F already (checked above) and mode_display 8 (eligible)
         # Cia402Drive._move, CSP
         r = d._r + (((tp - d._target_prev) + 0x80000000) & 0xFFFFFFFF) - 0x80000000
         d._r = r
@@ -158,7 +159,6 @@ def _make(axis):
         m.torque = torque_nm = inertia * (v_m - m.velocity) / dt * TWO_PI / cpr
         m.velocity = v_m
         m.position = x
-        d.mode_display = MODE_CSP
         # Cia402Drive._feedback
         if not d._encoder_lost:
             d._enc = enc = round(x)
@@ -211,7 +211,7 @@ def _make(axis):
             err = p - axis.pos_fb
             if err > max_pos_err or -err > max_pos_err:
                 axis._fault_disable(st.PERR, st.FS_POSITION_ERROR)
-        if axis.moving and not axis.error_stop and not pg.is_done:
+        if axis.moving and not axis.error_stop and not pg._tc_done:  # is_done needs _tc_done
             axis.in_pos = False
             axis._in_pos_count = 0
             axis._still = 0

@@ -40,6 +40,7 @@ class Kernel:
 
     def __init__(self, n_tasks: int = MAX_TASKS) -> None:
         self.tasks = [Task(i) for i in range(n_tasks)]
+        self._active: list[Task] = []  # running tasks in id order: a cycle visits only these
         self.cycle = 0
         self.current: Task | None = None
         self.mutex_owner: list[int | None] = [None] * 8
@@ -57,6 +58,9 @@ class Kernel:
         t.wake_cycle = self.cycle + (1 if self.current is not None else 0)
         t.context = context
         t.starts += 1
+        if t not in self._active:
+            self._active.append(t)
+            self._active.sort(key=lambda x: x.id)
 
     def stop(self, task_id: int) -> None:
         """Stop a task: close its generator, release its mutexes."""
@@ -75,6 +79,8 @@ class Kernel:
         self._release(t)
 
     def _release(self, t: Task) -> None:
+        if t in self._active:
+            self._active.remove(t)
         for m in sorted(t.mutexes):
             if self.mutex_owner[m] == t.id:
                 self.mutex_owner[m] = None
@@ -83,19 +89,20 @@ class Kernel:
 
     @property
     def any_running(self) -> bool:
-        return any(t.gen is not None for t in self.tasks)
+        return bool(self._active)
 
     def next_wake(self) -> int | None:
         """The earliest cycle any running task wants to run, or None if none runs."""
-        wakes = [t.wake_cycle for t in self.tasks if t.gen is not None]
-        return min(wakes) if wakes else None
+        if not self._active:
+            return None
+        return min(t.wake_cycle for t in self._active)
 
     # ------------------------------------------------------------ one cycle
 
     def run_cycle(self) -> None:
         """Resume every task that is due in this cycle, once, in id order."""
         cycle = self.cycle
-        for t in self.tasks:
+        for t in tuple(self._active):  # a task started in this cycle runs from the next one
             gen = t.gen
             if gen is None or t.wake_cycle > cycle:
                 continue

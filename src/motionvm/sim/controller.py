@@ -14,8 +14,8 @@ from typing import Protocol
 
 from motionvm.motion.kernel import MotionKernel
 from motionvm.runtime.kernel import Kernel
-from motionvm.sim.pacer import RealTimePacer
 from motionvm.sim.machine import DEFAULT_MACHINE, MachineConfig
+from motionvm.sim.pacer import RealTimePacer
 
 
 class CycleClient(Protocol):

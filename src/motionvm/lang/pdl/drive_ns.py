@@ -149,6 +149,7 @@ def runtime_namespace(drive: Drive) -> dict[str, object]:
             "min": min,
             "abs": abs,
             "ValueError": ValueError,
+            "Exception": Exception,
         },
     }
     ns.update(drive.program.tables)

@@ -15,6 +15,10 @@ _MODULES = (
     "motionvm.lang.hmpl.lib.bus",
     "motionvm.lang.hmpl.lib.axis",
     "motionvm.lang.hmpl.lib.errors",
+    "motionvm.lang.hmpl.lib.homing",
+    "motionvm.lang.hmpl.lib.touchprobe",
+    "motionvm.lang.hmpl.lib.sync",
+    "motionvm.lang.hmpl.lib.gantry",
 )
 
 

@@ -1,0 +1,263 @@
+"""Electronic gear (manual chapter 6): ratios, gear in/out, order of master and slave, errors."""
+
+from __future__ import annotations
+
+import itertools
+import math
+
+import pytest
+
+from motionvm.motion import axis_status as st
+from motionvm.motion import gear
+from motionvm.motion.axis_config import create
+from motionvm.motion.gear import DISENGAGED, ENGAGED, ENGAGING, SyncError, gearbox_of
+from motionvm.motion.kernel import MotionKernel
+from motionvm.motion.tolerances import P_TOL
+
+DT = 0.001
+
+
+def kernel(n: int = 5, **config) -> MotionKernel:
+    k = MotionKernel([create(dict(config)) for _ in range(n)], DT)
+    for a in k.axes:
+        a.enable()
+    run_until(k, lambda: all(a.enabled for a in k.axes))
+    return k
+
+
+def run_until(k: MotionKernel, cond, limit: int = 100_000) -> int:
+    for n in range(limit):
+        if cond():
+            return n
+        k.step()
+    raise AssertionError("condition never held")
+
+
+def geared(k: MotionKernel, master: int, slave: int, ratio: float):
+    box = gearbox_of(k)
+    box.enable_gear(k.axes[master], k.axes[slave])
+    box.gear_in(k.axes[master], k.axes[slave], ratio)
+    return box.gear_of(slave)
+
+
+@pytest.mark.parametrize("ratio", [1.0, 2.0, 4.0, -1.0, 0.5, -2.5])
+def test_slave_follows_the_master_command_times_the_ratio_in_the_same_cycle(ratio):
+    k = kernel()
+    g = geared(k, 0, 1, ratio)
+    assert g.in_gear and g.lag_cycles == 0
+    m, s = k.axes[0], k.axes[1]
+    m.move_abs(100.0)
+    for _ in range(300):
+        k.step()
+        assert s.ref_pos == pytest.approx(ratio * m.ref_pos, abs=P_TOL)
+        assert s.ref_vel == pytest.approx(ratio * m.ref_vel, rel=1e-6, abs=1e-6)
+        assert g.gear_cmd_pos == s.ref_pos and g.master_pos_gear == m.ref_pos
+    run_until(k, lambda: m.in_pos)
+    for _ in range(5):
+        k.step()
+    assert s.pos_fb == pytest.approx(100.0 * ratio, abs=1e-4)
+
+
+def test_gearing_is_relative_to_where_both_axes_stand():
+    k = kernel()
+    m, s = k.axes[0], k.axes[2]
+    m.move_abs(10.0)
+    s.move_abs(-30.0)
+    run_until(k, lambda: m.in_pos and s.in_pos)
+    geared(k, 0, 2, 3.0)
+    m.move_abs(20.0)
+    run_until(k, lambda: not m.moving)
+    k.step()
+    assert s.ref_pos == pytest.approx(-30.0 + 3.0 * 10.0, abs=P_TOL)
+
+
+def test_a_master_with_a_higher_id_is_seen_one_cycle_late():
+    k = kernel()
+    g = geared(k, 3, 1, 2.0)
+    assert g.lag_cycles == 1
+    m, s = k.axes[3], k.axes[1]
+    m.move_abs(50.0)
+    refs = []
+    for _ in range(200):
+        k.step()
+        refs.append((m.ref_pos, s.ref_pos))
+    for (m_prev, _), (_, s_now) in itertools.pairwise(refs):
+        assert s_now == pytest.approx(2.0 * m_prev, abs=P_TOL)
+
+
+def test_gear_in_on_a_moving_master_ramps_the_ratio_at_the_slave_acceleration():
+    k = kernel()
+    m, s = k.axes[0], k.axes[1]
+    box = gearbox_of(k)
+    box.enable_gear(m, s)
+    m.move_vel(500.0)
+    run_until(k, lambda: abs(m.ref_vel - 500.0) < 1e-6)
+    box.gear_in(m, s, 2.0)
+    g = box.gear_of(1)
+    assert g.state == ENGAGING and not g.in_gear
+    n = run_until(k, lambda: g.in_gear)
+    assert n == math.ceil(2.0 * 500.0 / s.pg.a_max / DT)
+    assert s.ref_vel == pytest.approx(1000.0)
+    accs = []
+    for _ in range(50):
+        k.step()
+        accs.append(s.ref_acc)
+        assert s.ref_vel == pytest.approx(2.0 * m.ref_vel)
+    assert max(abs(a) for a in accs) < 1e-3 * s.pg.a_max
+
+
+def test_gear_out_brakes_the_slave_and_hands_it_back_to_its_profile_generator():
+    k = kernel()
+    m, s = k.axes[0], k.axes[1]
+    geared(k, 0, 1, -1.0)
+    m.move_vel(400.0)
+    run_until(k, lambda: abs(m.ref_vel - 400.0) < 1e-6)
+    k.step()
+    assert s.ref_vel == pytest.approx(-400.0)
+    gearbox_of(k).gear_out(s)
+    assert not gearbox_of(k).is_in_gear(1)
+    n = run_until(k, lambda: s.following is None)
+    assert n == pytest.approx(400.0 / s.pg.d_max / DT, abs=1)
+    assert s.ref_vel == 0.0
+    run_until(k, lambda: s.in_pos)
+    held = s.ref_pos
+    for _ in range(20):
+        k.step()
+    assert s.ref_pos == held  # the master goes on, the slave stays
+    s.move_rel(5.0)
+    run_until(k, lambda: s.in_pos)
+    assert s.pos_fb == pytest.approx(held + 5.0, abs=1e-4)
+
+
+def test_gear_out_of_a_resting_slave_lets_go_at_once_and_disable_gear_uncouples():
+    k = kernel()
+    s = k.axes[1]
+    box = gearbox_of(k)
+    geared(k, 0, 1, 2.0)
+    assert s.motion_status & st.MS_GEAR and s.motion_status & st.MS_SYNC
+    assert box.is_master(0) and box.is_slave(1) and box.ratio(1) == 2.0
+    with pytest.raises(SyncError) as e:
+        box.disable_gear(s)
+    assert e.value.code == st.CMD_INVALID_IN_SYNC
+    box.gear_out(s)
+    assert s.following is None and box.gear_of(1).state == DISENGAGED
+    box.disable_gear(s)
+    assert not box.is_slave(1) and not box.is_master(0)
+    assert not s.motion_status & (st.MS_GEAR | st.MS_SYNC)
+
+
+def test_one_master_drives_many_slaves():
+    k = kernel()
+    ratios = {1: 1.0, 2: 2.0, 3: 4.0, 4: -1.0}
+    for sid, r in ratios.items():
+        geared(k, 0, sid, r)
+    k.axes[0].move_abs(100.0)
+    run_until(k, lambda: k.axes[0].in_pos)
+    for sid, r in ratios.items():
+        assert k.axes[sid].ref_pos == pytest.approx(100.0 * r, abs=P_TOL)
+
+
+def test_changing_the_ratio_while_engaged_ramps_from_the_old_one():
+    k = kernel()
+    m, s = k.axes[0], k.axes[1]
+    g = geared(k, 0, 1, 1.0)
+    m.move_vel(200.0)
+    run_until(k, lambda: abs(m.ref_vel - 200.0) < 1e-6)
+    gearbox_of(k).gear_in(m, s, 3.0)
+    assert g.state == ENGAGING
+    run_until(k, lambda: g.in_gear)
+    k.step()
+    assert s.ref_vel == pytest.approx(600.0) and g.ratio == 3.0
+
+
+def test_a_disabled_master_gears_its_slaves_out():
+    k = kernel()
+    m, s = k.axes[0], k.axes[1]
+    g = geared(k, 0, 1, 1.0)
+    m.move_vel(100.0)
+    run_until(k, lambda: abs(m.ref_vel - 100.0) < 1e-6)
+    k.step()
+    m.disable()
+    run_until(k, lambda: s.following is None)
+    assert g.state == DISENGAGED and s.ref_vel == 0.0 and s.enabled
+
+
+def test_a_slave_that_faults_leaves_its_gear():
+    k = kernel()
+    s = k.axes[1]
+    g = geared(k, 0, 1, 1.0)
+    s.disable()
+    assert not g.in_gear and g.state == DISENGAGED
+    assert gearbox_of(k).is_slave(1)
+
+
+@pytest.mark.parametrize(
+    ("call", "code", "axis"),
+    [
+        (lambda b, a: b.enable_gear(a[0], a[0]), gear.CMD_INVALID_MASTER_SLAVE_CONNECTION, 0),
+        (lambda b, a: b.gear_in(a[0], a[1], 1.0), gear.CMD_GEAR_DISABLED, 1),
+        (lambda b, a: b.gear_out(a[1]), gear.CMD_GEAR_DISABLED, 1),
+        (lambda b, a: b.disable_gear(a[1]), gear.CMD_GEAR_DISABLED, 1),
+    ],
+)
+def test_commands_refused_with_the_manual_codes(call, code, axis):
+    k = kernel(2)
+    with pytest.raises(SyncError) as e:
+        call(gearbox_of(k), k.axes)
+    assert (e.value.code, e.value.axis_id) == (code, axis)
+
+
+def test_bad_ratios_states_and_chains_are_refused():
+    k = kernel(4)
+    a = k.axes
+    box = gearbox_of(k)
+    box.enable_gear(a[0], a[1])
+    for ratio in (0.0, math.nan, math.inf, 1001.0):
+        with pytest.raises(SyncError) as e:
+            box.gear_in(a[0], a[1], ratio)
+        assert e.value.code == gear.CMD_INVALID_GEAR_RATIO
+    with pytest.raises(SyncError) as e:
+        box.gear_in(a[2], a[1], 1.0)
+    assert e.value.code == gear.CMD_INVALID_MASTER_SLAVE_CONNECTION
+    with pytest.raises(SyncError) as e:
+        box.enable_gear(a[2], a[1])
+    assert e.value.code == st.CMD_INVALID_IN_SYNC
+    with pytest.raises(SyncError) as e:
+        box.enable_gear(a[1], a[2])  # a slave cannot be a master
+    assert (e.value.code, e.value.axis_id) == (st.CMD_INVALID_IN_SYNC, 1)
+    with pytest.raises(SyncError) as e:
+        box.enable_gear(a[2], a[0])  # a master cannot be a slave
+    assert (e.value.code, e.value.axis_id) == (gear.CMD_INVALID_GEAR_MASTER, 0)
+    a[3].disable()
+    k.step()
+    with pytest.raises(SyncError) as e:
+        box.enable_gear(a[0], a[3])
+    assert (e.value.code, e.value.axis_id) == (st.CMD_INVALID_DISABLED, 3)
+    a[1].move_abs(10.0)
+    with pytest.raises(SyncError) as e:
+        box.gear_in(a[0], a[1], 1.0)
+    assert e.value.code == st.CMD_INVALID_MOVING
+    box.enable_gear(a[0], a[1])  # the same coupling again: nothing to do
+    assert box.gear_of(1).state == DISENGAGED
+
+
+def test_two_runs_give_identical_traces():
+    def trace():
+        k = kernel(3)
+        geared(k, 0, 1, -1.5)
+        geared(k, 0, 2, 0.25)
+        k.axes[0].move_abs(80.0)
+        rows = []
+        for i in range(400):
+            if i == 150:
+                gearbox_of(k).gear_out(k.axes[1])
+            k.step()
+            rows.append(tuple((a.ref_pos, a.pos_fb, a.motion_status) for a in k.axes))
+        return rows
+
+    assert trace() == trace()
+
+
+def test_a_resting_master_engages_its_slave_at_once():
+    k = kernel(2)
+    assert geared(k, 0, 1, 1.0).state == ENGAGED
