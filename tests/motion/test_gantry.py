@@ -2,14 +2,16 @@
 
 from __future__ import annotations
 
+import os
+
 import pytest
-from hypothesis import given
+from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as hs
 
 from motionvm.motion import axis_status as st
 from motionvm.motion import gear
 from motionvm.motion.axis_config import create
-from motionvm.motion.gantry import ENABLING, OFF, from_axes, gantries_of, to_axes
+from motionvm.motion.gantry import ENABLING, OFF, STOPPING, from_axes, gantries_of, to_axes
 from motionvm.motion.gear import SyncError, gearbox_of
 from motionvm.motion.kernel import MotionKernel
 from motionvm.motion.tolerances import P_TOL
@@ -223,3 +225,51 @@ def test_two_runs_give_identical_traces():
         return rows
 
     assert trace() == trace()
+
+
+PROFILE = settings(
+    max_examples=400 if os.environ.get("HYPOTHESIS_PROFILE") == "ci" else 30,
+    derandomize=True,
+    deadline=None,
+    suppress_health_check=[HealthCheck.too_slow],
+)
+positions = hs.floats(-100.0, 100.0)
+
+
+@PROFILE
+@given(positions, positions, positions, hs.floats(-5.0, 5.0))
+def test_property_motors_end_at_the_transform_of_the_linear_and_yaw_targets(
+    rhs_0, lhs_0, linear, yaw
+):
+    k = MotionKernel([create({"start_position": rhs_0}), create({"start_position": lhs_0})], DT)
+    g = paired(k)
+    r, l = g.axes
+    assert (r.ref_pos, l.ref_pos) == pytest.approx((rhs_0, lhs_0), abs=1e-4)
+    r.move_abs(linear)
+    l.move_abs(yaw)
+    for _ in range(5000):
+        cycle(k)
+        want = to_axes(g.linear_ref[0], g.yaw_ref[0])
+        assert (r.ref_pos, l.ref_pos) == pytest.approx(want, abs=P_TOL)
+        if not g.moving(r):
+            break
+    assert (r.ref_pos, l.ref_pos) == pytest.approx(to_axes(linear, yaw), abs=P_TOL)
+
+
+def test_a_limit_stop_of_one_axis_brakes_the_other_at_its_kill_deceleration():
+    k = kernel(2)
+    g = paired(k)
+    r, l = g.axes
+    l.move_abs(-1.0)  # yaw -1: the RHS motor is 2 mm behind the LHS motor
+    run_until(k, lambda: not g.moving(l) and l.ref_pos == pytest.approx(1.0))
+    r.move_vel(500.0)
+    run_until(k, lambda: r.error_stop or l.error_stop)
+    hit = l if l.error_stop else r
+    assert hit is l and l.fault_status & st.FS_SW_RIGHT  # the LHS motor leads
+    v_0 = r.ref_vel
+    cycle(k)
+    assert g.state == STOPPING
+    run_until(k, lambda: g.engaged)
+    assert r.ref_vel == 0.0 and l.ref_vel == 0.0 and r.enabled and l.enabled
+    assert r.ref_pos - l.ref_pos == pytest.approx(-2.0, abs=v_0 * DT)  # one cycle apart at most
+    assert g.yaw_ref[0] == pytest.approx(-1.0, abs=1e-3)

@@ -4,15 +4,18 @@ from __future__ import annotations
 
 import itertools
 import math
+import os
 
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as hs
 
 from motionvm.motion import axis_status as st
 from motionvm.motion import gear
 from motionvm.motion.axis_config import create
 from motionvm.motion.gear import DISENGAGED, ENGAGED, ENGAGING, SyncError, gearbox_of
 from motionvm.motion.kernel import MotionKernel
-from motionvm.motion.tolerances import P_TOL
+from motionvm.motion.tolerances import P_TOL, limit_slack
 
 DT = 0.001
 
@@ -44,7 +47,7 @@ def geared(k: MotionKernel, master: int, slave: int, ratio: float):
 def test_slave_follows_the_master_command_times_the_ratio_in_the_same_cycle(ratio):
     k = kernel()
     g = geared(k, 0, 1, ratio)
-    assert g.in_gear and g.lag_cycles == 0
+    assert g.in_gear and gearbox_of(k).lag_cycles(1) == 0
     m, s = k.axes[0], k.axes[1]
     m.move_abs(100.0)
     for _ in range(300):
@@ -71,18 +74,33 @@ def test_gearing_is_relative_to_where_both_axes_stand():
     assert s.ref_pos == pytest.approx(-30.0 + 3.0 * 10.0, abs=P_TOL)
 
 
-def test_a_master_with_a_higher_id_is_seen_one_cycle_late():
+def test_a_master_with_a_higher_id_is_seen_late_only_if_it_steps_after_its_slave():
     k = kernel()
-    g = geared(k, 3, 1, 2.0)
-    assert g.lag_cycles == 1
+    geared(k, 3, 1, 2.0)
+    lag = gearbox_of(k).lag_cycles(1)
+    order = getattr(k, "step_order", k.axes)
+    assert lag == (1 if order.index(k.axes[3]) > order.index(k.axes[1]) else 0)
     m, s = k.axes[3], k.axes[1]
     m.move_abs(50.0)
-    refs = []
+    refs = [(m.ref_pos, s.ref_pos)]
     for _ in range(200):
         k.step()
         refs.append((m.ref_pos, s.ref_pos))
-    for (m_prev, _), (_, s_now) in itertools.pairwise(refs):
-        assert s_now == pytest.approx(2.0 * m_prev, abs=P_TOL)
+    for (m_prev, _), (m_now, s_now) in itertools.pairwise(refs):
+        assert s_now == pytest.approx(2.0 * (m_prev if lag else m_now), abs=P_TOL)
+
+
+def test_a_kernel_with_a_step_order_steps_masters_first():
+    k = kernel(4)
+    k.step_order = list(k.axes)
+    box = gearbox_of(k)
+    geared(k, 3, 1, 1.0)
+    geared(k, 2, 0, 1.0)
+    assert [a.axis_id for a in k.step_order] == [2, 3, 0, 1]
+    assert box.lag_cycles(1) == 0 and box.lag_cycles(0) == 0
+    box.gear_out(k.axes[1])
+    box.disable_gear(k.axes[1])
+    assert [a.axis_id for a in k.step_order] == [2, 0, 1, 3]
 
 
 def test_gear_in_on_a_moving_master_ramps_the_ratio_at_the_slave_acceleration():
@@ -261,3 +279,75 @@ def test_two_runs_give_identical_traces():
 def test_a_resting_master_engages_its_slave_at_once():
     k = kernel(2)
     assert geared(k, 0, 1, 1.0).state == ENGAGED
+
+
+# ---- properties (Hypothesis; profiles as in test_profile_properties.py) -------------
+
+PROFILE = settings(
+    max_examples=400 if os.environ.get("HYPOTHESIS_PROFILE") == "ci" else 30,
+    derandomize=True,
+    deadline=None,
+    suppress_health_check=[HealthCheck.too_slow],
+)
+LOOSE = {"sw_left": -1e7, "sw_right": 1e7, "hw_left": -2e7, "hw_right": 2e7, "max_pos_err": 1e9}
+ratios = hs.floats(-10.0, 10.0).filter(lambda r: abs(r) >= 1e-3)
+
+
+@PROFILE
+@given(ratios, hs.floats(-500.0, 500.0), hs.floats(-500.0, 500.0), hs.floats(-90.0, 90.0))
+def test_property_an_engaged_slave_tracks_every_master_move(ratio, s_0, target_1, target_2):
+    k = MotionKernel([create(dict(LOOSE)), create(dict(LOOSE, start_position=s_0))], DT)
+    for a in k.axes:
+        a.enable()
+    run_until(k, lambda: all(a.enabled for a in k.axes))
+    m, s = k.axes
+    m_0, s_0 = m.ref_pos, s.ref_pos
+    geared(k, 0, 1, ratio)
+    m.move_abs(target_1)
+    for i in range(2000):
+        if i == 40:
+            m.move_abs(target_2)  # on the fly
+        k.step()
+        assert math.isfinite(s.ref_pos) and math.isfinite(s.ref_vel)
+        assert s.ref_pos == pytest.approx(
+            s_0 + ratio * (m.ref_pos - m_0), abs=1e-9 * (1 + abs(s_0))
+        )
+        if i > 40 and not m.moving:
+            break
+    assert not m.moving
+    assert s.ref_pos == pytest.approx(s_0 + ratio * (target_2 - m_0), abs=1e-9 * (1 + abs(s_0)))
+
+
+@PROFILE
+@given(ratios, hs.floats(-800.0, 800.0).filter(lambda v: abs(v) > 1.0))
+def test_property_gear_in_on_a_cruising_master_keeps_the_slave_acceleration(ratio, v_m):
+    k = MotionKernel([create(dict(LOOSE)), create(dict(LOOSE))], DT)
+    for a in k.axes:
+        a.enable()
+    run_until(k, lambda: all(a.enabled for a in k.axes))
+    m, s = k.axes
+    box = gearbox_of(k)
+    box.enable_gear(m, s)
+    m.move_vel(v_m)
+    run_until(k, lambda: not m.pg.is_done and m.ref_acc == 0.0 and abs(m.ref_vel - v_m) < 1e-6)
+    box.gear_in(m, s, ratio)
+    g = box.gear_of(1)
+    slack = limit_slack(s.pg.a_max, 1e4, DT, 2)
+    while not g.in_gear:
+        k.step()
+        assert abs(s.ref_acc) <= s.pg.a_max + slack
+    k.step()
+    assert s.ref_vel == pytest.approx(ratio * m.ref_vel, rel=1e-6, abs=1e-6)
+
+
+def test_a_slave_driven_into_its_software_limit_stops_and_leaves_its_gear():
+    k = kernel(2)
+    m, s = k.axes
+    g = geared(k, 0, 1, 4.0)
+    m.move_abs(300.0)  # the slave would go to 1200 mm, beyond its limit at 1000 mm
+    run_until(k, lambda: s.error_stop)
+    assert s.fault_status & st.FS_SW_RIGHT and not g.in_gear
+    p_0, v_0 = s.ref_pos, s.ref_vel  # from here: a kill stop
+    run_until(k, lambda: not m.moving and not s.moving)
+    assert m.ref_pos == 300.0
+    assert s.ref_pos == pytest.approx(p_0 + v_0**2 / (2 * s.kill_dec), abs=v_0 * DT)

@@ -99,6 +99,9 @@ class Axis(AxisSettings, AxisCycle, AxisFollow):
             raise AxisCommandError(st.CMD_INVALID_DISABLED, f"axis {self.axis_id} is not enabled")
         if self.stopping:
             raise AxisCommandError(st.CMD_INVALID_STOPPING, f"axis {self.axis_id} is stopping")
+        ext = self.following
+        if ext is not None and not getattr(ext, "accepts_moves", False):
+            raise AxisCommandError(st.CMD_INVALID_IN_SYNC, f"axis {self.axis_id} follows {ext}")
         if (self.op_mode == MODE_CST) != torque:
             raise AxisCommandError(
                 st.CMD_INVALID_CONTROL_MODE,
@@ -227,7 +230,8 @@ class Axis(AxisSettings, AxisCycle, AxisFollow):
         if self.buffer_mode == 1 and self.moving:
             self._buffered(("rel", dist))
             return
-        self._start(("abs", self._check_target(self.ref_pos + dist)))
+        base = self.ref_pos if self.following is None else self.pg.output[0]
+        self._start(("abs", self._check_target(base + dist)))
 
     def move_vel(self, vel: float) -> None:
         """Jog at `vel` [mm/s] (sign = direction), capped at the maximum velocity."""
@@ -313,7 +317,8 @@ class Axis(AxisSettings, AxisCycle, AxisFollow):
             self._pvt = arg
             self._n = 0
             return
-        self._source = PG
+        if self.following is None:  # a gantry axis stays on its pair reference
+            self._source = PG
         if kind == "abs":
             self.pg.move_to(arg)
         elif kind == "rel":
@@ -340,7 +345,7 @@ class Axis(AxisSettings, AxisCycle, AxisFollow):
         decel = self.pg.d_max if decel is None else decel
         self.stopping = True
         self.halted = False
-        if self._source == PG:
+        if self._source == PG or getattr(self.following, "accepts_moves", False):
             self.pg.set_velocity_scale(self.vel_scale / 100.0)
             self.pg.stop(decel)
         elif self._source == TORQUE:

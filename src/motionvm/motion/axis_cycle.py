@@ -226,6 +226,8 @@ class AxisCycle:
                       or self._deferred is not None)  # fmt: skip
         elif src == TORQUE:
             moving = self._torque_pm != 0
+        elif src == EXT:  # a provider may say when its reference rests (gear, gantry)
+            moving = self._ext.moving(self) if hasattr(self._ext, "moving") else True
         else:
             moving = True
         if moving:

@@ -18,7 +18,9 @@ enabling either axis enables the other (`GantrySet.step`, once per cycle); when 
 are enabled the pair engages at the present feedback (no jump: linear and yaw are
 computed from it). Disabling either axis, or a fault that disables it, disables both.
 A stop of either axis (Stop, a limit) stops the other too; once both rest the pair
-re-engages where it stands. DisableGantryPair needs both axes disabled.
+re-engages where it stands (a Stop of the RHS axis stops the linear axis, of the LHS
+the yaw axis, once the axis keeps a gantry axis on its provider for a stop).
+DisableGantryPair needs both axes disabled.
 
 Decisions where the manual is silent: pair ids are the lowest free numbers from 0;
 DisableGantryPair of an axis in no pair does nothing and succeeds (the manual's example
@@ -30,6 +32,7 @@ from EnableGantryPair to DisableGantryPair.
 
 from __future__ import annotations
 
+import math
 import weakref
 
 from motionvm.motion import axis_status as st
@@ -52,7 +55,10 @@ class Gantry:
     """One gantry pair; the reference provider of both of its axes while engaged."""
 
     accepts_moves = True
-    """Profile commands on either axis go to the pair (linear or yaw) reference."""
+    """Profile commands on either axis drive its generator, the linear or yaw reference.
+
+    Until the axis keeps a following axis on its provider for a command, a command takes
+    the axis to its own generator for one cycle and `step` takes it back."""
 
     def __init__(self, pair_id: int, rhs, lhs):
         self.pair_id = pair_id
@@ -66,6 +72,7 @@ class Gantry:
         self._served: set[int] = set()
         self._wait = 0  # cycles left for the partner to come up
         self._first = rhs  # the axis the user enabled
+        self._brake: dict[int, list[float]] = {}  # axis id -> [velocity, deceleration]
 
     def __repr__(self) -> str:
         return f"gantry pair {self.pair_id} (rhs {self.rhs.axis_id}, lhs {self.lhs.axis_id})"
@@ -112,14 +119,20 @@ class Gantry:
         elif self.state == ON:
             for a, b in ((r, l), (l, r)):
                 if a.following is not self:
-                    if a.stopping:  # Stop or a limit: the other stops too
-                        if b.following is self:
-                            b.stop(b.kill_dec if a.error_stop else None)
+                    if a.stopping:  # a stop ramp of its own (a limit): the other brakes too
                         self.state = STOPPING
+                        if b.following is self:
+                            decel = b.kill_dec if a.error_stop else b.pg.d_max
+                            self._brake[b.axis_id] = [b.ref_vel, decel]
                     else:  # a command took the axis to its own generator: take it back
                         a.follow(self)
-        elif self.state == STOPPING and not (r.moving or l.moving):
+        elif self.state == STOPPING and self._at_rest(r) and self._at_rest(l):
             self._engage()
+
+    def _at_rest(self, axis) -> bool:
+        if axis.following is self:
+            return self._brake.get(axis.axis_id, (0.0,))[0] == 0.0
+        return not axis.moving
 
     def _enable_partner(self, other) -> None:
         try:
@@ -144,6 +157,7 @@ class Gantry:
         self.linear_ref = (lin, 0.0, 0.0)
         self.yaw_ref = (yaw, 0.0, 0.0)
         self._served.clear()
+        self._brake.clear()
         r.follow(self)
         l.follow(self)
         self.state = ON
@@ -151,7 +165,9 @@ class Gantry:
     # ---- the provider ---------------------------------------------------------------
 
     def moving(self, axis) -> bool:
-        """Either axis moves while the linear or the yaw generator runs."""
+        """Either axis moves while the linear or the yaw generator runs (or it brakes)."""
+        if self.state == STOPPING:
+            return self._brake.get(axis.axis_id, (0.0,))[0] != 0.0
         return not (
             self.rhs.pg.is_done
             and self.lhs.pg.is_done
@@ -162,6 +178,13 @@ class Gantry:
     def reference(self, axis) -> tuple[float, float, float]:
         """The motor reference of `axis` (rhs or lhs) for this cycle."""
         key = axis.axis_id
+        if self.state == STOPPING:  # the partner stopped on its own: brake to rest
+            v_0, decel = self._brake.get(key, (0.0, 0.0))
+            dv = decel * axis.dt
+            v_1 = 0.0 if abs(v_0) <= dv else v_0 - math.copysign(dv, v_0)
+            if key in self._brake:
+                self._brake[key][0] = v_1
+            return axis.ref_pos + 0.5 * (v_0 + v_1) * axis.dt, v_1, (v_1 - v_0) / axis.dt
         if key in self._served or not self._served:  # the first call of a cycle
             self._served = {key}
             r, l = self.rhs, self.lhs

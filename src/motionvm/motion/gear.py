@@ -32,12 +32,11 @@ Decisions where the manual is silent:
 - A slave that leaves its gear by itself (disabled, a fault, a limit stop ramp) is
   disengaged; it stays coupled.
 
-Order within a cycle: the motion kernel steps the axes in id order, and a slave reads
-the master's reference when it steps. A master with a lower id than its slave has
-already stepped, so the slave uses the master's command of the same cycle (`lag_cycles`
-0); a master with a higher id steps after the slave, which then uses the master's
-command of the previous cycle (`lag_cycles` 1). Same-cycle coupling for every pair needs
-the kernel to step masters before their slaves.
+Order within a cycle: a slave reads the master's reference when it steps. A master
+that steps before its slave gives the command of the same cycle (`lag_cycles` 0); one
+that steps after it, the command of the previous cycle (`lag_cycles` 1). A kernel that
+steps its axes in id order couples same-cycle only masters with a lower id than their
+slaves; a kernel with a `step_order` list gets it sorted masters first (`GearBox`).
 """
 
 from __future__ import annotations
@@ -75,7 +74,8 @@ class Gear:
     """One slave coupled to one master; the slave's reference provider while in gear."""
 
     accepts_moves = False
-    """Profile commands on a slave in gear are refused (eERR_AXIS_CMD_INVALID_IN_SYNC)."""
+    """Profile commands on a slave in gear are to be refused (eERR_AXIS_CMD_INVALID_IN_SYNC);
+    until the axis does so, a command takes the slave out of its gear."""
 
     def __init__(self, master, slave):
         self.master = master
@@ -90,24 +90,24 @@ class Gear:
         self._r = 0.0  # effective ratio [-]
         self._dr = 0.0  # ratio change per cycle while engaging [-]
         self._m_0 = self._s_0 = 0.0
-        self._v = 0.0  # slave velocity [mm/s] (engaging: last; disengaging: braking)
+        self._v = 0.0  # slave velocity [mm/s] while braking after GearOut
 
     def __repr__(self) -> str:
         return f"gear master {self.master.axis_id} -> slave {self.slave.axis_id}"
 
-    @property
-    def lag_cycles(self) -> int:
-        """Cycles by which the slave sees the master's command late (module docstring)."""
-        return 1 if self.master.axis_id > self.slave.axis_id else 0
+    def lag_cycles(self, order: list) -> int:
+        """Cycles by which the slave sees the master's command late, axes stepped in `order`."""
+        return 1 if order.index(self.master) > order.index(self.slave) else 0
 
     @property
     def in_gear(self) -> bool:
         """IsInGear: synchronous at the full ratio."""
-        return self.following and self.state == ENGAGED
+        return self.active and self.state == ENGAGED
 
     @property
-    def following(self) -> bool:
-        """True while the slave takes its reference from this gear."""
+    def active(self) -> bool:
+        """True while the slave takes its reference from this gear (engaging, engaged or
+        braking after GearOut)."""
         if self.state != DISENGAGED and self.slave.following is not self:
             self.state = DISENGAGED  # disabled, a fault or a limit stop took it away
         return self.state != DISENGAGED
@@ -117,7 +117,7 @@ class Gear:
     def gear_in(self, ratio: float) -> None:
         """Engage at `ratio` (or change the ratio while engaged); see the module docstring."""
         slave, master = self.slave, self.master
-        if not self.following:
+        if not self.active:
             self._r = 0.0
             self._v = 0.0
             self.master_pos_gear = master.ref_pos
@@ -133,7 +133,7 @@ class Gear:
 
     def gear_out(self) -> None:
         """Disengage: brake to rest at the slave's maximum deceleration, then let go."""
-        if not self.following or self.state == DISENGAGING:
+        if not self.active or self.state == DISENGAGING:
             return
         self.state = DISENGAGING
         self._v = self.slave.ref_vel
@@ -194,10 +194,14 @@ class Gear:
 
 
 class GearBox:
-    """Every gear of one motion kernel: the commands of chapter 6 and their checks."""
+    """Every gear of one motion kernel: the commands of chapter 6 and their checks.
 
-    def __init__(self, axes: list):
-        self.axes = axes
+    If the kernel has a `step_order` list (the order it steps its axes in), the box keeps
+    it masters first, so that every slave sees its master's command of the same cycle.
+    """
+
+    def __init__(self, kernel):
+        self.kernel = kernel
         self.gears: dict[int, Gear] = {}
         """Slave axis id -> its gear."""
         self.gantry_axes = lambda: frozenset()
@@ -207,6 +211,17 @@ class GearBox:
 
     def gear_of(self, slave_id: int) -> Gear | None:
         return self.gears.get(slave_id)
+
+    def lag_cycles(self, slave_id: int) -> int:
+        """0 if slave `slave_id` sees its master's command of the same cycle, 1 if late."""
+        order = getattr(self.kernel, "step_order", None) or self.kernel.axes
+        return self.gears[slave_id].lag_cycles(order)
+
+    def _reorder(self) -> None:
+        order = getattr(self.kernel, "step_order", None)
+        if order is not None:
+            masters = {g.master.axis_id for g in self.gears.values()}
+            order[:] = sorted(self.kernel.axes, key=lambda a: (a.axis_id not in masters, a.axis_id))
 
     def is_slave(self, axis_id: int) -> bool:
         return axis_id in self.gears
@@ -266,6 +281,7 @@ class GearBox:
         self.gears[sid] = Gear(master, slave)
         slave.extra_status = slave.extra_status | SLAVE_BITS
         slave.wake()
+        self._reorder()
 
     def _gear(self, slave) -> Gear:
         g = self.gears.get(slave.axis_id)
@@ -300,7 +316,7 @@ class GearBox:
                 slave.axis_id,
                 f"axis {slave.axis_id} is in error stop (call Reset)",
             )
-        if g.state == DISENGAGING or (not g.following and slave.moving):
+        if g.state == DISENGAGING or (not g.active and slave.moving):
             raise SyncError(st.CMD_INVALID_MOVING, slave.axis_id, f"axis {slave.axis_id} is moving")
         g.gear_in(ratio)
 
@@ -311,7 +327,7 @@ class GearBox:
     def disable_gear(self, slave) -> None:
         """DisableGear: uncouple a disengaged `slave` from its master."""
         g = self._gear(slave)
-        if g.following:
+        if g.active:
             raise SyncError(
                 st.CMD_INVALID_IN_SYNC,
                 slave.axis_id,
@@ -319,6 +335,7 @@ class GearBox:
             )
         del self.gears[slave.axis_id]
         slave.extra_status = slave.extra_status & ~SLAVE_BITS
+        self._reorder()
 
 
 _BOXES: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
@@ -328,5 +345,5 @@ def gearbox_of(kernel) -> GearBox:
     """The gears of motion kernel `kernel` (created on first use)."""
     box = _BOXES.get(kernel)
     if box is None:
-        box = _BOXES[kernel] = GearBox(kernel.axes)
+        box = _BOXES[kernel] = GearBox(kernel)
     return box

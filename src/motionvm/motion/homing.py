@@ -217,7 +217,8 @@ class AxisHoming:
         a.set_ignore("swl", int(swl))
         if run.error:
             self.error, self.message = run.error, f"axis {a.axis_id}: {run.message}"
-            a.last_error = st.axis_error(run.error, a.axis_id)
+            if not a.error_stop:  # a fault reaction's own code says more
+                a.last_error = st.axis_error(run.error, a.axis_id)
         else:
             self._bits(st.MS_HOMED, st.MS_HOMING)
 

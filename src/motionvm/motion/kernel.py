@@ -23,6 +23,8 @@ class MotionKernel:
     def __init__(self, configs: list[AxisConfig], dt: float):
         self.dt = dt
         self.axes = [Axis(i, c, dt) for i, c in enumerate(configs)]
+        self.step_order = list(self.axes)
+        """The order the axes step in: by id, gear masters first (motion/gear.py)."""
         self.ecat_state = ECAT_OP
         """Master state of the bus [1, 2, 4, 8]."""
         self.system_last_error = 0
@@ -47,7 +49,7 @@ class MotionKernel:
         """The motion phase of one cycle: the bus, then every axis in id order."""
         if self._bus_steps:
             self.ecat_state = self._bus_steps.pop(0)
-        for a in self.axes:
+        for a in self.step_order:
             f = a._fast_ok  # the axis's fast cycle function, if it has one (axis_fast.py)
             if f and not a._rest and f():
                 continue

@@ -6,6 +6,7 @@ names of its run-time API module"):
 
     _M _H _F            long/short/float views of the drive memory
     _S _ST _MEND        system variable slots, state bytes, memory size [words]
+    _FS                 one-float scratch view: rounds promoted floats to float32
     _w32 _w16 _rnd      integer wrapping and float->integer rounding
     _mod _divi _sign _sin _cos _sqrt _shift _bitset _bitclr _bittog _unsign
     _memcpy _memset _memmin _memmax _memsum _fill
@@ -105,6 +106,7 @@ def runtime_namespace(drive: Drive) -> dict[str, object]:
         "_S": store.S,
         "_ST": store.ST,
         "_MEND": mem.size,
+        "_FS": memoryview(bytearray(4)).cast("f"),
         "_w32": w32,
         "_w16": w16,
         "_rnd": _rnd,

@@ -45,7 +45,7 @@ from motionvm.lang.pdl.symbols import LabelSym, Symbols, VarSym, code_units
 from motionvm.source.files import SourcePos
 
 LINE_STRIDE = 100_000
-_VIEWS = ("M", "H", "F", "S", "ST")
+_VIEWS = ("M", "H", "F", "S", "ST", "FS")
 
 
 @dataclass

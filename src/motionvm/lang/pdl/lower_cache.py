@@ -8,23 +8,23 @@ is the only place where they can run) and when a fault unwinds it:
 
     loop(100) do s = s + k; end;
 becomes
-    v1 = M[1]
-    v2 = M[2]
+    m1 = M[1]
+    m2 = M[2]
     try:
         for _ in range(100 & 65535 or 65536):
-            v1 = v1 + v2
-            if not -2147483648 <= v1 <= 2147483647:
-                v1 = _w32(v1)
+            m1 = m1 + m2
+            if not -2147483648 <= m1 <= 2147483647:
+                m1 = _w32(m1)
             b -= 2
             if b <= 0:
-                M[1] = v1
+                M[1] = m1
                 b = yield b
-                v1 = M[1]
-                v2 = M[2]
+                m1 = M[1]
+                m2 = M[2]
     except Exception:
-        M[1] = v1
+        M[1] = m1
         raise
-    M[1] = v1
+    M[1] = m1
 
 A loop is promoted only if nothing in it reaches memory behind the compiler's back:
 no pointer indirection, procedure call, sleep/wait/till, block function (memcpy ...,
@@ -32,7 +32,8 @@ initialiser lists, strings), halt/exitproc/kill. A scalar is left in memory if i
 address is taken in the loop, if it is indexed, if a constant index elsewhere lands
 on it, or if an array indexed by a variable in the loop precedes it in the same
 declaration (indexing past an array reaches the next variables, manual §1.2).
-Floats stay in memory: each store must round to float32 anyway.
+A float kept in a local is rounded to float32 at each store through the one-element
+float view `_FS` (`_FS[0] = y + e; f9 = _FS[0]`), as a store to memory would round it.
 """
 
 from __future__ import annotations
@@ -42,7 +43,7 @@ from typing import TYPE_CHECKING
 
 from motionvm.lang.pdl import nodes as n
 from motionvm.lang.pdl.lower_expr import assign, nm, storage_kind, subscript
-from motionvm.lang.pdl.rt_memory import LONG, SHORT
+from motionvm.lang.pdl.rt_memory import FLOAT, SHORT
 from motionvm.lang.pdl.symbols import VarSym
 
 if TYPE_CHECKING:
@@ -126,22 +127,17 @@ def promote(prog: ProgramLowering, loop: n.Loop | n.While) -> Promotion | None:
                 written.add(id(sym))
         if isinstance(node, n.VarRef):
             sym = syms.symbol_of(node)
-            if (
-                not isinstance(sym, VarSym)
-                or sym.scope != "global"
-                or sym.type in ("state", "float")
-            ):
+            if not isinstance(sym, VarSym) or sym.scope != "global" or sym.type == "state":
                 continue
             if node.auto_inc and isinstance(node.index, n.VarRef):
                 isym = syms.symbol_of(node.index)
                 if isinstance(isym, VarSym):
                     written.add(id(isym))
-            if node.index is None and sym.size == 1 and storage_kind(sym) in (LONG, SHORT):
+            if node.index is None and sym.size == 1:
                 scalars[id(sym)] = sym
             elif isinstance(node.index, n.IntConst):
                 excluded.add(id(sym))
-                view = "H" if storage_kind(sym) == SHORT else "M"
-                const_hits.add((view, prog.global_index(sym) + node.index.value))
+                const_hits.add((_view(sym), prog.global_index(sym) + node.index.value))
             elif node.index is not None:
                 excluded.add(id(sym))
                 indexed_arrays.append(sym)
@@ -150,15 +146,21 @@ def promote(prog: ProgramLowering, loop: n.Loop | n.While) -> Promotion | None:
     for key, sym in scalars.items():
         if key in excluded or _reachable(prog, sym, indexed_arrays):
             continue
-        view = "H" if storage_kind(sym) == SHORT else "M"
+        view = _view(sym)
         index = prog.global_index(sym)
-        if (view, index) in const_hits:
+        other = "M" if view == "F" else "F"  # longs and floats share word indices
+        if (view, index) in const_hits or (view != "H" and (other, index) in const_hits):
             continue
-        local = f"{'h' if view == 'H' else 'v'}{index}"
+        local = f"{view.lower()}{index}"
         slots[(view, index)] = local
         if key in written:
             names_written.add(local)
     return Promotion(slots, names_written) if slots else None
+
+
+def _view(sym: VarSym) -> str:
+    kind = storage_kind(sym)
+    return "H" if kind == SHORT else ("F" if kind == FLOAT else "M")
 
 
 def _reachable(prog: ProgramLowering, sym: VarSym, arrays: list[VarSym]) -> bool:

@@ -84,7 +84,12 @@ _RELOPS = {"=": ast.Eq, "<>": ast.NotEq, "<": ast.Lt, ">": ast.Gt, "<=": ast.LtE
 
 
 def _store_local(local: str, bits: int, value: ast.expr, kind: str) -> list[ast.stmt]:
-    """`local = value`, rounded or wrapped to the variable's width like a memory store."""
+    """`local = value`, rounded or wrapped to the variable's width like a memory store.
+
+    bits 0 is a float, rounded to float32 through the one-float scratch view `_FS`.
+    """
+    if bits == 0:
+        return [assign(subscript("FS", const(0), True), value), assign(nm(local, True), subscript("FS", const(0)))]
     if kind == FLT:
         return [assign(nm(local, True), call("_rnd", value, const(bits)))]
     out = [assign(nm(local, True), value)]
@@ -142,11 +147,12 @@ class ExprLowering:
         if self.promo is None or not isinstance(v, n.VarRef) or v.index is not None:
             return None
         sym = self.sym(v)
-        if not isinstance(sym, VarSym) or sym.scope != "global" or sym.type in ("state", "float"):
+        if not isinstance(sym, VarSym) or sym.scope != "global" or sym.type == "state":
             return None
         kind = storage_kind(sym)
-        local = self.promo.local_of("H" if kind == SHORT else "M", self.prog.global_index(sym))
-        return (local, 16 if kind == SHORT else 32) if local else None
+        view = "H" if kind == SHORT else ("F" if kind == FLOAT else "M")
+        local = self.promo.local_of(view, self.prog.global_index(sym))
+        return (local, {SHORT: 16, FLOAT: 0}.get(kind, 32)) if local else None
 
     # ------------------------------------------------------------ names
 
@@ -248,7 +254,7 @@ class ExprLowering:
                 return subscript("ST", const(self.prog.state_bit(sym))), I16
             local = self.promoted(op)
             if local is not None:
-                return nm(local[0]), (I16 if local[1] == 16 else INT)
+                return nm(local[0]), {16: I16, 0: FLT}.get(local[1], INT)
             view, ix, kind = self.element(op)
             vk = FLT if kind == FLOAT else (I16 if kind == SHORT else INT)
             if view == "S" and sym.type == "short":
