@@ -190,20 +190,23 @@ class AxisCycle:
         self._update_status()
 
     def _hw_inputs(self, di: int) -> None:
-        """New digital inputs: the hardware limit bits of fault_status follow the switches."""
+        """New digital inputs: the hardware limit bits of fault_status follow the switches.
+
+        IgnoreHWL only suppresses the limit's fault reaction (`_enabled_checks`); the bits
+        and IsHWLL/IsHWRL still show the switches (0x60FD), as the manual's homing examples
+        rely on when they search a limit switch with IgnoreHWL set."""
         self._di = di
         fs = self.fault_status & ~(st.FS_HW_RIGHT | st.FS_HW_LEFT)
-        if not self.ignore_hwl:
-            if di & DI_POSITIVE_LIMIT:
-                fs |= st.FS_HW_RIGHT
-            if di & DI_NEGATIVE_LIMIT:
-                fs |= st.FS_HW_LEFT
+        if di & DI_POSITIVE_LIMIT:
+            fs |= st.FS_HW_RIGHT
+        if di & DI_NEGATIVE_LIMIT:
+            fs |= st.FS_HW_LEFT
         self.fault_status = fs
 
     def _enabled_checks(self) -> None:
         """Hardware limit in the direction of motion: kill stop; position error: disable."""
         fs = self.fault_status
-        if fs & (st.FS_HW_RIGHT | st.FS_HW_LEFT) and not self.error_stop:
+        if fs & (st.FS_HW_RIGHT | st.FS_HW_LEFT) and not self.error_stop and not self.ignore_hwl:
             v = self.ref_vel
             if fs & st.FS_HW_RIGHT and v > 0.0:
                 self._limit_stop(st.HWRL, st.FS_HW_RIGHT)

@@ -29,11 +29,11 @@ becomes
 A loop is promoted only if nothing in it reaches memory behind the compiler's back:
 no pointer indirection, procedure call, sleep/wait/till, block function (memcpy ...,
 initialiser lists, strings), halt/exitproc/kill. A scalar is left in memory if its
-address is taken in the loop, if it is indexed, if a constant index elsewhere lands
+address is taken in the loop, if it is indexed there, if a constant index there lands
 on it, or if an array indexed by a variable in the loop precedes it in the same
 declaration (indexing past an array reaches the next variables, manual §1.2).
 A float kept in a local is rounded to float32 at each store through the one-element
-float view `_FS` (`_FS[0] = y + e; f9 = _FS[0]`), as a store to memory would round it.
+float view `FS` (`FS[0] = f1 + f3; f1 = FS[0]`), as a store to memory would round it.
 """
 
 from __future__ import annotations

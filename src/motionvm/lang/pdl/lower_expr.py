@@ -89,7 +89,10 @@ def _store_local(local: str, bits: int, value: ast.expr, kind: str) -> list[ast.
     bits 0 is a float, rounded to float32 through the one-float scratch view `_FS`.
     """
     if bits == 0:
-        return [assign(subscript("FS", const(0), True), value), assign(nm(local, True), subscript("FS", const(0)))]
+        return [
+            assign(subscript("FS", const(0), True), value),
+            assign(nm(local, True), subscript("FS", const(0))),
+        ]
     if kind == FLT:
         return [assign(nm(local, True), call("_rnd", value, const(bits)))]
     out = [assign(nm(local, True), value)]
