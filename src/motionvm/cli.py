@@ -53,7 +53,8 @@ def _parser() -> argparse.ArgumentParser:
         help="write the recording to FILE: .csv, .png, .svg or .vcd (repeatable)",
     )
     r.add_argument("--scope-every", type=int, metavar="N", help="record every N cycles (default 1)")
-    r.add_argument("--start", metavar="LABEL", help="PDL: start the task at this label")
+    r.add_argument("--start", action="append", default=[], metavar="LABEL",
+                   help="PDL: start a task at this label ('top' = the first statement); repeatable")
     r.add_argument("--force", action="append", default=[], metavar="'REF = V'",
                    help="GDL: force a state variable with f access (repeatable)")
     r.add_argument("--shuffle-order", type=int, metavar="SEED",
@@ -145,40 +146,14 @@ def _gdl(args, files: list[str]) -> int:
 
 
 def _pdl(args, files: list[str]) -> int:
-    try:
-        from motionvm.lang.pdl import cli as pdl_cli
-    except ImportError:
-        pdl_cli = None
+    from motionvm.lang.pdl import cli as pdl_cli
+
     if args.cmd == "check":
-        if pdl_cli is not None:
-            return pdl_cli.main_check(files, sys.stdout, sys.stderr)
-        return _pdl_check(files)
+        return pdl_cli.main_check(files, sys.stdout, sys.stderr)
     if args.cmd == "run":
-        if pdl_cli is None:
-            raise UsageError(
-                "the PDL drive run time is not available yet (issue 4); 'motionvm check' works"
-            )
-        return pdl_cli.main_run(
-            files, getattr(args, "start", None), args.until, sys.stdout, sys.stderr
-        )
-    raise UsageError("'compile' supports HMPL files only")
-
-
-def _pdl_check(files: list[str]) -> int:
-    from motionvm.lang.pdl.front import compile_front
-    from motionvm.source.diagnostics import DiagnosticSink, render_diagnostic
-
-    status = EXIT_OK
-    for f in files:
-        if not Path(f).is_file():
-            raise UsageError(f"{f}: no such file")
-        sink = DiagnosticSink()
-        compile_front(f, sink=sink)
-        for d in sorted(sink.items, key=lambda d: (d.pos.file, d.pos.line, d.pos.col)):
-            print(render_diagnostic(d), file=sys.stderr)
-        if sink.has_errors:
-            status = EXIT_COMPILE
-    return status
+        starts = args.start or None
+        return pdl_cli.main_run(files, starts, args.until, sys.stdout, sys.stderr, stamp=bool(args.stamp))
+    raise UsageError("'compile' supports HMPL files only (use 'motionvm dump --stage py' for PDL)")
 
 
 def cmd_builtins(args) -> int:
@@ -239,7 +214,11 @@ def _pdl_dump(path: str, stage: str) -> int:
         if prog is not None:
             sys.stdout.write(dump.dump_ast(prog) + "\n")
     else:
-        raise UsageError("--stage py is not available for PDL yet (the PDL lowering is issue 4)")
+        from motionvm.lang.pdl.program import compile_pdl
+
+        prog = compile_pdl(path, sink=sink)
+        if prog is not None:
+            sys.stdout.write(prog.python_source() + "\n")
     for d in sorted(sink.items, key=lambda d: (d.pos.file, d.pos.line, d.pos.col)):
         print(render_diagnostic(d), file=sys.stderr)
     return EXIT_COMPILE if sink.has_errors else EXIT_OK
