@@ -5,7 +5,8 @@ with a fresh data folder in MOTIONVM_DATA_DIR; it must exit with code 0 and prin
 exactly the text of `NN_topic.out`. A multi-task example puts task K in
 `NN_topic.taskK.hmpl` (K = 1, 2, ...); such files are passed after the example and are
 not examples of their own. A GDL example `NN_topic.gdl` runs with its scenario
-`NN_topic.toml` when there is one. Set MOTIONVM_TEST_CMD to run another command instead of
+`NN_topic.toml` when there is one; an HMPL example runs on the machine file
+`NN_topic.toml` when there is one (`--machine`). Set MOTIONVM_TEST_CMD to run another command instead of
 `python -m motionvm` (see tests/lang/hmpl/test_hmpl_programs.py).
 """
 
@@ -66,6 +67,8 @@ def test_example(example: Path, tmp_path: Path) -> None:
     scenario = example.with_suffix(".toml")
     if example.suffix == ".gdl" and scenario.is_file():
         extra += ["--scenario", scenario.name]  # a GDL example's stimuli: NN_topic.toml
+    elif example.suffix == ".hmpl" and scenario.is_file():
+        extra += ["--machine", scenario.name]  # an HMPL example's machine: NN_topic.toml
     cmd = base_command() + ["run", example.name, *extra]
     try:
         proc = subprocess.run(

@@ -113,6 +113,10 @@ def _dispatch(args) -> int:
         Path(t.partition("=")[2]).suffix.lower() for t in args.task
     }
     if not files and not args.task:
+        if args.cmd == "run" and getattr(args, "machine", None):
+            from motionvm.hmpl_cli import hmpl_command  # the machine's PDL drives alone
+
+            return hmpl_command(args)
         raise UsageError("no input files")
     unknown = langs - {".hmpl", ".pdl", ".gdl"}
     if unknown:
@@ -125,7 +129,8 @@ def _dispatch(args) -> int:
         return _pdl(args, files)
     if ".pdl" in langs:
         raise UsageError(
-            "PDL files run on a drive of their own: run them without HMPL files (a machine file will combine them)"
+            "PDL files run on a drive of their own: run them without HMPL files, or put them on "
+            'the drives of a machine file (pdl = "x.pdl" in an [[axis]] table, --machine)'
         )
     from motionvm.hmpl_cli import hmpl_command
 

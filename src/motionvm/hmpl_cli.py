@@ -78,9 +78,14 @@ def run(args) -> int:
             return EXIT_USAGE
     else:
         machine = DEFAULT_MACHINE
+    if not args.files and not args.task and not machine.pdl_drives:
+        raise UsageError("no input files (and the machine file puts no PDL program on a drive)")
     scope = _scope_request(args)
     prog, mem, _sink = _compile(args)
-    if prog is None:
+    drives = _compile_drives(machine)
+    if isinstance(drives, int):
+        return EXIT_USAGE
+    if prog is None or drives is None:
         return EXIT_COMPILE
     out = sys.stdout
 
@@ -98,6 +103,14 @@ def run(args) -> int:
     )
     rt.stamp = bool(args.stamp)
     ctl.clients.append(rt)
+    pdl = None
+    if drives:  # the machine's PDL drives (sim/pdl_drives.py): stepped at the end of each cycle
+        from motionvm.sim.pdl_drives import PdlDrives
+
+        pdl = PdlDrives(ctl, drives, machine, emit=emit, report=report, stamp=bool(args.stamp))
+        ctl.clients.append(pdl)
+        ctl.busy_clients.append(pdl)
+        pdl.boot()
     rt.boot()
     recorder = _scope_start(scope, ctl, rt) if scope else None  # the last client: sees all
     try:
@@ -109,7 +122,24 @@ def run(args) -> int:
     out.flush()
     if recorder is not None:
         _scope_save(scope, recorder, args)
-    return EXIT_RUNTIME if rt.faults else EXIT_OK
+    return EXIT_RUNTIME if rt.faults or (pdl is not None and pdl.faults) else EXIT_OK
+
+
+def _compile_drives(machine):
+    """The machine's compiled PDL drives ([] if none); None after compile errors (reported),
+    EXIT_USAGE after a bad `pdl_start` label (reported)."""
+    if not machine.pdl_drives:
+        return []
+    from motionvm.sim.pdl_drives import PdlStartError, compile_drives
+
+    def report(line: str) -> None:
+        print(line, file=sys.stderr)
+
+    try:
+        return compile_drives(machine, report)
+    except PdlStartError as exc:
+        report(str(exc))
+        return EXIT_USAGE
 
 
 # ---------------------------------------------------------------- --scope (README "Scope")

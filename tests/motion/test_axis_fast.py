@@ -136,3 +136,45 @@ def test_fast_and_general_paths_agree_through_limits_and_faults():
             else:
                 getattr(a, method)(*args)
     assert {0x07DA, 0x07EE, 0x03F2} <= seen  # SWRL, HWRL, drive fault
+
+
+def _bits(a: Axis) -> str:
+    """Every compared value, and the mechanics' demand velocity, to the bit (repr)."""
+    return repr((_state(a), a.drive.mechanics._demand_vel, a.vel_fb))
+
+
+@pytest.mark.parametrize("seed", range(3))
+@pytest.mark.parametrize(
+    "config",
+    [
+        {"drive": {"following_error_window": 8000, "max_torque": 40}},
+        {"drive": {"mechanics": {"model": "ideal", "delay_cycles": 0}, "max_torque": 1}},
+        {"drive": {"mechanics": {"model": "ideal", "delay_cycles": 2}, "max_torque": 0}},
+    ],
+)
+def test_fast_path_values_computed_on_demand_agree(seed, config):
+    """Following error faults, the internal limit bit and the values the fast cycle
+    leaves to be computed when read (velocity, torque, demand, following error)."""
+    fast, slow = Axis(0, create(config), DT), _Generic(0, create(config), DT)
+    fast.enable()
+    slow.enable()
+    cycle = 0
+    for at, method, args in _script(100 + seed):
+        while cycle < at:
+            fast.step()
+            slow.step()
+            cycle += 1
+            assert _bits(fast) == _bits(slow), f"cycle {cycle}"
+        for a in (fast, slow):
+            if a.error_stop or not a.enabled:
+                a.reset()
+                try:
+                    a.enable()
+                except AxisCommandError:
+                    pass
+            if method == "inject":
+                continue
+            try:
+                getattr(a, method)(*args)
+            except AxisCommandError:
+                pass

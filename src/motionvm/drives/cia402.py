@@ -177,6 +177,59 @@ class Cia402Drive:
     tp2_positive_edge = property(lambda self: self.sensors.latched[2])
     tp2_negative_edge = property(lambda self: self.sensors.latched[3])
 
+    # Four TxPDO objects the fast axis cycle (motion/axis_fast.py) does not set: it
+    # leaves None, and they are then what _feedback would set from the state that cycle
+    # left (Operation enabled, encoder present), computed when read. Every step sets them.
+
+    @property
+    def velocity_actual(self) -> int:
+        v = self._velocity_actual
+        if v is None:
+            vel = round(self.mechanics.velocity)
+            v = ((vel + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+        return v
+
+    @velocity_actual.setter
+    def velocity_actual(self, value: int) -> None:
+        self._velocity_actual = value
+
+    @property
+    def torque_actual(self) -> int:
+        t = self._torque_actual
+        if t is None:
+            t = round(self.mechanics.torque * self._per_mille_per_nm)
+            if not -32768 <= t <= 32767:
+                t = max(-32768, min(32767, t))
+        return t
+
+    @torque_actual.setter
+    def torque_actual(self, value: int) -> None:
+        self._torque_actual = value
+
+    @property
+    def position_demand(self) -> int:
+        p = self._position_demand
+        if p is None:
+            demand = round(self._r)
+            p = ((demand + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+        return p
+
+    @position_demand.setter
+    def position_demand(self, value: int) -> None:
+        self._position_demand = value
+
+    @property
+    def following_error(self) -> int:
+        fe = self._following_error
+        if fe is None:
+            fe = round(self._r) - self._enc
+            fe = ((fe + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+        return fe
+
+    @following_error.setter
+    def following_error(self, value: int) -> None:
+        self._following_error = value
+
     # ---- faults for tests -----------------------------------------------------------
 
     def inject_fault(self, code: int = od.ERR_GENERIC) -> None:
@@ -354,18 +407,18 @@ class Cia402Drive:
             self._enc = enc = round(x)
             self.position_actual = ((enc + 0x80000000) & 0xFFFFFFFF) - 0x80000000
             vel = round(m.velocity)
-            self.velocity_actual = ((vel + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+            self._velocity_actual = ((vel + 0x80000000) & 0xFFFFFFFF) - 0x80000000
         else:
             enc = self._enc
-            self.velocity_actual = 0
+            self._velocity_actual = 0
         torque = round(m.torque * self._per_mille_per_nm)
-        self.torque_actual = (
+        self._torque_actual = (
             torque if -32768 <= torque <= 32767 else max(-32768, min(32767, torque))
         )
         enabled = self.state is State.OPERATION_ENABLED
         demand = round(self._r) if enabled else enc
-        self.position_demand = ((demand + 0x80000000) & 0xFFFFFFFF) - 0x80000000
-        self.following_error = fe = ((demand - enc + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+        self._position_demand = ((demand + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+        self._following_error = fe = ((demand - enc + 0x80000000) & 0xFFFFFFFF) - 0x80000000
         s = self.sensors
         if s.has_switches or s.tp_function or s.tp_status:
             self.digital_inputs = s.update(self._x_prev, x)
@@ -382,7 +435,7 @@ class Cia402Drive:
         if state is State.OPERATION_ENABLED:
             if self.mode in _CYCLIC_MODES:
                 sw |= od.SW_FOLLOWS_TARGET
-            if abs(self.torque_actual) >= self.max_torque > 0:
+            if abs(self._torque_actual) >= self.max_torque > 0:  # set just before
                 sw |= od.SW_INTERNAL_LIMIT
             if self._fault == od.ERR_FOLLOWING:
                 sw |= od.SW_FOLLOWING_ERROR

@@ -84,7 +84,6 @@ class Axis(AxisSettings, AxisCycle, AxisFollow):
         self._still = 0
         self._wake_count = 0
         self._fast_ok: bool | None = None
-        self._band: tuple = (0.0, 0.0, 0, -1)
         self._rest_after = getattr(self.drive.mechanics, "delay_cycles", 0) + 3
 
     # ---- checks ---------------------------------------------------------------------

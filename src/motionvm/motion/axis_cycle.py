@@ -123,6 +123,17 @@ class AxisCycle:
         else:
             self._still = 0
 
+    @property
+    def vel_fb(self) -> float:
+        """Velocity feedback [mm/s]: the drive's actual velocity in axis units (the fast
+        cycle, axis_fast.py, leaves None: it is then computed when read)."""
+        v = self._vel_fb
+        return self.drive.velocity_actual / self.cpu if v is None else v
+
+    @vel_fb.setter
+    def vel_fb(self, value: float) -> None:
+        self._vel_fb = value
+
     def _disabled_controlword(self) -> int:
         d = self.drive
         pa = d.position_actual
@@ -161,7 +172,7 @@ class AxisCycle:
             self._pa = pa
             self.pos_fb_raw = self._fb_counts / self.cpu
             self.pos_fb = self.pos_fb_raw - self.pos_offset
-        self.vel_fb = d.velocity_actual / self.cpu
+        self._vel_fb = d.velocity_actual / self.cpu
         state = d.state
         if d.statusword & SW_FAULT:
             self.fault_status |= st.FS_DRIVE_FAULT

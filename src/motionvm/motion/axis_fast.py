@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import math
 
+from motionvm.drives.cia402 import Cia402Drive
 from motionvm.drives.mechanics import TWO_PI, IdealMechanics
 from motionvm.drives.objects import (
     DI_INDEX_PULSE,
@@ -29,6 +30,7 @@ from motionvm.drives.objects import (
     State,
 )
 from motionvm.motion import axis_status as st
+from motionvm.motion.profile import IDLE
 
 _OE = State.OPERATION_ENABLED
 _SW_OE = State.OPERATION_ENABLED.value | 0x10 | 0x200 | SW_FOLLOWS_TARGET  # voltage, remote
@@ -57,9 +59,11 @@ def eligible(axis) -> bool:
     )
 
 
-def _band(s, x: float, inputs: int) -> tuple[float, float, int, int]:
-    """(lo, hi, bits, external): on lo < x < hi no limit, home or index edge lies, and the
-    inputs are `bits | external` (no index pulse), as `Sensors.update` computes them."""
+def _switch_band(s, x: float, inputs: int) -> tuple[float, float, int, int]:
+    """(lo, hi, bits, external): on lo < x < hi no limit or home edge lies, and the
+    inputs without the index pulse are `bits | external` (as `Sensors.update` computes
+    them); an empty band if x is on an edge. `Sensors.update` reads the position before
+    the cycle only for the index pulse and the touch probes (off on the fast path)."""
     lo, hi = -math.inf, math.inf
     for edge in (s.negative_limit, s.positive_limit, s.home_low, s.home_high):
         if edge is not None:
@@ -69,24 +73,22 @@ def _band(s, x: float, inputs: int) -> tuple[float, float, int, int]:
                 hi = min(hi, edge)
             else:
                 return (0.0, 0.0, 0, -1)  # on an edge: no band
-    spacing = s.index_spacing
-    if spacing:
-        n = math.floor((x - s.index_offset) / spacing)
-        lo = max(lo, s.index_offset + n * spacing)
-        hi = min(hi, s.index_offset + (n + 1) * spacing)
-    margin = 1e-6 * max(1.0, abs(x))  # far above the rounding of the floor() above
     bits = inputs & ~(DI_INDEX_PULSE | s.external)
+    if lo == -math.inf and hi == math.inf:
+        return (lo, hi, bits, s.external)
+    margin = 1e-6 * max(1.0, abs(x))  # far above any rounding of x
     return (lo + margin, hi - margin, bits, s.external)
 
 
-def _inputs(axis, s, x_0: float, x_1: float) -> int:
-    """`Sensors.update(x_0, x_1)`, skipped while both positions lie inside the last band."""
-    lo, hi, bits, external = axis._band
-    if lo < x_1 < hi and lo < x_0 < hi and external == s.external:
-        return bits | external
-    inputs = s.update(x_0, x_1)
-    axis._band = _band(s, x_1, inputs)
-    return inputs
+def _index_band(x: float, spacing: float, offset: float) -> tuple[int, float, float]:
+    """(n, lo, hi): n = floor((x - offset) / spacing), the index interval `Sensors` finds x
+    in, and on lo < x' < hi the same n for x' (a margin far above the rounding of the
+    floor; an empty band where it does not fit)."""
+    n = math.floor((x - offset) / spacing)
+    lo = offset + n * spacing
+    hi = offset + (n + 1) * spacing
+    margin = 1e-6 * max(1.0, abs(lo), abs(hi), abs(offset))
+    return n, lo + margin, hi - margin
 
 
 def fast_step(axis) -> bool:
@@ -108,114 +110,234 @@ def fast_step(axis) -> bool:
 
 
 def _make(axis):
-    """The cycle function of `axis`, with what stays fixed until the next wake bound."""
+    """The cycle function of `axis`, with what stays fixed until the next wake bound.
+
+    Written for speed: what the cycle reads more than once is a local, int32 wraps are
+    skipped where the value is in range already (the wrap is then the identity), and a
+    profile generator without smoothing is stepped inline (`ProfileGenerator.step`,
+    N <= 1: the same operations in the same order)."""
     d = axis.drive
     m = d.mechanics
     s = d.sensors
     line = m._line
+    append, popleft = line.append, line.popleft
     pg = axis.pg
     pg_step = pg.step
+    pg_dt = pg.dt
+    inv_dt = pg._inv_dt
+    pg_pending = pg._pending
     dt = axis.dt
     cpu = axis.cpu
     pos_offset = axis.pos_offset
     sw_check = not (axis.ignore_swl or axis.rollover or axis.error_stop)
     sw_left, sw_right = axis.sw_left, axis.sw_right
+    limit_stop = axis._limit_stop
     max_pos_err = axis.max_pos_err
     ignore_pe = axis.ignore_pe
     inertia, cpr = m.inertia, m.counts_per_rev
     per_mille_per_nm = d._per_mille_per_nm
     has_switches = s.has_switches
     hw_bits = st.FS_HW_RIGHT | st.FS_HW_LEFT
+    swrl, fs_sw_right, swll, fs_sw_left = st.SWRL, st.FS_SW_RIGHT, st.SWLL, st.FS_SW_LEFT
+    round_ = round
+
+    max_torque = d.max_torque
+    tq_bound = float(max_torque - 1) if max_torque > 0 else math.inf
+    # lazy: leave the drive's velocity_actual, torque_actual, position_demand,
+    # following_error and the axis's vel_fb unset (None); their properties compute them
+    # when read
+    lazy = isinstance(d, Cia402Drive) and isinstance(getattr(type(axis), "vel_fb", None), property)
+    if lazy:
+        d._velocity_actual = d._torque_actual = d._position_demand = None
+        d._following_error = axis._vel_fb = None
+    # lazy_m: leave the mechanics' _demand_vel unset (None) likewise; its property needs
+    # the last two demands: a delay line with the last demand last (always so after a step)
+    lazy_m = len(line) >= 1 and m._demand is line[-1]
+    if lazy_m:
+        m._dv = None
+        m._lazy_dt = dt
+    spacing, offset = s.index_spacing, s.index_offset
+    # the switch band starts empty (the first cycle calls Sensors.update); n_prev is
+    # the index interval of the position before the cycle (Sensors._index_crossed)
+    sb_lo, sb_hi, sb_bits, sb_ext = 0.0, 0.0, 0, -1
+    i_n, i_lo, i_hi = 0, 0.0, 0.0
+    n_prev = math.floor((d._x_prev - offset) / spacing) if spacing else 0
+
+    clean = False  # in_pos, _in_pos_count and _still are False, 0, 0 already
 
     def cycle() -> bool:
-        if (
-            d._fault is not None
-            or d.controlword != _CW_ENABLE
-            or d.mode != MODE_CSP
-            or s.tp_function
-        ):
-            return False
+        nonlocal sb_lo, sb_hi, sb_bits, sb_ext, i_n, i_lo, i_hi, n_prev, clean
+        if (d._fault is not None or d._encoder_lost or d.controlword != 15 or d.mode != 8
+                or s.tp_function):
+            return False  # 15: _CW_ENABLE, 8: MODE_CSP
         axis._cycle += 1
-        p, v, a = pg_step()
-        axis.ref_pos, axis.ref_vel, axis.ref_acc = p, v, a
+        if pg._n_avg <= 1:  # ProfileGenerator.step without smoothing, inline
+            if pg._idle:
+                p, v, a = pg._out
+            else:
+                n = pg._n + 1
+                pg._n = n
+                if pg._tc_done:
+                    p = pg._p_f
+                else:
+                    tau = n * pg_dt
+                    i = pg._seg_i
+                    segs = pg._segs
+                    seg = segs[i]
+                    if tau >= seg[1]:
+                        nseg = pg._nseg
+                        while tau >= seg[1]:
+                            i += 1
+                            if i == nseg:
+                                break
+                            seg = segs[i]
+                        pg._seg_i = i
+                        if i == nseg:
+                            pg._tc_done = True
+                            p = pg._p_f
+                        else:
+                            x = tau - seg[0]
+                            p = seg[2] + (seg[3] + 0.5 * seg[4] * x) * x
+                    else:
+                        x = tau - seg[0]
+                        p = seg[2] + (seg[3] + 0.5 * seg[4] * x) * x
+                p_prev, v_prev, _ = pg._out
+                v = (p - p_prev) * inv_dt
+                a = (v - v_prev) * inv_dt
+                pg._out = (p, v, a)
+                if v == 0.0 and a == 0.0 and pg._tc_done and p == pg._p_f:
+                    pg._idle = True
+                    if not pg_pending():
+                        pg.mode = IDLE
+        else:
+            p, v, a = pg_step()
+        axis.ref_pos = p
+        axis.ref_vel = v
+        axis.ref_acc = a
         if sw_check:
             if p >= sw_right and v > 0.0:
-                axis._limit_stop(st.SWRL, st.FS_SW_RIGHT)
+                limit_stop(swrl, fs_sw_right)
             elif p <= sw_left and v < 0.0:
-                axis._limit_stop(st.SWLL, st.FS_SW_LEFT)
-        c = round((p + pos_offset) * cpu)
-        tp = d.target_position = ((c + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+                limit_stop(swll, fs_sw_left)
+        tp = round_((p + pos_offset) * cpu)
+        if not -0x80000000 <= tp <= 0x7FFFFFFF:
+            tp = ((tp + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+        d.target_position = tp
         # the controlword is 0x0F already (checked above) and mode_display 8 (eligible)
         # Cia402Drive._move, CSP
-        r = d._r + (((tp - d._target_prev) + 0x80000000) & 0xFFFFFFFF) - 0x80000000
-        d._r = r
+        dtp = tp - d._target_prev
+        if not -0x80000000 <= dtp <= 0x7FFFFFFF:
+            dtp = ((dtp + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+        d._r = r = d._r + dtp
         d._target_prev = tp
         # IdealMechanics.step_position -> _advance
-        m._demand_vel = (r - m._demand) / dt
+        if not lazy_m:  # else IdealMechanics._demand_vel computes it when read
+            m._dv = (r - m._demand) / dt
         m._demand = r
-        line.append(r)
-        x = line.popleft()
+        append(r)
+        x = popleft()
         v_m = (x - m.position) / dt
         m.torque = torque_nm = inertia * (v_m - m.velocity) / dt * TWO_PI / cpr
         m.velocity = v_m
         m.position = x
-        # Cia402Drive._feedback
-        if not d._encoder_lost:
-            d._enc = enc = round(x)
-            pa = d.position_actual = ((enc + 0x80000000) & 0xFFFFFFFF) - 0x80000000
-            vel = round(v_m)
-            d.velocity_actual = vel_a = ((vel + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+        # Cia402Drive._feedback (the encoder is not lost: checked above)
+        d._enc = enc = round_(x)
+        pa = enc if -0x80000000 <= enc <= 0x7FFFFFFF else (
+            ((enc + 0x80000000) & 0xFFFFFFFF) - 0x80000000)
+        d.position_actual = pa
+        tq = torque_nm * per_mille_per_nm
+        sw = _SW_OE
+        if lazy:
+            # velocity_actual, torque_actual, position_demand, following_error and vel_fb
+            # stay None: their properties compute them when read (the same values)
+            window = d.following_error_window
+            if window < 0x80000000:  # else no int32 following error exceeds it
+                fe = round_(r) - enc
+                if not -0x80000000 <= fe <= 0x7FFFFFFF:
+                    fe = ((fe + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+                if (fe if fe >= 0 else -fe) > window:
+                    d.inject_fault(ERR_FOLLOWING)  # d._fault was None (checked above)
+                    sw |= SW_FOLLOWING_ERROR
         else:
-            enc = d._enc
-            pa = d.position_actual
-            d.velocity_actual = vel_a = 0
-        torque = round(torque_nm * per_mille_per_nm)
-        if not -32768 <= torque <= 32767:
-            torque = max(-32768, min(32767, torque))
-        d.torque_actual = torque
-        demand = round(r)
-        d.position_demand = ((demand + 0x80000000) & 0xFFFFFFFF) - 0x80000000
-        d.following_error = fe = ((demand - enc + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+            demand = round_(r)
+            vel_a = round_(v_m)
+            if not -0x80000000 <= vel_a <= 0x7FFFFFFF:
+                vel_a = ((vel_a + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+            d.velocity_actual = vel_a
+            axis.vel_fb = vel_a / cpu
+            torque = round_(tq)
+            if not -32768 <= torque <= 32767:
+                torque = max(-32768, min(32767, torque))
+            d.torque_actual = torque
+            d.position_demand = demand if -0x80000000 <= demand <= 0x7FFFFFFF else (
+                ((demand + 0x80000000) & 0xFFFFFFFF) - 0x80000000)
+            fe = demand - enc
+            if not -0x80000000 <= fe <= 0x7FFFFFFF:
+                fe = ((fe + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+            d.following_error = fe
+            if (fe if fe >= 0 else -fe) > d.following_error_window:
+                d.inject_fault(ERR_FOLLOWING)  # d._fault was None (checked above)
+                sw |= SW_FOLLOWING_ERROR
         if has_switches:
-            x_0 = d._x_prev
-            lo, hi, bits, external = axis._band
-            if lo < x < hi and lo < x_0 < hi and external == s.external:
-                di = bits | external  # what Sensors.update would give (see _inputs)
+            # Sensors.update(x_0, x), skipped while x stays inside the switch band and
+            # the index interval is known without a division (see _switch_band)
+            if sb_lo < x < sb_hi and s.external == sb_ext:
+                di = sb_bits | sb_ext
+                if spacing:
+                    if i_lo < x < i_hi:
+                        n_1 = i_n
+                    else:
+                        i_n, i_lo, i_hi = _index_band(x, spacing, offset)
+                        n_1 = i_n
+                    if n_1 != n_prev:  # an index pulse passed (x_0 != x then)
+                        di |= DI_INDEX_PULSE
+                    n_prev = n_1
             else:
-                di = _inputs(axis, s, x_0, x)
+                di = s.update(d._x_prev, x)
+                sb_lo, sb_hi, sb_bits, sb_ext = _switch_band(s, x, di)
+                if spacing:
+                    i_n, i_lo, i_hi = _index_band(x, spacing, offset)
+                    n_prev = i_n
         else:
             di = s.external
         d.digital_inputs = di
         d._x_prev = x
-        if abs(fe) > d.following_error_window:
-            d.inject_fault(ERR_FOLLOWING)
-        sw = _SW_OE
-        if abs(torque) >= d.max_torque > 0:
-            sw |= SW_INTERNAL_LIMIT
-        if d._fault == ERR_FOLLOWING:
-            sw |= SW_FOLLOWING_ERROR
+        # the internal limit bit, abs(torque_actual) >= max_torque > 0: clear below the
+        # bound, where round() cannot reach max_torque (as at the last wake)
+        if not (-tq_bound < tq < tq_bound and d.max_torque == max_torque):
+            torque = round_(tq)
+            if not -32768 <= torque <= 32767:
+                torque = max(-32768, min(32767, torque))
+            if (torque if torque >= 0 else -torque) >= d.max_torque > 0:
+                sw |= SW_INTERNAL_LIMIT
         d.statusword = sw
         # AxisCycle._feedback, enabled, no drive fault (a fault shows from the next cycle)
         delta = pa - axis._pa
         if delta:
-            axis._fb_counts += ((delta + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+            if not -0x80000000 <= delta <= 0x7FFFFFFF:
+                delta = ((delta + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+            axis._fb_counts = fb = axis._fb_counts + delta
             axis._pa = pa
-            axis.pos_fb_raw = raw = axis._fb_counts / cpu
-            axis.pos_fb = raw - pos_offset
-        axis.vel_fb = vel_a / cpu
+            axis.pos_fb_raw = raw = fb / cpu
+            axis.pos_fb = pos_fb = raw - pos_offset
+        else:
+            pos_fb = axis.pos_fb
         if di != axis._di:
             axis._hw_inputs(di)
         if axis.fault_status & hw_bits or ignore_pe:
             axis._enabled_checks()
         else:
-            err = p - axis.pos_fb
+            err = p - pos_fb
             if err > max_pos_err or -err > max_pos_err:
                 axis._fault_disable(st.PERR, st.FS_POSITION_ERROR)
         if axis.moving and not axis.error_stop and not pg._tc_done:  # is_done needs _tc_done
-            axis.in_pos = False
-            axis._in_pos_count = 0
-            axis._still = 0
+            if not clean:  # only _update_status, _watch_rest (below) or a wake change them
+                axis.in_pos = False
+                axis._in_pos_count = 0
+                axis._still = 0
+                clean = True
             return True
+        clean = False
         if axis.error_stop:
             axis._fast_ok = None
         axis._update_status()

@@ -4,7 +4,9 @@ One cycle (DESIGN.md): programs update system variables, the kernel runs every d
 task once, the motion kernel steps every axis (profile generators, limits, PDOs, the
 drives and their feedback), the clock advances. When no task is due before some later
 cycle and every axis rests (a fixed point: stepping it changes nothing), the clock
-jumps straight to that cycle; the results are identical to stepping.
+jumps straight to that cycle; the results are identical to stepping. A client with a
+`busy()` method (sim/pdl_drives.py) counts as running work while it returns true: the
+run goes on, and the clock does not jump.
 """
 
 from __future__ import annotations
@@ -36,6 +38,8 @@ class Controller:
         self.kernel = Kernel()
         self.motion = MotionKernel(list((machine or DEFAULT_MACHINE).axes), cycle_time)
         self.clients: list[CycleClient] = []
+        self.busy_clients: list = []
+        """Clients whose `busy()` keeps the run going and forbids jumps (PDL drives)."""
         self.allow_jump = True
         self.hmi_scope = False
         """SetHMIScope(1) sets it, SetHMIScope(0) clears it (a scope may follow it)."""
@@ -68,7 +72,11 @@ class Controller:
 
     def busy(self) -> bool:
         """True while any task runs or any axis moves, enables or settles."""
-        return self.kernel.any_running or self.motion.busy()
+        return (
+            self.kernel.any_running
+            or self.motion.busy()
+            or any(c.busy() for c in self.busy_clients)
+        )
 
     def run(self, until: float | None = None, realtime: bool = False) -> None:
         """Run until nothing is left to do, or until `until` seconds of simulated time;
@@ -76,12 +84,16 @@ class Controller:
         end_cycle = None if until is None else round(until / self.cycle_time)
         k = self.kernel
         pacer = RealTimePacer(self.sim_time) if realtime else None
-        while self.busy():
+        while k._active or self.busy():  # a running task: busy, without the call
             if pacer is not None:
                 pacer.wait(self.sim_time)
             if end_cycle is not None and k.cycle >= end_cycle:
                 return
-            if self.allow_jump and self.motion.at_rest():
+            if (
+                self.allow_jump
+                and self.motion.at_rest()
+                and not any(c.busy() for c in self.busy_clients)
+            ):
                 wake = k.next_wake()
                 if wake is not None and wake > k.cycle:
                     target = wake if end_cycle is None else min(wake, end_cycle)

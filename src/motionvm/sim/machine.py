@@ -14,6 +14,8 @@ counts_per_unit = 10000 # encoder counts per mm (or deg)
 max_vel = 1000.0        # [mm/s]; max_acc, max_dec [mm/s^2], kill_dec [mm/s^2]
 sw_left = -1000.0       # software limits [mm]; hw_left/hw_right: limit switches [mm]
 drive = { enable_cycles = 4, mechanics = { model = "servo", bandwidth = 50.0 } }
+pdl = "x.pdl"           # a PDL program on this axis's drive (relative to this file)
+pdl_start = ["_go"]     # host-started labels of it, in order ("top": the first statement)
 ```
 With `axes = N` and fewer [[axis]] tables, the tables configure axes 0, 1, ... and the
 rest are default axes. The built-in machine (no file) has 8 default axes: linear,
@@ -21,7 +23,8 @@ rest are default axes. The built-in machine (no file) has 8 default axes: linear
 +-1000 mm, limit switches at +-1050 mm, home switch on [0, 5] mm, an index pulse every
 10 mm, max position error 10 mm, in position within 0.01 mm for 1 ms, and an ideal
 drive whose feedback follows the command one cycle late.
-A bad file is reported as `FILE:LINE: error: MESSAGE` naming the key (exit code 3).
+The `pdl` keys are read here (sim/pdl_drives.py runs the programs); the other axis keys
+go to motion/axis_config.py. A bad file is reported as `FILE:LINE: error: MESSAGE` naming the key (exit code 3).
 """
 
 from __future__ import annotations
@@ -46,6 +49,21 @@ class MachineConfig:
     data_dir: Path | None = None
     path: Path | None = None
     axes: tuple[AxisConfig, ...] = field(default_factory=lambda: default_axes(DEFAULT_N_AXES))
+    pdl_drives: tuple[PdlDriveSpec, ...] = ()
+    """The drives that run a PDL program, by axis id."""
+
+
+@dataclass(frozen=True)
+class PdlDriveSpec:
+    """An `[[axis]]` table's `pdl = "..."`: the program its drive runs."""
+
+    axis: int
+    path: Path
+    """The .pdl file (resolved against the machine file's folder)."""
+    starts: tuple[str, ...] = ()
+    """Labels the host starts after the drive's reset, in order."""
+    where: str = ""
+    """`FILE:LINE` of the `pdl_start` key, for errors found after compiling."""
 
 
 MAX_AXES = 64
@@ -148,16 +166,18 @@ def load_machine(path: str | Path) -> MachineConfig:
     data_dir = ctl.get("data_dir")
     if data_dir is not None and not isinstance(data_dir, str):
         raise bad("controller", "data_dir", f"data_dir = {data_dir!r}: must be a string (a folder)")
+    axes, pdl = _load_axes(data, text, p)
     return MachineConfig(
         cycle_time=cycle_ms / 1000.0,
         task_slice=slice_,
         data_dir=(p.parent / data_dir) if data_dir else None,
         path=p,
-        axes=_load_axes(data, text, p),
+        axes=axes,
+        pdl_drives=pdl,
     )
 
 
-def _load_axes(data: dict, text: str, p: Path) -> tuple[AxisConfig, ...]:
+def _load_axes(data: dict, text: str, p: Path) -> tuple[tuple[AxisConfig, ...], tuple]:
     tables = data.get("axis", [])
     if not isinstance(tables, list) or not all(isinstance(t, dict) for t in tables):
         raise MachineFileError(
@@ -172,8 +192,12 @@ def _load_axes(data: dict, text: str, p: Path) -> tuple[AxisConfig, ...]:
         raise MachineFileError(
             f"{p}:{_line_of(text, '', 'axes')}: error: axes = {n} but {len(tables)} [[axis]] tables are given"
         )
-    out = []
+    out, pdl = [], []
     for i, table in enumerate(tables):
+        table = dict(table)
+        spec = _pdl_keys(table, i, text, p)
+        if spec is not None:
+            pdl.append(spec)
         try:
             config = create_axis(table)
             build_drive(config)  # a bad drive or mechanics key fails here, at load time
@@ -181,4 +205,35 @@ def _load_axes(data: dict, text: str, p: Path) -> tuple[AxisConfig, ...]:
             line = _line_of_axis(text, i, exc.key)
             raise MachineFileError(f"{p}:{line}: error: [[axis]] {i}: {exc}") from None
         out.append(config)
-    return tuple(out) + default_axes(n - len(tables))
+    return tuple(out) + default_axes(n - len(tables)), tuple(pdl)
+
+
+def _pdl_keys(table: dict, i: int, text: str, p: Path) -> PdlDriveSpec | None:
+    """Take `pdl` and `pdl_start` out of the `i`-th [[axis]] table and check them."""
+    prog = table.pop("pdl", None)
+    starts = table.pop("pdl_start", None)
+
+    def bad(key: str, msg: str) -> MachineFileError:
+        return MachineFileError(f"{p}:{_line_of_axis(text, i, key)}: error: [[axis]] {i}: {msg}")
+
+    if prog is None:
+        if starts is not None:
+            raise bad("pdl_start", 'pdl_start needs a PDL program: add pdl = "FILE.pdl"')
+        return None
+    if not isinstance(prog, str) or not prog.lower().endswith(".pdl"):
+        raise bad("pdl", f"pdl = {prog!r}: must be the name of a .pdl file")
+    path = p.parent / prog
+    if not path.is_file():
+        raise bad("pdl", f"pdl = {prog!r}: no such file ({path})")
+    if starts is None:
+        starts = []
+    if not isinstance(starts, list) or not all(isinstance(s, str) for s in starts):
+        raise bad("pdl_start", f'pdl_start = {starts!r}: must be a list of labels, e.g. ["_go"]')
+    for label in starts:
+        if label != "top" and not label.startswith("_"):
+            raise bad(
+                "pdl_start",
+                f"pdl_start: '{label}': the host can only start labels beginning with '_' (or \"top\")",
+            )
+    line = _line_of_axis(text, i, "pdl_start" if starts else "pdl")
+    return PdlDriveSpec(axis=i, path=path, starts=tuple(starts), where=f"{p}:{line}")

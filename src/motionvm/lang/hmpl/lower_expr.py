@@ -36,6 +36,10 @@ _CMPOPS = {"<": ast.Lt, ">": ast.Gt, "<=": ast.LtE, ">=": ast.GtE, "==": ast.Eq,
 _RING_OPS = frozenset("+-*&|^") | {"<<"}
 
 
+# node class -> its `_x_` method; one lowerer class exists (lower_stmt.FunctionLowerer)
+_X_METHODS: dict[type, object] = {}
+
+
 class SemanticError(Exception):
     """Abandon lowering of the current statement after reporting to the sink."""
 
@@ -188,10 +192,13 @@ class ExprLowering:
         return v
 
     def _expr(self, e) -> Val:
-        method = getattr(self, "_x_" + type(e).__name__, None)
-        if method is None:
-            raise self.fail(e.pos, f"unsupported expression '{type(e).__name__}'")
-        return method(e)
+        fn = _X_METHODS.get(type(e))
+        if fn is None:
+            fn = getattr(type(self), "_x_" + type(e).__name__, None)
+            if fn is None:
+                raise self.fail(e.pos, f"unsupported expression '{type(e).__name__}'")
+            _X_METHODS[type(e)] = fn
+        return fn(self, e)
 
     def cond(self, e) -> ast.expr:
         """Lower an expression used as a condition (any truthy Python value)."""

@@ -23,6 +23,10 @@ from motionvm.lang.hmpl.lvalues import call, name, view_code
 from motionvm.lang.hmpl.symbols import FuncSym, Scope, VarSym
 
 
+# node class -> its `_s_` method of FunctionLowerer
+_S_METHODS: dict[type, object] = {}
+
+
 class FunctionLowerer(ExprLowering, AccessLowering, LoopLowering, JumpLowering):
     """Lowers one function body (or one task's global initializers) of one task."""
 
@@ -160,7 +164,10 @@ class FunctionLowerer(ExprLowering, AccessLowering, LoopLowering, JumpLowering):
         return out
 
     def stmt(self, s) -> list[ast.stmt]:
-        return getattr(self, "_s_" + type(s).__name__)(s)
+        fn = _S_METHODS.get(type(s))
+        if fn is None:
+            fn = _S_METHODS[type(s)] = getattr(type(self), "_s_" + type(s).__name__)
+        return fn(self, s)
 
     def block(self, s, kind: str = "block") -> list[ast.stmt]:
         saved = self.scope

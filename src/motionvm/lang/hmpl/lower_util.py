@@ -40,8 +40,22 @@ def backedge(counter: str) -> list[ast.stmt]:
     return [dec, ast.If(test=test, body=refill, orelse=[])]
 
 
-_AST = ast.AST
-_EXPR_CONTEXT = (ast.Load, ast.Store, ast.Del)
+# Fields that never hold a node with a location: names, flags, contexts and operators.
+_LEAF_FIELDS = frozenset(
+    ("ctx", "op", "ops", "id", "arg", "attr", "name", "type_comment", "kind", "level")
+    + ("is_async", "module", "conversion")
+)
+_WALK: dict[type, tuple[bool, tuple[str, ...]]] = {type(None): (False, ())}
+
+
+def _walk_info(cls: type) -> tuple[bool, tuple[str, ...]]:
+    """(has a location, fields that may hold located nodes) of a node class, cached."""
+    if not issubclass(cls, ast.AST) or cls in (ast.Constant, ast.Global, ast.Nonlocal):
+        fields: tuple[str, ...] = ()
+    else:
+        fields = tuple(f for f in cls._fields if f not in _LEAF_FIELDS)
+    info = _WALK[cls] = ("lineno" in cls._attributes, fields)
+    return info
 
 
 def at(stmts: list[ast.stmt], pos) -> list[ast.stmt]:
@@ -51,20 +65,30 @@ def at(stmts: list[ast.stmt], pos) -> list[ast.stmt]:
     skipped, so each node is visited about once however deep the nesting.
     """
     line, col = pos.line, max(0, pos.col - 1)
+    loc = {"lineno": line, "col_offset": col, "end_lineno": line, "end_col_offset": col}
+    walk_info = _WALK
     stack: list[ast.AST] = list(stmts)
-    pop, push = stack.pop, stack.append
+    pop, push, extend = stack.pop, stack.append, stack.extend
     while stack:
         node = pop()
-        if "lineno" in node._attributes:
-            if getattr(node, "lineno", None) is not None:
+        info = walk_info.get(type(node))
+        if info is None:
+            info = _walk_info(type(node))
+        located, fields = info
+        if located:
+            d = node.__dict__
+            if "lineno" in d:
                 continue
-            node.lineno = node.end_lineno = line
-            node.col_offset = node.end_col_offset = col
-        for value in node.__dict__.values():
-            if type(value) is list:
-                for v in value:
-                    if isinstance(v, _AST) and not isinstance(v, _EXPR_CONTEXT):
-                        push(v)
-            elif isinstance(value, _AST) and not isinstance(value, _EXPR_CONTEXT):
-                push(value)
+            d.update(loc)
+        elif fields:
+            d = node.__dict__
+        else:
+            continue
+        for f in fields:
+            v = d.get(f)
+            if v is not None:
+                if type(v) is list:
+                    extend(v)
+                else:
+                    push(v)
     return stmts

@@ -75,32 +75,48 @@ class CompiledProgram:
         return "\n".join(out)
 
 
-_FIELDS: dict[type, tuple[str, ...]] = {}
+_SCALAR_FIELD_TYPES = frozenset(("SourcePos", "str", "str | None", "int", "float", "bytes", "bool"))
+_CHILDREN: dict[type, tuple[str, ...]] = {}
 
 
-def _fields_of(cls: type) -> tuple[str, ...]:
-    names = _FIELDS.get(cls)
+def _children_of(cls: type) -> tuple[str, ...]:
+    """The fields of a node class that can hold nodes (or tuples of them), cached."""
+    names = _CHILDREN.get(cls)
     if names is None:
-        names = tuple(f.name for f in dataclasses.fields(cls) if f.name != "pos")
-        _FIELDS[cls] = names
+        names = tuple(
+            f.name for f in dataclasses.fields(cls) if _spelling(f.type) not in _SCALAR_FIELD_TYPES
+        )
+        _CHILDREN[cls] = names
     return names
+
+
+def _spelling(annotation) -> str:
+    """A field's annotation as written (nodes.py postpones annotations: already a string)."""
+    if isinstance(annotation, str):
+        return annotation
+    return getattr(annotation, "__name__", None) or repr(annotation)
 
 
 def walk(node):
     """Every AST node under `node` (inclusive), depth first."""
     stack = [node]
-    pop, push = stack.pop, stack.append
+    pop, push, extend = stack.pop, stack.append, stack.extend
+    children = _CHILDREN
     while stack:
         x = pop()
-        if isinstance(x, (list, tuple)):
-            stack.extend(x)
+        t = type(x)
+        if t is tuple or t is list:
+            extend(x)
             continue
-        if not hasattr(x, "__dataclass_fields__"):
+        if x is None:
             continue
         yield x
-        for fname in _fields_of(type(x)):
+        fields = children.get(t)
+        if fields is None:
+            fields = _children_of(t)
+        for fname in fields:
             v = getattr(x, fname)
-            if v is not None and not isinstance(v, (str, int, float, bytes, bool)):
+            if v is not None:
                 push(v)
 
 
@@ -113,47 +129,76 @@ class FuncFacts:
     addr_taken: set[str] = field(default_factory=set)
 
 
-def array_uses(tus) -> dict[str, set]:
-    """name -> how it is used: the depth of each full `a[i][j]` chain, or 'escape'
-    (any other use: decays to a pointer, `&a[i]`, passed to a function, ...)."""
-    uses: dict[str, set] = {}
-    stack = list(tus)
+_LOOPS_AND_JUMPS = frozenset((n.While, n.DoWhile, n.For, n.Goto))
+
+
+def _scan(root, uses: dict[str, set], facts: FuncFacts | None, blocking: dict[str, bool]) -> None:
+    """One pass over `root`: how names are used as arrays (into `uses`) and, if `facts` is
+    given, what the code waits on, calls and takes the address of.
+
+    Array uses: the depth of each full `a[i][j]` chain, or 'escape' (any other use:
+    decays to a pointer, `&a[i]`, passed to a function, ...); `sizeof` operands are not
+    uses. Facts count everything, `sizeof` operands included.
+    """
+    stack = [root]
+    pop, push, extend = stack.pop, stack.append, stack.extend
+    children = _CHILDREN
+    Index, Name, Unary, Call, SizeOf = n.Index, n.Name, n.Unary, n.Call, n.SizeOf
+    loops = _LOOPS_AND_JUMPS
     while stack:
-        x = stack.pop()
-        if isinstance(x, (list, tuple)):
-            stack.extend(x)
-            continue
-        if not hasattr(x, "__dataclass_fields__"):
-            continue
+        x = pop()
         t = type(x)
-        if t is n.Index:
-            depth, root = 0, x
-            while type(root) is n.Index:
-                stack.append(root.index)
-                depth, root = depth + 1, root.base
-            if type(root) is n.Name:
-                uses.setdefault(root.id, set()).add(depth)
-            else:
-                stack.append(root)
+        if t is tuple or t is list:
+            extend(x)
             continue
-        if t is n.Unary and x.op == "&":
-            root = x.operand
-            while type(root) is n.Index:
-                stack.append(root.index)
-                root = root.base
-            if type(root) is n.Name:
-                uses.setdefault(root.id, set()).add("escape")
-                continue
-        if t is n.SizeOf:
+        if x is None:
             continue
-        if t is n.Name:
+        if t is Name:
             uses.setdefault(x.id, set()).add("escape")
             continue
-        for fname in _fields_of(t):
+        if t is Index:
+            depth, r = 0, x
+            while type(r) is Index:
+                push(r.index)
+                depth, r = depth + 1, r.base
+            if type(r) is Name:
+                uses.setdefault(r.id, set()).add(depth)
+            else:
+                push(r)
+            continue
+        if t is Unary and x.op == "&":
+            r = x.operand
+            if type(r) is Name:
+                uses.setdefault(r.id, set()).add("escape")
+                if facts is not None:
+                    facts.addr_taken.add(r.id)
+                continue
+            while type(r) is Index:
+                push(r.index)
+                r = r.base
+            if type(r) is Name:
+                uses.setdefault(r.id, set()).add("escape")
+                continue
+        elif t is SizeOf:
+            if facts is not None:
+                _scan((x.target, x.dims), {}, facts, blocking)  # facts only
+            continue
+        elif facts is not None:
+            if t is Call:
+                if type(x.func) is Name:
+                    cname = x.func.id
+                    if cname == "Till" or blocking.get(cname):
+                        facts.waits = True
+                    facts.callees.append(cname)
+            elif t in loops:
+                facts.waits = True
+        fields = children.get(t)
+        if fields is None:
+            fields = _children_of(t)
+        for fname in fields:
             v = getattr(x, fname)
-            if v is not None and not isinstance(v, (str, int, float, bytes, bool)):
-                stack.append(v)
-    return uses
+            if v is not None:
+                push(v)
 
 
 def _constant_init(init) -> bool:
@@ -165,23 +210,6 @@ def _constant_init(init) -> bool:
     if isinstance(init, n.InitList):
         return all(_constant_init(i) for i in init.items)
     return False
-
-
-def function_facts(f: n.FuncDef, blocking: dict[str, bool]) -> FuncFacts:
-    facts = FuncFacts()
-    for x in walk(f.body):
-        t = type(x)
-        if t is n.While or t is n.DoWhile or t is n.For or t is n.Goto:
-            facts.waits = True
-        elif t is n.Call:
-            if type(x.func) is n.Name:
-                cname = x.func.id
-                if cname == "Till" or blocking.get(cname):
-                    facts.waits = True
-                facts.callees.append(cname)
-        elif t is n.Unary and x.op == "&" and type(x.operand) is n.Name:
-            facts.addr_taken.add(x.operand.id)
-    return facts
 
 
 class ProgramCompiler:
@@ -561,20 +589,25 @@ class ProgramCompiler:
         return d.init is None or _constant_init(d.init)
 
     def analyse(self, units: list[Unit]) -> None:
-        """One pass per function: address-taken names, waits and callees; array uses."""
+        """One pass over the program: array uses; per function address-taken names,
+        waits and callees; address-taken names of the global declarations."""
         self.facts: dict[int, FuncFacts] = {}
-        self.array_uses = array_uses([u.tu for u in units])
+        uses: dict[str, set] = {}
+        blocking = self.builtin_impl
         for u in units:
             for item in u.tu.items:
-                if isinstance(item, n.FuncDef):
+                if type(item) is n.FuncDef:
+                    _scan((item.ret, item.params), uses, None, blocking)
                     if item.body is not None:
-                        facts = function_facts(item, self.builtin_impl)
+                        facts = FuncFacts()
+                        _scan(item.body, uses, facts, blocking)
                         self.facts[id(item)] = facts
                         self.addr_taken |= facts.addr_taken
                 else:
-                    for x in walk(item):
-                        if type(x) is n.Unary and x.op == "&" and type(x.operand) is n.Name:
-                            self.addr_taken.add(x.operand.id)
+                    facts = FuncFacts()
+                    _scan(item, uses, facts, blocking)
+                    self.addr_taken |= facts.addr_taken
+        self.array_uses = uses
 
     def classify_generators(self) -> None:
         """A function is a generator if it loops, waits, or calls one that is (fixpoint)."""

@@ -113,10 +113,15 @@ class HmplRuntime:
 
     def begin_cycle(self) -> None:
         """Update the system variables of manual 22.2 for this cycle."""
+        # time_ms and the ticks inlined (the same arithmetic; round of a float is an int)
+        cycle = self.kernel.cycle
+        cycle_time = self.controller.cycle_time
         i32 = self.mem.i32
-        i32[self._time_addr] = self.time_ms & 0x7FFFFFFF
-        ticks = int(round(self.kernel.cycle * self.controller.cycle_time / 250e-6))
-        i32[self._fclk_addr] = ((ticks + 2**31) & 0xFFFFFFFF) - 2**31
+        i32[self._time_addr] = round(cycle * (cycle_time * 1000.0)) & 0x7FFFFFFF
+        ticks = round(cycle * cycle_time / 250e-6)
+        if not -0x80000000 <= ticks <= 0x7FFFFFFF:
+            ticks = ((ticks + 2**31) & 0xFFFFFFFF) - 2**31
+        i32[self._fclk_addr] = ticks
 
     # ------------------------------------------------------------ output
 

@@ -105,6 +105,10 @@ class ProgramLowering:
         self._addresses = _label_addresses(syms.program.items)
         self.promote = promote
         """Keep global scalars in locals across loops (lower_cache); off for comparison runs."""
+        self.chunk = promote
+        """Run innermost loops in budget-sized chunks without provable checks (lower_chunk)."""
+        self.views: dict[str, tuple[str, int, int]] = {}
+        """Module-level memory views `_vM8 = _M[8:end]` the chunked loops index (lower_chunk)."""
         self.decl_position: dict[str, tuple[int, int]] = {}
         decls = [d for d in syms.program.items if isinstance(d, n.VarDecl)]
         for k, d in enumerate(decls):
@@ -210,7 +214,12 @@ class ProgramLowering:
     def lower(self) -> PdlProgram:
         funcs = [self.proc(d) for d in self.syms.program.items if isinstance(d, n.ProcDef)]
         main, body = self.main()
-        module = ast.Module(body=funcs + [main], type_ignores=[])
+        views = [
+            assign(nm("_" + name, True),
+                   subscript("_" + view, ast.Slice(lower=const(base), upper=const(end))))
+            for name, (view, base, end) in sorted(self.views.items())
+        ]  # fmt: skip
+        module = ast.Module(body=views + funcs + [main], type_ignores=[])
         ast.fix_missing_locations(module)
         for node in ast.walk(module):
             if hasattr(node, "end_lineno"):

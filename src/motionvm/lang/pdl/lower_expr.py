@@ -99,7 +99,7 @@ def _store_local(local: str, bits: int, value: ast.expr, kind: str) -> list[ast.
     if kind == I16 or (kind == INT and bits == 32):
         return out
     lo, hi = (-0x8000, 0x7FFF) if bits == 16 else (-0x8000_0000, 0x7FFF_FFFF)
-    fix = assign(nm(local, True), call("_w16" if bits == 16 else "_w32", nm(local)))
+    fix = assign(nm(local, True), wrap_inline(nm(local), bits))
     step = _constant_step(value)
     if step is not None and step > 0:  # x + 1 can only overflow upwards
         test: ast.expr = ast.Compare(left=nm(local), ops=[ast.Gt()], comparators=[const(hi)])
@@ -111,6 +111,14 @@ def _store_local(local: str, bits: int, value: ast.expr, kind: str) -> list[ast.
         )
         test = ast.UnaryOp(op=ast.Not(), operand=inside)
     return out + [ast.If(test=test, body=[fix], orelse=[])]
+
+
+def wrap_inline(v: ast.expr, bits: int) -> ast.expr:
+    """`((v + 2**(bits-1)) & (2**bits - 1)) - 2**(bits-1)`: w32/w16 without a call."""
+    half = 1 << (bits - 1)
+    masked = binop(ast.BinOp(left=v, op=ast.Add(), right=const(half)), ast.BitAnd(),
+                   const((1 << bits) - 1))  # fmt: skip
+    return ast.BinOp(left=masked, op=ast.Sub(), right=const(half))
 
 
 def _constant_step(value: ast.expr) -> int | None:
@@ -426,6 +434,13 @@ class ExprLowering:
         if kind == I16 or (kind == INT and bits == 32):
             return [assign(subscript(view, ix, True), value)]
         wrap = "_w32" if bits == 32 else "_w16"
+        if isinstance(value, ast.BinOp) and isinstance(value.op, ast.Mult):
+            # a product usually leaves 32 bits: test it instead of raising ValueError
+            lo, hi = (-0x8000, 0x7FFF) if bits == 16 else (-0x8000_0000, 0x7FFF_FFFF)
+            walrus = ast.NamedExpr(target=nm("_w", True), value=value)
+            test = ast.Compare(left=const(lo), ops=[ast.LtE(), ast.LtE()], comparators=[walrus, const(hi)])
+            wrapped = ast.IfExp(test=test, body=nm("_w"), orelse=wrap_inline(nm("_w"), bits))
+            return [assign(subscript(view, ix, True), wrapped)]
         fast = assign(subscript(view, ix, True), value)
         slow = assign(subscript(view, copy.deepcopy(ix), True), call(wrap, copy.deepcopy(value)))
         handler = ast.ExceptHandler(type=nm("ValueError"), name=None, body=[slow])

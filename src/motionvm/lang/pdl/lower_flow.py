@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING
 
 from motionvm.lang.pdl import nodes as n
 from motionvm.lang.pdl.lower_cache import Promotion, promote
+from motionvm.lang.pdl.lower_chunk import chunk_loop
 from motionvm.lang.pdl.lower_expr import assign, binop, call, const, nm
 
 if TYPE_CHECKING:
@@ -110,14 +111,18 @@ class FlowLowering:
         if not (flat and is_jumpy(s)):
             self.flush()
             promo = self.begin_promotion(s)
-            body = self.native_block(s.body, 1, True)
+            body = self.native_block(s.body, 1, False)
             if promo is not None:
                 count, _ = self.x.read(s.count)
                 times = ast.BoolOp(
                     op=ast.Or(), values=[binop(count, ast.BitAnd(), const(0xFFFF)), const(65536)]
                 )
-            loop = ast.For(target=nm("_", True), iter=call("range", times), body=body, orelse=[])
-            self.emit(self.end_promotion(promo, [loop]), s.pos)
+            tail = check_budget(self.x.promo)
+            chunked = chunk_loop(self, s, body, times, self.x.promo, tail) if self.prog.chunk else None
+            if chunked is None:
+                chunked = [ast.For(target=nm("_", True), iter=call("range", times),
+                                   body=body + [tail], orelse=[])]  # fmt: skip
+            self.emit(self.end_promotion(promo, chunked), s.pos)
             return
         self.counter += 1
         c = f"_c{self.counter}"

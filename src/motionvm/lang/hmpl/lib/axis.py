@@ -5,6 +5,8 @@ that fails returns the manual's error code (table 18.1.2.1, 0x83XXCCCC with XX t
 axis id, as a C int) and stores it as the axis's last error (GetAxisLastErr); a bad
 axis id returns eERR_HMPL_ARG_OUT_OF_RANGE (0x138F) and stores it as the system's
 last error. Getters of a bad axis return 0 and store the same system error.
+An axis whose drive runs a PDL program (machine file `pdl = ...`) refuses every command
+of this module with eERR_AXIS_CMD_INVALID_CONTROL_MODE (0x83XX00F0).
 Decisions where the manual is silent are in `motionvm.motion.axis`.
 """
 
@@ -34,6 +36,9 @@ class AxisLib(Library):
         a = self._axis(axis_id)
         if a is None:
             return st.SYS_HMPL_ARG_OUT_OF_RANGE
+        if getattr(a, "controlled_by", None):  # a PDL program runs the drive (sim/pdl_drives.py)
+            a.last_error = code = st.axis_error(st.CMD_INVALID_CONTROL_MODE, axis_id)
+            return code
         try:
             getattr(a, method)(*args)
         except AxisCommandError as exc:
@@ -319,9 +324,11 @@ class AxisLib(Library):
 
     @builtin()
     def IsInPos(self, axis_id: int) -> int:
-        axes = self.rt.controller.motion.axes
-        if 0 <= axis_id < len(axes):
-            return 1 if axes[axis_id].in_pos else 0
+        if axis_id >= 0:
+            try:
+                return 1 if self.rt.controller.motion.axes[axis_id].in_pos else 0
+            except IndexError:
+                pass
         return self._flag(axis_id, "in_pos")
 
     @builtin()
