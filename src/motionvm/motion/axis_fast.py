@@ -12,6 +12,15 @@ is most of the motion kernel's time with many moving axes (bench/motion.py).
 
 It reads and writes the drive's internal state; a change to `Cia402Drive._move`,
 `_feedback` or `IdealMechanics._advance` must be mirrored here (the test catches it).
+
+Values no cycle reads are not computed each cycle: the cycle leaves the drive's
+velocity_actual, torque_actual, position_demand, following_error, the mechanics'
+_demand_vel and the axis's vel_fb None, and their properties compute them when read,
+from the state the cycle left, with the same arithmetic (every general step sets them
+again). The following error window is checked only where an int32 error can exceed it,
+the internal limit bit only where the torque can reach max_torque. The limit and home
+switches are checked by position band, the index pulse by index interval: both without
+a call while the position stays inside (`_switch_band`, `_index_band`).
 """
 
 from __future__ import annotations
@@ -167,8 +176,13 @@ def _make(axis):
 
     def cycle() -> bool:
         nonlocal sb_lo, sb_hi, sb_bits, sb_ext, i_n, i_lo, i_hi, n_prev, clean
-        if (d._fault is not None or d._encoder_lost or d.controlword != 15 or d.mode != 8
-                or s.tp_function):
+        if (
+            d._fault is not None
+            or d._encoder_lost
+            or d.controlword != 15
+            or d.mode != 8
+            or s.tp_function
+        ):
             return False  # 15: _CW_ENABLE, 8: MODE_CSP
         axis._cycle += 1
         if pg._n_avg <= 1:  # ProfileGenerator.step without smoothing, inline
@@ -242,8 +256,9 @@ def _make(axis):
         m.position = x
         # Cia402Drive._feedback (the encoder is not lost: checked above)
         d._enc = enc = round_(x)
-        pa = enc if -0x80000000 <= enc <= 0x7FFFFFFF else (
-            ((enc + 0x80000000) & 0xFFFFFFFF) - 0x80000000)
+        pa = enc
+        if not -0x80000000 <= pa <= 0x7FFFFFFF:
+            pa = ((pa + 0x80000000) & 0xFFFFFFFF) - 0x80000000
         d.position_actual = pa
         tq = torque_nm * per_mille_per_nm
         sw = _SW_OE
@@ -269,8 +284,7 @@ def _make(axis):
             if not -32768 <= torque <= 32767:
                 torque = max(-32768, min(32767, torque))
             d.torque_actual = torque
-            d.position_demand = demand if -0x80000000 <= demand <= 0x7FFFFFFF else (
-                ((demand + 0x80000000) & 0xFFFFFFFF) - 0x80000000)
+            d.position_demand = ((demand + 0x80000000) & 0xFFFFFFFF) - 0x80000000
             fe = demand - enc
             if not -0x80000000 <= fe <= 0x7FFFFFFF:
                 fe = ((fe + 0x80000000) & 0xFFFFFFFF) - 0x80000000

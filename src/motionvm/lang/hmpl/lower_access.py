@@ -382,7 +382,10 @@ class AccessLowering:
             node = call("_notimpl", ast.Constant(fname), *args)
         else:
             node = call("b_" + fname, *args)
-            if impl:  # blocking
+            if fname == "RunScheduler":
+                node = ast.Yield(value=None)  # what b_RunScheduler does, without a generator
+                self.has_yield = True
+            elif impl:  # blocking
                 node = ast.YieldFrom(value=node)
                 self.has_yield = True
         return Val(node, sig.ret)

@@ -94,7 +94,9 @@ class PdlProgram:
 class ProgramLowering:
     """Lays out memory, lowers every body and assembles the module."""
 
-    def __init__(self, path: str, syms: Symbols, promote: bool = True) -> None:
+    def __init__(
+        self, path: str, syms: Symbols, promote: bool = True, chunk: bool | None = None
+    ) -> None:
         self.path = path
         self.syms = syms
         self.sys_base = SYS_BASE
@@ -105,7 +107,7 @@ class ProgramLowering:
         self._addresses = _label_addresses(syms.program.items)
         self.promote = promote
         """Keep global scalars in locals across loops (lower_cache); off for comparison runs."""
-        self.chunk = promote
+        self.chunk = promote if chunk is None else chunk
         """Run innermost loops in budget-sized chunks without provable checks (lower_chunk)."""
         self.views: dict[str, tuple[str, int, int]] = {}
         """Module-level memory views `_vM8 = _M[8:end]` the chunked loops index (lower_chunk)."""
@@ -300,6 +302,9 @@ def _label_addresses(items: tuple[n.Item, ...]) -> dict[int, int]:
     return out
 
 
-def lower_program(path: str, syms: Symbols, promote: bool = True) -> PdlProgram:
-    """Lower and compile a checked program (`promote`: scalars in locals across loops)."""
-    return ProgramLowering(path, syms, promote).lower()
+def lower_program(
+    path: str, syms: Symbols, promote: bool = True, chunk: bool | None = None
+) -> PdlProgram:
+    """Lower and compile a checked program (`promote`: scalars in locals across loops;
+    `chunk`: innermost loops in budget-sized chunks, by default as `promote`)."""
+    return ProgramLowering(path, syms, promote, chunk).lower()

@@ -76,9 +76,8 @@ def _budget_only(body: list[ast.stmt]) -> bool:
                 return False
             if isinstance(node, ast.AugAssign) and _is_charge(node):
                 continue
-            if isinstance(node, ast.Name) and node.id == "b":
-                if not _charged_name(s, node):
-                    return False
+            if isinstance(node, ast.Name) and node.id == "b" and not _charged_name(s, node):
+                return False
     return True
 
 
@@ -107,9 +106,7 @@ def _costs(body: list[ast.stmt]) -> tuple[int, int]:
         elif isinstance(s, ast.If):
             extra += max(sum(_costs(s.body)), sum(_costs(s.orelse)))
         elif isinstance(s, ast.Try):
-            extra += max(
-                [sum(_costs(s.body))] + [sum(_costs(h.body)) for h in s.handlers]
-            )
+            extra += max([sum(_costs(s.body))] + [sum(_costs(h.body)) for h in s.handlers])
     return fixed, extra
 
 
@@ -257,7 +254,10 @@ class _Ranges:
         """Every value a variable takes during the chunk (a safe join)."""
         v = self.vars[name]
         if v.kind == "ind":
-            return (_ind_bound(name, self.k, -v.down, whole=True), _ind_bound(name, self.k, v.up, whole=True))
+            return (
+                _ind_bound(name, self.k, -v.down, whole=True),
+                _ind_bound(name, self.k, v.up, whole=True),
+            )
         if v.kind == "inv":
             b = Bound(0, ((name, 1),))
             return (b, b)
@@ -291,7 +291,11 @@ class _Ranges:
         if isinstance(e, ast.BinOp):
             if isinstance(e.op, ast.BitAnd):
                 for side in (e.left, e.right):
-                    if isinstance(side, ast.Constant) and type(side.value) is int and side.value >= 0:
+                    if (
+                        isinstance(side, ast.Constant)
+                        and type(side.value) is int
+                        and side.value >= 0
+                    ):
                         return (Bound(0), Bound(side.value))
                 return _NONE
             a = self.rng(e.left, st)
@@ -299,10 +303,17 @@ class _Ranges:
             if isinstance(e.op, ast.Add):
                 return (_add(a[0], b[0]), _add(a[1], b[1]))
             if isinstance(e.op, ast.Sub):
-                return (_add(a[0], b[1].neg() if b[1] else None), _add(a[1], b[0].neg() if b[0] else None))
+                return (
+                    _add(a[0], b[1].neg() if b[1] else None),
+                    _add(a[1], b[0].neg() if b[0] else None),
+                )
             if isinstance(e.op, ast.Mult):
                 for x, y in ((e.left, b), (e.right, a)):
-                    if isinstance(x, ast.Constant) and type(x.value) is int and x.value in (-1, 0, 1):
+                    if (
+                        isinstance(x, ast.Constant)
+                        and type(x.value) is int
+                        and x.value in (-1, 0, 1)
+                    ):
                         if x.value == 0:
                             return _exact(0)
                         if x.value == 1:
@@ -510,9 +521,7 @@ class _Ranges:
             base = addr.left.value
             vname = f"v{view}{base}"
             self.views[(view, base)] = vname
-            return ast.copy_location(
-                ast.Subscript(value=nm(vname), slice=nm(mid.id), ctx=e.ctx), e
-            )
+            return ast.copy_location(ast.Subscript(value=nm(vname), slice=nm(mid.id), ctx=e.ctx), e)
         if self.require(r, lo, hi - 1):
             e.slice = addr
         return e
@@ -536,7 +545,9 @@ def _terms_expr(terms: tuple[tuple[str, int], ...]) -> ast.expr:
     e: ast.expr | None = None
     for name, coef in terms:
         mag = abs(coef)
-        term: ast.expr = nm(name) if mag == 1 else ast.BinOp(left=const(mag), op=ast.Mult(), right=nm(name))
+        term: ast.expr = (
+            nm(name) if mag == 1 else ast.BinOp(left=const(mag), op=ast.Mult(), right=nm(name))
+        )
         if e is None:
             e = term if coef > 0 else ast.UnaryOp(op=ast.USub(), operand=term)
         else:
@@ -578,7 +589,7 @@ def _is_wrap_check(body: list[ast.stmt], i: int, name: str) -> bool:
     if not (isinstance(s, ast.If) and not s.orelse and len(s.body) == 1):
         return False
     fix = s.body[0]
-    if not (_wrap_target(fix) == name):
+    if _wrap_target(fix) != name:
         return False
     test = s.test
     if isinstance(test, ast.UnaryOp) and isinstance(test.op, ast.Not):

@@ -438,7 +438,9 @@ class ExprLowering:
             # a product usually leaves 32 bits: test it instead of raising ValueError
             lo, hi = (-0x8000, 0x7FFF) if bits == 16 else (-0x8000_0000, 0x7FFF_FFFF)
             walrus = ast.NamedExpr(target=nm("_w", True), value=value)
-            test = ast.Compare(left=const(lo), ops=[ast.LtE(), ast.LtE()], comparators=[walrus, const(hi)])
+            test = ast.Compare(
+                left=const(lo), ops=[ast.LtE(), ast.LtE()], comparators=[walrus, const(hi)]
+            )
             wrapped = ast.IfExp(test=test, body=nm("_w"), orelse=wrap_inline(nm("_w"), bits))
             return [assign(subscript(view, ix, True), wrapped)]
         fast = assign(subscript(view, ix, True), value)

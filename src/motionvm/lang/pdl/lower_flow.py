@@ -118,7 +118,9 @@ class FlowLowering:
                     op=ast.Or(), values=[binop(count, ast.BitAnd(), const(0xFFFF)), const(65536)]
                 )
             tail = check_budget(self.x.promo)
-            chunked = chunk_loop(self, s, body, times, self.x.promo, tail) if self.prog.chunk else None
+            chunked = (
+                chunk_loop(self, s, body, times, self.x.promo, tail) if self.prog.chunk else None
+            )
             if chunked is None:
                 chunked = [ast.For(target=nm("_", True), iter=call("range", times),
                                    body=body + [tail], orelse=[])]  # fmt: skip
