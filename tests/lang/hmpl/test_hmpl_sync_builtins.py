@@ -150,7 +150,10 @@ def test_enabling_either_gantry_axis_powers_both_and_the_rhs_moves_the_linear_ax
 }"""
     )
     sim.run(until=0.5)
-    assert sim.messages == ["25.5000 24.5000"]
+    # GetPosFb of the paired axes reads linear and yaw (manual 7.1); the motors at 25.5/24.5
+    assert sim.messages == ["25.0000 0.5000"]
+    motors = sim.controller.motion.axes
+    assert (round(motors[0].pos_fb, 4), round(motors[1].pos_fb, 4)) == (25.5, 24.5)
 
 
 def test_the_sync_channels_are_offered_to_the_scope():
@@ -175,3 +178,26 @@ def test_the_sync_channels_are_offered_to_the_scope():
     assert src.resolve("axis0.ref_pos") is None
     with pytest.raises(ScopeError, match="gear channels are gear0..gear7"):
         src.resolve("gear2.ratio")
+
+
+def test_paired_gantry_axes_read_as_linear_and_yaw():
+    """Manual 7.1: Pos_linear = (RHS + LHS) / 2 on the RHS axis, Pos_yaw = (RHS - LHS) / 2 on the LHS."""
+    from motionvm.api import Simulation
+
+    sim = Simulation.from_source("""
+void main() {
+    EnableGantryPair(0, 1);
+    Enable(0);
+    Till(IsEnabled(0) && IsEnabled(1));
+    Till(IsGantry(0) && IsGantry(1));
+    MoveAbs(0, 20.0);
+    Till(IsInPos(0));
+    MoveAbs(1, 2.0);
+    Till(IsInPos(1));
+    Print("linear %.3f yaw %.3f ref %.3f %.3f", GetPosFb(0), GetPosFb(1), GetRefPos(0), GetRefPos(1));
+}
+""")
+    sim.run(until=3.0)
+    assert sim.messages == ["linear 20.000 yaw 2.000 ref 20.000 2.000"]
+    motors = sim.controller.motion.axes
+    assert (round(motors[0].pos_fb, 6), round(motors[1].pos_fb, 6)) == (22.0, 18.0)

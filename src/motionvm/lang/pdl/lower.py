@@ -111,6 +111,8 @@ class ProgramLowering:
         """Run innermost loops in budget-sized chunks without provable checks (lower_chunk)."""
         self.views: dict[str, tuple[str, int, int]] = {}
         """Module-level memory views `_vM8 = _M[8:end]` the chunked loops index (lower_chunk)."""
+        self.uses_lists = False
+        """Some loop keeps an array in a list: `_wbl` writes one back (lower_cache)."""
         self.decl_position: dict[str, tuple[int, int]] = {}
         decls = [d for d in syms.program.items if isinstance(d, n.VarDecl)]
         for k, d in enumerate(decls):
@@ -221,6 +223,11 @@ class ProgramLowering:
                    subscript("_" + view, ast.Slice(lower=const(base), upper=const(end))))
             for name, (view, base, end) in sorted(self.views.items())
         ]  # fmt: skip
+        if self.uses_lists:
+            # the write-back of a list-backed array: Memory.write_block of `_fill`'s memory
+            wbl = ast.Attribute(value=ast.Attribute(value=nm("_fill"), attr="__self__",
+                                ctx=ast.Load()), attr="write_block", ctx=ast.Load())  # fmt: skip
+            views.append(assign(nm("_wbl", True), wbl))
         module = ast.Module(body=views + funcs + [main], type_ignores=[])
         ast.fix_missing_locations(module)
         for node in ast.walk(module):

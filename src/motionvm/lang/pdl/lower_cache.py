@@ -43,7 +43,7 @@ from typing import TYPE_CHECKING
 
 from motionvm.lang.pdl import nodes as n
 from motionvm.lang.pdl.lower_expr import assign, nm, storage_kind, subscript
-from motionvm.lang.pdl.rt_memory import FLOAT, SHORT
+from motionvm.lang.pdl.rt_memory import FLOAT, LONG, SHORT
 from motionvm.lang.pdl.symbols import VarSym
 
 if TYPE_CHECKING:
@@ -73,9 +73,28 @@ def _nodes(node: object):
 class Promotion:
     """The scalars of one loop kept in locals: memory key -> (view, index, local name)."""
 
-    def __init__(self, slots: dict[tuple[str, int], str], written: set[str]) -> None:
+    def __init__(
+        self,
+        slots: dict[tuple[str, int], str],
+        written: set[str],
+        lists: dict[int, tuple[int, str]] | None = None,
+    ) -> None:
         self.slots = slots
         self.written = written
+        self.lists = lists or {}
+        """Long array kept in a Python list by chunked loops: first word -> (size, local).
+        The local is None while memory holds the values (lower_chunk loads it lazily)."""
+
+    def flush_lists(self) -> list[ast.stmt]:
+        """`if L is not None: <write L back>; L = None` for each list-backed array."""
+        out: list[ast.stmt] = []
+        for base, (_size, local) in self.lists.items():
+            test = ast.Compare(left=nm(local), ops=[ast.IsNot()], comparators=[ast.Constant(None)])
+            back = ast.Expr(ast.Call(func=nm("_wbl"), args=[ast.Constant(base), nm(local),
+                                                            ast.Constant(1)], keywords=[]))  # fmt: skip
+            out.append(ast.If(test=test, body=[back, assign(nm(local, True), ast.Constant(None))],
+                              orelse=[]))  # fmt: skip
+        return out
 
     def local_of(self, view: str, index: int) -> str | None:
         return self.slots.get((view, index))
@@ -84,14 +103,14 @@ class Promotion:
         return [
             assign(nm(local, True), subscript(view, ast.Constant(i)))
             for (view, i), local in self.slots.items()
-        ]
+        ] + [assign(nm(local, True), ast.Constant(None)) for _s, local in self.lists.values()]
 
     def stores(self) -> list[ast.stmt]:
         return [
             assign(subscript(view, ast.Constant(i), True), nm(local))
             for (view, i), local in self.slots.items()
             if local in self.written
-        ]
+        ] + self.flush_lists()
 
     def wrap(self, body: list[ast.stmt]) -> list[ast.stmt]:
         """loads; try: body except Exception: stores; raise; stores."""
@@ -110,6 +129,7 @@ def promote(prog: ProgramLowering, loop: n.Loop | n.While) -> Promotion | None:
     written: set[int] = set()
     const_hits: set[tuple[str, int]] = set()
     indexed_arrays: list[VarSym] = []
+    excluded_refs: set[int] = set()
     for node in _nodes(loop):
         if isinstance(node, _BLOCKERS):
             return None
@@ -121,6 +141,7 @@ def promote(prog: ProgramLowering, loop: n.Loop | n.While) -> Promotion | None:
             sym = syms.symbol_of(node.target)
             if isinstance(sym, VarSym):
                 excluded.add(id(sym))
+                excluded_refs.add(id(sym))
         if isinstance(node, (n.Assign, n.IncDec)) and isinstance(node.target, n.VarRef):
             sym = syms.symbol_of(node.target)
             if isinstance(sym, VarSym):
@@ -141,6 +162,9 @@ def promote(prog: ProgramLowering, loop: n.Loop | n.While) -> Promotion | None:
             elif node.index is not None:
                 excluded.add(id(sym))
                 indexed_arrays.append(sym)
+    lists = _list_backed(prog, loop, indexed_arrays, const_hits, excluded_refs)
+    if lists:
+        prog.uses_lists = True
     slots: dict[tuple[str, int], str] = {}
     names_written: set[str] = set()
     for key, sym in scalars.items():
@@ -155,7 +179,7 @@ def promote(prog: ProgramLowering, loop: n.Loop | n.While) -> Promotion | None:
         slots[(view, index)] = local
         if key in written:
             names_written.add(local)
-    return Promotion(slots, names_written) if slots else None
+    return Promotion(slots, names_written, lists) if slots or lists else None
 
 
 def _view(sym: VarSym) -> str:
@@ -173,3 +197,64 @@ def _reachable(prog: ProgramLowering, sym: VarSym, arrays: list[VarSym]) -> bool
         if pa is None or (pa[0] == where[0] and pa[1] < where[1]):
             return True
     return False
+
+
+MIN_LIST_WORDS = 16
+"""Smaller arrays stay in memory: a list pays a copy in and out."""
+
+
+def _list_backed(
+    prog: ProgramLowering,
+    loop: n.Loop | n.While,
+    indexed: list[VarSym],
+    const_hits: set[tuple[str, int]],
+    address_taken: set[int],
+) -> dict[int, tuple[int, str]]:
+    """The one long array the region may keep in a list (lower_chunk), if any.
+
+    Only when it is the region's only array indexed by a variable, every reference to
+    it is `a[i]` with a variable i inside an innermost `loop`, nothing takes its
+    address, and no constant index of another variable lands on it.
+    """
+    from motionvm.lang.pdl.lower_chunk import MIN_COUNT
+
+    arrays = {id(a): a for a in indexed}
+    if len(arrays) != 1:
+        return {}
+    (a,) = arrays.values()
+    if (
+        a.scope != "global"
+        or a.pointer
+        or storage_kind(a) != LONG
+        or a.size < MIN_LIST_WORDS
+        or id(a) in address_taken
+    ):
+        return {}
+    base = prog.global_index(a)
+    if any(v == "M" and base <= i < base + a.size for v, i in const_hits) or any(
+        v == "F" and base <= i < base + a.size for v, i in const_hits
+    ):
+        return {}
+    for node in _nodes(loop):
+        if isinstance(node, n.VarRef) and node.index is not None:
+            sym = prog.syms.symbol_of(node)
+            if isinstance(sym, VarSym) and sym.scope not in ("global", "system"):
+                return {}  # a frame index may run back into user memory
+    inside: set[int] = set()
+    for node in _nodes(loop):
+        if isinstance(node, n.Loop) and not any(
+            isinstance(x, (n.Loop, n.While)) for x in _nodes(node) if x is not node
+        ):
+            if isinstance(node.count, n.IntConst) and 0 < (node.count.value & 0xFFFF) < MIN_COUNT:
+                continue
+            inside.update(id(x) for x in _nodes(node))
+    for node in _nodes(loop):
+        if (
+            isinstance(node, n.VarRef)
+            and prog.syms.symbol_of(node) is a
+            and (id(node) not in inside or not isinstance(node.index, n.VarRef))
+        ):
+            return {}
+        if isinstance(node, (n.SizeOf, n.AngleRef)) and prog.syms.symbol_of(node) is a:
+            return {}
+    return {base: (a.size, f"L{base}")}

@@ -42,7 +42,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from motionvm.lang.pdl import nodes as n
-from motionvm.lang.pdl.lower_expr import USER_END, assign, binop, const, nm
+from motionvm.lang.pdl.lower_expr import USER_END, assign, binop, const, nm, wrap_inline
 from motionvm.lang.pdl.rt_memory import USER_BASE
 
 if TYPE_CHECKING:
@@ -175,7 +175,15 @@ class _Var:
 class _Ranges:
     """Drops the checks of one chunk body that its guard proves, and builds the guard."""
 
-    def __init__(self, ints: dict[str, int], k: str, views: dict[tuple[str, int], str]) -> None:
+    def __init__(
+        self,
+        ints: dict[str, int],
+        k: str,
+        views: dict[tuple[str, int], str],
+        sizes: dict[int, int] | None = None,
+    ) -> None:
+        self.sizes = sizes or {}
+        """First word -> size of the list-backed arrays: their indexes must stay inside."""
         self.ints = ints
         self.k = k
         self.views = views
@@ -484,6 +492,9 @@ class _Ranges:
         new = self._index(e, st)
         return new
 
+    def _view_limit(self, view: str, base: int, hi: int) -> int:
+        return self.sizes.get(base, hi) if view == "M" else hi
+
     def _index(self, e: ast.expr, st: dict[str, Range]) -> ast.expr:
         if not (isinstance(e, ast.Subscript) and isinstance(e.value, ast.Name)):
             return e
@@ -516,7 +527,7 @@ class _Ranges:
             and isinstance(addr.left, ast.Constant)
             and isinstance(addr.op, ast.Add)
             and hi == _VIEW_END[view] - addr.left.value
-            and self.require(r, 0, hi - 1)
+            and self.require(r, 0, self._view_limit(view, addr.left.value, hi) - 1)
         ):
             base = addr.left.value
             vname = f"v{view}{base}"
@@ -643,7 +654,8 @@ def chunk_loop(
             if view in ("M", "H"):
                 ints[local] = 32 if view == "M" else 16
     views: dict[tuple[str, int], str] = {}
-    an = _Ranges(ints, ck, views)
+    sizes = {base: size for base, (size, _) in promo.lists.items()} if promo is not None else {}
+    an = _Ranges(ints, ck, views, sizes)
     an.classify(fast)
     checked = copy.deepcopy(fast)
     fast = an.block(fast, an.start_state())
@@ -656,17 +668,48 @@ def chunk_loop(
         an.guard() if not an.failed else []
     )
     test = guard[0] if len(guard) == 1 else ast.BoolOp(op=ast.And(), values=guard)
-    run = [
+
+    def chunk(stmts: list[ast.stmt]) -> ast.stmt:
+        rng = ast.Call(func=nm("range"), args=[nm(ck)], keywords=[])
+        return ast.For(target=nm("_", True), iter=rng, body=stmts or [ast.Pass()], orelse=[])
+
+    run: list[ast.stmt] = [
         ast.AugAssign(target=nm(cn, True), op=ast.Sub(), value=nm(ck)),
         ast.AugAssign(
             target=nm("b", True),
             op=ast.Sub(),
             value=nm(ck) if fixed == 1 else binop(const(fixed), ast.Mult(), nm(ck)),
         ),
-        ast.For(target=nm("_", True), iter=ast.Call(func=nm("range"), args=[nm(ck)], keywords=[]),
-                body=fast or [ast.Pass()], orelse=[]),
-    ]  # fmt: skip
-    slow = [ast.AugAssign(target=nm(cn, True), op=ast.Sub(), value=const(1))] + body + [slow_tail]
+    ]
+    flush = promo.flush_lists() if promo is not None else []
+    listed = _list_variant(fast, views, promo) if not an.failed else None
+    if listed is None:
+        run += flush + [chunk(fast)]
+    else:
+        base, size, local, fast_list = listed
+        # load the list when the chunk is long enough to pay for the copies
+        load = ast.If(
+            test=ast.BoolOp(op=ast.And(), values=[
+                ast.Compare(left=nm(local), ops=[ast.Is()], comparators=[const(None)]),
+                ast.Compare(left=binop(nm(ck), ast.Mult(), const(4)), ops=[ast.GtE()],
+                            comparators=[const(size)])]),
+            body=[assign(nm(local, True), ast.Call(
+                func=ast.Attribute(value=ast.Subscript(
+                    value=nm(views[("M", base)]), slice=ast.Slice(lower=const(0), upper=const(size)),
+                    ctx=ast.Load()), attr="tolist", ctx=ast.Load()), args=[], keywords=[]))],
+            orelse=[])  # fmt: skip
+        use = ast.If(
+            test=ast.Compare(left=nm(local), ops=[ast.IsNot()], comparators=[const(None)]),
+            body=[chunk(fast_list)],
+            orelse=[chunk(fast)],
+        )
+        run += [load, use]
+    slow = (
+        [ast.AugAssign(target=nm(cn, True), op=ast.Sub(), value=const(1))]
+        + flush
+        + body
+        + [slow_tail]
+    )
     size = binop(binop(nm("b"), ast.Sub(), const(1)), ast.FloorDiv(), const(kmax))
     loop_body: list[ast.stmt] = [
         assign(nm(ck, True), size),
@@ -683,6 +726,63 @@ def chunk_loop(
         lw.prog.views[vname] = (view, base, _VIEW_END[view])
     out.append(assign(nm(cn, True), times))
     out.append(ast.While(test=nm(cn), body=loop_body, orelse=[]))
+    return out
+
+
+def _list_variant(
+    fast: list[ast.stmt], views: dict[tuple[str, int], str], promo: Promotion | None
+) -> tuple[int, int, str, list[ast.stmt]] | None:
+    """(base, size, list local, chunk body on the list) if the region's list-backed array
+    is reached here only through its view, else None."""
+    if promo is None or not promo.lists:
+        return None
+    ((base, (size, local)),) = promo.lists.items()
+    vname = views.get(("M", base))
+    if vname is None:
+        return None
+    for s in fast:
+        for node in ast.walk(s):
+            if (
+                isinstance(node, ast.Subscript)
+                and isinstance(node.value, ast.Name)
+                and node.value.id in ("M", "H", "F")
+                and not isinstance(node.slice, ast.Constant)
+            ):
+                return None  # an access not proved: it might reach the array in memory
+    out = copy.deepcopy(fast)
+    for s in out:
+        for node in ast.walk(s):
+            if isinstance(node, ast.Name) and node.id == vname:
+                node.id = local
+    return base, size, local, _explicit_wraps(out, local)
+
+
+def _explicit_wraps(body: list[ast.stmt], local: str) -> list[ast.stmt]:
+    """A list does not refuse a value beyond 32 bits as memory does (ValueError): the
+    `try: L[i] = v except ValueError: L[i] = _w32(v)` stores wrap explicitly instead."""
+    out: list[ast.stmt] = []
+    for s in body:
+        if (
+            isinstance(s, ast.Try)
+            and len(s.body) == 1
+            and isinstance(s.body[0], ast.Assign)
+            and isinstance(s.body[0].targets[0], ast.Subscript)
+            and isinstance(s.body[0].targets[0].value, ast.Name)
+            and s.body[0].targets[0].value.id == local
+        ):
+            st = s.body[0]
+            walrus = ast.NamedExpr(target=nm("_w", True), value=st.value)
+            test = ast.Compare(left=const(-0x8000_0000), ops=[ast.LtE(), ast.LtE()],
+                               comparators=[walrus, const(0x7FFF_FFFF)])  # fmt: skip
+            value = ast.IfExp(test=test, body=nm("_w"), orelse=wrap_inline(nm("_w"), 32))
+            out.append(ast.copy_location(assign(st.targets[0], value), st))
+            continue
+        if isinstance(s, ast.If):
+            s.body = _explicit_wraps(s.body, local)
+            s.orelse = _explicit_wraps(s.orelse, local)
+        elif isinstance(s, ast.Try):
+            s.body = _explicit_wraps(s.body, local)
+        out.append(s)
     return out
 
 

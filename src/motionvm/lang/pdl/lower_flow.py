@@ -124,6 +124,8 @@ class FlowLowering:
             if chunked is None:
                 chunked = [ast.For(target=nm("_", True), iter=call("range", times),
                                    body=body + [tail], orelse=[])]  # fmt: skip
+                if self.x.promo is not None:
+                    chunked = self.x.promo.flush_lists() + chunked
             self.emit(self.end_promotion(promo, chunked), s.pos)
             return
         self.counter += 1

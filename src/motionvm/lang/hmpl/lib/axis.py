@@ -15,8 +15,12 @@ from __future__ import annotations
 from motionvm.lang.hmpl.lib.base import Library, builtin
 from motionvm.motion import axis_status as st
 from motionvm.motion.axis_status import AxisCommandError
+from motionvm.motion.gantry import from_axes, gantries_of
 from motionvm.motion.kernel import ECAT_OP
 from motionvm.motion.pvt import MAX_POINTS
+
+_GANTRY_VIEW = frozenset({"pos_fb", "vel_fb", "ref_pos", "ref_vel", "ref_acc", "pos_err"})
+"""Axis variables that a gantry pair's axes report in linear/yaw coordinates (manual 7.1)."""
 
 
 class AxisLib(Library):
@@ -52,7 +56,16 @@ class AxisLib(Library):
 
     def _var(self, axis_id: int, name: str) -> float:
         a = self._axis(axis_id)
-        return 0.0 if a is None else float(a.variable(name))
+        if a is None:
+            return 0.0
+        if a.following is not None and name in _GANTRY_VIEW:
+            pair = gantries_of(self.rt.controller.motion).pair_of(axis_id)
+            if pair is not None and pair.engaged:
+                # manual 7.1: a paired RHS axis reads as the linear axis, the LHS as the yaw
+                r, lft = float(pair.rhs.variable(name)), float(pair.lhs.variable(name))
+                linear, yaw = from_axes(r, lft)
+                return linear if a is pair.rhs else yaw
+        return float(a.variable(name))
 
     def _flag(self, axis_id: int, attr: str) -> int:
         a = self._axis(axis_id)
