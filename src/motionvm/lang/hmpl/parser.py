@@ -807,8 +807,20 @@ class Parser:
         elif k == "":
             raise self._fail_here("expected statement before end of file")
         expr = self._parse_expression()
+        if (self.keys[self.i] == "{" and isinstance(expr, n.Call) and isinstance(expr.func, n.Name)
+                and expr.func.id == "Till" and len(expr.args) == 1):
+            return self._parse_till_body(expr)
         self._expect(";", "after expression")
         return n.ExprStmt(t.pos, expr)
+
+    # BNF: till_with_body = "Till" "(" expression ")" compound_statement [ ";" ]
+    def _parse_till_body(self, till: n.Call) -> n.While:
+        """`Till(cond) { body };` (manual 20.1.2): run the body each pass until cond holds,
+        the same as `while (!(cond)) { body }`."""
+        body = self._parse_compound_statement()
+        self._accept(";")
+        cond = till.args[0]
+        return n.While(till.pos, n.Unary(cond.pos, "!", cond), body)
 
     # BNF: if_statement = "if" "(" expression ")" statement [ "else" statement ]
     def _parse_if_statement(self) -> n.If:
