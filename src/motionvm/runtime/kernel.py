@@ -78,6 +78,18 @@ class Kernel:
                 pass
         self._release(t)
 
+    def stop_all(self) -> bool:
+        """Stop every task, the calling one last; True if a task called it (it must then
+        raise TaskExit to end its own slice)."""
+        me = self.current
+        for t in list(self._active):
+            if t is not me:
+                self.stop(t.id)
+        if me is not None:
+            self.stop(me.id)
+            return True
+        return False
+
     def _release(self, t: Task) -> None:
         if t in self._active:
             self._active.remove(t)

@@ -7,7 +7,9 @@
 
 Names the generated code uses are those `drive_rt.runtime_namespace` provides: the
 memory views `_M _H _F` (bound to locals `M H F`), system variables `_S`/`S`, states
-`_ST`/`ST`, and helpers `_rnd _w32 _print _ldl ...`. The module is compiled with the
+`_ST`/`ST`, and helpers `_rnd _w32 _print _ldl ...`. Module-level names it defines:
+`_vM8 = _M[8:end]` views for chunked loops, `_wbl` to write list-backed arrays back
+(lower_chunk, lower_cache). The module is compiled with the
 user's file name and line numbers, so a fault's traceback points at the PDL line; a
 line of an `#include`d file k is encoded as `line + k * LINE_STRIDE` (decoded by
 `PdlProgram.where`).

@@ -34,6 +34,13 @@ on it, or if an array indexed by a variable in the loop precedes it in the same
 declaration (indexing past an array reaches the next variables, manual §1.2).
 A float kept in a local is rounded to float32 at each store through the one-element
 float view `FS` (`FS[0] = f1 + f3; f1 = FS[0]`), as a store to memory would round it.
+
+One long array may also live in a Python list `L<word>` (`_list_backed`): when it is
+the loop's only array indexed by a variable and is used only as `a[i]` inside
+innermost loops. The chunks of those loops (lower_chunk) load the list lazily and
+use it where their guard keeps every index inside the array; it is written back
+(`_wbl`, Memory.write_block) and dropped wherever memory must be right again: before
+each yield, before a pass that runs the checked code, at the end, and on a fault.
 """
 
 from __future__ import annotations

@@ -43,7 +43,6 @@ from typing import TYPE_CHECKING
 
 from motionvm.lang.pdl import nodes as n
 from motionvm.lang.pdl.lower_expr import USER_END, assign, binop, const, nm, wrap_inline
-from motionvm.lang.pdl.rt_memory import USER_BASE
 
 if TYPE_CHECKING:
     from motionvm.lang.pdl.lower_body import BodyLowerer
@@ -786,4 +785,4 @@ def _explicit_wraps(body: list[ast.stmt], local: str) -> list[ast.stmt]:
     return out
 
 
-__all__ = ["USER_BASE", "chunk_loop"]
+__all__ = ["MIN_COUNT", "chunk_loop"]

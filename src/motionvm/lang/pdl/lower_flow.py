@@ -2,7 +2,8 @@
 
 A statement without labels or jumps inside stays native Python (`if`, `while`,
 `for _ in range(n)`), with a budgeted back-edge at the end of each pass; its global
-scalars may live in locals meanwhile (lower_cache). One that contains a label or a
+scalars may live in locals meanwhile (lower_cache). An innermost `loop(n)` runs in
+budget-sized chunks without the checks its guard proves (lower_chunk). One that contains a label or a
 jump is flattened into dispatcher segments (lower_body):
 
     loop(n) do                _c1 = M[1] & 65535 or 65536

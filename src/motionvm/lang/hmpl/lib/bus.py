@@ -72,13 +72,7 @@ class BusLib(Library):
     @builtin()
     def EStop(self) -> None:
         self._motion.estop()
-        k = self.rt.kernel
-        me = k.current
-        for t in k.tasks:
-            if t.running and t is not me:
-                k.stop(t.id)
-        if me is not None:
-            k.stop(me.id)
+        if self.rt.kernel.stop_all():
             raise TaskExit()
 
     @builtin()

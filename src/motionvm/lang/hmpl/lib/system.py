@@ -169,13 +169,7 @@ class SystemLib(Library):
 
     @builtin()
     def StopAllTask(self) -> None:
-        k = self.rt.kernel
-        me = k.current
-        for t in k.tasks:
-            if t.running and t is not me:
-                k.stop(t.id)
-        if me is not None:
-            k.stop(me.id)
+        if self.rt.kernel.stop_all():
             raise TaskExit()
 
     @builtin()
