@@ -9,7 +9,7 @@ names of its run-time API module"):
     _FS                 one-float scratch view: rounds promoted floats to float32
     _w32 _w16 _rnd      integer wrapping and float->integer rounding
     _mod _divi _sign _sin _cos _sqrt _shift _bitset _bitclr _bittog _unsign
-    _memcpy _memset _memmin _memmax _memsum _fill
+    _memcpy _memset _memmin _memmax _memsum _fill _wbl
     _ldl _stl _ldf _stf pointer access;  _oob index fault
     _sw _set _tog _stv  system variable write, state set/toggle/read through an address
     _print _lock _unlock _kill _push _pop _enter _land _Exit
@@ -127,6 +127,7 @@ def runtime_namespace(drive: Drive) -> dict[str, object]:
         "_memmax": mf.memmax,
         "_memsum": mf.memsum,
         "_fill": mem.fill,
+        "_wbl": mem.write_block,  # writes a list-backed array back (lower_cache.py)
         "_ldl": mem.load_long,
         "_stl": mem.store_long,
         "_ldf": mem.load_float,

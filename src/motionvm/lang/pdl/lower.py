@@ -225,11 +225,6 @@ class ProgramLowering:
                    subscript("_" + view, ast.Slice(lower=const(base), upper=const(end))))
             for name, (view, base, end) in sorted(self.views.items())
         ]  # fmt: skip
-        if self.uses_lists:
-            # the write-back of a list-backed array: Memory.write_block of `_fill`'s memory
-            wbl = ast.Attribute(value=ast.Attribute(value=nm("_fill"), attr="__self__",
-                                ctx=ast.Load()), attr="write_block", ctx=ast.Load())  # fmt: skip
-            views.append(assign(nm("_wbl", True), wbl))
         module = ast.Module(body=views + funcs + [main], type_ignores=[])
         ast.fix_missing_locations(module)
         for node in ast.walk(module):
