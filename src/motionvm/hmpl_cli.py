@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import sys
 from pathlib import Path
 
@@ -90,7 +91,11 @@ def run(args) -> int:
     out = sys.stdout
 
     def emit(line: str) -> None:
-        out.write(line + "\n")
+        try:
+            out.write(line + "\n")
+        except BrokenPipeError:  # the reader went away (`| head`): end the run quietly
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+            ctl.stop_requested = True
 
     def report(line: str) -> None:
         out.flush()
@@ -119,7 +124,10 @@ def run(args) -> int:
         if recorder is not None:  # keep what was recorded up to the interrupt
             _scope_save(scope, recorder, args)
         raise
-    out.flush()
+    try:
+        out.flush()
+    except BrokenPipeError:
+        pass
     if recorder is not None:
         _scope_save(scope, recorder, args)
     return EXIT_RUNTIME if rt.faults or (pdl is not None and pdl.faults) else EXIT_OK

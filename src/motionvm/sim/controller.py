@@ -41,6 +41,7 @@ class Controller:
         self.busy_clients: list = []
         """Clients whose `busy()` keeps the run going and forbids jumps (PDL drives)."""
         self.allow_jump = True
+        self.stop_requested = False  # set to end run() at the next cycle (e.g. stdout closed)
         self.hmi_scope = False
         """SetHMIScope(1) sets it, SetHMIScope(0) clears it (a scope may follow it)."""
 
@@ -84,7 +85,10 @@ class Controller:
         end_cycle = None if until is None else round(until / self.cycle_time)
         k = self.kernel
         pacer = RealTimePacer(self.sim_time) if realtime else None
+        self.stop_requested = False
         while k._active or self.busy():  # a running task: busy, without the call
+            if self.stop_requested:
+                return
             if pacer is not None:
                 pacer.wait(self.sim_time)
             if end_cycle is not None and k.cycle >= end_cycle:
