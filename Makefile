@@ -1,4 +1,5 @@
-# One entry point: `make test` (what CI runs), `make check` (lint + format check), `make bench`.
+# One entry point: `make test` (what CI runs), `make check` (ruff lint + format check;
+# pip install -e '.[dev]'), `make bench` (all benchmarks, a few seconds each).
 .PHONY: test check bench
 
 test:
@@ -10,3 +11,5 @@ check:
 
 bench:
 	python bench/lang.py
+	python bench/motion.py
+	python bench/pdl.py

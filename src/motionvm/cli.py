@@ -53,12 +53,26 @@ def _parser() -> argparse.ArgumentParser:
         help="write the recording to FILE: .csv, .png, .svg or .vcd (repeatable)",
     )
     r.add_argument("--scope-every", type=int, metavar="N", help="record every N cycles (default 1)")
-    r.add_argument("--start", action="append", default=[], metavar="LABEL",
-                   help="PDL: start a task at this label ('top' = the first statement); repeatable")
-    r.add_argument("--force", action="append", default=[], metavar="'REF = V'",
-                   help="GDL: force a state variable with f access (repeatable)")
-    r.add_argument("--shuffle-order", type=int, metavar="SEED",
-                   help="GDL: permute the order of procedures sharing an activator")
+    r.add_argument(
+        "--start",
+        action="append",
+        default=[],
+        metavar="LABEL",
+        help="PDL: start a task at this label ('top' = the first statement); repeatable",
+    )
+    r.add_argument(
+        "--force",
+        action="append",
+        default=[],
+        metavar="'REF = V'",
+        help="GDL: force a state variable with f access (repeatable)",
+    )
+    r.add_argument(
+        "--shuffle-order",
+        type=int,
+        metavar="SEED",
+        help="GDL: permute the order of procedures sharing an activator",
+    )
     c = sub.add_parser("check", help="compile only; report errors")
     c.add_argument("files", nargs="+", metavar="FILE")
     c.add_argument("--task", action="append", default=[], metavar="N=FILE")
@@ -145,8 +159,15 @@ def _gdl(args, files: list[str]) -> int:
     if args.cmd == "check":
         return gdl_cli.main_check(files, sys.stdout, sys.stderr)
     if args.cmd == "run":
-        return gdl_cli.main_run(files, args.scenario, args.until, sys.stdout, sys.stderr,
-                                args.force or None, args.shuffle_order)
+        return gdl_cli.main_run(
+            files,
+            args.scenario,
+            args.until,
+            sys.stdout,
+            sys.stderr,
+            args.force or None,
+            args.shuffle_order,
+        )
     raise UsageError("'compile' supports HMPL files only")
 
 
@@ -157,7 +178,9 @@ def _pdl(args, files: list[str]) -> int:
         return pdl_cli.main_check(files, sys.stdout, sys.stderr)
     if args.cmd == "run":
         starts = args.start or None
-        return pdl_cli.main_run(files, starts, args.until, sys.stdout, sys.stderr, stamp=bool(args.stamp))
+        return pdl_cli.main_run(
+            files, starts, args.until, sys.stdout, sys.stderr, stamp=bool(args.stamp)
+        )
     raise UsageError("'compile' supports HMPL files only (use 'motionvm dump --stage py' for PDL)")
 
 

@@ -31,7 +31,7 @@ def assign_tasks(files: list[str], task_opts: list[str]) -> list[tuple[int, str]
             raise UsageError("more than 64 task files")
         placed[nxt] = f
         nxt += 1
-    for tid, path in placed.items():
+    for path in placed.values():
         if not Path(path).is_file():
             raise UsageError(f"{path}: no such file")
         if Path(path).suffix.lower() != ".hmpl":

@@ -309,7 +309,7 @@ def test_digital_inputs_and_index_touch_probe():
     drive.write(0x60B8, 0, 0x0001 | 0x0004 | 0x0010)  # TP1 on, index source, rising edge
     drive.write(TARGET_VELOCITY, 0, 100_000)  # 100 counts per cycle
     seen, index_cycles = set(), []
-    for k in range(120):
+    for _k in range(120):
         drive.step(DT)
         di = drive.read(DIGITAL_INPUTS)
         seen.add(di & 0x7)

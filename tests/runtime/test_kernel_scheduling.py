@@ -116,7 +116,7 @@ void main() {
 def test_realtime_pacing_never_runs_ahead_of_the_wall_clock():
     import time
 
-    sim = _sim("void main() { Sleep(200); Print(\"%d\", system_timeInMs); }")
+    sim = _sim('void main() { Sleep(200); Print("%d", system_timeInMs); }')
     t0 = time.monotonic()
     sim.controller.run(realtime=True)
     assert time.monotonic() - t0 >= 0.19

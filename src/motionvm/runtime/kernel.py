@@ -126,7 +126,7 @@ class Kernel:
                 self._finish(t)
             except TaskExit:
                 self._finish(t)
-            except BaseException as exc:  # noqa: BLE001 — any fault stops only this task
+            except BaseException as exc:
                 if isinstance(exc, (KeyboardInterrupt, SystemExit)):
                     raise
                 self._finish(t)

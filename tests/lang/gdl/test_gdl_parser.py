@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 
 from motionvm.lang.gdl import nodes as n
-from motionvm.lang.gdl.doc import HERE, readme_with_reference
+from motionvm.lang.gdl.doc import readme_with_reference
 from motionvm.lang.gdl.dump import dump_ast, dump_tokens
 from motionvm.lang.gdl.lexer import tokenize
 from motionvm.lang.gdl.parser import Parser

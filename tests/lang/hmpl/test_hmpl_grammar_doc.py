@@ -9,7 +9,9 @@ DOC = Path(__file__).resolve().parents[3] / "docs" / "lang" / "hmpl.md"
 
 def test_grammar_doc_is_current():
     expected = render(PARSER.read_text(encoding="utf-8"))
-    assert DOC.read_text(encoding="utf-8") == expected, "run: python -m motionvm.lang.hmpl.grammar_doc"
+    assert DOC.read_text(encoding="utf-8") == expected, (
+        "run: python -m motionvm.lang.hmpl.grammar_doc"
+    )
 
 
 def test_every_parse_method_has_a_bnf_line():

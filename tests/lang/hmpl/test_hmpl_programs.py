@@ -71,7 +71,9 @@ _DIRECTIVE = re.compile(
     r"//\s*(?P<kind>expect regex|expect runtime error|expect|error|args|task\s+(?P<task>\d+)"
     r"|restart|pending):(?: (?P<text>.*)|$)"
 )
-_LOOKS_LIKE_DIRECTIVE = re.compile(r"//\s*(expect|error\s*:|args\s*:|task\s+\d+\s*:|restart\s*:|pending\s*:)")
+_LOOKS_LIKE_DIRECTIVE = re.compile(
+    r"//\s*(expect|error\s*:|args\s*:|task\s+\d+\s*:|restart\s*:|pending\s*:)"
+)
 _ERROR_AT = re.compile(r"(?:(?P<file>[^:\s]+):)?(?P<line>\d+):(?P<col>\d+): (?P<text>.+)")
 _RUNTIME_LINE = re.compile(r".+:\d+: runtime error in task \d+: .*")
 

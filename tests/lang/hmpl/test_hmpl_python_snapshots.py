@@ -36,4 +36,6 @@ def test_generated_python_matches_snapshot(rel: str, monkeypatch) -> None:
         snap.parent.mkdir(parents=True, exist_ok=True)
         snap.write_text(text, encoding="utf-8")
     assert snap.is_file(), f"no snapshot {snap.name}: run with MOTIONVM_REGEN=1"
-    assert text == snap.read_text(encoding="utf-8"), f"{snap.name} changed: review, then MOTIONVM_REGEN=1"
+    assert text == snap.read_text(encoding="utf-8"), (
+        f"{snap.name} changed: review, then MOTIONVM_REGEN=1"
+    )

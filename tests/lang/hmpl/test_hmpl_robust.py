@@ -11,8 +11,35 @@ from motionvm.lang.hmpl.compiler import TaskFile, compile_tasks
 from motionvm.source.diagnostics import CompileError, DiagnosticSink
 
 PROGRAMS = Path(__file__).resolve().parents[2] / "programs" / "hmpl"
-INSERTS = ["*", "&", "(", ")", "{", "}", ";", "int", "[", "]", "=", "0", "x", '"s"', "->", ".",
-           "double", ",", "++", "return", "break", "Timer", "Data_t", "-1", "(char)", "~", "!"]
+INSERTS = [
+    "*",
+    "&",
+    "(",
+    ")",
+    "{",
+    "}",
+    ";",
+    "int",
+    "[",
+    "]",
+    "=",
+    "0",
+    "x",
+    '"s"',
+    "->",
+    ".",
+    "double",
+    ",",
+    "++",
+    "return",
+    "break",
+    "Timer",
+    "Data_t",
+    "-1",
+    "(char)",
+    "~",
+    "!",
+]
 
 
 def _mutants(seed: int, count: int):

@@ -84,7 +84,9 @@ class Memory:
         addr = _round_up(self._static_top, max(align, ALIGN))
         end = addr + max(size, 1)
         if end + RED_ZONE > self._static_limit:
-            raise MemoryError(f"out of static memory allocating {size} bytes for {name or 'object'}")
+            raise MemoryError(
+                f"out of static memory allocating {size} bytes for {name or 'object'}"
+            )
         self.shadow[addr : addr + size] = b"\x01" * size
         self._static_top = _round_up(end, ALIGN) + RED_ZONE
         if name:

@@ -28,7 +28,11 @@ def grammar_lines(source: str) -> list[str]:
         m = re.match(r"\s*# BNF:(.*)$", line)
         if m:
             text = m.group(1)
-            out.append(text[1:] if text.startswith(" ") and not text.startswith("     ") else "    " + text.strip())
+            out.append(
+                text[1:]
+                if text.startswith(" ") and not text.startswith("     ")
+                else "    " + text.strip()
+            )
     return out
 
 

@@ -18,10 +18,8 @@ from motionvm.lang.hmpl.lower_expr import ExprLowering, SemanticError
 from motionvm.lang.hmpl.lower_jumps import JumpLowering
 from motionvm.lang.hmpl.lower_loops import LoopLowering
 from motionvm.lang.hmpl.lower_util import LoopCtx, at
-
 from motionvm.lang.hmpl.lvalues import call, name, view_code
 from motionvm.lang.hmpl.symbols import FuncSym, Scope, VarSym
-
 
 # node class -> its `_s_` method of FunctionLowerer
 _S_METHODS: dict[type, object] = {}

@@ -156,14 +156,21 @@ class PtrLV(LValue):
         last = ast.BinOp(left=a, op=ast.Add(), right=ast.Constant(size - 1)) if size > 1 else a
         checks = [ast.Compare(left=a, ops=[ast.Gt()], comparators=[ast.Constant(0)])]
         if size > 1:
-            checks.append(ast.UnaryOp(op=ast.Not(), operand=ast.BinOp(left=a, op=ast.BitAnd(), right=ast.Constant(size - 1))))
+            checks.append(
+                ast.UnaryOp(
+                    op=ast.Not(),
+                    operand=ast.BinOp(left=a, op=ast.BitAnd(), right=ast.Constant(size - 1)),
+                )
+            )
         checks.append(ast.Subscript(value=name("_SH"), slice=a, ctx=_LOAD))
         if size > 1:
             checks.append(ast.Subscript(value=name("_SH"), slice=last, ctx=_LOAD))
         shift = size.bit_length() - 1
         idx = ast.BinOp(left=a, op=ast.RShift(), right=ast.Constant(shift)) if shift else a
         fast = ast.Subscript(value=name(VIEW_NAMES[code]), slice=idx, ctx=_LOAD)
-        return ast.IfExp(test=ast.BoolOp(op=ast.And(), values=checks), body=fast, orelse=call("_ld_" + code, a))
+        return ast.IfExp(
+            test=ast.BoolOp(op=ast.And(), values=checks), body=fast, orelse=call("_ld_" + code, a)
+        )
 
     def store(self, value: ast.expr) -> list[ast.stmt]:
         return [ast.Expr(value=self.store_expr(value))]

@@ -27,7 +27,7 @@ class TypeRef:
     base: str
     pointers: int = 0
     is_const: bool = False
-    struct_def: "StructDef | None" = None  # set when the type spells out `struct {...}`
+    struct_def: StructDef | None = None  # set when the type spells out `struct {...}`
 
 
 @dataclass(frozen=True, slots=True)
@@ -37,7 +37,7 @@ class StructDef:
     pos: SourcePos
     kind: str  # 'struct' | 'union'
     tag: str
-    fields: tuple["VarDecl", ...]
+    fields: tuple[VarDecl, ...]
 
 
 @dataclass(frozen=True, slots=True)
@@ -47,7 +47,7 @@ class Typedef:
     pos: SourcePos
     name: str
     type: TypeRef
-    dims: tuple["Expr | None", ...] = ()
+    dims: tuple[Expr | None, ...] = ()
 
 
 # ---------------------------------------------------------------- declarations
@@ -58,7 +58,7 @@ class InitList:
     """A brace initializer `{a, b, {c, d}}`."""
 
     pos: SourcePos
-    items: tuple["Expr | InitList | Designated", ...]
+    items: tuple[Expr | InitList | Designated, ...]
 
 
 @dataclass(frozen=True, slots=True)
@@ -67,8 +67,8 @@ class Designated:
 
     pos: SourcePos
     field: str | None
-    index: "Expr | None"
-    value: "Expr | InitList"
+    index: Expr | None
+    value: Expr | InitList
 
 
 @dataclass(frozen=True, slots=True)
@@ -78,8 +78,8 @@ class VarDecl:
     pos: SourcePos
     type: TypeRef
     name: str
-    dims: tuple["Expr | None", ...] = ()
-    init: "Expr | InitList | None" = None
+    dims: tuple[Expr | None, ...] = ()
+    init: Expr | InitList | None = None
 
 
 @dataclass(frozen=True, slots=True)
@@ -89,7 +89,7 @@ class Param:
     pos: SourcePos
     type: TypeRef
     name: str
-    dims: tuple["Expr | None", ...] = ()
+    dims: tuple[Expr | None, ...] = ()
 
 
 @dataclass(frozen=True, slots=True)
@@ -100,7 +100,7 @@ class FuncDef:
     ret: TypeRef
     name: str
     params: tuple[Param, ...]
-    body: "Block | None"
+    body: Block | None
     autorun: bool = False
 
 
@@ -109,7 +109,7 @@ class TranslationUnit:
     """One task's program after preprocessing: declarations and functions in order."""
 
     pos: SourcePos
-    items: tuple["VarDecl | FuncDef | StructDef | Typedef | DeclStmt", ...]
+    items: tuple[VarDecl | FuncDef | StructDef | Typedef | DeclStmt, ...]
 
 
 # ---------------------------------------------------------------- statements
@@ -118,7 +118,7 @@ class TranslationUnit:
 @dataclass(frozen=True, slots=True)
 class Block:
     pos: SourcePos
-    items: tuple["Stmt", ...]
+    items: tuple[Stmt, ...]
 
 
 @dataclass(frozen=True, slots=True)
@@ -132,29 +132,29 @@ class DeclStmt:
 @dataclass(frozen=True, slots=True)
 class ExprStmt:
     pos: SourcePos
-    expr: "Expr"
+    expr: Expr
 
 
 @dataclass(frozen=True, slots=True)
 class If:
     pos: SourcePos
-    cond: "Expr"
-    then: "Stmt"
-    else_: "Stmt | None" = None
+    cond: Expr
+    then: Stmt
+    else_: Stmt | None = None
 
 
 @dataclass(frozen=True, slots=True)
 class While:
     pos: SourcePos
-    cond: "Expr"
-    body: "Stmt"
+    cond: Expr
+    body: Stmt
 
 
 @dataclass(frozen=True, slots=True)
 class DoWhile:
     pos: SourcePos
-    body: "Stmt"
-    cond: "Expr"
+    body: Stmt
+    cond: Expr
 
 
 @dataclass(frozen=True, slots=True)
@@ -162,17 +162,17 @@ class For:
     """`for (init; cond; step) body`; init is a DeclStmt, ExprStmt or None."""
 
     pos: SourcePos
-    init: "DeclStmt | ExprStmt | None"
-    cond: "Expr | None"
-    step: "Expr | None"
-    body: "Stmt"
+    init: DeclStmt | ExprStmt | None
+    cond: Expr | None
+    step: Expr | None
+    body: Stmt
 
 
 @dataclass(frozen=True, slots=True)
 class Switch:
     pos: SourcePos
-    expr: "Expr"
-    body: "Stmt"
+    expr: Expr
+    body: Stmt
 
 
 @dataclass(frozen=True, slots=True)
@@ -180,7 +180,7 @@ class Case:
     """`case VALUE:` label; the statements after it are siblings in the enclosing block."""
 
     pos: SourcePos
-    value: "Expr"
+    value: Expr
 
 
 @dataclass(frozen=True, slots=True)
@@ -201,7 +201,7 @@ class Continue:
 @dataclass(frozen=True, slots=True)
 class Return:
     pos: SourcePos
-    value: "Expr | None" = None
+    value: Expr | None = None
 
 
 @dataclass(frozen=True, slots=True)
@@ -226,8 +226,22 @@ class Label:
 
 
 Stmt = (
-    Block | DeclStmt | ExprStmt | If | While | DoWhile | For | Switch | Case | Default
-    | Break | Continue | Return | Empty | Goto | Label
+    Block
+    | DeclStmt
+    | ExprStmt
+    | If
+    | While
+    | DoWhile
+    | For
+    | Switch
+    | Case
+    | Default
+    | Break
+    | Continue
+    | Return
+    | Empty
+    | Goto
+    | Label
 )
 
 # ---------------------------------------------------------------- expressions
@@ -279,7 +293,7 @@ class Unary:
 
     pos: SourcePos
     op: str
-    operand: "Expr"
+    operand: Expr
 
 
 @dataclass(frozen=True, slots=True)
@@ -288,7 +302,7 @@ class Postfix:
 
     pos: SourcePos
     op: str
-    operand: "Expr"
+    operand: Expr
 
 
 @dataclass(frozen=True, slots=True)
@@ -297,8 +311,8 @@ class Binary:
 
     pos: SourcePos
     op: str
-    left: "Expr"
-    right: "Expr"
+    left: Expr
+    right: Expr
 
 
 @dataclass(frozen=True, slots=True)
@@ -307,8 +321,8 @@ class Assign:
 
     pos: SourcePos
     op: str
-    target: "Expr"
-    value: "Expr"
+    target: Expr
+    value: Expr
 
 
 @dataclass(frozen=True, slots=True)
@@ -316,15 +330,15 @@ class Cond:
     """`cond ? then : else_`."""
 
     pos: SourcePos
-    cond: "Expr"
-    then: "Expr"
-    else_: "Expr"
+    cond: Expr
+    then: Expr
+    else_: Expr
 
 
 @dataclass(frozen=True, slots=True)
 class Comma:
     pos: SourcePos
-    items: tuple["Expr", ...]
+    items: tuple[Expr, ...]
 
 
 @dataclass(frozen=True, slots=True)
@@ -332,15 +346,15 @@ class Call:
     """`func(args)`; `func` is a Name for every call HMPL allows."""
 
     pos: SourcePos
-    func: "Expr"
-    args: tuple["Expr", ...]
+    func: Expr
+    args: tuple[Expr, ...]
 
 
 @dataclass(frozen=True, slots=True)
 class Index:
     pos: SourcePos
-    base: "Expr"
-    index: "Expr"
+    base: Expr
+    index: Expr
 
 
 @dataclass(frozen=True, slots=True)
@@ -348,7 +362,7 @@ class Member:
     """`base.name` or, with arrow, `base->name`."""
 
     pos: SourcePos
-    base: "Expr"
+    base: Expr
     name: str
     arrow: bool = False
 
@@ -357,7 +371,7 @@ class Member:
 class Cast:
     pos: SourcePos
     type: TypeRef
-    expr: "Expr"
+    expr: Expr
 
 
 @dataclass(frozen=True, slots=True)
@@ -365,11 +379,25 @@ class SizeOf:
     """`sizeof(TYPE)` (target is a TypeRef, dims for `sizeof(int[3])`) or `sizeof expr`."""
 
     pos: SourcePos
-    target: "TypeRef | Expr"
-    dims: tuple["Expr", ...] = ()
+    target: TypeRef | Expr
+    dims: tuple[Expr, ...] = ()
 
 
 Expr = (
-    IntLit | FloatLit | CharLit | StrLit | Name | Unary | Postfix | Binary | Assign | Cond
-    | Comma | Call | Index | Member | Cast | SizeOf
+    IntLit
+    | FloatLit
+    | CharLit
+    | StrLit
+    | Name
+    | Unary
+    | Postfix
+    | Binary
+    | Assign
+    | Cond
+    | Comma
+    | Call
+    | Index
+    | Member
+    | Cast
+    | SizeOf
 )

@@ -807,8 +807,13 @@ class Parser:
         elif k == "":
             raise self._fail_here("expected statement before end of file")
         expr = self._parse_expression()
-        if (self.keys[self.i] == "{" and isinstance(expr, n.Call) and isinstance(expr.func, n.Name)
-                and expr.func.id == "Till" and len(expr.args) == 1):
+        if (
+            self.keys[self.i] == "{"
+            and isinstance(expr, n.Call)
+            and isinstance(expr.func, n.Name)
+            and expr.func.id == "Till"
+            and len(expr.args) == 1
+        ):
             return self._parse_till_body(expr)
         self._expect(";", "after expression")
         return n.ExprStmt(t.pos, expr)

@@ -61,7 +61,9 @@ def _wrapi(x: int, bits: int) -> int:
 
 def _bad_step(step: int) -> int:
     """A counting loop whose run-time step is not positive would never reach its bound."""
-    raise RuntimeFault(f"for loop step is {step}: counting up by a step <= 0 never reaches the bound")
+    raise RuntimeFault(
+        f"for loop step is {step}: counting up by a step <= 0 never reaches the bound"
+    )
 
 
 def _oob(i: int, n: int) -> int:

@@ -7,12 +7,47 @@ from dataclasses import dataclass
 from motionvm.source.files import SourcePos
 
 KEYWORDS = frozenset(
-    """
-    void char short int long float double signed unsigned const volatile static extern
-    struct union enum typedef sizeof if else while do for switch case default break
-    continue return goto _AUTORUN_
-    int8_t uint8_t int16_t uint16_t int32_t uint32_t int64_t uint64_t
-    """.split()
+    [
+        "void",
+        "char",
+        "short",
+        "int",
+        "long",
+        "float",
+        "double",
+        "signed",
+        "unsigned",
+        "const",
+        "volatile",
+        "static",
+        "extern",
+        "struct",
+        "union",
+        "enum",
+        "typedef",
+        "sizeof",
+        "if",
+        "else",
+        "while",
+        "do",
+        "for",
+        "switch",
+        "case",
+        "default",
+        "break",
+        "continue",
+        "return",
+        "goto",
+        "_AUTORUN_",
+        "int8_t",
+        "uint8_t",
+        "int16_t",
+        "uint16_t",
+        "int32_t",
+        "uint32_t",
+        "int64_t",
+        "uint64_t",
+    ]
 )
 
 

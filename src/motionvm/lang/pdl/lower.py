@@ -198,7 +198,7 @@ class ProgramLowering:
                 )
             ),
         ]
-        for i, (p, v) in enumerate(zip(d.params, list(sym.locals.values())[:n_params])):
+        for i, (_p, v) in enumerate(zip(d.params, list(sym.locals.values())[:n_params])):
             view = "F" if storage_kind(v) == FLOAT and v.type != "instate" else "M"
             slot = (
                 ast.BinOp(left=nm("bp"), op=ast.Add(), right=const(frame[id(v)]))

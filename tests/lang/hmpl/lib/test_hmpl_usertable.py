@@ -77,7 +77,7 @@ def test_registered_names():
 def test_set_and_get_user_table_manual_example(rt, lib):
     data = doubles(rt, [-2.0, 0.0, 2.0, 6.0, 4.0])
     assert lib.SetUserTable(1, 5, data) == 0
-    assert [rt.table(i) for i in range(0, 7)] == [0.0, -2.0, 0.0, 2.0, 6.0, 4.0, 0.0]
+    assert [rt.table(i) for i in range(7)] == [0.0, -2.0, 0.0, 2.0, 6.0, 4.0, 0.0]
     out = rt.mem.alloc_static(8 * 3)
     assert lib.GetUserTable(3, 3, out) == 0
     assert read_doubles(rt, out, 3) == [2.0, 6.0, 4.0]

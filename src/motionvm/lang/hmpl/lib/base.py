@@ -16,7 +16,8 @@ Calling convention between generated code and a built-in method:
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any, Callable
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:  # pragma: no cover
     from motionvm.lang.hmpl.cmemory import Memory

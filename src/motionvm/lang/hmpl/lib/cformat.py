@@ -59,7 +59,7 @@ _KNOWN_CONVS = _INT_CONVS + _FLOAT_CONVS + "csp"
 class _Directive:
     """One compiled `%...` directive."""
 
-    __slots__ = ("conv", "flags", "width", "prec", "length", "bits", "pyfmt", "render", "_left")
+    __slots__ = ("_left", "bits", "conv", "flags", "length", "prec", "pyfmt", "render", "width")
 
     def __init__(self, conv: str, flags: str, width: int | None, prec: int | None, length: str):
         self.conv = conv

@@ -88,7 +88,7 @@ def strtod(text: bytes) -> float:
 class _TokenBucket:
     """Average-rate limiter on simulated time."""
 
-    __slots__ = ("rate", "burst", "tokens", "last_time")
+    __slots__ = ("burst", "last_time", "rate", "tokens")
 
     def __init__(self, rate: float, burst: float) -> None:
         self.rate = rate

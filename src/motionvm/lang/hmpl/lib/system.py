@@ -66,7 +66,6 @@ class SystemLib(Library):
     @builtin(blocking=True)
     def RunScheduler(self):
         yield None
-        return None
 
     def _mutex_id(self, mutex_id: int, fn: str) -> int:
         if not 0 <= mutex_id < N_MUTEXES:
@@ -84,7 +83,6 @@ class SystemLib(Library):
             yield None
         k.mutex_owner[m] = me.id
         me.mutexes.add(m)
-        return None
 
     @builtin()
     def MutexUnlock(self, mutex_id: int) -> None:
