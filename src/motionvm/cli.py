@@ -159,6 +159,11 @@ def _gdl(args, files: list[str]) -> int:
     if args.cmd == "check":
         return gdl_cli.main_check(files, sys.stdout, sys.stderr)
     if args.cmd == "run":
+        if _scope_request(args) is not None:
+            raise UsageError(
+                "--scope records HMPL and PDL runs only; a GDL run has no scope channels yet "
+                "(its messages and the scenario's timing are its trace)"
+            )
         return gdl_cli.main_run(
             files,
             args.scenario,
@@ -179,9 +184,27 @@ def _pdl(args, files: list[str]) -> int:
     if args.cmd == "run":
         starts = args.start or None
         return pdl_cli.main_run(
-            files, starts, args.until, sys.stdout, sys.stderr, stamp=bool(args.stamp)
+            files,
+            starts,
+            args.until,
+            sys.stdout,
+            sys.stderr,
+            stamp=bool(args.stamp),
+            scope=_scope_request(args),
         )
     raise UsageError("'compile' supports HMPL files only (use 'motionvm dump --stage py' for PDL)")
+
+
+def _scope_request(args):
+    """The checked --scope/--scope-out/--scope-every request (None if none); UsageError if bad."""
+    from motionvm.sim.scope import ScopeError, ScopeRequest
+
+    try:
+        return ScopeRequest.from_options(
+            getattr(args, "scope", []), getattr(args, "scope_out", []), getattr(args, "scope_every", None)
+        )
+    except ScopeError as exc:
+        raise UsageError(str(exc)) from None
 
 
 def cmd_builtins(args) -> int:

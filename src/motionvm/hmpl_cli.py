@@ -184,6 +184,12 @@ def _scope_save(scope, recorder, args) -> None:
     from motionvm.sim.scope import ScopeError
 
     title = " ".join(list(args.files) + list(args.task))
+    if recorder.hmi_gated and not any(recorder.hmi_on):
+        print(
+            "motionvm: note: the program called SetHMIScope but the HMI scope was never on "
+            "at the end of a recorded cycle: the scope recording is empty",
+            file=sys.stderr,
+        )
     for path in scope.outputs:
         try:
             recorder.save(path, title=title)

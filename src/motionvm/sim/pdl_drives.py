@@ -15,6 +15,8 @@ axis's drive (sim/machine.py reads the keys). `compile_drives` compiles every pr
   fault is `FILE:LINE: runtime error in drive A task N: MESSAGE` on stderr.
 - `busy()` is true while any drive task runs or any drive's axis moves; the controller
   counts it as running work and never jumps the clock ahead meanwhile.
+- A scope records `driveN.<name>` (a drive's system variable, state or global, N the
+  axis id): `PdlDrives` adds a `PdlDriveSource` to `controller.scope_sources`.
 
 The drive moves its own axis model (lang/pdl/drive_axis.PdlAxis, configured from the
 axis table: counts_per_unit, max_vel, max_acc, max_dec, start_position, home switch,
@@ -126,6 +128,10 @@ class PdlDrives:
             self.drives.append((axis_id, drive))
             controller.axes[axis_id].controlled_by = CONTROLLED_BY
         self._starts = {c.spec.axis: c.spec.starts for c in drives}
+        from motionvm.sim.scope_sources import PdlDriveSource
+
+        # `driveN.<system variable>` scope channels (README "Scope"), N the axis id
+        controller.__dict__.setdefault("scope_sources", []).append(PdlDriveSource(self.drives))
 
     def _message_sink(self, axis_id: int) -> Callable[[Message], None]:
         rate = self.phase_rate

@@ -89,6 +89,11 @@ class ChannelRegistry:
         hint = f"; did you mean {', '.join(close)}?" if close else ""
         if not close and name.startswith("axis"):
             hint = "; axis channels are axisN.<variable>, e.g. axis0.ref_pos, and need the machine's axes"
+        elif not close and name.startswith("drive"):
+            hint = (
+                "; drive channels are driveN.<system variable>, e.g. drive1.x_ref_pos, and "
+                'need a PDL program on axis N\'s drive (pdl = "x.pdl" in the machine file)'
+            )
         raise ScopeError(f"unknown scope channel '{name}'{hint}")
 
     def resolve_all(self, names: Sequence[str]) -> list[Channel]:
@@ -185,6 +190,12 @@ class ScopeRecorder:
 
     Attach it after every other client, so it sees the cycle's final state. While it is
     attached the controller steps every cycle (no jump-ahead), so no sample is skipped.
+    A loop without a controller (a standalone PDL drive) calls `sample(cycle)` itself.
+
+    SetHMIScope (manual 2.16): each sample notes the controller's `hmi_scope`. If the
+    program called SetHMIScope at all (`controller.hmi_scope_used`), only the samples
+    taken while it was on are kept (`save` drops the others), as the vendor's HMI scope
+    records only between SetHMIScope(1) and SetHMIScope(0); else every sample is kept.
     """
 
     def __init__(self, channels: Sequence[Channel], cycle_time: float, every: int = 1) -> None:
@@ -198,6 +209,8 @@ class ScopeRecorder:
         """Controller cycle of each sample."""
         self.columns: list[list[float]] = [[] for _ in self.channels]
         """One list of values per channel, parallel to `cycles`."""
+        self.hmi_on: list[bool] = []
+        """The controller's `hmi_scope` at each sample (True without a controller)."""
         self._controller = None
         self._first_cycle = 0
         self._pairs = list(zip(self.columns, [c.getter for c in self.channels]))
@@ -213,12 +226,31 @@ class ScopeRecorder:
         pass
 
     def end_cycle(self) -> None:
-        cycle = self._controller.cycle
+        self.sample(self._controller.cycle)
+
+    def sample(self, cycle: int) -> None:
+        """Record every channel as cycle `cycle` (if it is an `every`-th cycle)."""
         if (cycle - self._first_cycle) % self.every:
             return
         self.cycles.append(cycle)
+        self.hmi_on.append(bool(getattr(self._controller, "hmi_scope", True)))
         for column, get in self._pairs:
             column.append(get())
+
+    @property
+    def hmi_gated(self) -> bool:
+        """True if the program called SetHMIScope, so only its on-periods are kept."""
+        return bool(getattr(self._controller, "hmi_scope_used", False))
+
+    def apply_hmi_gate(self) -> None:
+        """Drop the samples taken while SetHMIScope was off, if the program ever called it."""
+        if not self.hmi_gated or all(self.hmi_on):
+            return
+        keep = [i for i, on in enumerate(self.hmi_on) if on]
+        self.cycles[:] = [self.cycles[i] for i in keep]
+        for column in self.columns:
+            column[:] = [column[i] for i in keep]
+        self.hmi_on[:] = [True] * len(keep)
 
     @property
     def times(self) -> list[float]:
@@ -230,4 +262,5 @@ class ScopeRecorder:
         """Write the recording; the format follows the suffix (.csv, .png, .svg, .vcd)."""
         from motionvm.sim import scope_writers
 
+        self.apply_hmi_gate()
         scope_writers.write(Path(path), self, title=title)

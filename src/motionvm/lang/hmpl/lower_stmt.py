@@ -16,7 +16,7 @@ from motionvm.lang.hmpl.cmemory import RED_ZONE
 from motionvm.lang.hmpl.lower_access import AccessLowering
 from motionvm.lang.hmpl.lower_expr import ExprLowering, SemanticError
 from motionvm.lang.hmpl.lower_jumps import JumpLowering
-from motionvm.lang.hmpl.lower_loops import LoopLowering
+from motionvm.lang.hmpl.lower_loops import LoopLowering, _assigned_names
 from motionvm.lang.hmpl.lower_util import LoopCtx, at
 from motionvm.lang.hmpl.lvalues import call, name, view_code
 from motionvm.lang.hmpl.symbols import FuncSym, Scope, VarSym
@@ -48,6 +48,7 @@ class FunctionLowerer(ExprLowering, AccessLowering, LoopLowering, JumpLowering):
             str, tuple[int, int]
         ] = {}  # range-for counters with constant bounds
         self.has_yield = False  # set whenever a yield is generated
+        self.func_assigned: set[str] = set()  # names the function body assigns
 
     # ------------------------------------------------------------ helpers
 
@@ -154,12 +155,52 @@ class FunctionLowerer(ExprLowering, AccessLowering, LoopLowering, JumpLowering):
 
     def stmts(self, items) -> list[ast.stmt]:
         out: list[ast.stmt] = []
-        for s in items:
-            try:
-                out.extend(at(self.stmt(s), s.pos))
-            except SemanticError:
-                pass
+        saved = dict(self.known_ranges)
+        try:
+            for s in items:
+                try:
+                    out.extend(at(self.stmt(s), s.pos))
+                except SemanticError:
+                    pass
+                if type(s) is n.If and s.else_ is None and _always_leaves(s.then):
+                    self._learn_from_guard(s.cond)
+        finally:
+            self.known_ranges = saved
         return out
+
+    def _learn_from_guard(self, cond) -> None:
+        """After `if (v < c) return ...;` the rest of the block knows v >= c.
+
+        Only for a local integer that the function never assigns (a parameter, usually),
+        compared with a constant; the fact holds until the end of the enclosing block,
+        which no goto can enter (labels stand at the function's top level, each lowered
+        as a block of its own). It lets range analysis drop wraps, as in `fib(n - 1)`.
+        """
+        if not (type(cond) is n.Binary and cond.op in ("<", "<=", ">", ">=") and type(cond.left) is n.Name):
+            return
+        right = cond.right
+        neg = type(right) is n.Unary and right.op == "-" and type(right.operand) is n.IntLit
+        if not (type(right) is n.IntLit or neg):
+            return
+        c = -right.operand.value if neg else right.value
+        name_ = cond.left.id
+        if name_ in self.func_assigned:
+            return
+        sym = self.scope.lookup(name_)
+        if not isinstance(sym, VarSym) or sym.storage != "local" or not isinstance(sym.type, ct.IntT):
+            return
+        t = sym.type
+        lo, hi = self.known_ranges.get(sym.pyname, (t.min, t.max))
+        if cond.op == "<":
+            lo = max(lo, c)
+        elif cond.op == "<=":
+            lo = max(lo, c + 1)
+        elif cond.op == ">":
+            hi = min(hi, c)
+        else:
+            hi = min(hi, c - 1)
+        if lo <= hi:
+            self.known_ranges[sym.pyname] = (lo, hi)
 
     def stmt(self, s) -> list[ast.stmt]:
         fn = _S_METHODS.get(type(s))
@@ -258,6 +299,7 @@ class FunctionLowerer(ExprLowering, AccessLowering, LoopLowering, JumpLowering):
     # ------------------------------------------------------------ functions
 
     def function(self, f: n.FuncDef, sym: FuncSym) -> ast.FunctionDef:
+        self.func_assigned = _assigned_names(f.body)
         params: list[ast.arg] = []
         copies: list[ast.stmt] = []
         for p, pt in zip(f.params, sym.type.params):
@@ -327,6 +369,18 @@ class FunctionLowerer(ExprLowering, AccessLowering, LoopLowering, JumpLowering):
             returns=None,
         )
         return at([fn], f.pos)[0]
+
+
+def _always_leaves(s) -> bool:
+    """True if statement `s` never falls through (return, break, continue, goto)."""
+    t = type(s)
+    if t in (n.Return, n.Break, n.Continue, n.Goto):
+        return True
+    if t is n.Block:
+        return bool(s.items) and _always_leaves(s.items[-1])
+    if t is n.If:
+        return s.else_ is not None and _always_leaves(s.then) and _always_leaves(s.else_)
+    return False
 
 
 def _contains_yield(body: list[ast.stmt]) -> bool:

@@ -68,10 +68,13 @@ def main_run(
     stderr: TextIO,
     config: DriveConfig | None = None,
     stamp: bool = False,
+    scope=None,
 ) -> int:
     """Compile one PDL program, run it on a simulated drive, print its messages.
 
     `stamp` prefixes each message with `[t=SECONDS][task N] ` (simulated time).
+    `scope` (a `sim.scope.ScopeRequest`, from --scope/--scope-out/--scope-every)
+    records the drive's channels once per 1 ms (15 phases), see `_run_scoped`.
     """
     if not _usage(paths, stderr):
         return EXIT_USAGE
@@ -122,5 +125,59 @@ def main_run(
             "--start label was given",
             file=stderr,
         )
-    drive.run(until)
+    if scope is None:
+        drive.run(until)
+    elif not _run_scoped(drive, program, until, scope, stderr):
+        return EXIT_USAGE
     return EXIT_FAULT if drive.faults else EXIT_OK
+
+
+SCOPE_CYCLE = 0.001
+"""A standalone drive's scope samples once per controller-cycle equivalent [s]."""
+
+
+def _run_scoped(drive: Drive, program: PdlProgram, until: float | None, scope, stderr) -> bool:
+    """`drive.run(until)` in 1 ms slices (15 phases at 15 kHz), sampling after each.
+
+    Sample k shows the drive at the end of slice k (phase 15 * (k + 1)) and is stamped
+    k * 1 ms, as a machine run's samples of cycle k are; the last slice may be shorter
+    (`until`, or the drive going idle). Channels: `drive0.<name>` or just `<name>`.
+    False (message on stderr) for an unknown channel or an unwritable output.
+    """
+    from motionvm.sim.scope import ChannelRegistry, ScopeError, ScopeRecorder
+    from motionvm.sim.scope_sources import PdlDriveSource
+
+    rate = drive.config.phase_rate
+    per = max(1, round(SCOPE_CYCLE * rate))
+    try:
+        channels = ChannelRegistry([PdlDriveSource({0: drive}, bare=0)]).resolve_all(scope.channels)
+    except ScopeError as exc:
+        print(f"motionvm: error: {exc}", file=stderr)
+        return False
+    recorder = ScopeRecorder(channels, per / rate, scope.every)
+    limit = None if until is None else round(until * rate)
+    cycle = 0
+    try:
+        while True:
+            count = per if limit is None else min(per, max(0, limit - drive.phase))
+            done = drive.run_phases(count)
+            recorder.sample(cycle)
+            cycle += 1
+            if done or (limit is not None and drive.phase >= limit):
+                break
+    except KeyboardInterrupt:  # keep what was recorded up to the interrupt
+        _save_scope(recorder, scope, program.path, stderr)
+        raise
+    return _save_scope(recorder, scope, program.path, stderr)
+
+
+def _save_scope(recorder, scope, title: str, stderr) -> bool:
+    from motionvm.sim.scope import ScopeError
+
+    for path in scope.outputs:
+        try:
+            recorder.save(path, title=title)
+        except ScopeError as exc:
+            print(f"motionvm: error: {exc}", file=stderr)
+            return False
+    return True

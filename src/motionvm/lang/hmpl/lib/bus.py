@@ -5,8 +5,8 @@ Operation from power-on; ScanNetwork takes it through Init, Pre-Op and Safe-Op, 
 cycle each). IsSystemError is 1 after EStop. Slaves are the axes' drives, slave i
 being axis i's. DisableAll and StopAll clear the axes' path planning (StopAll brakes at
 each axis's kill deceleration and keeps it enabled); EStop disables every axis and
-stops every task, the calling one included. SetHMIScope sets `controller.hmi_scope`,
-which a scope recorder may follow.
+stops every task, the calling one included. SetHMIScope sets `controller.hmi_scope`
+(and `hmi_scope_used`); a `--scope` recording then keeps only the cycles it was on.
 """
 
 from __future__ import annotations
@@ -77,5 +77,7 @@ class BusLib(Library):
 
     @builtin()
     def SetHMIScope(self, start: int) -> int:
-        self.rt.controller.hmi_scope = bool(start)
+        controller = self.rt.controller
+        controller.hmi_scope = bool(start)
+        controller.hmi_scope_used = True  # a --scope recording then follows it (sim/scope.py)
         return 0
