@@ -201,7 +201,9 @@ def _scope_request(args):
 
     try:
         return ScopeRequest.from_options(
-            getattr(args, "scope", []), getattr(args, "scope_out", []), getattr(args, "scope_every", None)
+            getattr(args, "scope", []),
+            getattr(args, "scope_out", []),
+            getattr(args, "scope_every", None),
         )
     except ScopeError as exc:
         raise UsageError(str(exc)) from None

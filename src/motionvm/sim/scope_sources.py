@@ -266,8 +266,11 @@ class PdlDriveSource:
             )
         m = _ELEMENT.fullmatch(ref)
         if m is None or not self._known(drive, ref):
-            known = list(self._names(n, drive))
-            close = difflib.get_close_matches(name, known, n=4, cutoff=0.6)
+            known = [k.partition(".")[2] for k in self._names(n, drive)]
+            close = [
+                f"drive{n}.{c}" if name != ref else c
+                for c in difflib.get_close_matches(ref, known, n=4, cutoff=0.6)
+            ]
             hint = (
                 f"did you mean {', '.join(close)}?"
                 if close
@@ -322,7 +325,10 @@ class PdlDriveSource:
 
     def channel_names(self) -> Iterable[str]:
         for n, drive in sorted(self.drives.items()):
-            yield from self._names(n, drive)
+            for name in self._names(n, drive):
+                yield name
+                if n == self.bare:
+                    yield name.partition(".")[2]
 
 
 def registry_for(controller, runtime=None) -> ChannelRegistry:

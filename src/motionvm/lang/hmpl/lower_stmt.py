@@ -176,7 +176,11 @@ class FunctionLowerer(ExprLowering, AccessLowering, LoopLowering, JumpLowering):
         which no goto can enter (labels stand at the function's top level, each lowered
         as a block of its own). It lets range analysis drop wraps, as in `fib(n - 1)`.
         """
-        if not (type(cond) is n.Binary and cond.op in ("<", "<=", ">", ">=") and type(cond.left) is n.Name):
+        if not (
+            type(cond) is n.Binary
+            and cond.op in ("<", "<=", ">", ">=")
+            and type(cond.left) is n.Name
+        ):
             return
         right = cond.right
         neg = type(right) is n.Unary and right.op == "-" and type(right.operand) is n.IntLit
@@ -187,7 +191,11 @@ class FunctionLowerer(ExprLowering, AccessLowering, LoopLowering, JumpLowering):
         if name_ in self.func_assigned:
             return
         sym = self.scope.lookup(name_)
-        if not isinstance(sym, VarSym) or sym.storage != "local" or not isinstance(sym.type, ct.IntT):
+        if (
+            not isinstance(sym, VarSym)
+            or sym.storage != "local"
+            or not isinstance(sym.type, ct.IntT)
+        ):
             return
         t = sym.type
         lo, hi = self.known_ranges.get(sym.pyname, (t.min, t.max))
