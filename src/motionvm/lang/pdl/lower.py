@@ -115,11 +115,6 @@ class ProgramLowering:
         """Module-level memory views `_vM8 = _M[8:end]` the chunked loops index (lower_chunk)."""
         self.uses_lists = False
         """Some loop keeps an array in a list: `_wbl` writes one back (lower_cache)."""
-        self.decl_position: dict[str, tuple[int, int]] = {}
-        decls = [d for d in syms.program.items if isinstance(d, n.VarDecl)]
-        for k, d in enumerate(decls):
-            for j, item in enumerate(d.items):
-                self.decl_position[item.name] = (k, j)
 
     # ------------------------------------------------------------ services for the bodies
 

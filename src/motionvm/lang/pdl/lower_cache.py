@@ -29,9 +29,22 @@ becomes
 A loop is promoted only if nothing in it reaches memory behind the compiler's back:
 no pointer indirection, procedure call, sleep/wait/till, block function (memcpy ...,
 initialiser lists, strings), halt/exitproc/kill. A scalar is left in memory if its
-address is taken in the loop, if it is indexed there, if a constant index there lands
-on it, or if an array indexed by a variable in the loop precedes it in the same
-declaration (indexing past an array reaches the next variables, manual §1.2).
+address is taken in the loop, if it is indexed there, or if a constant index there
+lands on it.
+
+An index that is a variable may run past its array into any other variable, before
+or after it (manual §1.2), so it may reach a promoted scalar. Inside a promoted loop
+such an access tests the widest span around its array that holds no promoted scalar
+(`free_span`) instead of user memory, at the same cost; outside it, the slow path
+keeps memory and locals in step (lower_expr):
+
+    read   M[8 + m3 if -4 <= m3 < 15993 else (M.__setitem__(1, m1), <checked>)[-1]]
+           (the written scalars stored first, so memory is right for the read)
+    write  if -4 <= m3 < 15993: M[8 + m3] = v
+           else: <stores>; M[<checked>] = v; <loads>
+
+A chunked loop (lower_chunk) whose guard proves the span drops the test and the slow
+path; a write test it cannot prove reloads every scalar, which its range analysis sees.
 A float kept in a local is rounded to float32 at each store through the one-element
 float view `FS` (`FS[0] = f1 + f3; f1 = FS[0]`), as a store to memory would round it.
 
@@ -91,6 +104,43 @@ class Promotion:
         self.lists = lists or {}
         """Long array kept in a Python list by chunked loops: first word -> (size, local).
         The local is None while memory holds the values (lower_chunk loads it lazily)."""
+        halves: dict[str, list[int]] = {"all": [], "written": []}
+        for (view, i), local in slots.items():
+            hs = [i] if view == "H" else [2 * i, 2 * i + 1]
+            halves["all"] += hs
+            if local in written:
+                halves["written"] += hs
+        self._halves = {k: sorted(v) for k, v in halves.items()}
+
+    def free_span(
+        self, view: str, base: int | None, lo: int, hi: int, reads: bool
+    ) -> tuple[int, int] | None:
+        """[lo', hi') in `view` units: the widest span of [lo, hi) around element `base`
+        that holds no promoted scalar (for `reads`, none written in the loop: memory is
+        right for the others), or None if it is [lo, hi) itself. `base` None: a frame
+        array, above every global; hi is then ignored."""
+        halves = self._halves["written" if reads else "all"]
+        if not halves:
+            return None
+        units = halves if view == "H" else [h >> 1 for h in halves]
+        if base is None:
+            return units[-1] + 1, hi
+        below = [u for u in units if u < base]
+        above = [u for u in units if u >= base]
+        span = (below[-1] + 1 if below else lo, above[0] if above else hi)
+        return None if span == (lo, hi) else span
+
+    def flush_exprs(self) -> list[ast.expr]:
+        """`M.__setitem__(i, m_i)` for each written scalar: memory right for a read."""
+        return [
+            ast.Call(
+                func=ast.Attribute(value=nm(view), attr="__setitem__", ctx=ast.Load()),
+                args=[ast.Constant(i), nm(local)],
+                keywords=[],
+            )
+            for (view, i), local in self.slots.items()
+            if local in self.written
+        ]
 
     def flush_lists(self) -> list[ast.stmt]:
         """`if L is not None: <write L back>; L = None` for each list-backed array."""
@@ -134,7 +184,8 @@ def promote(prog: ProgramLowering, loop: n.Loop | n.While) -> Promotion | None:
     scalars: dict[int, VarSym] = {}
     excluded: set[int] = set()
     written: set[int] = set()
-    const_hits: set[tuple[str, int]] = set()
+    const_hits: set[int] = set()
+    """Half-words a constant index reaches."""
     indexed_arrays: list[VarSym] = []
     excluded_refs: set[int] = set()
     for node in _nodes(loop):
@@ -165,7 +216,7 @@ def promote(prog: ProgramLowering, loop: n.Loop | n.While) -> Promotion | None:
                 scalars[id(sym)] = sym
             elif isinstance(node.index, n.IntConst):
                 excluded.add(id(sym))
-                const_hits.add((_view(sym), prog.global_index(sym) + node.index.value))
+                const_hits.update(_halves(_view(sym), prog.global_index(sym) + node.index.value))
             elif node.index is not None:
                 excluded.add(id(sym))
                 indexed_arrays.append(sym)
@@ -175,12 +226,11 @@ def promote(prog: ProgramLowering, loop: n.Loop | n.While) -> Promotion | None:
     slots: dict[tuple[str, int], str] = {}
     names_written: set[str] = set()
     for key, sym in scalars.items():
-        if key in excluded or _reachable(prog, sym, indexed_arrays):
+        if key in excluded:
             continue
         view = _view(sym)
         index = prog.global_index(sym)
-        other = "M" if view == "F" else "F"  # longs and floats share word indices
-        if (view, index) in const_hits or (view != "H" and (other, index) in const_hits):
+        if const_hits.intersection(_halves(view, index)):
             continue
         local = f"{view.lower()}{index}"
         slots[(view, index)] = local
@@ -194,16 +244,9 @@ def _view(sym: VarSym) -> str:
     return "H" if kind == SHORT else ("F" if kind == FLOAT else "M")
 
 
-def _reachable(prog: ProgramLowering, sym: VarSym, arrays: list[VarSym]) -> bool:
-    """True if indexing one of `arrays` past its end may reach `sym` (same declaration, later)."""
-    where = prog.decl_position.get(sym.name)
-    if where is None:
-        return True
-    for a in arrays:
-        pa = prog.decl_position.get(a.name)
-        if pa is None or (pa[0] == where[0] and pa[1] < where[1]):
-            return True
-    return False
+def _halves(view: str, index: int) -> tuple[int, ...]:
+    """The half-words of element `index` of a view (longs and floats share words)."""
+    return (index,) if view == "H" else (2 * index, 2 * index + 1)
 
 
 MIN_LIST_WORDS = 16
@@ -214,7 +257,7 @@ def _list_backed(
     prog: ProgramLowering,
     loop: n.Loop | n.While,
     indexed: list[VarSym],
-    const_hits: set[tuple[str, int]],
+    const_hits: set[int],
     address_taken: set[int],
 ) -> dict[int, tuple[int, str]]:
     """The one long array the region may keep in a list (lower_chunk), if any.
@@ -238,9 +281,7 @@ def _list_backed(
     ):
         return {}
     base = prog.global_index(a)
-    if any(v == "M" and base <= i < base + a.size for v, i in const_hits) or any(
-        v == "F" and base <= i < base + a.size for v, i in const_hits
-    ):
+    if any(2 * base <= h < 2 * (base + a.size) for h in const_hits):
         return {}
     for node in _nodes(loop):
         if isinstance(node, n.VarRef) and node.index is not None:

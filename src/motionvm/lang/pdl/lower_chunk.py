@@ -30,7 +30,11 @@ becomes
             <the pass as before: every check, then `b -= ...; if b <= 0: yield`>
 
 If the guard fails (an index runs past the end, a counter would wrap), that pass runs
-the checked code, which faults or wraps exactly as before. A float assigned an integer
+the checked code, which faults or wraps exactly as before. An index inside a promoted
+loop must stay inside the span of memory that holds no promoted scalar (lower_cache):
+a read's check is proved like any other, a split store (`if <span>: <store> else:
+<store the scalars; store; reload them>`) becomes its first branch; if one cannot be
+proved, the analysis runs again seeing the reloads (`retry`). A float assigned an integer
 the analysis bounds by 2**24 skips the float32 rounding (`f = (i & 1023) + 0.0`).
 """
 
@@ -180,7 +184,12 @@ class _Ranges:
         k: str,
         views: dict[tuple[str, int], str],
         sizes: dict[int, int] | None = None,
+        trust: bool = True,
     ) -> None:
+        self.trust = trust
+        """Take every split store's fast branch (`alias_guard`, lower_expr) as the one
+        that runs: the guard must prove each, else `retry` asks for a run without."""
+        self.retry = False
         self.sizes = sizes or {}
         """First word -> size of the list-backed arrays: their indexes must stay inside."""
         self.ints = ints
@@ -212,7 +221,8 @@ class _Ranges:
                     skip = True
             elif isinstance(s, ast.If):
                 self._scan(s.body, True)
-                self._scan(s.orelse, True)
+                if not (self.trust and hasattr(s, "alias_guard")):
+                    self._scan(s.orelse, True)  # a split store's slow branch reloads scalars
             elif isinstance(s, ast.Try):
                 self._scan(s.body, True)
                 for h in s.handlers:
@@ -417,6 +427,8 @@ class _Ranges:
                 for t in s.targets:
                     if isinstance(t, ast.Name) and t.id in self.ints:
                         st[t.id] = self.summary(t.id)
+            elif isinstance(s, ast.If) and self.trust and hasattr(s, "alias_guard"):
+                out += self._split_store(s, st)
             elif isinstance(s, ast.If):
                 s.test = self.expr(s.test, st)
                 a, b = dict(st), dict(st)
@@ -441,6 +453,39 @@ class _Ranges:
             else:
                 out.append(s)
         return out
+
+    def _split_store(self, s: ast.If, st: dict[str, Range]) -> list[ast.stmt]:
+        """The fast branch of a split store (lower_expr) if the guard keeps its index inside
+        the span without promoted scalars (on a view if inside the view), else `retry`."""
+        view, base = s.alias_guard  # type: ignore[attr-defined]
+        test = s.test
+        assert isinstance(test, ast.Compare)
+        name = test.comparators[0]
+        lo, hi = test.left.value, test.comparators[1].value  # type: ignore[attr-defined]
+        assert isinstance(name, ast.Name)
+        r = st.get(name.id, _NONE)
+        if not self.require(r, lo, hi - 1):
+            self.retry = True
+            return [s]
+        if view in _VIEW_END and self.require(r, 0, self._view_limit(view, base, hi) - 1):
+            vname = f"v{view}{base}"
+            for x in s.body:
+                for node in ast.walk(x):
+                    if (
+                        isinstance(node, ast.Subscript)
+                        and isinstance(node.value, ast.Name)
+                        and node.value.id == view
+                        and isinstance(node.slice, ast.BinOp)
+                        and isinstance(node.slice.left, ast.Constant)
+                        and node.slice.left.value == base
+                        and isinstance(node.slice.op, ast.Add)
+                        and isinstance(node.slice.right, ast.Name)
+                        and node.slice.right.id == name.id
+                    ):
+                        node.value = nm(vname)
+                        node.slice = nm(name.id)
+                        self.views[(view, base)] = vname
+        return self.block(s.body, st)
 
     def _exact_float(
         self, s: ast.Assign, body: list[ast.stmt], i: int, st: dict[str, Range]
@@ -492,7 +537,9 @@ class _Ranges:
         return new
 
     def _view_limit(self, view: str, base: int, hi: int) -> int:
-        return self.sizes.get(base, hi) if view == "M" else hi
+        """One past the last index of a `v<view><base>` access (below `hi`, which is at
+        most the view's end): a list-backed array's size."""
+        return min(self.sizes.get(base, hi), hi) if view == "M" else hi
 
     def _index(self, e: ast.expr, st: dict[str, Range]) -> ast.expr:
         if not (isinstance(e, ast.Subscript) and isinstance(e.value, ast.Name)):
@@ -525,7 +572,7 @@ class _Ranges:
             view in _VIEW_END
             and isinstance(addr.left, ast.Constant)
             and isinstance(addr.op, ast.Add)
-            and hi == _VIEW_END[view] - addr.left.value
+            and hi <= _VIEW_END[view] - addr.left.value
             and self.require(r, 0, self._view_limit(view, addr.left.value, hi) - 1)
         ):
             base = addr.left.value
@@ -658,6 +705,11 @@ def chunk_loop(
     an.classify(fast)
     checked = copy.deepcopy(fast)
     fast = an.block(fast, an.start_state())
+    if an.retry:  # a split store the guard cannot prove may reload every scalar
+        views.clear()
+        an = _Ranges(ints, ck, views, sizes, trust=False)
+        an.classify(checked)
+        fast = an.block(copy.deepcopy(checked), an.start_state())
     if an.failed:
         an = _Ranges(ints, ck, {})
         an.vars = {}

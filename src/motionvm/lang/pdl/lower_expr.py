@@ -135,6 +135,26 @@ def _constant_step(value: ast.expr) -> int | None:
     return None
 
 
+def _in_span(
+    addr: ast.expr, lo: ast.expr, hi: ast.expr, idx: ast.expr, tmp: str
+) -> tuple[ast.expr, ast.expr]:
+    """(test, address): `lo - base <= n < hi - base` and `base + n` for a constant base and
+    an index in a local n, else `lo <= (tmp := addr) < hi` and `tmp`."""
+    if (
+        isinstance(addr, ast.BinOp)
+        and isinstance(addr.left, ast.Constant)
+        and isinstance(idx, ast.Name)
+        and isinstance(lo, ast.Constant)
+        and isinstance(hi, ast.Constant)
+    ):
+        base = addr.left.value
+        test = ast.Compare(left=const(lo.value - base), ops=[ast.LtE(), ast.Lt()],
+                           comparators=[nm(idx.id), const(hi.value - base)])  # fmt: skip
+        return test, addr
+    walrus = ast.NamedExpr(target=nm(tmp, True), value=addr)
+    return ast.Compare(left=lo, ops=[ast.LtE(), ast.Lt()], comparators=[walrus, hi]), nm(tmp)
+
+
 def storage_kind(sym: VarSym) -> int:
     """LONG, SHORT or FLOAT: how the variable's elements are stored."""
     if sym.pointer or sym.type in ("long", "instate"):
@@ -178,10 +198,27 @@ class ExprLowering:
         return self.read(idx)[0]
 
     def element(self, v: n.VarRef | n.Deref, store: bool = False) -> tuple[str, ast.expr, int]:
-        """(view, index expression, storage kind) of a plain or indexed variable."""
+        """(view, index expression, storage kind) of a plain or indexed variable.
+
+        A read indexed by a variable inside a promoted loop tests the span that holds
+        no written promoted scalar, and stores them before a read outside it
+        (lower_cache); a store is split by `store` itself (`store=True`: unguarded).
+        """
         sym = self.sym(v)
         assert isinstance(sym, VarSym), v
         kind = storage_kind(sym)
+        ix = self._indexed(v, sym)
+        if ix is not None:
+            view, addr, lo, hi, base, idx = ix
+            full = self._checked(addr, lo, hi, v.name, idx)
+            span = None if store else self._span(view, base, lo, hi, True)
+            if span is None:
+                return view, full, kind
+            flush = self.promo.flush_exprs()  # type: ignore[union-attr]
+            slow = ast.Subscript(value=ast.Tuple(elts=flush + [full], ctx=ast.Load()),
+                                 slice=const(-1), ctx=ast.Load())  # fmt: skip
+            fast = self._checked(copy.deepcopy(addr), span[0], span[1], v.name, idx, slow)
+            return view, fast, kind
         idx = self.index_value(v.index)
         if sym.scope == "system":
             base = self.prog.sys_base[sym.name]
@@ -199,56 +236,73 @@ class ExprLowering:
         if sym.scope == "global":
             view = {LONG: "M", SHORT: "H", FLOAT: "F"}[kind]
             base_i = self.prog.global_index(sym)
-            lo, hi = (USER_BASE * 2, USER_END * 2) if kind == SHORT else (USER_BASE, USER_END)
+            hi = USER_END * 2 if kind == SHORT else USER_END
             if idx is None:
                 return view, const(base_i), kind
-            if isinstance(idx, ast.Constant):
-                if base_i + idx.value < hi:
-                    return view, const(base_i + idx.value), kind
-                return view, call("_oob", const(v.name), idx), kind
-            return (
-                view,
-                self._checked(
-                    binop(const(base_i), ast.Add(), idx), const(lo), const(hi), v.name, idx
-                ),
-                kind,
-            )
+            assert isinstance(idx, ast.Constant)
+            if base_i + idx.value < hi:
+                return view, const(base_i + idx.value), kind
+            return view, call("_oob", const(v.name), idx), kind
         assert self.frame is not None
         view = "F" if kind == FLOAT else "M"
         slot = binop(nm("bp"), ast.Add(), const(self.frame[id(sym)]))
         if idx is None:
             return view, slot, kind
-        if isinstance(idx, ast.Constant):
-            return view, binop(slot, ast.Add(), idx), kind
-        return (
-            view,
-            self._checked(binop(slot, ast.Add(), idx), const(1), nm("_MEND"), v.name, idx),
-            kind,
-        )
+        return view, binop(slot, ast.Add(), idx), kind
+
+    def _indexed(
+        self, v: n.VarRef | n.Deref, sym: VarSym
+    ) -> tuple[str, ast.expr, ast.expr, ast.expr, int | None, ast.expr] | None:
+        """(view, address, lo, hi, first element or None for a frame variable, index) of
+        a global or frame element indexed by a variable, checked against [lo, hi)."""
+        if sym.scope == "system" or v.index is None or isinstance(v.index, n.IntConst):
+            return None
+        kind = storage_kind(sym)
+        idx = self.index_value(v.index)
+        assert idx is not None
+        if sym.scope == "global":
+            view = {LONG: "M", SHORT: "H", FLOAT: "F"}[kind]
+            base_i = self.prog.global_index(sym)
+            lo, hi = (USER_BASE * 2, USER_END * 2) if kind == SHORT else (USER_BASE, USER_END)
+            addr = binop(const(base_i), ast.Add(), idx)
+            return view, addr, const(lo), const(hi), base_i, idx
+        assert self.frame is not None
+        view = "F" if kind == FLOAT else "M"
+        slot = binop(nm("bp"), ast.Add(), const(self.frame[id(sym)]))
+        return view, binop(slot, ast.Add(), idx), const(1), nm("_MEND"), None, idx
+
+    def _span(
+        self, view: str, base: int | None, lo: ast.expr, hi: ast.expr, reads: bool
+    ) -> tuple[ast.expr, ast.expr] | None:
+        """The bounds an access of the promoted loop may take without the slow path (no
+        promoted scalar between them), or None if they are [lo, hi) (lower_cache)."""
+        if self.promo is None:
+            return None
+        assert isinstance(lo, ast.Constant)
+        hi_v = hi.value if isinstance(hi, ast.Constant) else 0
+        span = self.promo.free_span(view, base, lo.value, hi_v, reads)
+        if span is None:
+            return None
+        return const(span[0]), (const(span[1]) if isinstance(hi, ast.Constant) else hi)
 
     @staticmethod
-    def _checked(addr: ast.expr, lo: ast.expr, hi: ast.expr, name: str, idx: ast.expr) -> ast.expr:
-        """`_i if lo <= (_i := addr) < hi else _oob(name, idx)`.
+    def _checked(
+        addr: ast.expr,
+        lo: ast.expr,
+        hi: ast.expr,
+        name: str,
+        idx: ast.expr,
+        orelse: ast.expr | None = None,
+    ) -> ast.expr:
+        """`_i if lo <= (_i := addr) < hi else _oob(name, idx)` (or else `orelse`).
 
         With a constant base and an index held in a Python local (a promoted scalar),
         the cheaper `base + n if lo - base <= n < hi - base else _oob(name, n)`.
         """
-        if (
-            isinstance(addr, ast.BinOp)
-            and isinstance(addr.left, ast.Constant)
-            and isinstance(idx, ast.Name)
-            and isinstance(lo, ast.Constant)
-            and isinstance(hi, ast.Constant)
-        ):
-            base = addr.left.value
-            test = ast.Compare(left=const(lo.value - base), ops=[ast.LtE(), ast.Lt()],
-                               comparators=[nm(idx.id), const(hi.value - base)])  # fmt: skip
-            return ast.IfExp(test=test, body=addr, orelse=call("_oob", const(name), nm(idx.id)))
-        walrus = ast.NamedExpr(target=nm("_i", True), value=addr)
-        test = ast.Compare(left=lo, ops=[ast.LtE(), ast.Lt()], comparators=[walrus, hi])
-        return ast.IfExp(
-            test=test, body=nm("_i"), orelse=call("_oob", const(name), copy.deepcopy(idx))
-        )
+        test, fast = _in_span(addr, lo, hi, idx, "_i")
+        if orelse is None:
+            orelse = call("_oob", const(name), copy.deepcopy(idx))
+        return ast.IfExp(test=test, body=fast, orelse=orelse)
 
     # ------------------------------------------------------------ reads
 
@@ -422,9 +476,48 @@ class ExprLowering:
         local = self.promoted(t)
         if local is not None:
             return _store_local(local[0], local[1], value, kind)
-        view, ix, skind = self.element(t, store=True)
+        ix = self._indexed(t, sym) if self.promo is not None else None
+        if ix is not None:
+            view, _addr, lo, hi, base, _idx = ix
+            span = self._span(view, base, lo, hi, False)
+            if span is not None:
+                return [self._split_store(t.name, ix, span, storage_kind(sym), value, kind)]
+        view, ix_e, skind = self.element(t, store=True)
         if view == "S":
-            return [ast.Expr(call("_sw", ix, value))]
+            return [ast.Expr(call("_sw", ix_e, value))]
+        return self._store_at(view, ix_e, skind, value, kind)
+
+    def _split_store(
+        self,
+        name: str,
+        ix: tuple[str, ast.expr, ast.expr, ast.expr, int | None, ast.expr],
+        span: tuple[ast.expr, ast.expr],
+        skind: int,
+        value: ast.expr,
+        kind: str,
+    ) -> ast.If:
+        """A store indexed by a variable in a promoted loop (lower_cache):
+
+            if <index inside the span without promoted scalars>: <the store>
+            else: <store the scalars>; <the checked store>; <load the scalars>
+
+        A chunk whose guard proves the span keeps the first branch (`alias_guard`)."""
+        view, addr, lo, hi, base, idx = ix
+        promo = self.promo
+        assert promo is not None
+        test, fast = _in_span(copy.deepcopy(addr), span[0], span[1], idx, "_j")
+        full = self._checked(addr, lo, hi, name, idx)
+        slow = self._store_at(view, full, skind, copy.deepcopy(value), kind)
+        node = ast.If(test=test, body=self._store_at(view, fast, skind, value, kind),
+                      orelse=promo.stores() + slow + promo.loads())  # fmt: skip
+        if isinstance(test.comparators[0], ast.Name):
+            node.alias_guard = (view, base)  # type: ignore[attr-defined]
+        return node
+
+    def _store_at(
+        self, view: str, ix: ast.expr, skind: int, value: ast.expr, kind: str
+    ) -> list[ast.stmt]:
+        """`view[ix] = value`, converted to the element's kind (`skind`)."""
         if skind == FLOAT:
             return [assign(subscript(view, ix, True), value)]
         bits = 16 if skind == SHORT else 32
