@@ -21,6 +21,7 @@ import ast
 
 from motionvm.lang.hmpl import ctypes_ as ct
 from motionvm.lang.hmpl import nodes as n
+from motionvm.lang.hmpl.analysis import walk
 from motionvm.lang.hmpl.lower_expr import SemanticError
 from motionvm.lang.hmpl.lower_util import CHUNK, LoopCtx, at, backedge, countdown_init
 from motionvm.lang.hmpl.lvalues import call, const, name
@@ -354,8 +355,6 @@ def _breaks_out(body) -> bool:
 
 def _assigned_names(body) -> set[str]:
     """Names the statement assigns, increments or takes the address of."""
-    from motionvm.lang.hmpl.program import walk
-
     out: set[str] = set()
     for x in walk(body):
         t = type(x)

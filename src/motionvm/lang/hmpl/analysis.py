@@ -1,0 +1,147 @@
+"""One pass over an HMPL syntax tree: which names are address-taken, how arrays are used
+(indexed to full depth, or escaping as pointers), which functions can block and whom they
+call. `walk` visits every node; child fields per node class come from `nodes.py`'s
+annotations and are computed once."""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass, field
+
+from motionvm.lang.hmpl import nodes as n
+
+_SCALAR_FIELD_TYPES = frozenset(("SourcePos", "str", "str | None", "int", "float", "bytes", "bool"))
+_CHILDREN: dict[type, tuple[str, ...]] = {}
+
+
+def _children_of(cls: type) -> tuple[str, ...]:
+    """The fields of a node class that can hold nodes (or tuples of them), cached."""
+    names = _CHILDREN.get(cls)
+    if names is None:
+        names = tuple(
+            f.name for f in dataclasses.fields(cls) if _spelling(f.type) not in _SCALAR_FIELD_TYPES
+        )
+        _CHILDREN[cls] = names
+    return names
+
+
+def _spelling(annotation) -> str:
+    """A field's annotation as written (nodes.py postpones annotations: already a string)."""
+    if isinstance(annotation, str):
+        return annotation
+    return getattr(annotation, "__name__", None) or repr(annotation)
+
+
+def walk(node):
+    """Every AST node under `node` (inclusive), depth first."""
+    stack = [node]
+    pop, push, extend = stack.pop, stack.append, stack.extend
+    children = _CHILDREN
+    while stack:
+        x = pop()
+        t = type(x)
+        if t is tuple or t is list:
+            extend(x)
+            continue
+        if x is None:
+            continue
+        yield x
+        fields = children.get(t)
+        if fields is None:
+            fields = _children_of(t)
+        for fname in fields:
+            v = getattr(x, fname)
+            if v is not None:
+                push(v)
+
+
+@dataclass
+class FuncFacts:
+    """What one pass over a function body finds: waits, callees, address-taken names."""
+
+    waits: bool = False
+    callees: list[str] = field(default_factory=list)
+    addr_taken: set[str] = field(default_factory=set)
+
+
+_LOOPS_AND_JUMPS = frozenset((n.While, n.DoWhile, n.For, n.Goto))
+
+
+def scan(root, uses: dict[str, set], facts: FuncFacts | None, blocking: dict[str, bool]) -> None:
+    """One pass over `root`: how names are used as arrays (into `uses`) and, if `facts` is
+    given, what the code waits on, calls and takes the address of.
+
+    Array uses: the depth of each full `a[i][j]` chain, or 'escape' (any other use:
+    decays to a pointer, `&a[i]`, passed to a function, ...); `sizeof` operands are not
+    uses. Facts count everything, `sizeof` operands included.
+    """
+    stack = [root]
+    pop, push, extend = stack.pop, stack.append, stack.extend
+    children = _CHILDREN
+    Index, Name, Unary, Call, SizeOf = n.Index, n.Name, n.Unary, n.Call, n.SizeOf
+    loops = _LOOPS_AND_JUMPS
+    while stack:
+        x = pop()
+        t = type(x)
+        if t is tuple or t is list:
+            extend(x)
+            continue
+        if x is None:
+            continue
+        if t is Name:
+            uses.setdefault(x.id, set()).add("escape")
+            continue
+        if t is Index:
+            depth, r = 0, x
+            while type(r) is Index:
+                push(r.index)
+                depth, r = depth + 1, r.base
+            if type(r) is Name:
+                uses.setdefault(r.id, set()).add(depth)
+            else:
+                push(r)
+            continue
+        if t is Unary and x.op == "&":
+            r = x.operand
+            if type(r) is Name:
+                uses.setdefault(r.id, set()).add("escape")
+                if facts is not None:
+                    facts.addr_taken.add(r.id)
+                continue
+            while type(r) is Index:
+                push(r.index)
+                r = r.base
+            if type(r) is Name:
+                uses.setdefault(r.id, set()).add("escape")
+                continue
+        elif t is SizeOf:
+            if facts is not None:
+                scan((x.target, x.dims), {}, facts, blocking)  # facts only
+            continue
+        elif facts is not None:
+            if t is Call:
+                if type(x.func) is Name:
+                    cname = x.func.id
+                    if cname == "Till" or blocking.get(cname):
+                        facts.waits = True
+                    facts.callees.append(cname)
+            elif t in loops:
+                facts.waits = True
+        fields = children.get(t)
+        if fields is None:
+            fields = _children_of(t)
+        for fname in fields:
+            v = getattr(x, fname)
+            if v is not None:
+                push(v)
+
+
+def constant_init(init) -> bool:
+    """A brace list (nested) of literal numbers or characters, or a string literal."""
+    if isinstance(init, (n.IntLit, n.FloatLit, n.CharLit, n.StrLit)):
+        return True
+    if isinstance(init, n.Unary) and init.op in ("-", "+"):
+        return isinstance(init.operand, (n.IntLit, n.FloatLit, n.CharLit))
+    if isinstance(init, n.InitList):
+        return all(constant_init(i) for i in init.items)
+    return False
