@@ -15,6 +15,7 @@ from dataclasses import dataclass
 
 from motionvm.lang.hmpl import ctypes_ as ct
 from motionvm.lang.hmpl import nodes as n
+from motionvm.lang.hmpl.cmemory import to_f32
 from motionvm.lang.hmpl.lvalues import (
     call,
     const,
@@ -130,7 +131,7 @@ class ExprLowering:
             if isinstance(src, (ct.IntT, ct.FloatT)):
                 if v.const is not None:
                     f = float(v.const)
-                    return ast.Constant(self._to_f32(f) if to == ct.FLOAT else f)
+                    return ast.Constant(to_f32(f) if to == ct.FLOAT else f)
                 node = self.exact(v) if isinstance(src, ct.IntT) else v.node
                 if to == ct.FLOAT and src != ct.FLOAT:
                     return call("_f32", node)
@@ -149,12 +150,6 @@ class ExprLowering:
                 return v.node
             raise self.fail(pos, f"cannot convert '{src}' to '{to}'{what}")
         raise self.fail(pos, f"cannot convert '{src}' to '{to}'{what}")
-
-    @staticmethod
-    def _to_f32(f: float) -> float:
-        from motionvm.lang.hmpl.cmemory import to_f32
-
-        return to_f32(f)
 
     def assign_convert(self, v: Val, to: ct.CType, pos, what: str) -> ast.expr:
         """Conversion as by assignment: checks pointer/integer compatibility like C."""
@@ -216,28 +211,21 @@ class ExprLowering:
         v = e.value
         s = e.suffix
         if "u" in s:
-            t = ct.U32 if v <= 0xFFFFFFFF and "l" not in s.replace("u", "")[:2] else ct.U64
-            if "ll" in s:
-                t = ct.U64
+            t = ct.U32 if v <= 0xFFFFFFFF and "l" not in s else ct.U64
         elif "ll" in s:
             t = ct.I64
         elif v <= 0x7FFFFFFF:
             t = ct.INT
-        elif v <= 0xFFFFFFFF and e.pos is not None and getattr(e, "suffix", "") == "" and v >= 0:
-            t = ct.U32 if self._is_hex_literal(e) else ct.I64
         elif v <= 0x7FFFFFFFFFFFFFFF:
-            t = ct.I64
+            t = ct.I64  # a constant beyond INT_MAX is long long
         else:
             t = ct.U64
         v = _fold_int(v, t)
         return Val(const(v), t, True, v, (v, v))
 
-    def _is_hex_literal(self, e: n.IntLit) -> bool:
-        return False  # decimal literals above INT_MAX are long long; hex ones are unsigned
-
     def _x_FloatLit(self, e: n.FloatLit) -> Val:
         if e.is_float:
-            f = self._to_f32(e.value)
+            f = to_f32(e.value)
             return Val(ast.Constant(f), ct.FLOAT, True, f)
         return Val(ast.Constant(e.value), ct.DOUBLE, True, e.value)
 
@@ -446,7 +434,7 @@ class ExprLowering:
         if a.const is not None and b.const is not None and op != "/":
             pyop = {"+": float.__add__, "-": float.__sub__, "*": float.__mul__}[op]
             c = pyop(float(a.const), float(b.const))
-            c = self._to_f32(c) if t == ct.FLOAT else c
+            c = to_f32(c) if t == ct.FLOAT else c
             return Val(ast.Constant(c), t, True, c)
         if op == "/":
             if b.const is not None and b.const != 0:

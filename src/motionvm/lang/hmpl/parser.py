@@ -26,7 +26,7 @@ from typing import ClassVar
 from motionvm.lang.hmpl import nodes as n
 from motionvm.lang.hmpl.lexer import gc_paused
 from motionvm.lang.hmpl.preprocess import preprocess
-from motionvm.lang.hmpl.tokens import Token
+from motionvm.lang.hmpl.tokens import BINARY_PREC, Token
 from motionvm.source.diagnostics import DiagnosticSink, TooManyErrors
 from motionvm.source.files import SourceFile, SourcePos
 from motionvm.source.suggest import did_you_mean
@@ -46,26 +46,6 @@ DECL_START = (
 TYPE_START = BASIC_WORDS | INTN_TYPES | QUALIFIERS | {"struct", "union", "enum"}
 INT32_MIN, INT32_MAX = -(1 << 31), (1 << 31) - 1
 
-BINARY_PREC = {
-    "||": 1,
-    "&&": 2,
-    "|": 3,
-    "^": 4,
-    "&": 5,
-    "==": 6,
-    "!=": 6,
-    "<": 7,
-    ">": 7,
-    "<=": 7,
-    ">=": 7,
-    "<<": 8,
-    ">>": 8,
-    "+": 9,
-    "-": 9,
-    "*": 10,
-    "/": 10,
-    "%": 10,
-}
 ASSIGN_OPS = frozenset(["=", "+=", "-=", "*=", "/=", "%=", "<<=", ">>=", "&=", "|=", "^="])
 UNARY_OPS = frozenset(["-", "+", "!", "~", "*", "&"])
 POSTFIX_START = frozenset(["[", "(", ".", "->", "++", "--"])

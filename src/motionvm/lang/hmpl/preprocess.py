@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 from operator import attrgetter
 
 from motionvm.lang.hmpl.lexer import Scan, end_pos, gc_paused, lex_fragment, scan
-from motionvm.lang.hmpl.tokens import Token
+from motionvm.lang.hmpl.tokens import BINARY_PREC, Token
 from motionvm.source.diagnostics import DiagnosticSink, TooManyErrors
 from motionvm.source.files import SourceFile, SourcePos
 from motionvm.source.suggest import did_you_mean
@@ -729,28 +729,6 @@ class _IfError(Exception):
         self.message = message
 
 
-_IF_BINARY = {
-    "||": 1,
-    "&&": 2,
-    "|": 3,
-    "^": 4,
-    "&": 5,
-    "==": 6,
-    "!=": 6,
-    "<": 7,
-    ">": 7,
-    "<=": 7,
-    ">=": 7,
-    "<<": 8,
-    ">>": 8,
-    "+": 9,
-    "-": 9,
-    "*": 10,
-    "/": 10,
-    "%": 10,
-}
-
-
 def _wrap64(v: int) -> int:
     v &= (1 << 64) - 1
     return v - (1 << 64) if v >= 1 << 63 else v
@@ -799,7 +777,7 @@ class _IfEval:
             t = self._peek()
             if t is None or t.kind != "punct":
                 return left
-            prec = _IF_BINARY.get(t.text)
+            prec = BINARY_PREC.get(t.text)
             if prec is None or prec < min_prec:
                 return left
             self.i += 1

@@ -171,23 +171,17 @@ class HmplRuntime:
         if info is None or self.kernel.tasks[task_id].running:
             return 1
         if func_name is None:
-            if info.entry is None:
+            sym = info.functions.get("main")
+            if sym is None:
                 return 2
-            pyname = info.entry
         else:
             sym = info.functions.get(func_name) or self.program.tasks.get(0, info).functions.get(
                 func_name
             )
             if sym is None or sym.type.params:
                 return 3
-            pyname = sym.pyname
-        fn = self.ns[pyname]
-        sym = next((s for s in info.functions.values() if s.pyname == pyname), None)
-        if sym is None and 0 in self.program.tasks:
-            sym = next(
-                (s for s in self.program.tasks[0].functions.values() if s.pyname == pyname), None
-            )
-        gen = fn() if sym is not None and sym.is_generator else _plain_to_gen(fn)
+        fn = self.ns[sym.pyname]
+        gen = fn() if sym.is_generator else _plain_to_gen(fn)
         self.stacks[task_id].reset()
         self.kernel.start(task_id, gen, func_name or "main")
         return 0

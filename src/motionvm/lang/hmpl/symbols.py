@@ -51,32 +51,23 @@ class Scope:
     types: dict[str, ct.CType] = field(default_factory=dict)  # typedef names
     tags: dict[str, ct.StructT] = field(default_factory=dict)  # struct/union tags
 
-    def lookup(self, name: str) -> VarSym | FuncSym | None:
+    def _find(self, table: str, key: str):
         s: Scope | None = self
         while s is not None:
-            found = s.names.get(name)
+            found = getattr(s, table).get(key)
             if found is not None:
                 return found
             s = s.parent
         return None
+
+    def lookup(self, name: str) -> VarSym | FuncSym | None:
+        return self._find("names", name)
 
     def lookup_type(self, name: str) -> ct.CType | None:
-        s: Scope | None = self
-        while s is not None:
-            found = s.types.get(name)
-            if found is not None:
-                return found
-            s = s.parent
-        return None
+        return self._find("types", name)
 
     def lookup_tag(self, tag: str) -> ct.StructT | None:
-        s: Scope | None = self
-        while s is not None:
-            found = s.tags.get(tag)
-            if found is not None:
-                return found
-            s = s.parent
-        return None
+        return self._find("tags", tag)
 
     def visible_names(self) -> list[str]:
         out: list[str] = []

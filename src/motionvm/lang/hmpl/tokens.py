@@ -50,6 +50,28 @@ KEYWORDS = frozenset(
     ]
 )
 
+# C binary operator precedence (higher binds tighter): the parser and `#if` expressions
+BINARY_PREC = {
+    "||": 1,
+    "&&": 2,
+    "|": 3,
+    "^": 4,
+    "&": 5,
+    "==": 6,
+    "!=": 6,
+    "<": 7,
+    ">": 7,
+    "<=": 7,
+    ">=": 7,
+    "<<": 8,
+    ">>": 8,
+    "+": 9,
+    "-": 9,
+    "*": 10,
+    "/": 10,
+    "%": 10,
+}
+
 
 @dataclass(frozen=True, slots=True)
 class Token:

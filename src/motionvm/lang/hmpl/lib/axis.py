@@ -12,9 +12,9 @@ Decisions where the manual is silent are in `motionvm.motion.axis`.
 
 from __future__ import annotations
 
-from motionvm.lang.hmpl.lib.base import Library, builtin
+from motionvm.lang.hmpl.lib.axis_base import AxisLibrary
+from motionvm.lang.hmpl.lib.base import builtin
 from motionvm.motion import axis_status as st
-from motionvm.motion.axis_status import AxisCommandError
 from motionvm.motion.gantry import from_axes, gantries_of
 from motionvm.motion.kernel import ECAT_OP
 from motionvm.motion.pvt import MAX_POINTS
@@ -23,32 +23,14 @@ _GANTRY_VIEW = frozenset({"pos_fb", "vel_fb", "ref_pos", "ref_vel", "ref_acc", "
 """Axis variables that a gantry pair's axes report in linear/yaw coordinates (manual 7.1)."""
 
 
-class AxisLib(Library):
+class AxisLib(AxisLibrary):
     """Chapter 5: Enable ... GetCmdNum, IsEnabled ... IsAcc."""
 
     # ------------------------------------------------------------ plumbing
 
-    def _axis(self, axis_id: int):
-        motion = self.rt.controller.motion
-        a = motion.axis(axis_id)
-        if a is None:
-            motion.system_last_error = st.SYS_HMPL_ARG_OUT_OF_RANGE
-        return a
-
-    def _do(self, axis_id: int, method: str, *args) -> int:
-        """Call Axis.`method`; 0, or the error code it raised (stored as last error)."""
-        a = self._axis(axis_id)
-        if a is None:
-            return st.SYS_HMPL_ARG_OUT_OF_RANGE
-        if getattr(a, "controlled_by", None):  # a PDL program runs the drive (sim/pdl_drives.py)
-            a.last_error = code = st.axis_error(st.CMD_INVALID_CONTROL_MODE, axis_id)
-            return code
-        try:
-            getattr(a, method)(*args)
-        except AxisCommandError as exc:
-            a.last_error = code = st.axis_error(exc.code, axis_id)
-            return code
-        return 0
+    def _refusal(self, a) -> int:
+        # a PDL program runs the drive (sim/pdl_drives.py): HMPL commands are refused
+        return st.CMD_INVALID_CONTROL_MODE if getattr(a, "controlled_by", None) else 0
 
     def _get(self, axis_id: int, attr: str, default: float = 0.0):
         a = self._axis(axis_id)

@@ -12,33 +12,17 @@ Units: mm or deg, mm/s, mm/s^2; the timeout in ms. Semantics: `motionvm.motion.h
 
 from __future__ import annotations
 
-from motionvm.lang.hmpl.lib.base import Library, builtin
+from motionvm.lang.hmpl.lib.axis_base import AxisLibrary
+from motionvm.lang.hmpl.lib.base import builtin
 from motionvm.motion import axis_status as st
-from motionvm.motion.axis_status import AxisCommandError
 from motionvm.motion.homing import homing_of
 
 
-class HomingLib(Library):
+class HomingLib(AxisLibrary):
     """Chapter 20: MoveHome, SetHomeMethod ... SetHomeTimeout, IsHomed, IsHoming, SetHomedStatus."""
 
-    def _axis(self, axis_id: int):
-        motion = self.rt.controller.motion
-        a = motion.axis(axis_id)
-        if a is None:
-            motion.system_last_error = st.SYS_HMPL_ARG_OUT_OF_RANGE
-        return a
-
-    def _do(self, axis_id: int, method: str, *args) -> int:
-        """Call AxisHoming.`method`; 0, or the error code it raised (stored as last error)."""
-        a = self._axis(axis_id)
-        if a is None:
-            return st.SYS_HMPL_ARG_OUT_OF_RANGE
-        try:
-            getattr(homing_of(a), method)(*args)
-        except AxisCommandError as exc:
-            a.last_error = code = st.axis_error(exc.code, axis_id)
-            return code
-        return 0
+    def _target(self, a):
+        return homing_of(a)
 
     @builtin(blocking=True)
     def MoveHome(self, axis_id: int):

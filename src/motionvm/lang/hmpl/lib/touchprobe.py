@@ -22,7 +22,8 @@ eERR_AXIS_CMD_INVALID_TP_ENABLED (0x83XX010E).
 from __future__ import annotations
 
 from motionvm.drives.objects import TOUCH_PROBE_1_POS, wrap_i32
-from motionvm.lang.hmpl.lib.base import Library, builtin
+from motionvm.lang.hmpl.lib.axis_base import AxisLibrary
+from motionvm.lang.hmpl.lib.base import builtin
 from motionvm.motion import axis_status as st
 
 CMD_INVALID_TP_ENABLED = 0x010E
@@ -32,20 +33,13 @@ _ENABLE, _CONTINUOUS, _INDEX, _POSITIVE, _NEGATIVE = 0x01, 0x02, 0x04, 0x10, 0x2
 _STORED_POSITIVE, _STORED_NEGATIVE = 0x02, 0x04
 
 
-class TouchProbeLib(Library):
+class TouchProbeLib(AxisLibrary):
     """Chapter 13: EnableTouchProbe ... SetTouchProbeFunc."""
 
     def __init__(self, rt) -> None:
         super().__init__(rt)
         self._func: dict[int, tuple[int, int, int]] = {}
         """axis id -> (probe 0/1, continuous 0/1, edge 0/1) set by SetTouchProbeFunc."""
-
-    def _axis(self, axis_id: int):
-        motion = self.rt.controller.motion
-        a = motion.axis(axis_id)
-        if a is None:
-            motion.system_last_error = st.SYS_HMPL_ARG_OUT_OF_RANGE
-        return a
 
     def _setup(self, axis_id: int) -> tuple[int, int, int]:
         return self._func.get(axis_id, (0, 0, 0))
