@@ -114,7 +114,6 @@ def run(args) -> int:
 
         pdl = PdlDrives(ctl, drives, machine, emit=emit, report=report, stamp=bool(args.stamp))
         ctl.clients.append(pdl)
-        ctl.busy_clients.append(pdl)
         pdl.boot()
     rt.boot()
     recorder = _scope_start(scope, ctl, rt) if scope else None  # the last client: sees all

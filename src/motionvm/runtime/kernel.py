@@ -13,6 +13,7 @@ from __future__ import annotations
 from collections.abc import Callable, Generator
 from dataclasses import dataclass, field
 
+from motionvm.runtime.clock import Clock
 from motionvm.runtime.errors import TaskExit
 
 MAX_TASKS = 64
@@ -38,10 +39,11 @@ class Task:
 class Kernel:
     """Schedules tasks; language run times supply generators and per-task hooks."""
 
-    def __init__(self, n_tasks: int = MAX_TASKS) -> None:
+    def __init__(self, clock: Clock | None = None, n_tasks: int = MAX_TASKS) -> None:
+        self.clock = clock if clock is not None else Clock()
+        """The controller's clock; the kernel reads the cycle from it."""
         self.tasks = [Task(i) for i in range(n_tasks)]
         self._active: list[Task] = []  # running tasks in id order: a cycle visits only these
-        self.cycle = 0
         self.current: Task | None = None
         self.mutex_owner: list[int | None] = [None] * 8
         self.on_fault: Callable[[Task, BaseException], None] = lambda task, exc: None
@@ -100,6 +102,11 @@ class Kernel:
         self.on_stop(t)
 
     @property
+    def cycle(self) -> int:
+        """The current cycle of the controller's clock."""
+        return self.clock.cycle
+
+    @property
     def any_running(self) -> bool:
         return bool(self._active)
 
@@ -113,7 +120,7 @@ class Kernel:
 
     def run_cycle(self) -> None:
         """Resume every task that is due in this cycle, once, in id order."""
-        cycle = self.cycle
+        cycle = self.clock.cycle
         for t in tuple(self._active):  # a task started in this cycle runs from the next one
             gen = t.gen
             if gen is None or t.wake_cycle > cycle:

@@ -1,27 +1,26 @@
-"""The simulated controller: the cycle clock, the task kernel and the programs on it.
+"""The simulated controller: the one clock, the task kernel, the machine and its clients.
 
-One cycle (DESIGN.md): programs update system variables, the kernel runs every due
-task once, the motion kernel steps every axis (profile generators, limits, PDOs, the
-drives and their feedback), the clock advances. When no task is due before some later
-cycle and every axis rests (a fixed point: stepping it changes nothing), the clock
-jumps straight to that cycle; the results are identical to stepping. A client with a
-`busy()` method (sim/pdl_drives.py) counts as running work while it returns true: the
-run goes on, and the clock does not jump.
+One cycle (every language's run side is a client of it, runtime/clients.py):
+    1. every client's `begin_cycle` (HMPL system variables, inputs latched)
+    2. the task kernel resumes every due task once, in task order
+    3. the motion kernel steps gears, gantries, homing, then every axis and its drive
+    4. every client's `end_cycle` (PDL drive phases, GDL procedures, scope samples)
+    5. the clock advances one cycle
+Between cycles the controller jumps the clock ahead when nothing can change before a
+later cycle: every axis rests (a fixed point: stepping it changes nothing) and no
+task, no client has an event before it (`next_event`). The results are identical to
+stepping. A run ends when no task runs, no axis moves (an axis jogging at a constant
+velocity it has reached counts as settled) and no client is busy.
 """
 
 from __future__ import annotations
 
-import math
-from typing import Protocol
-
 from motionvm.motion.kernel import MotionKernel
+from motionvm.runtime.clients import CycleClient
+from motionvm.runtime.clock import Clock
 from motionvm.runtime.kernel import Kernel
 from motionvm.sim.machine import DEFAULT_MACHINE, MachineConfig
 from motionvm.sim.pacer import RealTimePacer
-
-
-class CycleClient(Protocol):
-    def begin_cycle(self) -> None: ...
 
 
 class Controller:
@@ -32,18 +31,21 @@ class Controller:
     """
 
     def __init__(self, cycle_time: float = 0.001, machine: MachineConfig | None = None) -> None:
-        if not (cycle_time > 0 and math.isfinite(cycle_time)):
-            raise ValueError(f"cycle time must be positive, got {cycle_time}")
+        self.clock = Clock(cycle_time)
         self.cycle_time = cycle_time
-        self.kernel = Kernel()
+        self.kernel = Kernel(self.clock)
         self.motion = MotionKernel(list((machine or DEFAULT_MACHINE).axes), cycle_time)
         self.clients: list[CycleClient] = []
-        self.busy_clients: list = []
-        """Clients whose `busy()` keeps the run going and forbids jumps (PDL drives)."""
-        self.allow_jump = True
+        """Run sides stepped each cycle, in the order added (runtime/clients.py)."""
         self.stop_requested = False  # set to end run() at the next cycle (e.g. stdout closed)
         self.hmi_scope = False
         """SetHMIScope(1) sets it, SetHMIScope(0) clears it (a scope may follow it)."""
+        self.hmi_scope_used = False
+        """True once a program called SetHMIScope: a scope keeps only its on-periods."""
+
+    def add_client(self, client: CycleClient) -> None:
+        """Step `client` every cycle from now on, after the clients added before it."""
+        self.clients.append(client)
 
     @property
     def axes(self) -> list:
@@ -52,55 +54,54 @@ class Controller:
 
     @property
     def cycle(self) -> int:
-        return self.kernel.cycle
+        return self.clock.cycle
 
     @property
     def sim_time(self) -> float:
         """Simulated time [s]."""
-        return self.kernel.cycle * self.cycle_time
+        return self.clock.cycle * self.cycle_time
 
     def step(self) -> None:
         """Run exactly one controller cycle."""
-        for c in self.clients:
+        clients = self.clients
+        for c in clients:
             c.begin_cycle()
         self.kernel.run_cycle()
         self.motion.step()
-        for c in self.clients:  # optional hook: sees the state the cycle left (scope recording)
-            end = getattr(c, "end_cycle", None)
-            if end is not None:
-                end()
-        self.kernel.cycle += 1
+        for c in clients:
+            c.end_cycle()
+        self.clock.cycle += 1
 
     def busy(self) -> bool:
-        """True while any task runs or any axis moves, enables or settles."""
-        return (
-            self.kernel.any_running
-            or self.motion.busy()
-            or any(c.busy() for c in self.busy_clients)
-        )
+        """True while any task runs, any axis moves, enables or settles, or a client is busy."""
+        return self.kernel.any_running or self.motion.busy() or any(c.busy() for c in self.clients)
+
+    def next_event(self) -> int | None:
+        """The earliest cycle a task or client wants to be stepped at (None: none)."""
+        wake = self.kernel.next_wake()
+        for c in self.clients:
+            e = c.next_event()
+            if e is not None and (wake is None or e < wake):
+                wake = e
+        return wake
 
     def run(self, until: float | None = None, realtime: bool = False) -> None:
         """Run until nothing is left to do, or until `until` seconds of simulated time;
         with `realtime`, never ahead of the wall clock (sim/pacer.py)."""
         end_cycle = None if until is None else round(until / self.cycle_time)
-        k = self.kernel
+        clock = self.clock
         pacer = RealTimePacer(self.sim_time) if realtime else None
         self.stop_requested = False
-        while k._active or self.busy():  # a running task: busy, without the call
+        while self.busy():
             if self.stop_requested:
                 return
             if pacer is not None:
                 pacer.wait(self.sim_time)
-            if end_cycle is not None and k.cycle >= end_cycle:
+            if end_cycle is not None and clock.cycle >= end_cycle:
                 return
-            if (
-                self.allow_jump
-                and self.motion.at_rest()
-                and not any(c.busy() for c in self.busy_clients)
-            ):
-                wake = k.next_wake()
-                if wake is not None and wake > k.cycle:
-                    target = wake if end_cycle is None else min(wake, end_cycle)
-                    k.cycle = max(k.cycle, target)
+            if self.motion.at_rest():
+                wake = self.next_event()
+                if wake is not None and wake > clock.cycle:
+                    clock.cycle = wake if end_cycle is None else min(wake, end_cycle)
                     continue
             self.step()

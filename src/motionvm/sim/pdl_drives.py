@@ -185,3 +185,7 @@ class PdlDrives:
     def busy(self) -> bool:
         """True while a drive task runs or a drive's axis moves."""
         return any(drive.busy for _a, drive in self.drives)
+
+    def next_event(self) -> int | None:
+        """Every cycle while busy: the drives' phases are stepped, never jumped over."""
+        return self.controller.cycle if self.busy() else None

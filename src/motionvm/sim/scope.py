@@ -17,35 +17,23 @@ import difflib
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Protocol
+
+from motionvm.runtime.scope import BIT_UNIT, RAW_UNIT, ChannelSource, ScopeError
+
+__all__ = [  # the units and the error are the scope protocol's (runtime/scope.py)
+    "BIT_UNIT",
+    "RAW_UNIT",
+    "Channel",
+    "ChannelRegistry",
+    "ChannelSource",
+    "ScopeError",
+    "ScopeRecorder",
+    "ScopeRequest",
+]
 
 OUTPUT_SUFFIXES = (".csv", ".png", ".svg", ".vcd")
 PLOT_SUFFIXES = (".png", ".svg")
 PLOT_INSTALL_HINT = "pip install 'motionvm[plot]'"
-# Unit of a channel that is a single bit (drawn as steps, a 1-bit wire in VCD).
-BIT_UNIT = "bool"
-# Unit of a plain number with no physical unit (test variables, globals, counters).
-RAW_UNIT = "raw"
-
-
-class ScopeError(ValueError):
-    """A bad scope request (unknown channel, bad flag, unwritable output); exit code 3."""
-
-
-class ChannelSource(Protocol):
-    """Something that owns values the scope can record."""
-
-    def resolve(self, name: str) -> tuple[Callable[[], float], str] | None:
-        """(getter, unit) for a channel of this source; None if `name` is not one of ours.
-
-        A source may raise ScopeError for a name that is its own but wrong (an array
-        index out of range, an axis that does not exist), to say exactly what is wrong.
-        """
-        ...
-
-    def channel_names(self) -> Iterable[str]:
-        """Names offered for "did you mean" suggestions (may be a subset for big arrays)."""
-        ...
 
 
 @dataclass(frozen=True, slots=True)
@@ -188,8 +176,9 @@ def check_output_path(path: Path) -> None:
 class ScopeRecorder:
     """Samples channels at the end of every `every`-th controller cycle.
 
-    Attach it after every other client, so it sees the cycle's final state. While it is
-    attached the controller steps every cycle (no jump-ahead), so no sample is skipped.
+    Attach it after every other client, so it sees the cycle's final state. Its
+    `next_event` is always the current cycle: while it is attached the controller steps
+    every cycle (no jump-ahead), so no sample is skipped.
     A loop without a controller (a standalone PDL drive) calls `sample(cycle)` itself.
 
     SetHMIScope (manual 2.16): each sample notes the controller's `hmi_scope`. If the
@@ -219,14 +208,21 @@ class ScopeRecorder:
         """Become a client of `controller`, sampling from its current cycle on."""
         self._controller = controller
         self._first_cycle = controller.cycle
-        controller.allow_jump = False
-        controller.clients.append(self)
+        controller.add_client(self)
 
     def begin_cycle(self) -> None:
-        pass
+        """Nothing: a sample shows the state a cycle left behind."""
 
     def end_cycle(self) -> None:
         self.sample(self._controller.cycle)
+
+    def busy(self) -> bool:
+        """Never: recording does not keep a run going."""
+        return False
+
+    def next_event(self) -> int | None:
+        """Every cycle is sampled: the clock may not jump."""
+        return self._controller.cycle
 
     def sample(self, cycle: int) -> None:
         """Record every channel as cycle `cycle` (if it is an `every`-th cycle)."""

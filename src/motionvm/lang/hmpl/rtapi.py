@@ -123,6 +123,17 @@ class HmplRuntime:
             ticks = ((ticks + 2**31) & 0xFFFFFFFF) - 2**31
         i32[self._fclk_addr] = ticks
 
+    def end_cycle(self) -> None:
+        """Nothing: the tasks ran in the kernel's part of the cycle."""
+
+    def busy(self) -> bool:
+        """The tasks keep the run going through the kernel, not through this client."""
+        return False
+
+    def next_event(self) -> int | None:
+        """The tasks' wake-ups are the kernel's; the run time itself has none."""
+        return None
+
     # ------------------------------------------------------------ output
 
     def emit(self, text: str) -> None:

@@ -14,9 +14,10 @@ from motionvm.lang.hmpl.lib.base import Library, builtin
 from motionvm.lang.hmpl.lib.sync import SyncCalls
 from motionvm.motion import axis_status as st
 from motionvm.motion.gantry import gantries_of
+from motionvm.runtime.clients import PassiveClient
 
 
-class _GantryCycle:
+class _GantryCycle(PassiveClient):
     """A controller cycle client: steps the gantry pairs before the tasks run."""
 
     def __init__(self, controller):

@@ -1,0 +1,59 @@
+"""The protocol every language's run side implements to live on the controller's cycle.
+
+A *cycle client* is one part of a run that the controller steps: the HMPL run time
+(system variables before the tasks), the PDL drives (their 15 kHz phases after the
+motion step), a GDL application (its procedures after the motion step), a scope
+recorder (a sample of the state the cycle left). The controller calls, each cycle:
+
+    begin_cycle()   before the tasks run (latch inputs, update system variables)
+    ...tasks, motion...
+    end_cycle()     after the motion step (drive firmware, event procedures, sampling)
+
+and between cycles asks each client
+
+    busy()          True while the client has work that keeps the run going (a task or
+                    a procedure that will still run, a program on a drive, a scenario
+                    event still to come). The run ends when no client is busy, no task
+                    runs and no axis moves.
+    next_event()    the earliest cycle at which the client must be stepped because
+                    something of it can change there; None if nothing of it changes
+                    until another part acts. The controller jumps the clock over the
+                    cycles before the earliest next event of all clients, tasks and
+                    axes; returning the current cycle means "step every cycle".
+
+A jump must give byte-identical results to stepping, so a client that cannot tell
+when it changes next returns the current cycle.
+"""
+
+from __future__ import annotations
+
+from typing import Protocol, runtime_checkable
+
+
+@runtime_checkable
+class CycleClient(Protocol):
+    """A run side stepped by the controller's cycle (see the module docstring)."""
+
+    def begin_cycle(self) -> None: ...
+
+    def end_cycle(self) -> None: ...
+
+    def busy(self) -> bool: ...
+
+    def next_event(self) -> int | None: ...
+
+
+class PassiveClient:
+    """A client with no work of its own: a base for clients that only observe."""
+
+    def begin_cycle(self) -> None:
+        """Nothing before the tasks."""
+
+    def end_cycle(self) -> None:
+        """Nothing after the motion step."""
+
+    def busy(self) -> bool:
+        return False
+
+    def next_event(self) -> int | None:
+        return None
