@@ -1,0 +1,83 @@
+"""The `motionvm` command: run | check | compile | builtins | dump.
+
+Parsing arguments and printing only: every run is assembled by `motionvm.session`, the
+same code the Python API uses. Exit codes: 0 ok; 1 a task stopped with a runtime
+error; 2 compile errors (nothing runs); 3 bad command line, machine file, scenario or
+scope request; 4 an internal error of motionvm itself (a bug); 130 interrupted.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+import traceback
+
+from motionvm.cli.exits import (
+    EXIT_COMPILE,
+    EXIT_INTERNAL,
+    EXIT_INTERRUPTED,
+    EXIT_OK,
+    EXIT_RUNTIME,
+    EXIT_USAGE,
+    UsageError,
+)
+from motionvm.cli.options import build_parser
+
+__all__ = [
+    "EXIT_COMPILE",
+    "EXIT_INTERNAL",
+    "EXIT_INTERRUPTED",
+    "EXIT_OK",
+    "EXIT_RUNTIME",
+    "EXIT_USAGE",
+    "UsageError",
+    "main",
+]
+
+
+def main(argv: list[str] | None = None) -> int:
+    try:
+        args = build_parser().parse_args(argv)
+    except SystemExit as exc:  # argparse already printed its message
+        return EXIT_OK if exc.code == 0 else EXIT_USAGE
+    try:
+        return _dispatch(args)
+    except UsageError as exc:
+        print(exc.rendered(), file=sys.stderr)
+        return EXIT_USAGE
+    except BrokenPipeError:  # output piped into e.g. `head`: stop quietly
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return EXIT_OK
+    except KeyboardInterrupt:
+        print("motionvm: interrupted", file=sys.stderr)
+        return EXIT_INTERRUPTED
+    except Exception:  # noqa: BLE001 — a bug of ours, reported as such
+        print(
+            "motionvm: internal error (a bug in motionvm, not in your program); please file an issue "
+            "with this output and the program attached:",
+            file=sys.stderr,
+        )
+        traceback.print_exc()
+        return EXIT_INTERNAL
+
+
+def _dispatch(args) -> int:
+    if args.cmd == "builtins":
+        from motionvm.cli.info import cmd_builtins
+
+        return cmd_builtins(args)
+    if args.cmd == "dump":
+        from motionvm.cli.info import cmd_dump
+
+        return cmd_dump(args)
+    from motionvm.cli import run
+
+    if args.cmd == "check":
+        return run.cmd_check(args)
+    if args.cmd == "compile":
+        return run.cmd_compile(args)
+    return run.cmd_run(args)
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -1,0 +1,141 @@
+"""`motionvm run | check | compile`: options -> a `session.RunSpec`, output -> the terminal."""
+
+from __future__ import annotations
+
+import os
+import sys
+from pathlib import Path
+
+from motionvm.cli.exits import EXIT_COMPILE, EXIT_OK, EXIT_RUNTIME, UsageError
+from motionvm.session import CompileFailed, RunSpec, Session, SessionError, Source, check
+
+
+def sources_of(args) -> list[Source]:
+    """Positional files, then `--task N=FILE` placements (HMPL)."""
+    out = [Source(f) for f in args.files]
+    for opt in getattr(args, "task", []):
+        num, eq, path = opt.partition("=")
+        if not eq or not num.strip().isdigit() or not path:
+            raise UsageError(f"--task expects N=FILE, got '{opt}'")
+        if Path(path).suffix.lower() != ".hmpl":
+            raise UsageError(f"--task {opt}: {path} is not an HMPL file")
+        out.append(Source(path, task=int(num)))
+    return out
+
+
+def _scope_request(args):
+    """The checked --scope/--scope-out/--scope-every request (None if none)."""
+    from motionvm.sim.scope import ScopeError, ScopeRequest
+
+    try:
+        return ScopeRequest.from_options(
+            getattr(args, "scope", []),
+            getattr(args, "scope_out", []),
+            getattr(args, "scope_every", None),
+        )
+    except ScopeError as exc:
+        raise UsageError(str(exc)) from None
+
+
+def _report(line: str) -> None:
+    try:
+        sys.stdout.flush()
+    except BrokenPipeError:
+        pass
+    print(line, file=sys.stderr)
+
+
+def cmd_check(args) -> int:
+    spec = RunSpec(sources_of(args))
+    try:
+        return EXIT_OK if check(spec, _report) else EXIT_COMPILE
+    except SessionError as exc:
+        raise UsageError(str(exc), located=exc.located) from None
+
+
+def cmd_compile(args) -> int:
+    from motionvm.lang.hmpl.compiler import compile_tasks
+    from motionvm.session import check_sources, place_tasks
+    from motionvm.source.diagnostics import DiagnosticSink, render_diagnostic
+
+    sources = sources_of(args)
+    try:
+        check_sources(sources)
+        if any(s.language != "HMPL" for s in sources):
+            raise UsageError(
+                "'compile' supports HMPL files only (use 'motionvm dump --stage py' for PDL "
+                "and GDL)"
+            )
+        tasks = place_tasks(sources)
+    except SessionError as exc:
+        raise UsageError(str(exc), located=exc.located) from None
+    sink = DiagnosticSink()
+    prog, _mem = compile_tasks(tasks, sink)
+    for d in sink.items:
+        _report(render_diagnostic(d))
+    if prog is None:
+        return EXIT_COMPILE
+    if args.emit_python:
+        sys.stdout.write(prog.python_source())
+    return EXIT_OK
+
+
+def cmd_run(args) -> int:
+    sources = sources_of(args)
+    if not sources and not args.machine:
+        raise UsageError("no input files")
+    spec = RunSpec(
+        sources,
+        machine=args.machine,
+        scenario=args.scenario,
+        scope=_scope_request(args),
+        stamp=bool(args.stamp),
+        pdl_starts=tuple(args.start),
+        gdl_forces=tuple(args.force),
+        shuffle_seed=args.shuffle_order,
+        scope_title=" ".join(list(args.files) + list(args.task)),
+    )
+    if args.until is not None and not args.until >= 0:
+        raise UsageError(f"--until must be a non-negative number of seconds, got {args.until}")
+    if sources and all(s.language == "GDL" for s in sources):  # until GDL is a client
+        from motionvm.lang.gdl import main_run
+
+        return main_run(
+            [s.path for s in sources],
+            args.scenario,
+            args.until,
+            sys.stdout,
+            sys.stderr,
+            args.force or None,
+            args.shuffle_order,
+        )
+    out = sys.stdout
+    session: Session | None = None
+
+    def emit(line: str) -> None:
+        try:
+            out.write(line + "\n")
+        except BrokenPipeError:  # the reader went away (`| head`): end the run quietly
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+            if session is not None:
+                session.controller.stop_requested = True
+
+    try:
+        session = Session(spec, emit=emit, report=_report)
+        if not sources and not session.machine.pdl_drives:
+            raise UsageError("no input files (and the machine file puts no PDL program on a drive)")
+        try:
+            session.run(args.until, realtime=bool(args.realtime))
+        except KeyboardInterrupt:
+            session.save_scope()  # keep what was recorded up to the interrupt
+            raise
+        try:
+            out.flush()
+        except BrokenPipeError:
+            pass
+        session.save_scope()
+    except CompileFailed:
+        return EXIT_COMPILE
+    except SessionError as exc:
+        raise UsageError(str(exc), located=exc.located) from None
+    return EXIT_RUNTIME if session.fault_count else EXIT_OK

@@ -1,0 +1,402 @@
+"""The one place a run is assembled: source files, machine, scenario and scope -> a run.
+
+Both faces of motionvm build their runs here, so they give the same results for the
+same inputs: the command line (`motionvm.cli`) and the host API (`motionvm.api`).
+
+    spec = RunSpec([Source("main.hmpl"), Source("app.gdl")], machine="m.toml")
+    session = Session(spec, emit=print, report=print_to_stderr)   # compiles everything
+    session.run(until=2.0)
+    session.fault_count                                           # 0: no task faulted
+
+Assembly, in order:
+1. The machine: a `MachineConfig`, a machine file (loaded; a bad file is a
+   `SessionError`) or the built-in default machine.
+2. Each source's language by its suffix: `.hmpl` files are tasks (in the order given,
+   skipping ids placed explicitly), `.pdl` files go onto the drives of machine axes that
+   run no PDL program yet (a standalone `prog.pdl` on the default machine: axis 0),
+   `.gdl` files form one application.
+3. Everything compiles before anything runs: any compile error in any language and
+   nothing runs (`CompileFailed`, diagnostics already reported).
+4. One controller, one clock: each language's run side is a client of its cycle
+   (runtime/clients.py), added in a fixed order (HMPL, PDL drives, GDL, then the scope
+   recorder, which sees the state every other part left), so that within one cycle
+   HMPL messages come before PDL drive messages, which come before GDL's.
+5. The scope channels are resolved before the first cycle (an unknown channel is a
+   `SessionError`): the machine's own sources (axes, controller I/O, gears) then each
+   language's (HMPL variables, `driveN.` PDL drive variables, `OBJECT.STATE` GDL states).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from motionvm.lang.hmpl.compiler import TaskFile, compile_tasks
+from motionvm.lang.hmpl.rtapi import HmplRuntime, data_dir_default
+from motionvm.runtime.scope import ScopeError
+from motionvm.sim.controller import Controller
+from motionvm.sim.machine import (
+    DEFAULT_MACHINE,
+    MachineConfig,
+    MachineFileError,
+    PdlDriveSpec,
+    load_machine,
+)
+from motionvm.sim.scope import ChannelRegistry, ScopeRecorder, ScopeRequest
+from motionvm.source.diagnostics import Diagnostic, DiagnosticSink, render_diagnostic
+
+LANGUAGES = {".hmpl": "HMPL", ".pdl": "PDL", ".gdl": "GDL"}
+"""File suffix -> language."""
+N_TASKS = 64
+
+
+class SessionError(Exception):
+    """Input that is not a program cannot be used: the command line, a machine file, a
+    scenario, a scope request (the CLI's exit code 3). The message is complete;
+    `located` messages start with the place (`FILE:LINE: error: ...`)."""
+
+    def __init__(self, message: str, *, located: bool = False) -> None:
+        super().__init__(message)
+        self.located = located
+
+
+class CompileFailed(Exception):
+    """A program did not compile; its diagnostics were reported, nothing runs (exit 2)."""
+
+    def __init__(self, diagnostics: Sequence[Diagnostic]) -> None:
+        super().__init__(diagnostics[0].headline() if diagnostics else "compile errors")
+        self.diagnostics = list(diagnostics)
+
+
+@dataclass(frozen=True)
+class Source:
+    """One program file of a run."""
+
+    path: str
+    text: str | None = None
+    """The source text, for a program that is not in a file (HMPL only); None: read it."""
+    task: int | None = None
+    """HMPL: the task it runs as (None: the next free task id)."""
+
+    @property
+    def language(self) -> str | None:
+        return LANGUAGES.get(Path(self.path).suffix.lower())
+
+
+@dataclass
+class RunSpec:
+    """Everything a run is made of (the CLI's options, the API's arguments)."""
+
+    sources: Sequence[Source] = ()
+    machine: MachineConfig | str | Path | None = None
+    """A loaded machine, a machine file, or None for the built-in machine."""
+    scenario: str | None = None
+    """GDL: a scenario file of timed input changes."""
+    scope: ScopeRequest | None = None
+    stamp: bool = False
+    """Prefix every message with the simulated time and its source."""
+    pdl_starts: Sequence[str] = ()
+    """Labels the host starts on a PDL program given as a file (`--start`)."""
+    gdl_forces: Sequence[str] = ()
+    """GDL: `REF = VALUE` forces applied at t=0 (`--force`)."""
+    shuffle_seed: int | None = None
+    """GDL: permute the order of procedures sharing an activator."""
+    data_dir: str | Path | None = None
+    """Folder of persistent data (user table); default: the machine's."""
+    scope_title: str = ""
+    extra: dict = field(default_factory=dict)
+
+
+def load_machine_spec(machine: MachineConfig | str | Path | None) -> MachineConfig:
+    """The machine of a run; SessionError (naming file, line and key) for a bad file."""
+    if machine is None:
+        return DEFAULT_MACHINE
+    if isinstance(machine, MachineConfig):
+        return machine
+    try:
+        return load_machine(machine)
+    except MachineFileError as exc:
+        raise SessionError(str(exc), located=True) from None
+
+
+def place_tasks(sources: Sequence[Source]) -> list[TaskFile]:
+    """HMPL sources as tasks: explicit ids first, the others take 0, 1, 2, ... in order."""
+    placed: dict[int, Source] = {}
+    for s in sources:
+        if s.task is None:
+            continue
+        if not 0 <= s.task < N_TASKS:
+            raise SessionError(f"task {s.task}: task ids are 0..{N_TASKS - 1}")
+        if s.task in placed:
+            raise SessionError(f"task {s.task} given twice ({placed[s.task].path} and {s.path})")
+        placed[s.task] = s
+    nxt = 0
+    for s in sources:
+        if s.task is not None:
+            continue
+        while nxt in placed:
+            nxt += 1
+        if nxt >= N_TASKS:
+            raise SessionError(f"more than {N_TASKS} task files")
+        placed[nxt] = s
+        nxt += 1
+    return [TaskFile(t, s.path, s.text) for t, s in sorted(placed.items())]
+
+
+def check_sources(sources: Sequence[Source]) -> None:
+    """Every source has a known language and, unless given as text, exists."""
+    for s in sources:
+        if s.language is None:
+            suffix = Path(s.path).suffix.lower() or "(none)"
+            raise SessionError(
+                f"unknown file type '{suffix}' of {s.path} (expected .hmpl, .pdl or .gdl)"
+            )
+        if s.text is None and not Path(s.path).is_file():
+            raise SessionError(f"{s.path}: no such file")
+        if s.text is not None and s.language != "HMPL":
+            raise SessionError(f"{s.path}: only HMPL programs can be given as text")
+
+
+@dataclass
+class Compiled:
+    """The compiled programs of a run, per language (None: the language is absent)."""
+
+    hmpl: tuple | None = None
+    """(CompiledProgram, Memory)"""
+    pdl: list | None = None
+    """Compiled PDL drives, by axis."""
+    gdl: object | None = None
+    """The GDL application (`lang.gdl.App`)."""
+
+
+def _render(items: Sequence[Diagnostic], report: Callable[[str], None]) -> None:
+    for d in items:
+        report(render_diagnostic(d))
+
+
+def compile_run(
+    spec: RunSpec, machine: MachineConfig, report: Callable[[str], None], *, place: bool = True
+) -> tuple[Compiled, MachineConfig]:
+    """Compile every program of `spec` (diagnostics reported, HMPL then PDL then GDL).
+
+    Returns the programs and the machine with the command line's PDL programs placed on
+    its drives. With `place` false (`motionvm check`) PDL files are compiled on their
+    own, any number of them, and the machine's programs are not. Raises CompileFailed
+    after any error, SessionError for bad input.
+    """
+    check_sources(spec.sources)
+    by_lang: dict[str, list[Source]] = {"HMPL": [], "PDL": [], "GDL": []}
+    for s in spec.sources:
+        by_lang[s.language].append(s)  # type: ignore[index]
+    if place:
+        machine = _place_pdl(machine, by_lang["PDL"], spec.pdl_starts)
+    else:
+        machine = dataclasses.replace(
+            machine,
+            pdl_drives=tuple(PdlDriveSpec(i, Path(s.path)) for i, s in enumerate(by_lang["PDL"])),
+        )
+    if spec.pdl_starts and not by_lang["PDL"]:
+        raise SessionError("--start applies to a PDL program given as a file; none was given")
+    out = Compiled()
+    failed: list[Diagnostic] = []
+    pdl_failed = gdl_failed = False
+    if by_lang["HMPL"]:
+        sink = DiagnosticSink()
+        prog, mem = compile_tasks(place_tasks(by_lang["HMPL"]), sink)
+        _render(sink.items, report)
+        failed += sink.errors()
+        out.hmpl = (prog, mem) if prog is not None else None
+    if machine.pdl_drives:
+        from motionvm.sim.pdl_drives import PdlStartError, compile_drives
+
+        try:
+            drives = compile_drives(machine, report)
+        except PdlStartError as exc:
+            raise SessionError(str(exc), located=True) from None
+        pdl_failed = drives is None
+        out.pdl = drives
+    if by_lang["GDL"]:
+        from motionvm.lang.gdl.compiler import compile_app
+
+        paths = [s.path for s in by_lang["GDL"]]
+        sink = DiagnosticSink()
+        app = compile_app(paths, sink=sink)
+        order = {p: i for i, p in enumerate(paths)}
+        _render(
+            sorted(sink.items, key=lambda d: (order.get(d.pos.file, -1), d.pos.line, d.pos.col)),
+            report,
+        )
+        failed += sink.errors()
+        gdl_failed = app is None
+        out.gdl = app
+    if failed or pdl_failed or gdl_failed:
+        raise CompileFailed(failed)
+    return out, machine
+
+
+def _place_pdl(
+    machine: MachineConfig, files: Sequence[Source], starts: Sequence[str]
+) -> MachineConfig:
+    """The machine with each PDL file on the next axis whose drive runs no program."""
+    if not files:
+        return machine
+    if len(files) > 1:
+        raise SessionError(
+            "one .pdl program per drive on the command line; a machine file puts programs "
+            'on several drives (pdl = "x.pdl" in an [[axis]] table)'
+        )
+    taken = {d.axis for d in machine.pdl_drives}
+    free = [i for i in range(len(machine.axes)) if i not in taken]
+    if not free:
+        raise SessionError(f"{files[0].path}: every axis of the machine runs a PDL program")
+    spec = PdlDriveSpec(free[0], Path(files[0].path), tuple(starts), where="--start")
+    return dataclasses.replace(machine, pdl_drives=(*machine.pdl_drives, spec))
+
+
+def check(spec: RunSpec, report: Callable[[str], None]) -> bool:
+    """Compile only (`motionvm check`): True if every program compiles; diagnostics reported."""
+    try:
+        compile_run(spec, DEFAULT_MACHINE, report, place=False)
+    except CompileFailed:
+        return False
+    return True
+
+
+class Session:
+    """One assembled run: the controller and every language's run side on it."""
+
+    def __init__(
+        self,
+        spec: RunSpec,
+        *,
+        emit: Callable[[str], None],
+        report: Callable[[str], None],
+    ) -> None:
+        """Compile and wire the run of `spec`. `emit` receives every message line a
+        program prints, `report` every diagnostic and fault (one line each, or a
+        rendered diagnostic of several lines)."""
+        self.spec = spec
+        self._emit = emit
+        self._report = report
+        base = load_machine_spec(spec.machine)
+        self.standalone_pdl = spec.machine is None and any(
+            s.language == "PDL" for s in spec.sources
+        )
+        compiled, machine = compile_run(spec, base, report)
+        self.machine = machine
+        self.controller = ctl = Controller(machine.cycle_time, machine=machine)
+        self.hmpl: HmplRuntime | None = None
+        self.pdl = None
+        self.gdl = None
+        if compiled.hmpl is not None:
+            prog, mem = compiled.hmpl
+            if spec.data_dir is not None:
+                data_dir = Path(spec.data_dir)
+            else:
+                data_dir = machine.data_dir or data_dir_default(
+                    machine.path.parent if machine.path else None
+                )
+            self.hmpl = HmplRuntime(
+                ctl,
+                prog,
+                mem,
+                emit=emit,
+                report=report,
+                data_dir=data_dir,
+                task_slice=machine.task_slice,
+            )
+            self.hmpl.stamp = spec.stamp
+            ctl.add_client(self.hmpl)
+        if compiled.pdl:
+            from motionvm.sim.pdl_drives import PdlDrives
+
+            self.pdl = PdlDrives(
+                ctl, compiled.pdl, machine, emit=emit, report=report, stamp=spec.stamp
+            )
+            ctl.add_client(self.pdl)
+        if compiled.gdl is not None:
+            self.gdl = self._gdl_client(compiled.gdl)
+            ctl.add_client(self.gdl)
+        self.recorder: ScopeRecorder | None = None
+        if spec.scope is not None:
+            try:
+                channels = self.scope_registry().resolve_all(spec.scope.channels)
+            except ScopeError as exc:
+                raise SessionError(str(exc)) from None
+            self.recorder = ScopeRecorder(channels, ctl.cycle_time, spec.scope.every)
+        self._booted = False
+
+    def _gdl_client(self, app):
+        raise SessionError("GDL applications do not run on the shared machine yet")
+
+    # ------------------------------------------------------------ running
+
+    def boot(self) -> None:
+        """Power on: the PDL drives' start labels, HMPL globals and the tasks that start
+        by themselves (task 0, _AUTORUN_); the scope starts recording. Once."""
+        if self._booted:
+            return
+        self._booted = True
+        if self.pdl is not None:
+            self.pdl.boot()
+        if self.hmpl is not None:
+            self.hmpl.boot()
+        if self.recorder is not None:
+            self.recorder.attach(self.controller)
+
+    def run(self, until: float | None = None, realtime: bool = False) -> None:
+        """Run until every part has finished, or until `until` seconds of simulated time."""
+        if until is not None and not until >= 0:
+            raise SessionError(f"--until must be a non-negative number of seconds, got {until}")
+        self.boot()
+        self.controller.run(until, realtime=realtime)
+
+    def step(self, cycles: int = 1) -> None:
+        """Run exactly `cycles` controller cycles."""
+        self.boot()
+        for _ in range(cycles):
+            self.controller.step()
+
+    @property
+    def fault_count(self) -> int:
+        """Faults of tasks, drive tasks and procedures so far (0: the run is clean)."""
+        n = 0
+        if self.hmpl is not None:
+            n += self.hmpl.faults
+        if self.pdl is not None:
+            n += len(self.pdl.faults)
+        if self.gdl is not None:
+            n += self.gdl.error_count
+        return n
+
+    # ------------------------------------------------------------ scope
+
+    def scope_registry(self) -> ChannelRegistry:
+        """Every channel this run offers: the machine's, then each language's."""
+        from motionvm.sim.scope_sources import registry_for
+
+        reg = registry_for(self.controller, self.hmpl)
+        for client in (self.pdl, self.gdl):
+            if client is not None:
+                for source in getattr(client, "scope_sources", list)():
+                    reg.register(source)
+        return reg
+
+    def save_scope(self) -> None:
+        """Write the recording to every `--scope-out` file (SessionError if one cannot
+        be written); a note when SetHMIScope gated every sample away."""
+        rec = self.recorder
+        if rec is None or self.spec.scope is None:
+            return
+        if rec.hmi_gated and not any(rec.hmi_on):
+            self._report(
+                "motionvm: note: the program called SetHMIScope but the HMI scope was never on "
+                "at the end of a recorded cycle: the scope recording is empty"
+            )
+        for path in self.spec.scope.outputs:
+            try:
+                rec.save(path, title=self.spec.scope_title)
+            except ScopeError as exc:
+                raise SessionError(str(exc)) from None
