@@ -1,11 +1,14 @@
-"""The host API: run HMPL programs from Python (tests, HMIs, CI scripts) without the CLI.
+"""The host API: run programs from Python (tests, HMIs, CI scripts) without the CLI.
 
-    sim = Simulation.from_files(["main.hmpl", "conveyor.hmpl"])
+    sim = Simulation.from_files(["main.hmpl", "conveyor.hmpl"], machine="m.toml")
     sim.on_event(lambda kind, payload: print(kind, payload))   # SendEvent / SendMsgEvent
     sim.run(until=2.0)
     print(sim.messages, sim.read("system_dtest0"))
 
-Everything runs on simulated time; the same files give the same results every run.
+A thin face over `motionvm.session`, the assembler the command line uses too: the
+same files and machine give the same `messages` as the CLI's stdout lines (HMPL
+tasks, PDL drives and GDL applications alike). Everything runs on simulated time;
+the same inputs give the same results every run.
 """
 
 from __future__ import annotations
@@ -13,89 +16,113 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from pathlib import Path
 
-from motionvm.lang.hmpl.compiler import TaskFile, compile_tasks
+from motionvm.lang.hmpl.compiler import TaskFile
 from motionvm.lang.hmpl.lvalues import view_code
-from motionvm.lang.hmpl.rtapi import HmplRuntime, data_dir_default
-from motionvm.sim.controller import Controller
-from motionvm.sim.machine import DEFAULT_MACHINE, MachineConfig
-from motionvm.source.diagnostics import CompileError, DiagnosticSink
+from motionvm.session import CompileFailed, RunSpec, Session, SessionError, Source
+from motionvm.sim.machine import MachineConfig
+from motionvm.source.diagnostics import CompileError
+
+__all__ = ["CompileError", "SessionError", "Simulation"]
 
 
 class Simulation:
-    """One controller running one HMPL program (any number of task files)."""
+    """One controller running a set of programs (HMPL tasks, PDL drives, a GDL application).
+
+    Raises `CompileError` (with every diagnostic) if a program does not compile and
+    `SessionError` for a bad machine file, scenario or file name.
+    """
 
     def __init__(
         self,
-        tasks: Sequence[TaskFile],
-        machine: MachineConfig = DEFAULT_MACHINE,
+        tasks: Sequence[TaskFile] = (),
+        machine: MachineConfig | str | Path | None = None,
         data_dir: str | Path | None = None,
+        *,
+        sources: Sequence[Source] = (),
+        scenario: str | None = None,
+        stamp: bool = False,
     ) -> None:
-        sink = DiagnosticSink()
-        prog, mem = compile_tasks(list(tasks), sink)
-        if prog is None:
-            raise CompileError(sink.errors())
+        """`tasks` place HMPL task files explicitly; `sources` are files of any language
+        (HMPL ones take the free task ids in order)."""
         self.messages: list[str] = []
+        """Every message line the programs printed, as the CLI prints them."""
         self.faults: list[str] = []
-        self.controller = Controller(machine.cycle_time, machine=machine)
-        folder = (
-            Path(data_dir) if data_dir is not None else (machine.data_dir or data_dir_default(None))
+        """Every runtime fault report, as the CLI prints them on stderr."""
+        self.diagnostics: list[str] = []
+        """Compile warnings and notes, rendered."""
+        spec = RunSpec(
+            [Source(t.path, t.text, t.task) for t in tasks] + list(sources),
+            machine=machine,
+            data_dir=data_dir,
+            scenario=scenario,
+            stamp=stamp,
         )
-        self.runtime = HmplRuntime(
-            self.controller,
-            prog,
-            mem,
-            emit=self.messages.append,
-            report=self.faults.append,
-            data_dir=folder,
-            task_slice=machine.task_slice,
-        )
-        self.controller.clients.append(self.runtime)
-        self.runtime.boot()
+        self._report_to = self.diagnostics
+        try:
+            self.session = Session(spec, emit=self.messages.append, report=self._report)
+        except CompileFailed as exc:
+            raise CompileError(exc.diagnostics) from None
+        self._report_to = self.faults
+        self.controller = self.session.controller
+        self.runtime = self.session.hmpl
+        """The HMPL run time (None without HMPL files)."""
+        self.session.boot()
+
+    def _report(self, line: str) -> None:
+        self._report_to.append(line)
 
     @classmethod
     def from_files(cls, paths: Sequence[str | Path], **kw) -> Simulation:
-        """Files become tasks 0, 1, 2, ... in the order given."""
-        return cls([TaskFile(i, str(p)) for i, p in enumerate(paths)], **kw)
+        """Files of any language; HMPL files become tasks 0, 1, 2, ... in the order given.
+        `machine=` takes a machine file's path or a loaded `MachineConfig`."""
+        return cls(sources=[Source(str(p)) for p in paths], **kw)
 
     @classmethod
     def from_source(cls, text: str, name: str = "program.hmpl", **kw) -> Simulation:
+        """One HMPL program given as text, as task 0."""
         return cls([TaskFile(0, name, text)], **kw)
 
     def on_event(self, callback: Callable[[str, object], None]) -> None:
         """Call `callback(kind, payload)` for each SendEvent ('event', id) and SendMsgEvent ('msg', text)."""
-        self.runtime.event_callbacks.append(callback)
+        self._hmpl().event_callbacks.append(callback)
 
     def run(self, until: float | None = None) -> None:
-        """Run until every task stops, or until `until` seconds of simulated time."""
-        self.controller.run(until)
+        """Run until every part has finished, or until `until` seconds of simulated time."""
+        self.session.run(until)
 
     def step(self, cycles: int = 1) -> None:
-        for _ in range(cycles):
-            self.controller.step()
+        """Run exactly `cycles` controller cycles."""
+        self.session.step(cycles)
 
     @property
     def time(self) -> float:
         """Simulated time [s]."""
         return self.controller.sim_time
 
+    def _hmpl(self):
+        if self.runtime is None:
+            raise KeyError("this simulation runs no HMPL program")
+        return self.runtime
+
     def read(self, name: str, index: int = 0):
-        """Value of a global or system variable (element `index` of an array)."""
-        prog = self.runtime.program
+        """Value of an HMPL global or system variable (element `index` of an array)."""
+        rt = self._hmpl()
+        prog = rt.program
         sym = prog.sysvars.get(name) or prog.globals_.get(name)
         if sym is None:
             raise KeyError(f"no global or system variable '{name}'")
         if sym.storage == "pyglobal":
-            return self.runtime.ns[sym.pyname]
+            return rt.ns[sym.pyname]
         if sym.storage == "pylist":
-            return self.runtime.ns[sym.pyname][index]
+            return rt.ns[sym.pyname][index]
         t = sym.type
         elem = getattr(t, "elem", t)
-        return self.runtime.mem.load(sym.addr + index * elem.size, view_code(elem))
+        return rt.mem.load(sym.addr + index * elem.size, view_code(elem))
 
     def set_input(self, index: int, value: bool) -> None:
         """Set controller general-purpose input `index` (HIMC_GPI)."""
-        self.runtime.gpi[index] = 1 if value else 0
+        self._hmpl().gpi[index] = 1 if value else 0
 
     def output(self, index: int) -> int:
         """Controller general-purpose output `index` (HIMC_GPO)."""
-        return self.runtime.gpo[index]
+        return self._hmpl().gpo[index]
