@@ -109,14 +109,15 @@ def run(args) -> int:
     rt.stamp = bool(args.stamp)
     ctl.clients.append(rt)
     pdl = None
-    if drives:  # the machine's PDL drives (sim/pdl_drives.py): stepped at the end of each cycle
-        from motionvm.sim.pdl_drives import PdlDrives
+    if drives:  # the machine's PDL drives (lang/pdl/machine_drives.py): after the motion step
+        from motionvm.lang.pdl.machine_drives import PdlDrives
 
         pdl = PdlDrives(ctl, drives, machine, emit=emit, report=report, stamp=bool(args.stamp))
-        ctl.clients.append(pdl)
+        ctl.add_client(pdl)
         pdl.boot()
     rt.boot()
-    recorder = _scope_start(scope, ctl, rt) if scope else None  # the last client: sees all
+    sources = pdl.scope_sources() if pdl is not None else []
+    recorder = _scope_start(scope, ctl, rt, sources) if scope else None  # the last client
     try:
         ctl.run(args.until, realtime=bool(getattr(args, "realtime", False)))
     except KeyboardInterrupt:
@@ -137,7 +138,7 @@ def _compile_drives(machine):
     EXIT_USAGE after a bad `pdl_start` label (reported)."""
     if not machine.pdl_drives:
         return []
-    from motionvm.sim.pdl_drives import PdlStartError, compile_drives
+    from motionvm.lang.pdl.machine_drives import PdlStartError, compile_drives
 
     def report(line: str) -> None:
         print(line, file=sys.stderr)
@@ -165,13 +166,17 @@ def _scope_request(args):
         raise UsageError(str(exc)) from None
 
 
-def _scope_start(scope, ctl, rt):
-    """Resolve the channels (unknown ones: exit 3, before anything runs) and attach a recorder."""
+def _scope_start(scope, ctl, rt, sources=()):
+    """Resolve the channels (unknown ones: exit 3, before anything runs) and attach a recorder;
+    `sources` are the run sides' own channel sources (PDL drives), asked last."""
     from motionvm.sim.scope import ScopeError, ScopeRecorder
     from motionvm.sim.scope_sources import registry_for
 
+    registry = registry_for(ctl, rt)
+    for source in sources:
+        registry.register(source)
     try:
-        channels = registry_for(ctl, rt).resolve_all(scope.channels)
+        channels = registry.resolve_all(scope.channels)
     except ScopeError as exc:
         raise UsageError(str(exc)) from None
     recorder = ScopeRecorder(channels, ctl.cycle_time, scope.every)

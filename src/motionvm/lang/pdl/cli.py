@@ -5,12 +5,13 @@
                                       -> 0 ok | 1 a task faulted | 2 | 3
 
 Diagnostics go to stderr as `FILE:LINE:COL: error: MESSAGE`, the source line and a
-caret, sorted by file, line and column. A run simulates one drive: the `#task/n`
-tasks start at reset, then each `--start _label` (host run, in the order given;
-`top` runs the program from its first statement on the lowest idle task). Every
-printl message is one line on stdout; a runtime fault is
+caret, sorted by file, line and column. A run is the default machine with the program
+on the drive of axis 0, a `machine_drives.PdlDrives` client in standalone mode on the
+controller's clock: the `#task/n` tasks start at reset, then each `--start _label`
+(host run, in the order given; `top` runs the program from its first statement on the
+lowest idle task). Every printl message is one line on stdout; a runtime fault is
 `FILE:LINE: runtime error in task N: MESSAGE` on stderr. The run ends when every task
-has ended and the axis rests, or at `until` seconds of simulated time.
+has ended and the axis rests, or at `until` seconds of simulated time (to the phase).
 """
 
 from __future__ import annotations
@@ -18,7 +19,7 @@ from __future__ import annotations
 import os
 from typing import TextIO
 
-from motionvm.lang.pdl.drive_rt import Drive, DriveConfig, Message
+from motionvm.lang.pdl.drive_rt import DriveConfig
 from motionvm.lang.pdl.lower import PdlProgram
 from motionvm.lang.pdl.program import compile_pdl
 from motionvm.source.diagnostics import DiagnosticSink, render_diagnostic
@@ -70,12 +71,19 @@ def main_run(
     stamp: bool = False,
     scope=None,
 ) -> int:
-    """Compile one PDL program, run it on a simulated drive, print its messages.
+    """Compile one PDL program, run it on the drive of axis 0 of the default machine,
+    print its messages.
 
     `stamp` prefixes each message with `[t=SECONDS][task N] ` (simulated time).
     `scope` (a `sim.scope.ScopeRequest`, from --scope/--scope-out/--scope-every)
-    records the drive's channels once per 1 ms (15 phases), see `_run_scoped`.
+    records the drive's channels, `drive0.<name>` or just `<name>`, once per 1 ms
+    controller cycle: the sample of cycle k shows the drive after phase 15 (k + 1), the
+    last one the drive when it is found idle or at `until`.
     """
+    from motionvm.lang.pdl.machine_drives import PdlDrives, PdlStartError, compile_program
+    from motionvm.sim.controller import Controller
+    from motionvm.sim.machine import DEFAULT_MACHINE
+
     if not _usage(paths, stderr):
         return EXIT_USAGE
     if len(paths) != 1:
@@ -88,87 +96,64 @@ def main_run(
         print(f"motionvm: --until {until} must be a time >= 0 [s]", file=stderr)
         return EXIT_USAGE
     labels = [start_label] if isinstance(start_label, str) else list(start_label or [])
-    programs, code = _compile(paths, stderr)
-    if code:
-        return code
-    program = programs[0]
-    for label in labels:
-        if label != "top" and label not in program.entries:
-            print(f"motionvm: --start {label}: the program has no label '{label}'", file=stderr)
-            return EXIT_USAGE
 
-    rate = (config or DriveConfig()).phase_rate
+    def emit(line: str) -> None:
+        print(line, file=stdout)
 
-    def show(m: Message) -> None:
-        prefix = f"[t={m.phase / rate:.6f}][task {m.task}] " if stamp else ""
-        print(prefix + m.text, file=stdout)
+    def report(line: str) -> None:
+        print(line, file=stderr)
 
-    def fault(text: str) -> None:
-        print(text, file=stderr)
-
-    drive = Drive(program, config, on_message=show, on_fault=fault)
-    for label in labels:
-        try:
-            if label == "top":
-                free = next((t.id for t in drive.tasks if t.gen is None), None)
-                if free is None:
-                    raise ValueError("refused: all 4 tasks are busy")
-                drive.start_top(free)
-            else:
-                drive.start(label)
-        except ValueError as e:
-            print(f"motionvm: --start {label}: {e}", file=stderr)
-            return EXIT_USAGE
-    if not drive.busy:
-        print(
-            f"{program.path}: note: no task runs: the program has no '#task/n;' and no "
-            "--start label was given",
-            file=stderr,
-        )
-    if scope is None:
-        drive.run(until)
-    elif not _run_scoped(drive, program, until, scope, stderr):
-        return EXIT_USAGE
-    return EXIT_FAULT if drive.faults else EXIT_OK
-
-
-SCOPE_CYCLE = 0.001
-"""A standalone drive's scope samples once per controller-cycle equivalent [s]."""
-
-
-def _run_scoped(drive: Drive, program: PdlProgram, until: float | None, scope, stderr) -> bool:
-    """`drive.run(until)` in 1 ms slices (15 phases at 15 kHz), sampling after each.
-
-    Sample k shows the drive at the end of slice k (phase 15 * (k + 1)) and is stamped
-    k * 1 ms, as a machine run's samples of cycle k are; the last slice may be shorter
-    (`until`, or the drive going idle). Channels: `drive0.<name>` or just `<name>`.
-    False (message on stderr) for an unknown channel or an unwritable output.
-    """
-    from motionvm.sim.scope import ChannelRegistry, ScopeError, ScopeRecorder
-    from motionvm.sim.scope_sources import PdlDriveSource
-
-    rate = drive.config.phase_rate
-    per = max(1, round(SCOPE_CYCLE * rate))
+    machine = DEFAULT_MACHINE
     try:
-        channels = ChannelRegistry([PdlDriveSource({0: drive}, bare=0)]).resolve_all(scope.channels)
+        drives = compile_program(paths[0], labels, report)
+        if drives is None:
+            return EXIT_COMPILE
+        controller = Controller(machine.cycle_time, machine)
+        client = PdlDrives(
+            controller,
+            drives,
+            machine,
+            emit=emit,
+            report=report,
+            stamp=stamp,
+            standalone=True,
+            config=config,
+            until=until,
+        )
+        controller.add_client(client)
+        client.boot()
+    except PdlStartError as exc:
+        report(str(exc))
+        return EXIT_USAGE
+    recorder = None
+    if scope is not None:
+        recorder = _scope_start(controller, client, scope, stderr)
+        if recorder is None:
+            return EXIT_USAGE
+    try:
+        controller.run()  # the client ends the drive at `until`, to the phase
+    except KeyboardInterrupt:  # keep what was recorded up to the interrupt
+        if recorder is not None:
+            _save_scope(recorder, scope, drives[0].program.path, stderr)
+        raise
+    if recorder is not None and not _save_scope(recorder, scope, drives[0].program.path, stderr):
+        return EXIT_USAGE
+    return EXIT_FAULT if client.faults else EXIT_OK
+
+
+def _scope_start(controller, client, scope, stderr):
+    """A recorder of the requested channels on `controller`; None (message on stderr) for
+    an unknown channel."""
+    from motionvm.sim.scope import ChannelRegistry, ScopeError, ScopeRecorder
+
+    try:
+        channels = ChannelRegistry(client.scope_sources()).resolve_all(scope.channels)
     except ScopeError as exc:
         print(f"motionvm: error: {exc}", file=stderr)
-        return False
-    recorder = ScopeRecorder(channels, per / rate, scope.every)
-    limit = None if until is None else round(until * rate)
-    cycle = 0
-    try:
-        while True:
-            count = per if limit is None else min(per, max(0, limit - drive.phase))
-            done = drive.run_phases(count)
-            recorder.sample(cycle)
-            cycle += 1
-            if done or (limit is not None and drive.phase >= limit):
-                break
-    except KeyboardInterrupt:  # keep what was recorded up to the interrupt
-        _save_scope(recorder, scope, program.path, stderr)
-        raise
-    return _save_scope(recorder, scope, program.path, stderr)
+        return None
+    recorder = ScopeRecorder(channels, controller.cycle_time, scope.every)
+    recorder.attach(controller)
+    return recorder
 
 
 def _save_scope(recorder, scope, title: str, stderr) -> bool:
