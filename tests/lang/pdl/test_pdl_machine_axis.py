@@ -194,6 +194,28 @@ def test_stepped_and_jumped_runs_agree(tmp_path: Path) -> None:
     assert [x.pos_fb for x in ctl.axes] == [x.pos_fb for x in ctl2.axes]
 
 
+def test_a_run_with_hmpl_tasks_is_the_same_without_jumps(
+    tmp_path: Path, capsys, monkeypatch
+) -> None:
+    monkeypatch.setenv("MOTIONVM_DATA_DIR", str(tmp_path / "data"))
+    m = machine_file(tmp_path)
+    hmpl = write(
+        tmp_path,
+        "main.hmpl",
+        "void main() { int i; for (i = 0; i < 4; i++) { Sleep(30);"
+        ' Print("%.4f", GetPosFb(1)); } }\n',
+    )
+    argv = ["run", "--machine", str(m), str(hmpl), "--stamp"]
+    assert main(argv) == 0
+    jumped = capsys.readouterr()
+    monkeypatch.setattr(Controller, "next_event", lambda self: self.cycle)  # step every cycle
+    assert main(argv) == 0
+    assert capsys.readouterr() == jumped
+    # mid-move: the task of cycle 60 reads the feedback of cycle 59, which shows the
+    # drive's reference of cycle 57 (3200 counts)
+    assert "[t=0.060][task 0] 0.3200\n" in jumped.out
+
+
 def test_next_event_is_the_cycle_of_the_next_wake_up(tmp_path: Path) -> None:
     ctl, client, _, _ = assemble(machine_file(tmp_path))
     assert client.next_event() == 0  # the tasks have not run yet
@@ -237,7 +259,7 @@ def _imports(path: Path) -> list[str]:
     return names
 
 
-@pytest.mark.parametrize("layer", ["sim", "drives", "motion", "runtime", "source"])
+@pytest.mark.parametrize("layer", ["source", "runtime", "drives", "motion", "io", "comm", "sim"])
 def test_lower_layers_import_no_language(layer: str) -> None:
     bad = [
         f"{p.relative_to(SRC)}: {name}"

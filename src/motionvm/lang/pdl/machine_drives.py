@@ -184,6 +184,7 @@ class PdlDrives:
     `drives` are the compiled programs, on the axes their specs name; `machine` configures
     each drive's axis (standalone: `config` or the manual's `DriveConfig()`). `emit` takes
     each message line, `report` each fault and note; `faults` lists the fault reports.
+    Create it before the controller's first cycle: drive phase p belongs to cycle p // 15.
     """
 
     def __init__(
