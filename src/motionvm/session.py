@@ -177,13 +177,19 @@ def _render(items: Sequence[Diagnostic], report: Callable[[str], None]) -> None:
 
 
 def compile_run(
-    spec: RunSpec, machine: MachineConfig, report: Callable[[str], None], *, place: bool = True
+    spec: RunSpec,
+    machine: MachineConfig,
+    report: Callable[[str], None],
+    *,
+    place: bool = True,
+    standalone: bool = False,
 ) -> tuple[Compiled, MachineConfig]:
     """Compile every program of `spec` (diagnostics reported, HMPL then PDL then GDL).
 
     Returns the programs and the machine with the command line's PDL programs placed on
     its drives. With `place` false (`motionvm check`) PDL files are compiled on their
-    own, any number of them, and the machine's programs are not. Raises CompileFailed
+    own, any number of them, and the machine's programs are not. `standalone`: the one
+    PDL file runs alone on the default machine (see `Session`). Raises CompileFailed
     after any error, SessionError for bad input.
     """
     check_sources(spec.sources)
@@ -209,10 +215,17 @@ def compile_run(
         failed += sink.errors()
         out.hmpl = (prog, mem) if prog is not None else None
     if machine.pdl_drives:
-        from motionvm.sim.pdl_drives import PdlStartError, compile_drives
+        from motionvm.lang.pdl.machine_drives import (
+            PdlStartError,
+            compile_drives,
+            compile_program,
+        )
 
         try:
-            drives = compile_drives(machine, report)
+            if standalone:  # one program on the command line, the default machine
+                drives = compile_program(by_lang["PDL"][0].path, spec.pdl_starts, report)
+            else:
+                drives = compile_drives(machine, report)
         except PdlStartError as exc:
             raise SessionError(str(exc), located=True) from None
         pdl_failed = drives is None
@@ -281,10 +294,15 @@ class Session:
         self._emit = emit
         self._report = report
         base = load_machine_spec(spec.machine)
-        self.standalone_pdl = spec.machine is None and any(
-            s.language == "PDL" for s in spec.sources
+        self.standalone_pdl = (
+            spec.machine is None
+            and bool(spec.sources)
+            and all(s.language == "PDL" for s in spec.sources)
         )
-        compiled, machine = compile_run(spec, base, report)
+        """One PDL program alone, no machine file: it runs on axis 0 of the default
+        machine with the drive's own default parameters, and its messages and faults
+        name the task only (`[task N]`), as a single drive reports them."""
+        compiled, machine = compile_run(spec, base, report, standalone=self.standalone_pdl)
         self.machine = machine
         self.controller = ctl = Controller(machine.cycle_time, machine=machine)
         self.hmpl: HmplRuntime | None = None
@@ -310,10 +328,16 @@ class Session:
             self.hmpl.stamp = spec.stamp
             ctl.add_client(self.hmpl)
         if compiled.pdl:
-            from motionvm.sim.pdl_drives import PdlDrives
+            from motionvm.lang.pdl.machine_drives import PdlDrives
 
             self.pdl = PdlDrives(
-                ctl, compiled.pdl, machine, emit=emit, report=report, stamp=spec.stamp
+                ctl,
+                compiled.pdl,
+                machine,
+                emit=emit,
+                report=report,
+                stamp=spec.stamp,
+                standalone=self.standalone_pdl,
             )
             ctl.add_client(self.pdl)
         if compiled.gdl is not None:
@@ -340,7 +364,12 @@ class Session:
             return
         self._booted = True
         if self.pdl is not None:
-            self.pdl.boot()
+            from motionvm.lang.pdl.machine_drives import PdlStartError
+
+            try:
+                self.pdl.boot()
+            except PdlStartError as exc:  # a standalone drive refused a --start label
+                raise SessionError(str(exc), located=True) from None
         if self.hmpl is not None:
             self.hmpl.boot()
         if self.recorder is not None:
@@ -380,7 +409,7 @@ class Session:
         reg = registry_for(self.controller, self.hmpl)
         for client in (self.pdl, self.gdl):
             if client is not None:
-                for source in getattr(client, "scope_sources", list)():
+                for source in client.scope_sources():
                     reg.register(source)
         return reg
 

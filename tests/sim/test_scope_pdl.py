@@ -9,9 +9,9 @@ import pytest
 
 from motionvm.cli import main
 from motionvm.lang.pdl.drive_rt import Drive
+from motionvm.lang.pdl.drive_scope import PdlDriveSource
 from motionvm.lang.pdl.program import compile_pdl
 from motionvm.sim.scope import BIT_UNIT, RAW_UNIT, ChannelRegistry, ScopeError, ScopeRecorder
-from motionvm.sim.scope_sources import PdlDriveSource
 from motionvm.source.diagnostics import DiagnosticSink
 
 MOVER = """\

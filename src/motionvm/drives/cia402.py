@@ -246,10 +246,51 @@ class Cia402Drive:
         """Reconnect the encoder; a fault reset can then clear the fault."""
         self._encoder_lost = False
 
+    # ---- local control: a program on the drive commands the motor ----------------------
+
+    local_demand: float | None = None
+    """The position demand [counts, unwrapped] of the drive's own firmware under local
+    control (`follow_local_demand`); None while the master commands the drive."""
+
+    def follow_local_demand(self, counts: float | None) -> None:
+        """Local control: from the next `step` on the motor follows `counts` [counts,
+        unwrapped], a demand generated on the drive itself (a program running on it), as
+        in CSP: reached linearly over the step. Call it again with every new demand.
+
+        Under local control the drive shows Operation enabled without the statusword's
+        remote bit (9, CiA 402: the controlword is not processed) and ignores the master's
+        controlword and targets; position_demand (0x6062) is the local demand. None hands
+        the drive back to the master, in Switch on disabled.
+        """
+        if counts is None:
+            if self.local_demand is not None:
+                self.local_demand = None
+                self.state = State.SWITCH_ON_DISABLED
+                self._settled = None
+                self._r = self.mechanics.position
+                self._update_statusword()
+            return
+        if self.local_demand is None:
+            self.state = State.OPERATION_ENABLED
+            self._settled = None
+        self.local_demand = float(counts)
+
+    def _step_local(self, dt: float) -> None:
+        """One step under local control: the motor follows `local_demand` as in CSP."""
+        self._r = r = self.local_demand
+        self.mechanics.step_position(r, dt)
+        self.mode_display = self.mode
+        self._settled = self.state  # only a new demand moves the motor again
+        self._feedback()
+        self.statusword &= ~(od.SW_REMOTE | od.SW_FOLLOWS_TARGET)
+
     # ---- the cycle ------------------------------------------------------------------
 
     def step(self, dt: float) -> None:
         """Advance one bus cycle of `dt` [s]: state machine, motion, feedback objects."""
+        if self.local_demand is not None:  # the drive's own firmware commands the motor
+            self._step_local(dt)
+            return
         cw = self.controlword
         state = self.state
         if cw == self._cw_prev and state is self._settled and self._fault is None:

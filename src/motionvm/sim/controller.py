@@ -15,12 +15,21 @@ velocity it has reached counts as settled) and no client is busy.
 
 from __future__ import annotations
 
+import math
+
 from motionvm.motion.kernel import MotionKernel
 from motionvm.runtime.clients import CycleClient
 from motionvm.runtime.clock import Clock
 from motionvm.runtime.kernel import Kernel
 from motionvm.sim.machine import DEFAULT_MACHINE, MachineConfig
 from motionvm.sim.pacer import RealTimePacer
+
+
+def until_cycle(until: float, cycle_time: float) -> int:
+    """The cycle a run of `until` seconds ends at: the first cycle boundary at or after
+    `until` (a run lasts at least that long; 0.35 s of 1 ms cycles is 350 cycles, not 351,
+    despite 0.35 / 0.001 being 349.99999999999994 in floating point)."""
+    return math.ceil(until / cycle_time - 1e-9)
 
 
 class Controller:
@@ -88,7 +97,7 @@ class Controller:
     def run(self, until: float | None = None, realtime: bool = False) -> None:
         """Run until nothing is left to do, or until `until` seconds of simulated time;
         with `realtime`, never ahead of the wall clock (sim/pacer.py)."""
-        end_cycle = None if until is None else round(until / self.cycle_time)
+        end_cycle = None if until is None else until_cycle(until, self.cycle_time)
         clock = self.clock
         pacer = RealTimePacer(self.sim_time) if realtime else None
         self.stop_requested = False

@@ -8,12 +8,10 @@ Channel names (README "Scope"):
   `himc_gpi_bits`, `himc_gpo_bits` — all of them as one integer [raw];
 - `axisN.<variable>` — an axis variable of manual 5.1.1 (`axis0.ref_pos`), with the
   manual's unit, read through the axis layer's `variable(name)`;
-- `driveN.<name>` — a system variable or state of the PDL drive of axis N, or a global
-  of its program (`drive1.x_ref_pos` [count], `drive1.fclk`, `drive1.x_run` [bool],
-  `drive1.ref_pos[0]`, `drive1.p`): `PdlDriveSource`, which `sim/pdl_drives.PdlDrives`
-  adds to `controller.scope_sources`.
-`registry_for()` wires the sources of one run; further layers add theirs to
-`controller.scope_sources` (a list) and are asked after these.
+`registry_for()` wires these sources of one run; a language's run side offers further
+sources through its own `scope_sources()` (e.g. the `driveN.<name>` channels of PDL
+drives), which the assembler of the run registers after these; sources still listed in
+`controller.scope_sources` are asked after these too.
 """
 
 from __future__ import annotations
@@ -214,121 +212,6 @@ class AxisSource:
     def channel_names(self) -> Iterable[str]:
         for n, axis in enumerate(self._axes() or ()):
             yield from (f"axis{n}.{v}" for v in self._variable_names(axis))
-
-
-_DRIVE = re.compile(r"drive(\d+)\.(.+)")
-_UNIT_IN_DOC = re.compile(r"\[([^\]]+)\]\s*$")
-
-
-class PdlDriveSource:
-    """`driveN.<name>` of PDL drives: system variables and states (spec/PDL.md §13, any
-    case, as the drive's compiler reads them) and the program's global variables.
-
-    `drives` maps a drive number (the axis id in a machine file) to its `Drive`. With
-    `bare` set, that drive's names also resolve without the `driveN.` prefix (a
-    standalone `motionvm run prog.pdl` has one drive: `x_ref_pos` is `drive0.x_ref_pos`).
-    Units: the catalog's (`count`, `count/s`, `count/s²`, `ms`), `bool` for states,
-    `raw` for the rest.
-    """
-
-    def __init__(self, drives, bare: int | None = None) -> None:
-        self.drives = dict(drives)
-        self.bare = bare
-
-    def resolve(self, name: str) -> tuple[Callable[[], float], str] | None:
-        m = _DRIVE.fullmatch(name)
-        if m is None:
-            if self.bare is None or _ELEMENT.fullmatch(name) is None:
-                return None
-            if not self._known(self.drives[self.bare], name):
-                return None
-            return self._resolve(name, self.bare, name)
-        return self._resolve(name, int(m.group(1)), m.group(2))
-
-    @staticmethod
-    def _known(drive, ref: str) -> bool:
-        from motionvm.lang.pdl.sysvars import lookup
-
-        base = _ELEMENT.fullmatch(ref)
-        if base is None:
-            return False
-        return base.group(1) in drive.program.globals or lookup(base.group(1)) is not None
-
-    def _resolve(self, name: str, n: int, ref: str) -> tuple[Callable[[], float], str]:
-        from motionvm.lang.pdl.sysvars import lookup
-
-        drive = self.drives.get(n)
-        if drive is None:
-            have = ", ".join(f"drive{k}" for k in sorted(self.drives)) or "none"
-            raise ScopeError(
-                f"scope channel '{name}': no PDL drive {n} (PDL drives: {have}; "
-                f"driveN is the drive of axis N)"
-            )
-        m = _ELEMENT.fullmatch(ref)
-        if m is None or not self._known(drive, ref):
-            known = [k.partition(".")[2] for k in self._names(n, drive)]
-            close = [
-                f"drive{n}.{c}" if name != ref else c
-                for c in difflib.get_close_matches(ref, known, n=4, cutoff=0.6)
-            ]
-            hint = (
-                f"did you mean {', '.join(close)}?"
-                if close
-                else "drive channels are a PDL system variable, state or global, "
-                "e.g. drive1.x_ref_pos"
-            )
-            raise ScopeError(f"unknown scope channel '{name}'; {hint}")
-        base, index = m.group(1), m.group(2)
-        g = drive.program.globals.get(base)
-        if g is not None:
-            size, unit = g.size, RAW_UNIT
-        else:
-            sv = lookup(base)
-            size = sv.size
-            if sv.kind == "state":
-                if index is not None:
-                    raise ScopeError(f"scope channel '{name}': state '{sv.name}' is one bit")
-                return partial(drive.sysvars.ST.__getitem__, sv.address), BIT_UNIT
-            found = _UNIT_IN_DOC.search(sv.doc)
-            unit = found.group(1).replace("^2", "²") if found else RAW_UNIT
-        if index is None and size > 1:
-            raise ScopeError(
-                f"scope channel '{name}' is an array of {size}; record one element, "
-                f"e.g. '{name}[0]'"
-            )
-        i = int(index or 0)
-        if i >= size:
-            raise ScopeError(
-                f"scope channel '{name}': index {i} is out of range for {base}[{size}] "
-                f"(0..{size - 1})"
-            )
-        if g is None:
-            return partial(drive.sysvars.S.__getitem__, drive.sysvars.slot(base, i)), unit
-        return partial(drive.read, base, i), unit
-
-    @staticmethod
-    def _names(n: int, drive) -> Iterable[str]:
-        from motionvm.lang.pdl.sysvars import SYSVARS
-
-        for sv in SYSVARS.values():
-            if sv.size == 1:
-                yield f"drive{n}.{sv.name}"
-            else:
-                yield from (f"drive{n}.{sv.name}[{i}]" for i in range(sv.size))
-        for g in drive.program.globals.values():
-            if g.size == 1:
-                yield f"drive{n}.{g.name}"
-            else:
-                yield from (
-                    f"drive{n}.{g.name}[{i}]" for i in range(min(g.size, _SUGGESTED_ELEMENTS))
-                )
-
-    def channel_names(self) -> Iterable[str]:
-        for n, drive in sorted(self.drives.items()):
-            for name in self._names(n, drive):
-                yield name
-                if n == self.bare:
-                    yield name.partition(".")[2]
 
 
 def registry_for(controller, runtime=None) -> ChannelRegistry:

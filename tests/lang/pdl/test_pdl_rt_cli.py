@@ -1,11 +1,12 @@
-"""`main_run` / `main_check` (the PDL side of `motionvm run|check`): output and exit codes."""
+"""`motionvm run|check x.pdl` (one PDL program on a drive of its own): output and exit codes."""
 
 from __future__ import annotations
 
+import contextlib
 import io
 from pathlib import Path
 
-from motionvm.lang.pdl.cli import main_check, main_run
+from motionvm.cli import main
 from motionvm.lang.pdl.program import compile_pdl
 from motionvm.source import DiagnosticSink
 
@@ -13,12 +14,24 @@ RUN = Path(__file__).parents[2] / "programs" / "pdl" / "run"
 MANUAL = Path(__file__).parents[2] / "programs" / "pdl" / "manual"
 
 
-def run(tmp_path: Path, text: str, start=None, until=5.0) -> tuple[int, str, str]:
+def cli(*argv) -> tuple[int, str, str]:
+    """`motionvm ARGV...` in this process: (exit code, stdout, stderr)."""
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        code = main([str(a) for a in argv])
+    return code, out.getvalue(), err.getvalue()
+
+
+def run(tmp_path: Path, text: str, start=None, until=5.0, *extra: str) -> tuple[int, str, str]:
     path = tmp_path / "prog.pdl"
     path.write_text(text)
-    out, err = io.StringIO(), io.StringIO()
-    code = main_run([str(path)], start, until, out, err)
-    return code, out.getvalue(), err.getvalue()
+    labels = [start] if isinstance(start, str) else list(start or [])
+    argv = ["run", str(path), *extra]
+    for label in labels:
+        argv += ["--start", label]
+    if until is not None:
+        argv += ["--until", str(until)]
+    return cli(*argv)
 
 
 def test_run_prints_one_line_per_message(tmp_path: Path) -> None:
@@ -60,10 +73,9 @@ def test_compile_errors_are_sorted_and_exit_2(tmp_path: Path) -> None:
 def test_bad_command_lines_exit_3(tmp_path: Path) -> None:
     assert run(tmp_path, "_a:\nret;\n", "_nope")[0] == 3
     assert run(tmp_path, "a:\nret;\n", "a")[0] == 3
-    out, err = io.StringIO(), io.StringIO()
-    assert main_run([str(tmp_path / "missing.pdl")], None, None, out, err) == 3
-    assert main_run([], None, None, out, err) == 3
-    assert main_check([str(tmp_path / "x.txt")], out, err) == 3
+    assert cli("run", tmp_path / "missing.pdl")[0] == 3
+    assert cli("run")[0] == 3
+    assert cli("check", tmp_path / "x.txt")[0] == 3
 
 
 def test_no_task_gives_a_note(tmp_path: Path) -> None:
@@ -72,9 +84,9 @@ def test_no_task_gives_a_note(tmp_path: Path) -> None:
 
 
 def test_check_accepts_every_manual_example() -> None:
-    out, err = io.StringIO(), io.StringIO()
     paths = [str(p) for p in sorted(MANUAL.rglob("*.pdl"))]
-    assert main_check(paths, out, err) == 0, err.getvalue()
+    code, _out, err = cli("check", *paths)
+    assert code == 0, err
 
 
 def test_generated_python_keeps_the_users_lines() -> None:
@@ -87,8 +99,6 @@ def test_generated_python_keeps_the_users_lines() -> None:
 
 
 def test_stamp_prefixes_time_and_task(tmp_path: Path) -> None:
-    path = tmp_path / "prog.pdl"
-    path.write_text('#task/1;\nsleep 500;\nprintl("hi");\nhalt;\n')
-    out, err = io.StringIO(), io.StringIO()
-    assert main_run([str(path)], None, 2.0, out, err, stamp=True) == 0
-    assert out.getvalue() == "[t=0.500000][task 1] hi\n"
+    text = '#task/1;\nsleep 500;\nprintl("hi");\nhalt;\n'
+    code, out, _err = run(tmp_path, text, None, 2.0, "--stamp")
+    assert (code, out) == (0, "[t=0.500000][task 1] hi\n")

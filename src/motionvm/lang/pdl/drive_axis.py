@@ -3,10 +3,10 @@
 Adapter, on purpose small: the drive's system variables (`X_vel_max`, `X_acc`, `X_dcc`,
 `X_new_sm_fac`, `X_trg`, `X_jvl`, `X_stop_m`) drive a `motion.profile.ProfileGenerator`
 stepped once per phase, and the drive reads back `x_ref_pos`, `ref_pos[0]`, `x_run`,
-`x_home` and the left limit. When `motion/axis.py` (the full axis with a CiA 402
-drive and mechanics) is ready, `PdlAxis` becomes a thin wrapper of it with the same
-five methods (`configure`, `write`, `step`, `position`, `moving`) and `drive_rt` does
-not change.
+`x_home` and the left limit. This is the drive firmware's reference only: on a machine
+its position is the demand of the axis's CiA 402 drive and mechanics, which the
+controller's axis feeds back (machine_drives.py); the switches here are computed from
+the reference.
 
 Units are the drive's: positions [count], velocities [count/s], accelerations
 [count/s^2], the smoothing factor [ms].

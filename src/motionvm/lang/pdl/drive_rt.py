@@ -231,6 +231,24 @@ class Drive:
         """True while a task runs or the axis moves."""
         return self.axis.moving or any(t.gen is not None for t in self.tasks)
 
+    def next_phase(self) -> int | None:
+        """The first phase, from `phase` on, in which something of the drive can change:
+        `phase` while the axis moves or a task is runnable (also one that busy-waits or
+        pays an overdraft), else the earliest wake-up of a sleeping task (only the lock
+        holder's while a task holds the lock); None once every task has ended and the
+        axis rests. The phases before it are the ones the phase loop skips."""
+        if self.axis.moving:
+            return self.phase
+        owner = self.lock_owner
+        if owner is not None and self.tasks[owner].gen is not None:
+            wake = self.tasks[owner].wake
+        else:
+            wakes = [t.wake for t in self.tasks if t.gen is not None]
+            if not wakes:
+                return None
+            wake = min(wakes)
+        return max(wake, self.phase)
+
     # ---------------------------------------------------------------- internals used by tasks
 
     def print_message(self, t: Task, k: int, args: tuple) -> None:
@@ -300,7 +318,10 @@ class Drive:
     # ---------------------------------------------------------------- the phase loop
 
     def run(self, until: float | None = None) -> bool:
-        """Run until every task ended and the axis stopped, or `until` [s]; True if done."""
+        """Run until every task ended and the axis stopped, or `until` [s]; True if done.
+
+        The drive alone, without a controller or a machine (tests, scripts): a run of
+        `motionvm` puts the drive on the controller's clock instead (machine_drives.py)."""
         limit = None if until is None else round(until * self.config.phase_rate)
         return self.run_phases(None if limit is None else max(0, limit - self.phase))
 

@@ -1,0 +1,339 @@
+"""PDL programs on the drives of a machine: compile them, run them on the controller's clock.
+
+A machine file's `[[axis]]` table with `pdl = "prog.pdl"` puts that program on the
+axis's drive (sim/machine.py reads the keys); `compile_drives` compiles every such
+program (diagnostics in the one format; any error: nothing runs) and checks the
+`pdl_start` labels. A standalone `motionvm run prog.pdl` is the default machine with
+one program on the drive of axis 0 (`compile_program`). `PdlDrives` is the cycle
+client (runtime/clients.py) that runs them. A run is assembled as
+
+    controller = Controller(machine.cycle_time, machine)
+    drives = compile_drives(machine, report)        # or compile_program(path, starts, report)
+    client = PdlDrives(controller, drives, machine, emit=..., report=..., stamp=...)
+    controller.add_client(client)
+    client.boot()
+    controller.run(until)
+
+Clock. At `end_cycle` of controller cycle k every drive, in axis order, runs its
+phases up to the end of that cycle: a cycle of `cycle_time` [s] is
+`round(cycle_time * phase_rate)` phases (15 for 1 ms), and phase p belongs to cycle
+p // 15. So the HMPL tasks of cycle k see the drives as they were at k * cycle_time,
+and the drive messages of cycle k follow the HMPL messages of cycle k. Inside a cycle
+the drive skips the phases in which no task can run and its axis rests (drive_loop.py);
+across cycles the controller decides: `next_event` is the current cycle while a drive
+task is runnable or a drive's profile moves, else the cycle of the earliest wake-up of
+a sleeping task (exact: nothing of the drive changes before it), None when every task
+has ended. Stepped and jumped runs give identical results.
+
+Motion. The program is the drive's firmware: its profile generator (drive_axis.PdlAxis,
+in counts at the phase rate, configured from the axis table by `pdl_axis_config`) gives
+the position demand of the machine axis's CiA 402 drive, which is under local control
+(`Cia402Drive.follow_local_demand`): after each cycle the client hands the demand the
+phases left to the drive, and the drive's mechanics follow it at the drive's step of
+the next cycle. So the controller's axis (`pos_fb`), the drive's objects
+(`position_actual`, `position_demand`) and the scope's `axisN.pos_fb` show the
+program's motion. Latency: the demand `driveN.ref_pos[0]` shows at the end of cycle k
+is the drive's demand in cycle k + 1 (the phases run after the motion step) and
+reaches the feedback after the mechanics' own delay (`delay_cycles`, 1 on the default
+ideal drive): `axisN.pos_fb` of cycle k + 1 + delay_cycles is `driveN.ref_pos[0]` of
+cycle k, in axis units. A machine run keeps going for those cycles after the drives'
+last motion, so it ends with the feedback at the drives' final positions. The
+controller's axis is marked `controlled_by = "PDL drive"`: HMPL motion and setting
+commands to it are refused (lang/hmpl/lib/axis.py), its getters read the feedback.
+
+Output. A message is one line through `emit`; with `stamp` it is prefixed
+`[t=SECONDS][drive A task N] ` (A the axis id, t the message's phase, 6 decimals). A
+task's fault is `FILE:LINE: runtime error in drive A task N: MESSAGE` through `report`.
+The scope channels `driveN.<name>` come from `scope_sources()` (drive_scope.py).
+
+Standalone (`standalone=True`, the `motionvm run prog.pdl` of one drive): the drive
+takes the manual's default parameters (`DriveConfig()`, or `config`), not the machine
+axis's; messages are stamped `[t=SECONDS][task N] `, faults read
+`runtime error in task N`; a start the drive refuses raises PdlStartError (a command-line
+error) and a drive with no task gets a note; the scope channels also answer to bare names
+(`x_ref_pos` = `drive0.x_ref_pos`); the run lasts at least one cycle and ends with the
+cycle in which the drive is found idle, with no cycles added for the machine axis to
+follow. Like every run, it ends at a cycle boundary (`--until` rounds up to one).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+from motionvm.lang.pdl.drive_axis import AxisConfig as PdlAxisConfig
+from motionvm.lang.pdl.drive_rt import Drive, DriveConfig, Message
+from motionvm.lang.pdl.drive_scope import PdlDriveSource
+from motionvm.lang.pdl.lower import PdlProgram
+from motionvm.lang.pdl.program import compile_pdl
+from motionvm.motion.axis_config import AxisConfig
+from motionvm.sim.machine import MachineConfig, PdlDriveSpec
+from motionvm.source.diagnostics import DiagnosticSink, render_diagnostic
+
+CONTROLLED_BY = "PDL drive"
+"""`Axis.controlled_by` of an axis whose drive runs a PDL program."""
+
+
+class PdlStartError(Exception):
+    """A start label that cannot be started (exit 3); the message is the whole line to print:
+    a machine file's `pdl_start` label the program lacks (`FILE:LINE: error: ...`), or a
+    standalone `--start` the program lacks or the drive refuses (`motionvm: --start ...`)."""
+
+
+@dataclass
+class CompiledDrive:
+    """One compiled program and the drive it runs on."""
+
+    spec: PdlDriveSpec
+    program: PdlProgram
+
+
+def _compile(specs: Sequence[tuple[PdlDriveSpec, str]], report) -> list[CompiledDrive] | None:
+    sink = DiagnosticSink()
+    out: list[CompiledDrive] = []
+    for spec, path in specs:
+        program = compile_pdl(path, sink=sink)
+        if program is not None:
+            out.append(CompiledDrive(spec, program))
+    for d in sorted(sink.items, key=lambda d: (d.pos.file, d.pos.line, d.pos.col)):
+        report(render_diagnostic(d))
+    return None if sink.has_errors else out
+
+
+def compile_drives(
+    machine: MachineConfig, report: Callable[[str], None]
+) -> list[CompiledDrive] | None:
+    """Compile the machine's PDL programs; None (diagnostics reported) on any compile error.
+
+    Raises PdlStartError for a `pdl_start` label the program lacks.
+    """
+    out = _compile([(spec, str(spec.path)) for spec in machine.pdl_drives], report)
+    for c in out or ():
+        for label in c.spec.starts:
+            if label != "top" and label not in c.program.entries:
+                raise PdlStartError(
+                    f"{c.spec.where}: error: [[axis]] {c.spec.axis}: pdl_start: "
+                    f"{c.spec.path.name} has no label '{label}'"
+                )
+    return out
+
+
+def compile_program(
+    path: str, starts: Sequence[str], report: Callable[[str], None]
+) -> list[CompiledDrive] | None:
+    """Compile one standalone program for the drive of axis 0, host starts `starts` (in
+    order; "top": the first statement); None (diagnostics reported) on a compile error.
+
+    Raises PdlStartError for a start label the program lacks.
+    """
+    spec = PdlDriveSpec(axis=0, path=Path(path), starts=tuple(starts), where=path)
+    out = _compile([(spec, path)], report)  # the path as given: faults name it so
+    for c in out or ():
+        for label in c.spec.starts:
+            if label != "top" and label not in c.program.entries:
+                raise PdlStartError(
+                    f"motionvm: --start {label}: the program has no label '{label}'"
+                )
+    return out
+
+
+def pdl_axis_config(axis: AxisConfig) -> PdlAxisConfig:
+    """The drive's axis in counts, from the machine's axis table (mm or deg)."""
+    cpu = axis.counts_per_unit
+    home = None
+    if axis.home_pos is not None:
+        home = (axis.home_pos + axis.home_width / 2) * cpu
+    return PdlAxisConfig(
+        v_max=axis.max_vel * cpu,
+        acc=axis.max_acc * cpu,
+        dcc=axis.max_dec * cpu,
+        position=axis.start_position * cpu,
+        home_position=home,
+        home_width=axis.home_width * cpu,
+        left_limit=None if axis.hw_left is None else axis.hw_left * cpu,
+    )
+
+
+class _Slot:
+    """One PDL drive on one machine axis."""
+
+    __slots__ = ("axis", "axis_id", "demand", "done", "drive", "latency", "per_cycle")
+
+    def __init__(self, axis_id: int, drive: Drive, axis, per_cycle: int):
+        self.axis_id = axis_id
+        self.drive = drive
+        self.axis = axis
+        """The controller's axis (`motion.axis.Axis`) whose CiA 402 drive the program moves."""
+        self.per_cycle = per_cycle
+        """Phases per controller cycle."""
+        self.demand = drive.axis.position
+        """The last demand handed to the CiA 402 drive [counts]."""
+        self.latency = 1 + getattr(axis.drive.mechanics, "delay_cycles", 0)
+        """Cycles from a demand at the end of a cycle to the feedback that shows it."""
+        self.done = False
+        """The phase loop found the drive idle (standalone: the run ends with that cycle)."""
+
+
+class PdlDrives:
+    """The cycle client that runs PDL drives on the machine's axes (see the module docstring).
+
+    `drives` are the compiled programs, on the axes their specs name; `machine` configures
+    each drive's axis (standalone: `config` or the manual's `DriveConfig()`). `emit` takes
+    each message line, `report` each fault and note; `faults` lists the fault reports.
+    Create it before the controller's first cycle: drive phase p belongs to cycle p // 15.
+    """
+
+    def __init__(
+        self,
+        controller,
+        drives: Sequence[CompiledDrive],
+        machine: MachineConfig,
+        *,
+        emit: Callable[[str], None],
+        report: Callable[[str], None],
+        stamp: bool = False,
+        standalone: bool = False,
+        config: DriveConfig | None = None,
+    ) -> None:
+        self.controller = controller
+        self.stamp = stamp
+        self.standalone = standalone
+        self._emit = emit
+        self._report = report
+        self.faults: list[str] = []
+        """Fault reports of the drives' tasks (and refused machine-file starts), in order."""
+        self.drives: list[tuple[int, Drive]] = []
+        """(axis id, drive), in axis order."""
+        self._slots: list[_Slot] = []
+        self._starts: dict[int, tuple[str, ...]] = {}
+        self._settle_until = -1  # the last cycle the machine axes still follow a demand
+        self._started = False
+        for c in sorted(drives, key=lambda c: c.spec.axis):
+            axis_id = c.spec.axis
+            if standalone:
+                cfg = config or DriveConfig()
+            else:
+                cfg = DriveConfig(axis=pdl_axis_config(machine.axes[axis_id]))
+            drive = Drive(
+                c.program,
+                cfg,
+                on_message=self._message_sink(axis_id, cfg.phase_rate),
+                on_fault=self._fault_sink(axis_id),
+            )
+            axis = controller.axes[axis_id]
+            axis.controlled_by = CONTROLLED_BY
+            axis.drive.follow_local_demand(drive.axis.position)
+            per_cycle = round(controller.cycle_time * cfg.phase_rate)
+            self._slots.append(_Slot(axis_id, drive, axis, per_cycle))
+            self.drives.append((axis_id, drive))
+            self._starts[axis_id] = c.spec.starts
+
+    def _message_sink(self, axis_id: int, rate: int) -> Callable[[Message], None]:
+        who = "" if self.standalone else f"drive {axis_id} "
+
+        def show(m: Message) -> None:
+            if self.stamp:
+                self._emit(f"[t={m.phase / rate:.6f}][{who}task {m.task}] {m.text}")
+            else:
+                self._emit(m.text)
+
+        return show
+
+    def _fault_sink(self, axis_id: int) -> Callable[[str], None]:
+        def fault(text: str) -> None:
+            if not self.standalone:
+                text = text.replace(
+                    ": runtime error in task ", f": runtime error in drive {axis_id} task ", 1
+                )
+            self.faults.append(text)
+            self._report(text)
+
+        return fault
+
+    def boot(self) -> None:
+        """Start the host labels (`pdl_start`, `--start`) of every drive, in order; the
+        `#task/n` tasks started at the drive's reset already. A refused start is a fault
+        (standalone: PdlStartError); a standalone drive with no task gets a note."""
+        for axis_id, drive in self.drives:
+            for label in self._starts.get(axis_id, ()):
+                try:
+                    if label == "top":
+                        free = next((t.id for t in drive.tasks if t.gen is None), None)
+                        if free is None:
+                            raise ValueError("refused: all 4 tasks are busy")
+                        drive.start_top(free)
+                    else:
+                        drive.start(label)
+                except ValueError as exc:
+                    if self.standalone:
+                        raise PdlStartError(f"motionvm: --start {label}: {exc}") from None
+                    text = f"{drive.program.path}: error: drive {axis_id}: pdl_start {label}: {exc}"
+                    self.faults.append(text)
+                    self._report(text)
+            if self.standalone and not drive.busy:
+                self._report(
+                    f"{drive.program.path}: note: no task runs: the program has no "
+                    "'#task/n;' and no --start label was given"
+                )
+
+    def scope_sources(self) -> list[PdlDriveSource]:
+        """The `driveN.<name>` channels (standalone: also the bare names of its drive)."""
+        bare = self.drives[0][0] if self.standalone and self.drives else None
+        return [PdlDriveSource(dict(self.drives), bare=bare)]
+
+    # ---------------------------------------------------------------- the cycle client
+
+    def begin_cycle(self) -> None:
+        """Nothing: the drives run after the motion step."""
+
+    def end_cycle(self) -> None:
+        """Run every drive, in axis order, to the end of this cycle; hand its demand over."""
+        cycle = self.controller.cycle
+        self._started = True
+        for s in self._slots:
+            drive = s.drive
+            target = (cycle + 1) * s.per_cycle
+            if drive.phase < target and not s.done:
+                s.done = drive.run_phases(target - drive.phase)
+            p = drive.axis.position
+            if p != s.demand:
+                s.demand = p
+                s.axis.drive.follow_local_demand(p)
+                s.axis.wake()  # a resting axis would not step its drive
+                self._settle_until = max(self._settle_until, cycle + s.latency)
+
+    def _running(self, s: _Slot) -> bool:
+        if self.standalone:  # the drive's own loop: until a cycle finds it idle
+            return not self._started or not s.done
+        return s.drive.busy
+
+    def busy(self) -> bool:
+        """True while a drive task runs or sleeps or a drive's profile moves, and (machine
+        run) while a machine axis has not yet followed the drive's last demand."""
+        if any(self._running(s) for s in self._slots):
+            return True
+        return not self.standalone and self.controller.cycle <= self._settle_until
+
+    def next_event(self) -> int | None:
+        """The current cycle while a drive task is runnable, a drive's profile moves or a
+        machine axis follows a demand; else the cycle of the earliest wake-up of a
+        sleeping task; None once every drive is idle."""
+        cycle = self.controller.cycle
+        if cycle <= self._settle_until or not self._started:
+            return cycle
+        best = None
+        for s in self._slots:
+            if not self._running(s):
+                continue
+            phase = s.drive.next_phase()
+            if phase is None:
+                if self.standalone:
+                    return cycle  # the cycle that finds the drive idle ends the run
+                continue
+            wake = phase // s.per_cycle
+            if wake <= cycle:
+                return cycle
+            if best is None or wake < best:
+                best = wake
+        return best
