@@ -80,9 +80,11 @@ class FollowerDevice(Device):
         self.seen: object = None
 
     def start(self, rts: Rts) -> None:
+        from motionvm.lang.gdl.motors import MotorDevice  # motors builds on this module
+
         key = self.obj.params.get(self.motor_param)
         dev = rts.device(rts.app.objects[key]) if isinstance(key, str) else None
-        self.motor = dev if hasattr(dev, "velocity") else None  # type: ignore[assignment]
+        self.motor = dev if isinstance(dev, MotorDevice) else None
         self.seen = self.sample()
         self.publish(rts, self.seen, init=True)
 
