@@ -61,6 +61,7 @@ def test_gdl_time_format_is_exact() -> None:
     ]
     assert format_time(10**9 + 1, 0.001) == "1000000.001"
     assert format_time(3, 0.002) == "0.006"
+    assert format_time(7, 0.3 / 1000) == "0.0021"  # 0.00030000000000000003 is 3/10000
 
 
 @pytest.mark.parametrize("name", ["motion", "packer", "queue"])

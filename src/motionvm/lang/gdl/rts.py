@@ -51,10 +51,11 @@ MAX_DECIMALS = 9
 def time_formatter(cycle_time: float) -> Callable[[int], str]:
     """`cycle -> "S.mmm"`: simulated time from the integer cycle, without float drift.
 
-    The cycle time is taken as the decimal it was written as (0.001 is exactly 1/1000);
-    a stamp shows at least 3 decimals, more when the cycle time needs them (0.0005 s: 4).
+    The cycle time is taken as the nearest fraction with a denominator up to 10**9
+    (0.001 is exactly 1/1000, 0.3 / 1000 is 3/10000); a stamp shows at least 3
+    decimals, more when the cycle time needs them (0.0005 s: 4).
     """
-    step = Fraction(repr(float(cycle_time)))
+    step = Fraction(cycle_time).limit_denominator(10**MAX_DECIMALS)
     decimals = next(
         (d for d in range(3, MAX_DECIMALS + 1) if (step * 10**d).denominator == 1), MAX_DECIMALS
     )
@@ -129,11 +130,6 @@ class Rts:
                 self.values[(obj.key, spec.keyword)] = [value] * len(obj.elements)
         for dev in self.devices.values():
             dev.start(self)
-
-    @property
-    def cycle(self) -> int:
-        """The controller's current cycle [int]."""
-        return self.clock.cycle
 
     # ------------------------------------------------------------ state access
 
