@@ -20,6 +20,7 @@ from motionvm.drives.objects import (
 from motionvm.motion import axis_status as st
 from motionvm.motion.axis_cycle import PG
 from motionvm.motion.axis_status import AxisCommandError
+from motionvm.motion.profile import VELOCITY
 
 
 def _positive(value: float, code: int, what: str, axis_id: int) -> float:
@@ -215,6 +216,20 @@ class AxisSettings:
         """|ref_vel| grows; an |ref_acc| below 1e-6 * max_acc is rounding of a cruise."""
         a = self.ref_acc
         return self.moving and self.ref_vel * a > 0.0 and abs(a) > 1e-6 * self.pg.a_max
+
+    @property
+    def cruising(self) -> bool:
+        """True while the axis jogs (MoveVel) at a constant velocity it has reached: it
+        moves, but nothing about its motion changes until it is commanded again; an
+        |ref_acc| below 1e-6 * max_acc is rounding of a cruise (as in `accelerating`)."""
+        return (
+            self.moving
+            and self._source == PG
+            and self.pg.mode == VELOCITY
+            and not self.halted
+            and self.ref_vel != 0.0
+            and abs(self.ref_acc) <= 1e-6 * self.pg.a_max
+        )
 
     @property
     def motion_status(self) -> int:

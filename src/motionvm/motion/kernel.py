@@ -56,11 +56,17 @@ class MotionKernel:
             a.step()
 
     def busy(self) -> bool:
-        """True while an axis moves, enables, settles or stops, or the bus starts up."""
+        """True while an axis moves, enables, settles or stops, or the bus starts up.
+
+        An axis jogging at a constant velocity it has reached (`Axis.cruising`) counts as
+        settled: nothing about it changes until it is commanded again.
+        """
         if self._bus_steps:
             return True
         for a in self.axes:
-            if a.moving or a._enabling or (a.enabled and not a.in_pos):
+            if a._enabling:
+                return True
+            if (a.moving or (a.enabled and not a.in_pos)) and not a.cruising:
                 return True
         return False
 

@@ -83,11 +83,9 @@ _INPUTS = ["STATUS OF start_button", "STATUS OF stop_button"] + [
 @given(
     st.lists(st.tuples(st.integers(0, 400), st.sampled_from(_INPUTS), st.booleans()), max_size=12)
 )
-def test_gdl_random_scenarios_run_the_same_stepped_or_jumped(tmp_path_factory, events) -> None:
-    from motionvm.lang.gdl.driver import run_scenario
-    from motionvm.lang.gdl.rts import Rts
-    from motionvm.lang.gdl.scenario import load_scenario
-
+def test_gdl_random_scenarios_run_the_same_stepped_or_jumped(
+    tmp_path_factory, jumped_and_stepped, events
+) -> None:
     folder = tmp_path_factory.mktemp("s")
     toml = "".join(
         f'[[event]]\nat = {ms / 1000}\nset = "{ref}"\nvalue = "{"ON" if on else "OFF"}"\n'
@@ -96,11 +94,6 @@ def test_gdl_random_scenarios_run_the_same_stepped_or_jumped(tmp_path_factory, e
     (folder / "s.toml").write_text(toml)
     app = compile_app([str(PROGRAMS / "packer.gdl")], sink=DiagnosticSink())
     assert app is not None
-    outputs = []
-    for jump in (True, False):
-        out = io.StringIO()
-        rts = Rts(app, out, out)
-        run_scenario(rts, load_scenario(str(folder / "s.toml"), app), None, jump=jump)
-        outputs.append(out.getvalue())
-    assert outputs[0] == outputs[1]
-    assert outputs[0].count("input ") == len(events)
+    jumped, stepped = jumped_and_stepped(app, str(folder / "s.toml"))
+    assert jumped == stepped
+    assert jumped[0].count("input ") == len(events)

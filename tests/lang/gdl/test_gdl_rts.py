@@ -10,9 +10,8 @@ import pytest
 from motionvm.lang.gdl import compile_app, main_run, run_app
 from motionvm.lang.gdl import rts as rts_module
 from motionvm.lang.gdl.app import App
-from motionvm.lang.gdl.driver import run_scenario
 from motionvm.lang.gdl.rts import Rts, format_time
-from motionvm.lang.gdl.scenario import load_scenario
+from motionvm.runtime.clock import Clock
 from motionvm.source.diagnostics import DiagnosticSink
 
 PROGRAMS = Path(__file__).resolve().parents[2] / "programs" / "gdl"
@@ -54,21 +53,28 @@ def test_gdl_time_format_is_exact() -> None:
         "1.000",
         "123.456",
     ]
+    assert [format_time(c, 0.0005) for c in (0, 1, 3, 2001)] == [
+        "0.0000",
+        "0.0005",
+        "0.0015",
+        "1.0005",
+    ]
+    assert format_time(10**9 + 1, 0.001) == "1000000.001"
+    assert format_time(3, 0.002) == "0.006"
+    assert format_time(7, 0.3 / 1000) == "0.0021"  # 0.00030000000000000003 is 3/10000
 
 
 @pytest.mark.parametrize("name", ["motion", "packer", "queue"])
-def test_gdl_jumping_the_clock_equals_stepping(name: str, monkeypatch: pytest.MonkeyPatch) -> None:
+def test_gdl_jumping_the_clock_equals_stepping(
+    name: str, monkeypatch: pytest.MonkeyPatch, jumped_and_stepped
+) -> None:
     monkeypatch.chdir(PROGRAMS)
     sink = DiagnosticSink()
     app = compile_app([f"{name}.gdl"], sink=sink)
     assert app is not None
-    outputs = []
-    for jump in (True, False):
-        out = io.StringIO()
-        rts = Rts(app, out, out)
-        run_scenario(rts, load_scenario(f"{name}.toml", app), None, jump=jump)
-        outputs.append((out.getvalue(), rts.cycle))
-    assert outputs[0] == outputs[1]
+    jumped, stepped = jumped_and_stepped(app, f"{name}.toml")
+    assert jumped == stepped
+    assert jumped[0]
 
 
 def test_gdl_runs_are_deterministic(monkeypatch: pytest.MonkeyPatch) -> None:
@@ -110,8 +116,8 @@ def test_gdl_runaway_activations_are_stopped(
 
 def test_gdl_force_api_and_release(tmp_path: Path) -> None:
     app = _app(tmp_path, TOGGLE)
-    out = io.StringIO()
-    rts = Rts(app, out, out)
+    lines: list[str] = []
+    rts = Rts(app, Clock(0.001), lines.append, lines.append)
     flip, memo, go = (app.objects[k] for k in ("flip", "memo", "go"))
     rts.force(memo, "VALUE", 0, True)
     rts.write(memo, "VALUE", 0, False, "set")
@@ -121,7 +127,7 @@ def test_gdl_force_api_and_release(tmp_path: Path) -> None:
     rts.force(go, "STATUS", 0, True)
     assert list(rts.ready) == [app.procedures[0]]
     assert flip.type.state("STATUS").forceable
-    assert out.getvalue().splitlines() == [
+    assert lines == [
         "t=0.000 force VALUE OF memo = ON",
         "t=0.000 release VALUE OF memo = OFF",
         "t=0.000 force STATUS OF go = ON",
@@ -133,7 +139,7 @@ def test_gdl_force_refuses_variables_without_f(tmp_path: Path) -> None:
         tmp_path,
         TOGGLE.replace("DIGITAL$VARIABLE memo [ ];", "INTEGER$CONSTANT memo [ VALUE = 1 ];"),
     )
-    rts = Rts(app, io.StringIO(), io.StringIO())
+    rts = Rts(app, Clock(0.001), print, print)
     with pytest.raises(ValueError, match="VALUE of INTEGER\\$CONSTANT cannot be forced"):
         rts.force(app.objects["memo"], "VALUE", 0, 2)
 
@@ -273,28 +279,20 @@ END$MODULE;
 """
 
 
-@pytest.mark.parametrize("model", ["trapezoid", "profile"])
 def test_gdl_followers_update_the_same_when_the_clock_jumps(
-    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, model: str
+    tmp_path: Path, jumped_and_stepped
 ) -> None:
-    from motionvm.lang.gdl import axis, devices
-
-    if model == "profile":
-        monkeypatch.setattr(devices, "create_axis", axis.ProfileAxis)
     app = _app(tmp_path, FOLLOWERS)
     s = _scenario(
         tmp_path,
         '[[event]]\nat = 0.1\nset = "OPERATING$MODE OF plant"\nvalue = "AUTOMATIC"\n'
         '[[event]]\nat = 0.5\nset = "OPERATING$MODE OF plant"\nvalue = "MANUAL"\n',
     )
-    outputs = []
-    for jump in (True, False):
-        out = io.StringIO()
-        rts = Rts(app, out, out)
-        run_scenario(rts, load_scenario(s, app), None, jump=jump)
-        outputs.append(out.getvalue())
-    assert outputs[0] == outputs[1]
-    assert "t=0.501 update OPERATING$CONDITION OF spindle_encoder = STOPPED" in outputs[0]
+    jumped, stepped = jumped_and_stepped(app, s)
+    assert jumped == stepped
+    assert "t=0.501 update OPERATING$CONDITION OF spindle_encoder = STOPPED" in jumped[0]
+    until = jumped_and_stepped(app, s, until=0.3)
+    assert until[0] == until[1] and until[0][2] == 301
 
 
 def test_gdl_shuffled_order_of_shared_activators(monkeypatch: pytest.MonkeyPatch) -> None:

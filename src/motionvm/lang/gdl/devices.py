@@ -1,21 +1,23 @@
-"""Behaviour of the GDL hardware objects the RTS simulates: motors, encoders, home inputs.
+"""Behaviour of the GDL hardware objects the RTS simulates: the device base, encoders, home inputs.
 
 A device implements the operators of its type and keeps its state variables up to
 date each cycle, writing through `Rts.write` with origin 'update' (so forcing, output
-and activators work the same for every change). Motors drive an `axis.Axis`.
-Pure data objects (inputs, outputs, variables, flags, boards) need no device.
+and activators work the same for every change). Motors (`motors.MotorDevice`) command
+machine axes; encoders and home inputs follow a motor. Pure data objects (inputs,
+outputs, variables, flags, boards) need no device.
 """
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Protocol
 
 from motionvm.lang.gdl.app import ObjectInfo
-from motionvm.lang.gdl.axis import V_EPS, create_axis
-from motionvm.lang.gdl.check_proc import dynamic_limit
 
 if TYPE_CHECKING:
     from motionvm.lang.gdl.rts import Rts
+
+V_EPS = 1e-9
+"""Velocity below which a motor counts as standing still [units/s]."""
 
 
 class GdlFault(Exception):
@@ -37,120 +39,30 @@ class Device:
     def on_write(self, rts: Rts, keyword: str, element: int, value: object) -> None:
         """React to a change of one of this object's state variables."""
 
-    def step(self, rts: Rts, dt: float) -> None:
-        """Advance one cycle of `dt` [s]."""
+    def update(self, rts: Rts) -> None:
+        """Bring the state variables up to date after the controller's motion step."""
 
     @property
     def busy(self) -> bool:
+        """Still changing: the clock may not jump over the next cycle."""
         return False
 
     @property
     def transient(self) -> bool:
+        """Will still change on its own (keeps a run without an end time going)."""
         return False
 
 
-class MotorDevice(Device):
-    """DC$MOTOR$AXIS, STEPPER$MOTOR and STP$MOTOR$AXIS on a trapezoidal axis."""
+class Motion(Protocol):
+    """What followers read of a motor (`motors.MotorDevice`), as of its last update."""
 
-    def __init__(self, obj: ObjectInfo) -> None:
-        super().__init__(obj)
-        self.axis = create_axis()
-        self.offset = 0.0  # machine position of logical 0, set by homing
-        self.homing = False
-        self.home: ObjectInfo | None = None
+    position: float
+    """Axis position [units], without the homing offset."""
+    velocity: float
+    """Axis velocity [units/s]; 0 from the cycle a move or stop arrives."""
 
     @property
-    def a_max(self) -> float:
-        return float(self.obj.params.get("ACCELERATION", 30000))  # type: ignore[arg-type]
-
-    def start(self, rts: Rts) -> None:
-        self.home = next(
-            (
-                o
-                for o in rts.app.objects.values()
-                if o.type.name == "STP$MOTOR$AXIS$HOME$INPUT"
-                and o.params.get("STPMOTOR$NAME") == self.obj.key
-            ),
-            None,
-        )
-
-    def _require_ready(self, rts: Rts, op: str) -> None:
-        if rts.read(self.obj, "CONSTANT$STATUS", 0) != "ENABLED":
-            raise GdlFault(
-                f"{op} OF {self.obj.name}: the motor is DISABLED (assign "
-                f"CONSTANT$STATUS OF {self.obj.name} = ENABLED first)"
-            )
-        if rts.read(self.obj, "DIAGN$STATUS", 0) == "FAULT":
-            raise GdlFault(f"{op} OF {self.obj.name}: DIAGN$STATUS is FAULT")
-
-    def _check_limit(self, op: str, name: str, value: int, limit: str) -> None:
-        dyn = dynamic_limit(self.obj, limit)
-        if dyn is not None and not dyn[0] <= value <= dyn[1]:
-            raise GdlFault(
-                f"argument {name} of {op} = {value} is outside {dyn[2]} "
-                f"{dyn[0]}..{dyn[1]} of {self.obj.name}"
-            )
-
-    def call(self, rts: Rts, op: str, args: list[int], element: int) -> None:
-        if op == "STOP":
-            self.homing = False
-            self.axis.stop(self.a_max)
-            return
-        self._require_ready(rts, op)
-        if op == "RUN$AT$SPEED":
-            self._check_limit(op, "speed", args[0], "max_speed")
-            self.homing = False
-            self.axis.run_at(args[0], self.a_max)
-        elif op == "MOVE$TO":
-            self._check_limit(op, "position", args[0], "travel")
-            self.homing = False
-            speed = float(self.obj.params.get("MAX$SPEED", 3000))  # type: ignore[arg-type]
-            self.axis.move_to(args[0] + self.offset, speed, self.a_max)
-        elif op == "HOME$SEARCH":
-            if self.home is None:
-                raise GdlFault(
-                    f"HOME$SEARCH OF {self.obj.name}: no STP$MOTOR$AXIS$HOME$INPUT names this axis"
-                )
-            self.homing = True
-            rts.write(self.obj, "HOMED", 0, False, rts.origin())
-            speed = float(self.obj.params.get("HOME$SPEED", 100))  # type: ignore[arg-type]
-            self.axis.run_at(-speed, self.a_max)
-        else:
-            super().call(rts, op, args, element)
-        if self.axis.busy:
-            rts.write(self.obj, "OPERATING$CONDITION", 0, "RUNNING", rts.origin())
-
-    def on_write(self, rts: Rts, keyword: str, element: int, value: object) -> None:
-        if keyword == "CONSTANT$STATUS" and value == "DISABLED":
-            self.homing = False
-            self.axis.halt()
-            rts.write(self.obj, "SPEED", 0, 0, rts.origin())
-            rts.write(self.obj, "OPERATING$CONDITION", 0, "STOPPED", rts.origin())
-
-    def step(self, rts: Rts, dt: float) -> None:
-        if not self.axis.busy and not self.homing:
-            return
-        self.axis.step(dt)
-        if self.homing and self.home is not None:
-            rts.device(self.home).step(rts, dt)
-            if rts.read(self.home, "STATUS", 0):
-                self.axis.halt()
-                self.homing = False
-                self.offset = self.axis.position
-                rts.write(self.obj, "HOMED", 0, True, "update")
-        rts.write(self.obj, "SPEED", 0, round(self.axis.velocity), "update")
-        if self.obj.type.state("POSITION") is not None:
-            rts.write(self.obj, "POSITION", 0, round(self.axis.position - self.offset), "update")
-        if not self.axis.busy and not self.homing:
-            rts.write(self.obj, "OPERATING$CONDITION", 0, "STOPPED", "update")
-
-    @property
-    def busy(self) -> bool:
-        return self.axis.busy or self.homing
-
-    @property
-    def transient(self) -> bool:
-        return self.axis.transient or self.homing
+    def busy(self) -> bool: ...
 
 
 class FollowerDevice(Device):
@@ -164,10 +76,12 @@ class FollowerDevice(Device):
 
     def __init__(self, obj: ObjectInfo) -> None:
         super().__init__(obj)
-        self.motor: MotorDevice | None = None
+        self.motor: Motion | None = None
         self.seen: object = None
 
     def start(self, rts: Rts) -> None:
+        from motionvm.lang.gdl.motors import MotorDevice  # motors builds on this module
+
         key = self.obj.params.get(self.motor_param)
         dev = rts.device(rts.app.objects[key]) if isinstance(key, str) else None
         self.motor = dev if isinstance(dev, MotorDevice) else None
@@ -181,7 +95,7 @@ class FollowerDevice(Device):
     def publish(self, rts: Rts, state: object, init: bool) -> None:
         """Write `state` into the state variables (as initial values when `init`)."""
 
-    def step(self, rts: Rts, dt: float) -> None:
+    def update(self, rts: Rts) -> None:
         if self.motor is None:
             return
         state = self.sample()
@@ -205,7 +119,7 @@ class HomeInputDevice(FollowerDevice):
     def sample(self) -> object:
         assert self.motor is not None
         switch = self.obj.params.get("SWITCH$POSITION", 0)
-        return self.motor.axis.position <= switch  # type: ignore[operator]
+        return self.motor.position <= switch  # type: ignore[operator]
 
     def publish(self, rts: Rts, state: object, init: bool) -> None:
         if init:
@@ -226,8 +140,7 @@ class EncoderDevice(FollowerDevice):
     def sample(self) -> object:
         if self.motor is None:
             return (0, False)
-        axis = self.motor.axis
-        return (round(axis.position), abs(axis.velocity) > V_EPS)
+        return (round(self.motor.position), abs(self.motor.velocity) > V_EPS)
 
     def publish(self, rts: Rts, state: object, init: bool) -> None:
         if init or self.motor is None:
@@ -252,15 +165,24 @@ class EncoderDevice(FollowerDevice):
             rts.write(self.obj, "CFG$STATUS", 0, "NOT$CONFIGURED", "update")
 
 
-DEVICE_CLASSES: dict[str, type[Device]] = {
-    "DC$MOTOR$AXIS": MotorDevice,
-    "STEPPER$MOTOR": MotorDevice,
-    "STP$MOTOR$AXIS": MotorDevice,
+FOLLOWER_CLASSES: dict[str, type[Device]] = {
     "STP$MOTOR$AXIS$HOME$INPUT": HomeInputDevice,
     "ABSOLUTE$ENCODER": EncoderDevice,
 }
 
+MOTOR_TYPES = ("DC$MOTOR$AXIS", "STEPPER$MOTOR", "STP$MOTOR$AXIS")
+"""Object types that are machine axes (`motors.MotorDevice`)."""
 
-def create_device(obj: ObjectInfo) -> Device:
-    """The device simulating `obj` (a do-nothing `Device` for pure data objects)."""
-    return DEVICE_CLASSES.get(obj.type.name, Device)(obj)
+
+def create_device(obj: ObjectInfo, axis: object = None) -> Device:
+    """The device simulating `obj` (a do-nothing `Device` for pure data objects).
+
+    A motor needs its machine axis (`motors.assign_axes`).
+    """
+    if obj.type.name in MOTOR_TYPES:
+        from motionvm.lang.gdl.motors import MotorDevice  # motors builds on this module
+
+        if axis is None:
+            raise ValueError(f"motor {obj.name} has no machine axis")
+        return MotorDevice(obj, axis)  # type: ignore[arg-type]
+    return FOLLOWER_CLASSES.get(obj.type.name, Device)(obj)

@@ -1,121 +1,29 @@
-"""GDL drivers: the scenario loop, and what `motionvm run|check|dump` call.
+"""What `motionvm run|check|dump` call for GDL files: compile, then run on a controller.
 
-Exit codes of `main_run`: 0 ok; 1 a run-time error happened (the run went on);
-2 compile errors (nothing ran); 3 a bad scenario file or --force argument.
+`run_app` assembles a run: a `Controller` (the built-in machine, 1 ms cycle), the
+scenario, a `client.GdlApplication` on the controller's cycle. Exit codes of
+`main_run`: 0 ok; 1 a run-time error happened (the run went on); 2 compile errors
+(nothing ran); 3 a bad scenario file, --force argument or machine (too few axes).
 Without an end time (`until`, from the caller or the scenario) a run ends once the
-scenario has no events left, the ready queue is empty and every axis stands still or
-runs at a constant commanded speed.
+scenario has no events left, the ready queue is empty and every motor stands still or
+runs at a constant commanded speed (client.py).
 """
 
 from __future__ import annotations
 
-from collections import deque
 from typing import TextIO
 
-from motionvm.lang.gdl.app import App, ProcInfo
+from motionvm.lang.gdl.app import App
+from motionvm.lang.gdl.client import GdlApplication
 from motionvm.lang.gdl.compiler import compile_app
 from motionvm.lang.gdl.dump import dump_ast, dump_tokens
 from motionvm.lang.gdl.lower import emit_python
-from motionvm.lang.gdl.rts import DT_MS, Rts
-from motionvm.lang.gdl.scenario import (
-    Event,
-    Scenario,
-    ScenarioError,
-    load_scenario,
-    parse_target,
-    parse_value,
-)
+from motionvm.lang.gdl.motors import GdlMachineError
+from motionvm.lang.gdl.scenario import Scenario, ScenarioError, load_scenario
+from motionvm.sim.controller import Controller
 from motionvm.source.diagnostics import DiagnosticSink, render_diagnostic
 
 EXIT_OK, EXIT_RUNTIME, EXIT_COMPILE, EXIT_SCENARIO = 0, 1, 2, 3
-
-
-def _apply(rts: Rts, ev: Event) -> None:
-    t = ev.target
-    for e in t.elements:
-        if ev.action == "set":
-            rts.input(t.obj, t.spec.keyword, e, ev.value)
-        elif ev.action == "force":
-            rts.force(t.obj, t.spec.keyword, e, ev.value)
-        else:
-            rts.release(t.obj, t.spec.keyword, e)
-
-
-def parse_forces(app: App, forces: list[str]) -> list[Event]:
-    """`--force "VALUE OF fan = 300"` arguments as force events at t=0."""
-    out: list[Event] = []
-    for i, text in enumerate(forces):
-        ref, sep, raw = text.partition("=")
-        try:
-            if not sep:
-                raise ValueError("write --force 'KEYWORD OF object = value'")
-            target = parse_target(app, ref.strip())
-            if not target.spec.forceable:
-                raise ValueError(
-                    f"{target.spec.keyword} of {target.obj.type.name} cannot be "
-                    f"forced (access {target.spec.access})"
-                )
-            value = parse_value(target, raw.strip())
-        except ValueError as exc:
-            raise ScenarioError(f"--force '{text}': {exc}") from None
-        out.append(Event(-1 - i, 0, "force", target, value, None, None))
-    return out
-
-
-def run_scenario(
-    rts: Rts,
-    scenario: Scenario,
-    until: float | None,
-    forces: list[Event] | None = None,
-    *,
-    jump: bool = True,
-) -> None:
-    """Drive `rts` through the scenario (see the module docstring for when it ends).
-
-    `jump=False` steps every cycle even when nothing moves (tests compare the two).
-    """
-    end = until if until is not None else scenario.until
-    end_cycle = None if end is None else max(0, round(end * 1000 / DT_MS))
-    for target, value in scenario.initial:
-        for e in target.elements:
-            rts.init_value(target.obj, target.spec.keyword, e, value)
-    timed = deque(ev for ev in scenario.events if ev.during is None)
-    rts.injections = [ev for ev in scenario.events if ev.during is not None]
-
-    def inject(proc: ProcInfo, line: int) -> None:
-        for ev in list(rts.injections):
-            assert isinstance(ev, Event)
-            if ev.cycle <= rts.cycle and ev.during == proc.name and ev.line == line:
-                rts.injections.remove(ev)
-                _apply(rts, ev)
-
-    rts.apply_injection = inject
-    for ev in forces or []:
-        _apply(rts, ev)
-        rts.drain()
-    while True:
-        rts.runs_this_cycle = 0
-        if rts.cycle > 0:
-            rts.step_devices()
-        while timed and timed[0].cycle <= rts.cycle:
-            _apply(rts, timed.popleft())
-            rts.drain()
-        if end_cycle is not None:
-            if rts.cycle >= end_cycle:
-                break
-        elif not timed and not rts.transient:
-            break
-        if rts.moving or not jump:
-            rts.cycle += 1
-        else:
-            nxt = [c for c in (timed[0].cycle if timed else None, end_cycle) if c is not None]
-            rts.cycle = max(rts.cycle + 1, min(nxt))
-    for ev in rts.injections:
-        assert isinstance(ev, Event)
-        rts.err.write(
-            f"warning: scenario event {ev.number} (during {ev.during}, line "
-            f"{ev.line}) was never applied\n"
-        )
 
 
 def run_app(
@@ -126,27 +34,40 @@ def run_app(
     err: TextIO | None = None,
     forces: list[str] | None = None,
     shuffle_seed: int | None = None,
+    *,
+    controller: Controller | None = None,
 ) -> int:
     """Run `app` against a scenario file (or none); output on `out`, errors on `err`.
 
     `forces` are `--force 'REF = VALUE'` texts applied at t=0; `shuffle_seed` permutes the
-    order of procedures sharing an activator (see `Rts`). Returns 0, 1 (a run-time error
-    happened) or 3 (bad scenario or --force).
+    order of procedures sharing an activator (see `Rts`); `controller` (default: a new
+    one with the built-in machine) runs it. Returns 0, 1 (a run-time error happened) or
+    3 (bad scenario, --force or machine).
     """
     err = err if err is not None else out
+    controller = controller if controller is not None else Controller()
     try:
         scenario = (
             load_scenario(scenario_path, app)
             if scenario_path is not None
             else Scenario((), (), None)
         )
-        force_events = parse_forces(app, forces or [])
-    except ScenarioError as exc:
+        client = GdlApplication(
+            controller,
+            app,
+            scenario,
+            emit=lambda line: out.write(line + "\n"),
+            report=lambda line: err.write(line + "\n"),
+            forces=forces or (),
+            shuffle_seed=shuffle_seed,
+        )
+    except (ScenarioError, GdlMachineError) as exc:
         err.write(f"error: {exc}\n")
         return EXIT_SCENARIO
-    rts = Rts(app, out, err, shuffle_seed=shuffle_seed)
-    run_scenario(rts, scenario, until, force_events)
-    return EXIT_RUNTIME if rts.error_count else EXIT_OK
+    controller.add_client(client)
+    controller.run(client.run_until(until))
+    client.finish()
+    return EXIT_RUNTIME if client.error_count else EXIT_OK
 
 
 def _compile(paths: list[str], stderr: TextIO) -> App | None:

@@ -1,4 +1,4 @@
-"""The GDL run-time support (RTS): object state, activators, the ready queue, the clock.
+"""The GDL run-time support (RTS): object state, activators, the ready queue, output.
 
 Model (GDL.md 9.5, text 3.3):
 - Every state variable of every object element holds a value; values start from the
@@ -14,43 +14,64 @@ Model (GDL.md 9.5, text 3.3):
   queues one more run behind it [T].
 - Forcing (`f` access, the debugger): a forced value hides every write until released;
   forcing and releasing are changes like any other (G20).
-- The clock counts cycles of `DT` = 1 ms. Per cycle: devices step (motion), then the
-  scenario events of that cycle are applied one at a time, each followed by running the
-  ready queue empty. When nothing moves, the clock jumps to the next event, which gives
-  the same output as stepping because idle devices change nothing.
+- Time is the controller's clock (`runtime.clock.Clock`): an integer cycle count and the
+  cycle time. The RTS never advances it; `client.GdlApplication` runs it once per cycle.
 
 Output, one line each, in order: `t=S input REF = V` (scenario), `t=S run PROC`,
 `t=S set REF = V` (a procedure changed it), `t=S update REF = V` (the RTS changed a
 digital or set variable: a motor stopping, a home switch), `t=S force REF = V`,
-`t=S release REF = V` (the value underneath). Run-time errors go to `err`:
-`FILE:LINE: runtime error in procedure P: MSG`.
+`t=S release REF = V` (the value underneath). Run-time errors are reported as
+`FILE:LINE: runtime error in procedure P: MSG`. Both go to callbacks taking one line.
 """
 
 from __future__ import annotations
 
 import random
 from collections import deque
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
+from fractions import Fraction
 from types import TracebackType
-from typing import TextIO
+from typing import TYPE_CHECKING
 
 from motionvm.lang.gdl.api import ProcedureApi
 from motionvm.lang.gdl.app import App, ObjectInfo, ProcInfo
 from motionvm.lang.gdl.devices import Device, GdlFault, create_device
 from motionvm.lang.gdl.objects import format_value
+from motionvm.runtime.clock import Clock
 
-DT_MS = 1
-"""Cycle length [ms]: the RTS clock is an integer count of these."""
-DT = DT_MS / 1000.0
-"""Cycle length [s]."""
+if TYPE_CHECKING:
+    from motionvm.motion.axis import Axis
+
 MAX_RUNS_PER_CYCLE = 10_000
 """Procedure runs allowed in one cycle before the ready queue is declared runaway."""
+MAX_DECIMALS = 9
+"""Most decimals a time stamp shows (a cycle time that is no decimal fraction is rounded)."""
 
 
-def format_time(cycle: int) -> str:
-    """Simulated time of `cycle` as seconds with 3 decimals, from integers (no float drift)."""
-    ms = cycle * DT_MS
-    return f"{ms // 1000}.{ms % 1000:03d}"
+def time_formatter(cycle_time: float) -> Callable[[int], str]:
+    """`cycle -> "S.mmm"`: simulated time from the integer cycle, without float drift.
+
+    The cycle time is taken as the nearest fraction with a denominator up to 10**9
+    (0.001 is exactly 1/1000, 0.3 / 1000 is 3/10000); a stamp shows at least 3
+    decimals, more when the cycle time needs them (0.0005 s: 4).
+    """
+    step = Fraction(cycle_time).limit_denominator(10**MAX_DECIMALS)
+    decimals = next(
+        (d for d in range(3, MAX_DECIMALS + 1) if (step * 10**d).denominator == 1), MAX_DECIMALS
+    )
+    unit = step * 10**decimals
+    scale = 10**decimals
+
+    def fmt(cycle: int) -> str:
+        n = round(cycle * unit)
+        return f"{n // scale}.{n % scale:0{decimals}d}"
+
+    return fmt
+
+
+def format_time(cycle: int, cycle_time: float = 0.001) -> str:
+    """Simulated time of `cycle` as seconds (see `time_formatter`)."""
+    return time_formatter(cycle_time)(cycle)
 
 
 def _user_line(tb: TracebackType | None, file: str) -> int | None:
@@ -67,29 +88,41 @@ class Rts:
     """State and scheduling of one application run."""
 
     def __init__(
-        self, app: App, out: TextIO, err: TextIO, *, shuffle_seed: int | None = None
+        self,
+        app: App,
+        clock: Clock,
+        emit: Callable[[str], None],
+        report: Callable[[str], None],
+        *,
+        axes: Mapping[str, Axis] | None = None,
+        shuffle_seed: int | None = None,
     ) -> None:
-        """`shuffle_seed`: order procedures sharing an activator by a seeded permutation of
+        """`clock`: the controller's; `emit`/`report`: output and error lines (no newline).
+
+        `axes`: the machine axis of each motor object, by object key (`motors.assign_axes`).
+        `shuffle_seed`: order procedures sharing an activator by a seeded permutation of
         the link order instead (G13: a test that a program does not depend on the order).
         """
         self.app = app
-        self.out = out
-        self.err = err
+        self.clock = clock
+        self._emit = emit
+        self._report = report
+        self._stamp = time_formatter(clock.cycle_time)
         self.order = list(app.procedures)
         if shuffle_seed is not None:
             random.Random(shuffle_seed).shuffle(self.order)
-        self.cycle = 0
         self.values: dict[tuple[str, str], list[object]] = {}
         self.forced: dict[tuple[str, str, int], object] = {}
         self.ready: deque[ProcInfo] = deque()
         self.current: ProcInfo | None = None
         self.runs_this_cycle = 0
         self.error_count = 0
-        self.injections: list[object] = []
-        """Scenario events waiting for an instruction boundary (see `before_instruction`)."""
         self.apply_injection: Callable[[ProcInfo, int], None] | None = None
-        """Set by the scenario runner: applies the injections due at a boundary."""
-        self.devices: dict[str, Device] = {k: create_device(o) for k, o in app.objects.items()}
+        """Set by the client while injections wait: applies those due at a boundary."""
+        axes = axes or {}
+        self.devices: dict[str, Device] = {
+            k: create_device(o, axes.get(k)) for k, o in app.objects.items()
+        }
         for obj in app.objects.values():
             for spec in obj.type.states:
                 init = obj.params.get(spec.init_param) if spec.init_param else None
@@ -210,7 +243,7 @@ class Rts:
                     proc.node.pos.line,
                     proc.name,
                     f"more than {MAX_RUNS_PER_CYCLE} procedure runs at t="
-                    f"{format_time(self.cycle)}: procedures keep triggering each "
+                    f"{self.stamp()}: procedures keep triggering each "
                     "other (ready queue cleared)",
                 )
                 return
@@ -229,30 +262,38 @@ class Rts:
 
     def before_instruction(self, proc: ProcInfo, line: int) -> None:
         """Instruction boundary of a running procedure: apply injected scenario events."""
-        if self.injections and self.apply_injection is not None:
+        if self.apply_injection is not None:
             self.apply_injection(proc, line)
 
-    # ------------------------------------------------------------ clock
+    # ------------------------------------------------------------ the cycle
 
-    def step_devices(self) -> None:
-        """One cycle of motion for every device, in declaration order, then run the queue."""
+    def update_devices(self) -> None:
+        """Bring every device's state variables up to date with the machine, in
+        declaration order (after the controller's motion step), then run the queue."""
         for dev in self.devices.values():
-            dev.step(self, DT)
+            dev.update(self)
         self.drain()
 
     @property
     def moving(self) -> bool:
+        """Some device still changes: the clock must not jump over the next cycle."""
         return any(d.busy for d in self.devices.values())
 
     @property
     def transient(self) -> bool:
+        """Some device will still change on its own (a motor jogging at a constant
+        commanded speed does not count)."""
         return any(d.transient for d in self.devices.values())
 
     # ------------------------------------------------------------ output
 
+    def stamp(self, cycle: int | None = None) -> str:
+        """`S.mmm`: the simulated time of `cycle` (default: now)."""
+        return self._stamp(self.clock.cycle if cycle is None else cycle)
+
     def emit(self, text: str) -> None:
-        self.out.write(f"t={format_time(self.cycle)} {text}\n")
+        self._emit(f"t={self.stamp()} {text}")
 
     def report(self, file: str, line: int, proc: str, message: str) -> None:
         self.error_count += 1
-        self.err.write(f"{file}:{line}: runtime error in procedure {proc}: {message}\n")
+        self._report(f"{file}:{line}: runtime error in procedure {proc}: {message}")

@@ -7,7 +7,7 @@ until = 2.0                          # optional: end of the run [s] (--until win
 "STATUS OF photocell{1}" = "ON"
 
 [[event]]
-at = 0.100                           # simulated time [s], rounded up to the 1 ms cycle
+at = 0.100                           # simulated time [s], rounded up to a whole cycle
 set = "STATUS OF start_button"       # or force = "..." / release = "..." (f access only)
 value = "ON"                         # ON/OFF (or true/false), an integer, a set constant
 during = "fan_control"               # optional: inject while this procedure runs,
@@ -29,7 +29,6 @@ from dataclasses import dataclass
 from motionvm.lang.gdl.app import App, ObjectInfo
 from motionvm.lang.gdl.lexer import tokenize
 from motionvm.lang.gdl.objects import INT_LIMIT, StateSpec
-from motionvm.lang.gdl.rts import DT_MS
 from motionvm.source.diagnostics import DiagnosticSink, TooManyErrors
 from motionvm.source.suggest import did_you_mean
 
@@ -54,7 +53,8 @@ class Event:
     """One timed action of the scenario."""
 
     number: int
-    cycle: int
+    at: float
+    """Simulated time [s]; the client rounds it up to a whole cycle of its controller."""
     action: str  # 'set' | 'force' | 'release'
     target: Target
     value: object
@@ -64,7 +64,7 @@ class Event:
 
 @dataclass(frozen=True, slots=True)
 class Scenario:
-    """A loaded scenario: initial values, events sorted by cycle, optional end time."""
+    """A loaded scenario: initial values, events in file order, optional end time."""
 
     initial: tuple[tuple[Target, object], ...]
     events: tuple[Event, ...]
@@ -129,10 +129,10 @@ def parse_value(target: Target, raw: object) -> object:
     raise ValueError(f"{ref} takes one of {', '.join(spec.values)}, not {raw!r}")
 
 
-def _cycle(at: object, where: str) -> int:
-    if not isinstance(at, int | float) or isinstance(at, bool) or at < 0 or math.isinf(at):
+def _seconds(at: object, where: str) -> float:
+    if not isinstance(at, int | float) or isinstance(at, bool) or not 0 <= at < math.inf:
         raise ScenarioError(f"{where}: 'at' must be a number of seconds >= 0, not {at!r}")
-    return math.ceil(round(at * 1000 / DT_MS, 6))
+    return float(at)
 
 
 def _event(app: App, number: int, raw: object, where: str) -> Event:
@@ -176,7 +176,7 @@ def _event(app: App, number: int, raw: object, where: str) -> Event:
         if not isinstance(line, int) or isinstance(line, bool):
             raise ScenarioError(f"{where}: 'line' must be a line number")
         during = proc.name
-    return Event(number, _cycle(raw["at"], where), action, target, value, during, line)
+    return Event(number, _seconds(raw["at"], where), action, target, value, during, line)
 
 
 def load_scenario(path: str, app: App) -> Scenario:
@@ -210,5 +210,4 @@ def load_scenario(path: str, app: App) -> Scenario:
     if not isinstance(raw_events, list):
         raise ScenarioError(f"{path}: events are written [[event]]")
     events = [_event(app, i + 1, e, f"{path}: event {i + 1}") for i, e in enumerate(raw_events)]
-    events.sort(key=lambda e: (e.cycle, e.number))
     return Scenario(tuple(initial), tuple(events), float(until) if until is not None else None)
