@@ -41,9 +41,14 @@ class Simulation:
         sources: Sequence[Source] = (),
         scenario: str | None = None,
         stamp: bool = False,
+        skip: bool = True,
+        forces: Sequence[str] = (),
+        shuffle_seed: int | None = None,
     ) -> None:
         """`tasks` place HMPL task files explicitly; `sources` are files of any language
-        (HMPL ones take the free task ids in order)."""
+        (HMPL ones take the free task ids in order). GDL: `scenario` file, `forces`
+        (`REF = VALUE` texts applied at t=0), `shuffle_seed`. `skip=False` steps every
+        cycle (the same results, slower)."""
         self.messages: list[str] = []
         """Every message line the programs printed, as the CLI prints them."""
         self.faults: list[str] = []
@@ -56,6 +61,9 @@ class Simulation:
             data_dir=data_dir,
             scenario=scenario,
             stamp=stamp,
+            skip=skip,
+            gdl_forces=tuple(forces),
+            shuffle_seed=shuffle_seed,
         )
         self._report_to = self.diagnostics
         try:

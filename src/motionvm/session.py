@@ -29,6 +29,7 @@ Assembly, in order:
 from __future__ import annotations
 
 import dataclasses
+import os
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -105,6 +106,9 @@ class RunSpec:
     """GDL: permute the order of procedures sharing an activator."""
     data_dir: str | Path | None = None
     """Folder of persistent data (user table); default: the machine's."""
+    skip: bool = True
+    """Jump the clock over idle cycles (False: `--no-skip`, step every cycle; the same
+    output either way). The environment variable MOTIONVM_NO_SKIP=1 also turns it off."""
     scope_title: str = ""
     extra: dict = field(default_factory=dict)
 
@@ -205,6 +209,14 @@ def compile_run(
         )
     if spec.pdl_starts and not by_lang["PDL"]:
         raise SessionError("--start applies to a PDL program given as a file; none was given")
+    if not by_lang["GDL"]:
+        for given, option in (
+            (spec.scenario, "--scenario"),
+            (spec.gdl_forces, "--force"),
+            (spec.shuffle_seed is not None, "--shuffle-order"),
+        ):
+            if given:
+                raise SessionError(f"{option} applies to GDL applications; no .gdl file was given")
     out = Compiled()
     failed: list[Diagnostic] = []
     pdl_failed = gdl_failed = False
@@ -305,6 +317,7 @@ class Session:
         compiled, machine = compile_run(spec, base, report, standalone=self.standalone_pdl)
         self.machine = machine
         self.controller = ctl = Controller(machine.cycle_time, machine=machine)
+        ctl.skip = spec.skip and os.environ.get("MOTIONVM_NO_SKIP", "") in ("", "0")
         self.hmpl: HmplRuntime | None = None
         self.pdl = None
         self.gdl = None
@@ -353,7 +366,29 @@ class Session:
         self._booted = False
 
     def _gdl_client(self, app):
-        raise SessionError("GDL applications do not run on the shared machine yet")
+        """The GDL application on this run's controller, with its scenario and forces."""
+        from motionvm.lang.gdl.client import GdlApplication
+        from motionvm.lang.gdl.motors import GdlMachineError
+        from motionvm.lang.gdl.scenario import Scenario, ScenarioError, load_scenario
+
+        spec = self.spec
+        try:
+            scenario = (
+                load_scenario(spec.scenario, app)
+                if spec.scenario is not None
+                else Scenario((), (), None)
+            )
+            return GdlApplication(
+                self.controller,
+                app,
+                scenario,
+                emit=self._emit,
+                report=self._report,
+                forces=spec.gdl_forces,
+                shuffle_seed=spec.shuffle_seed,
+            )
+        except (ScenarioError, GdlMachineError) as exc:
+            raise SessionError(f"error: {exc}", located=True) from None
 
     # ------------------------------------------------------------ running
 
@@ -380,7 +415,11 @@ class Session:
         if until is not None and not until >= 0:
             raise SessionError(f"--until must be a non-negative number of seconds, got {until}")
         self.boot()
+        if self.gdl is not None:  # a GDL end time is inclusive: events due at it apply
+            until = self.gdl.run_until(until)
         self.controller.run(until, realtime=realtime)
+        if self.gdl is not None:
+            self.gdl.finish()
 
     def step(self, cycles: int = 1) -> None:
         """Run exactly `cycles` controller cycles."""

@@ -263,12 +263,17 @@ def test_recorder_without_controller():
 # ---------------------------------------------------------------- GDL
 
 
-def test_gdl_scope_is_a_usage_error(tmp_path, capsys):
+def test_gdl_states_are_scope_channels_beside_the_axes(tmp_path, capsys):
+    """A GDL run records `OBJECT.STATE` channels on the same recorder as the axes."""
     gdl = Path(__file__).parents[2] / "examples" / "02_gdl_packer.gdl"
+    scenario = gdl.with_suffix(".toml")
     out = tmp_path / "g.csv"
-    assert run_cli(gdl, "--scope", "fan.VALUE", "--scope-out", out) == 3
-    assert "--scope records HMPL and PDL runs only" in capsys.readouterr().err
-    assert not out.exists()
+    argv = ["--scenario", scenario, "--scope", "cooling_fan.VALUE,axis0.ref_pos"]
+    assert run_cli(gdl, *argv, "--scope-out", out) == 0
+    header, rows = read_csv(out)
+    assert header == ["time", "cooling_fan.VALUE", "axis0.ref_pos"]
+    fan = [float(r[1]) for r in rows]
+    assert fan[0] == 0.0 and {500.0, 750.0, 1000.0} <= set(fan)
 
 
 # ---------------------------------------------------------------- SetHMIScope

@@ -23,6 +23,11 @@ def build_parser() -> argparse.ArgumentParser:
         "--task", action="append", default=[], metavar="N=FILE", help="put FILE on task N"
     )
     r.add_argument("--realtime", action="store_true", help="pace the simulation to the wall clock")
+    r.add_argument(
+        "--no-skip",
+        action="store_true",
+        help="step every cycle instead of jumping over idle ones (same output, slower)",
+    )
     r.add_argument("--scenario", metavar="FILE.toml", help="GDL: timed input changes")
     r.add_argument(
         "--scope",

@@ -93,22 +93,11 @@ def cmd_run(args) -> int:
         pdl_starts=tuple(args.start),
         gdl_forces=tuple(args.force),
         shuffle_seed=args.shuffle_order,
+        skip=not args.no_skip,
         scope_title=" ".join(list(args.files) + list(args.task)),
     )
     if args.until is not None and not args.until >= 0:
         raise UsageError(f"--until must be a non-negative number of seconds, got {args.until}")
-    if sources and all(s.language == "GDL" for s in sources):  # until GDL is a client
-        from motionvm.lang.gdl import main_run
-
-        return main_run(
-            [s.path for s in sources],
-            args.scenario,
-            args.until,
-            sys.stdout,
-            sys.stderr,
-            args.force or None,
-            args.shuffle_order,
-        )
     out = sys.stdout
     session: Session | None = None
 

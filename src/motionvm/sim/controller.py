@@ -46,6 +46,9 @@ class Controller:
         self.motion = MotionKernel(list((machine or DEFAULT_MACHINE).axes), cycle_time)
         self.clients: list[CycleClient] = []
         """Run sides stepped each cycle, in the order added (runtime/clients.py)."""
+        self.skip = True
+        """Jump the clock over cycles in which nothing can change; False steps every
+        cycle (`--no-skip`): the results are identical either way."""
         self.stop_requested = False  # set to end run() at the next cycle (e.g. stdout closed)
         self.hmi_scope = False
         """SetHMIScope(1) sets it, SetHMIScope(0) clears it (a scope may follow it)."""
@@ -108,7 +111,7 @@ class Controller:
                 pacer.wait(self.sim_time)
             if end_cycle is not None and clock.cycle >= end_cycle:
                 return
-            if self.motion.at_rest():
+            if self.skip and self.motion.at_rest():
                 wake = self.next_event()
                 if wake is not None and wake > clock.cycle:
                     clock.cycle = wake if end_cycle is None else min(wake, end_cycle)
