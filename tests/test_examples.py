@@ -6,7 +6,9 @@ exactly the text of `NN_topic.out`. A multi-task example puts task K in
 `NN_topic.taskK.hmpl` (K = 1, 2, ...); such files are passed after the example and are
 not examples of their own. A GDL example `NN_topic.gdl` runs with its scenario
 `NN_topic.toml` when there is one; an HMPL example runs on the machine file
-`NN_topic.toml` when there is one (`--machine`). Set MOTIONVM_TEST_CMD to run another command instead of
+`NN_topic.toml` when there is one (`--machine`); a GDL application beside it,
+`NN_topic.NAME.gdl`, is passed after the tasks (all three languages on one machine),
+with its scenario `NN_topic.scenario.toml` when there is one. Set MOTIONVM_TEST_CMD to run another command instead of
 `python -m motionvm` (see tests/lang/hmpl/test_hmpl_programs.py).
 """
 
@@ -46,6 +48,17 @@ def task_files(example: Path) -> list[str]:
     return [found[n] for n in numbers]
 
 
+def companions(example: Path) -> list[str]:
+    """An HMPL example's GDL application `NN_topic.NAME.gdl` and its scenario."""
+    if example.suffix != ".hmpl":
+        return []
+    out = sorted(p.name for p in example.parent.glob(f"{example.stem}.*.gdl"))
+    scenario = example.with_name(f"{example.stem}.scenario.toml")
+    if out and scenario.is_file():
+        out += ["--scenario", scenario.name]
+    return out
+
+
 def base_command() -> list[str]:
     override = os.environ.get("MOTIONVM_TEST_CMD")
     if override:
@@ -69,6 +82,7 @@ def test_example(example: Path, tmp_path: Path) -> None:
         extra += ["--scenario", scenario.name]  # a GDL example's stimuli: NN_topic.toml
     elif example.suffix == ".hmpl" and scenario.is_file():
         extra += ["--machine", scenario.name]  # an HMPL example's machine: NN_topic.toml
+    extra += companions(example)
     cmd = base_command() + ["run", example.name, *extra]
     try:
         proc = subprocess.run(

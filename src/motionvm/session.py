@@ -386,6 +386,7 @@ class Session:
                 report=self._report,
                 forces=spec.gdl_forces,
                 shuffle_seed=spec.shuffle_seed,
+                motor_axes=self.machine.gdl_motors,
             )
         except (ScenarioError, GdlMachineError) as exc:
             raise SessionError(f"error: {exc}", located=True) from None

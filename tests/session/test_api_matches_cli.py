@@ -32,6 +32,11 @@ def _inputs(example: Path) -> tuple[list[str], dict]:
     kw: dict = {}
     if side.is_file():
         kw = {"scenario": side.name} if example.suffix == ".gdl" else {"machine": side.name}
+    if example.suffix == ".hmpl":  # a GDL application beside the tasks, and its scenario
+        files += sorted(p.name for p in EXAMPLES.glob(f"{example.stem}.*.gdl"))
+        scenario = example.with_name(f"{example.stem}.scenario.toml")
+        if scenario.is_file():
+            kw["scenario"] = scenario.name
     return files, kw
 
 

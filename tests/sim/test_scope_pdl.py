@@ -166,14 +166,15 @@ def test_machine_run_records_drive_channels(machine, tmp_path, capsys):
     assert run_cli("--machine", machine, "--scope", channels, "--scope-out", out) == 0
     header, rows = read_csv(out)
     assert header == ["time", *channels.split(",")]
-    assert rows[0][0] == "0.0" and rows[0][2] == "20000"
-    assert 0 < int(rows[0][1]) < 20000  # 15 phases into the move at the end of cycle 0
+    assert rows[0][0] == "0.0" and rows[0][1:3] == ["0", "0"]  # no phase has run at 0 ms
+    assert rows[1][0] == "0.001" and rows[1][2] == "20000"
+    assert 0 < int(rows[1][1]) < 20000  # 15 phases into the move at 1 ms
     pos = [int(r[1]) for r in rows]
     assert pos == sorted(pos) and pos[-1] == 20000
     assert rows[-1][3:5] == ["0", "20000"]
     # drive 2 sleeps 1 ms (15 phases) per count: the same in every cycle as standalone
-    assert [r[5] for r in rows[:5]] == ["1", "2", "3", "4", "4"]
-    assert [r[6] for r in rows[:3]] == ["15", "30", "45"]
+    assert [r[5] for r in rows[:6]] == ["0", "1", "2", "3", "4", "4"]
+    assert [r[6] for r in rows[:3]] == ["0", "15", "30"]
 
 
 def test_machine_run_bad_drive_channel_is_exit_3(machine, tmp_path, capsys):
@@ -188,11 +189,12 @@ def test_machine_run_bad_drive_channel_is_exit_3(machine, tmp_path, capsys):
 
 COUNTER_CSV = """\
 time,n,drive0.fclk
-0.0,1,15
-0.001,2,30
-0.002,3,45
-0.003,4,60
-0.004,4,70
+0.0,0,0
+0.001,1,15
+0.002,2,30
+0.003,3,45
+0.004,4,60
+0.005,4,70
 """
 
 

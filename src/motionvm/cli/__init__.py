@@ -36,8 +36,15 @@ __all__ = [
 
 
 def main(argv: list[str] | None = None) -> int:
+    parser = build_parser()
     try:
-        args = build_parser().parse_args(argv)
+        args, rest = parser.parse_known_args(argv)
+        # files may come after options too: `run a.hmpl --machine m.toml app.gdl`
+        stray = [a for a in rest if a.startswith("-") and a != "-"]
+        if stray or (rest and not hasattr(args, "files")):
+            parser.error(f"unrecognized arguments: {' '.join(stray or rest)}")
+        if rest:
+            args.files = list(args.files) + rest
     except SystemExit as exc:  # argparse already printed its message
         return EXIT_OK if exc.code == 0 else EXIT_USAGE
     try:

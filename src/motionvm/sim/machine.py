@@ -16,6 +16,7 @@ sw_left = -1000.0       # software limits [mm]; hw_left/hw_right: limit switches
 drive = { enable_cycles = 4, mechanics = { model = "servo", bandwidth = 50.0 } }
 pdl = "x.pdl"           # a PDL program on this axis's drive (relative to this file)
 pdl_start = ["_go"]     # host-started labels of it, in order ("top": the first statement)
+# gdl = "main_motor"    # or: the GDL motor object this axis is (by name)
 ```
 With `axes = N` and fewer [[axis]] tables, the tables configure axes 0, 1, ... and the
 rest are default axes. The built-in machine (no file) has 8 default axes: linear,
@@ -23,8 +24,10 @@ rest are default axes. The built-in machine (no file) has 8 default axes: linear
 +-1000 mm, limit switches at +-1050 mm, home switch on [0, 5] mm, an index pulse every
 10 mm, max position error 10 mm, in position within 0.01 mm for 1 ms, and an ideal
 drive whose feedback follows the command one cycle late.
-The `pdl` keys are read here (sim/pdl_drives.py runs the programs); the other axis keys
-go to motion/axis_config.py. A bad file is reported as `FILE:LINE: error: MESSAGE` naming the key (exit code 3).
+The `pdl` and `gdl` keys are read here (the PDL and GDL run sides use them); the other
+axis keys go to motion/axis_config.py. An axis has at most one owner: a PDL program on
+its drive or a GDL motor object (`gdl`); GDL motors not named here take the free axes in
+declaration order. A bad file is reported as `FILE:LINE: error: MESSAGE` naming the key (exit code 3).
 """
 
 from __future__ import annotations
@@ -51,6 +54,8 @@ class MachineConfig:
     axes: tuple[AxisConfig, ...] = field(default_factory=lambda: default_axes(DEFAULT_N_AXES))
     pdl_drives: tuple[PdlDriveSpec, ...] = ()
     """The drives that run a PDL program, by axis id."""
+    gdl_motors: tuple[GdlMotorSpec, ...] = ()
+    """The axes that are a GDL motor object named in the machine file, by axis id."""
 
 
 @dataclass(frozen=True)
@@ -64,6 +69,17 @@ class PdlDriveSpec:
     """Labels the host starts after the drive's reset, in order."""
     where: str = ""
     """`FILE:LINE` of the `pdl_start` key, for errors found after compiling."""
+
+
+@dataclass(frozen=True)
+class GdlMotorSpec:
+    """An `[[axis]]` table's `gdl = "NAME"`: the GDL motor object the axis is."""
+
+    axis: int
+    name: str
+    """The motor object's name, as written (GDL names ignore case)."""
+    where: str = ""
+    """`FILE:LINE` of the key, for errors found once the application is compiled."""
 
 
 MAX_AXES = 64
@@ -166,7 +182,7 @@ def load_machine(path: str | Path) -> MachineConfig:
     data_dir = ctl.get("data_dir")
     if data_dir is not None and not isinstance(data_dir, str):
         raise bad("controller", "data_dir", f"data_dir = {data_dir!r}: must be a string (a folder)")
-    axes, pdl = _load_axes(data, text, p)
+    axes, pdl, gdl = _load_axes(data, text, p)
     return MachineConfig(
         cycle_time=cycle_ms / 1000.0,
         task_slice=slice_,
@@ -174,10 +190,11 @@ def load_machine(path: str | Path) -> MachineConfig:
         path=p,
         axes=axes,
         pdl_drives=pdl,
+        gdl_motors=gdl,
     )
 
 
-def _load_axes(data: dict, text: str, p: Path) -> tuple[tuple[AxisConfig, ...], tuple]:
+def _load_axes(data: dict, text: str, p: Path) -> tuple[tuple[AxisConfig, ...], tuple, tuple]:
     tables = data.get("axis", [])
     if not isinstance(tables, list) or not all(isinstance(t, dict) for t in tables):
         raise MachineFileError(
@@ -192,12 +209,15 @@ def _load_axes(data: dict, text: str, p: Path) -> tuple[tuple[AxisConfig, ...], 
         raise MachineFileError(
             f"{p}:{_line_of(text, '', 'axes')}: error: axes = {n} but {len(tables)} [[axis]] tables are given"
         )
-    out, pdl = [], []
+    out, pdl, gdl = [], [], []
     for i, table in enumerate(tables):
         table = dict(table)
         spec = _pdl_keys(table, i, text, p)
         if spec is not None:
             pdl.append(spec)
+        motor = _gdl_key(table, i, text, p, spec is not None)
+        if motor is not None:
+            gdl.append(motor)
         try:
             config = create_axis(table)
             build_drive(config)  # a bad drive or mechanics key fails here, at load time
@@ -205,7 +225,26 @@ def _load_axes(data: dict, text: str, p: Path) -> tuple[tuple[AxisConfig, ...], 
             line = _line_of_axis(text, i, exc.key)
             raise MachineFileError(f"{p}:{line}: error: [[axis]] {i}: {exc}") from None
         out.append(config)
-    return tuple(out) + default_axes(n - len(tables)), tuple(pdl)
+    return tuple(out) + default_axes(n - len(tables)), tuple(pdl), tuple(gdl)
+
+
+def _gdl_key(table: dict, i: int, text: str, p: Path, has_pdl: bool) -> GdlMotorSpec | None:
+    """Take `gdl` out of the `i`-th [[axis]] table and check it."""
+    name = table.pop("gdl", None)
+    if name is None:
+        return None
+    line = _line_of_axis(text, i, "gdl")
+    if not isinstance(name, str) or not re.fullmatch(r"[A-Za-z_][\w$]*", name):
+        raise MachineFileError(
+            f"{p}:{line}: error: [[axis]] {i}: gdl = {name!r}: must be the name of a GDL "
+            "motor object"
+        )
+    if has_pdl:
+        raise MachineFileError(
+            f"{p}:{line}: error: [[axis]] {i}: gdl = {name!r}: the axis's drive already runs "
+            "a PDL program (an axis has one owner)"
+        )
+    return GdlMotorSpec(axis=i, name=name, where=f"{p}:{line}")
 
 
 def _pdl_keys(table: dict, i: int, text: str, p: Path) -> PdlDriveSpec | None:

@@ -156,7 +156,7 @@ def test_feedback_shows_the_drive_reference_after_the_latency(tmp_path: Path, de
     rec = record(ctl, client, ["drive1.ref_pos[0]", "drive1.x_ref_pos", "axis1.pos_fb"])
     ctl.run()
     ref, x_ref, pos_fb = rec.columns
-    latency = 1 + delay
+    latency = delay  # the demand handed over before a cycle's motion step
     assert len(ref) > 300 and min(ref) < max(ref)
     for k in range(len(ref) - latency):
         assert pos_fb[k + latency] * 10000 == pytest.approx(ref[k], abs=1e-6), k
@@ -219,9 +219,11 @@ def test_a_run_with_hmpl_tasks_is_the_same_without_jumps(
 def test_next_event_is_the_cycle_of_the_next_wake_up(tmp_path: Path) -> None:
     ctl, client, _, _ = assemble(machine_file(tmp_path))
     assert client.next_event() == 0  # the tasks have not run yet
-    ctl.step()
-    # drive 1 sleeps 50 ms, drive 2 37 ms = 555 phases: its wake-up falls in cycle 37
-    assert client.next_event() == 37
+    ctl.step()  # cycle 0 runs the phases before 0 ms: none
+    ctl.step()  # cycle 1 runs phases 0..14: both programs go to sleep
+    # drive 1 sleeps 50 ms, drive 2 37 ms = 555 phases: the cycle that runs phase 555
+    # (the phases of [37, 38) ms) is cycle 38
+    assert client.next_event() == 38
     ctl.run()
     assert client.next_event() is None and not client.busy()
 
@@ -241,7 +243,7 @@ def test_standalone_assembly_is_the_default_machine_with_one_drive(tmp_path: Pat
     assert lines == ["[t=0.350133][task 0] at 20000", "[t=0.800333][task 0] back at 5000"]
     assert ctl.axes[0].controlled_by == CONTROLLED_BY
     drive = ctl.axes[0].drive
-    # the run ends with the drive; the motor follows 1 + delay_cycles = 2 cycles later
+    # the run ends with the drive; the motor follows delay_cycles = 1 cycle later
     assert abs(drive.position_actual - 5000) < 5
     assert ChannelRegistry(client.scope_sources()).resolve("x_ref_pos").getter() == 5000
 

@@ -43,6 +43,7 @@ from motionvm.lang.gdl.scope import GdlScopeSource
 if TYPE_CHECKING:
     from motionvm.runtime.scope import ChannelSource
     from motionvm.sim.controller import Controller
+    from motionvm.sim.machine import GdlMotorSpec
 
 
 def event_cycle(at: float, cycle_time: float) -> int:
@@ -91,7 +92,8 @@ class GdlApplication:
     events), timed events and injections. `emit` receives every output line, `report`
     every run-time error and warning line (one line each, no newline). `forces`:
     `--force 'REF = VALUE'` texts, applied in the first cycle. `shuffle_seed`: permute
-    the order of procedures sharing an activator (`Rts`).
+    the order of procedures sharing an activator (`Rts`). `motor_axes`: the motors the
+    machine file puts on named axes (motors.py).
 
     Raises ScenarioError for a bad `--force` text and `motors.GdlMachineError` when the
     machine has too few axes (both exit code 3). Module docstring: the cycle and the
@@ -108,13 +110,14 @@ class GdlApplication:
         report: Callable[[str], None],
         forces: Sequence[str] = (),
         shuffle_seed: int | None = None,
+        motor_axes: Sequence[GdlMotorSpec] = (),
     ) -> None:
         self.controller = controller
         self.app = app
         self.scenario = scenario
         self._report = report
         self._forces = parse_forces(app, forces)
-        self.axes = assign_axes(app, controller.axes)
+        self.axes = assign_axes(app, controller.axes, motor_axes)
         """The machine axis of each motor object, by case-folded object name."""
         self.rts = Rts(
             app, controller.clock, emit, report, axes=self.axes, shuffle_seed=shuffle_seed

@@ -1,9 +1,11 @@
 """GDL motors as machine axes: DC$MOTOR$AXIS, STEPPER$MOTOR and STP$MOTOR$AXIS.
 
-Mapping: the motor objects of an application, in declaration order (files as given,
-then textual order), are the machine's axes 0, 1, 2, ... (`assign_axes`); an
-application with more motors than the machine has axes does not run
-(`GdlMachineError`). AXIS$NUMBER of a DC$MOTOR$AXIS stays the object's own number in
+Mapping (`assign_axes`): a motor named in the machine file (`gdl = "NAME"` in an
+[[axis]] table) is that axis; the other motor objects of an application, in declaration
+order (files as given, then textual order), take the machine's free axes 0, 1, 2, ...
+(axes whose drive runs no PDL program and that no other motor took); an application
+with more motors than free axes does not run (`GdlMachineError`). A motor's axis is
+owned by it: HMPL motion commands to it are refused, as for a PDL drive's axis. AXIS$NUMBER of a DC$MOTOR$AXIS stays the object's own number in
 GDL; it does not pick the axis.
 
 Configuration at the start of the run, through the axis's public API:
@@ -45,6 +47,7 @@ from motionvm.lang.gdl.app import App, ObjectInfo
 from motionvm.lang.gdl.check_proc import dynamic_limit
 from motionvm.lang.gdl.devices import MOTOR_TYPES, Device, GdlFault
 from motionvm.motion.axis_status import AxisCommandError
+from motionvm.sim.machine import GdlMotorSpec
 
 if TYPE_CHECKING:
     from motionvm.lang.gdl.rts import Rts
@@ -58,19 +61,46 @@ class GdlMachineError(Exception):
     """The machine cannot run the application (too few axes); exit code 3."""
 
 
-def assign_axes(app: App, axes: Sequence[Axis]) -> dict[str, Axis]:
-    """The machine axis of each motor object, by object key: declaration order onto
-    axes 0, 1, ... Raises GdlMachineError when the machine has too few axes."""
+def assign_axes(
+    app: App, axes: Sequence[Axis], named: Sequence[GdlMotorSpec] = ()
+) -> dict[str, Axis]:
+    """The machine axis of each motor object, by object key.
+
+    Motors the machine file names (`gdl = "NAME"` in an [[axis]] table) are those axes;
+    the others take, in declaration order, the axes nobody owns yet (no PDL program on
+    the drive, no other motor). Each motor's axis is marked as owned by it, so HMPL
+    motion commands to it are refused. Raises GdlMachineError for a name that is not a
+    motor of the application and when the machine has too few free axes.
+    """
     motors = [o for o in app.objects.values() if o.type.name in MOTOR_TYPES]
-    if len(motors) > len(axes):
-        extra = motors[len(axes)]
-        have = f"axes 0..{len(axes) - 1}" if axes else "no axes"
-        raise GdlMachineError(
-            f"{extra.pos.file}:{extra.pos.line}: motor {extra.name} would be machine axis "
-            f"{len(axes)}, but the machine has {have}: the application declares "
-            f"{len(motors)} motors (give a machine file with {len(motors)} [[axis]] tables)"
-        )
-    return {o.key: axes[i] for i, o in enumerate(motors)}
+    by_key = {o.key: o for o in motors}
+    out: dict[str, Axis] = {}
+    for spec in named:
+        obj = by_key.get(spec.name.casefold())
+        if obj is None:
+            known = ", ".join(o.name for o in motors) or "none"
+            raise GdlMachineError(
+                f"{spec.where}: [[axis]] {spec.axis}: gdl = '{spec.name}' is not a motor object "
+                f"of the application (its motors: {known})"
+            )
+        out[obj.key] = axes[spec.axis]
+    taken = {id(a) for a in out.values()}
+    free = iter(a for a in axes if id(a) not in taken and getattr(a, "controlled_by", None) is None)
+    for obj in motors:
+        if obj.key in out:
+            continue
+        axis = next(free, None)
+        if axis is None:
+            raise GdlMachineError(
+                f"{obj.pos.file}:{obj.pos.line}: motor {obj.name} has no machine axis: the "
+                f"machine's {len(axes)} axes are all taken (by PDL drives or other motors); "
+                f"the application declares {len(motors)} motors (give a machine file with "
+                "more [[axis]] tables)"
+            )
+        out[obj.key] = axis
+    for key, axis in out.items():
+        axis.controlled_by = f"GDL motor {by_key[key].name}"
+    return out
 
 
 class _Hold:

@@ -14,11 +14,13 @@ client (runtime/clients.py) that runs them. A run is assembled as
     client.boot()
     controller.run(until)
 
-Clock. At `end_cycle` of controller cycle k every drive, in axis order, runs its
-phases up to the end of that cycle: a cycle of `cycle_time` [s] is
-`round(cycle_time * phase_rate)` phases (15 for 1 ms), and phase p belongs to cycle
-p // 15. So the HMPL tasks of cycle k see the drives as they were at k * cycle_time,
-and the drive messages of cycle k follow the HMPL messages of cycle k. Inside a cycle
+Clock. At `begin_cycle` of controller cycle k, before the tasks, every drive, in axis
+order, runs its phases up to the start of that cycle, k * cycle_time: a cycle of
+`cycle_time` [s] is `round(cycle_time * phase_rate)` phases (15 for 1 ms), and the
+phases of [k - 1, k) ms run at the start of cycle k. So the HMPL tasks of cycle k see
+the drives as they are at k * cycle_time, a scope sample stamped k shows the drives at
+phase 15 k, and every line printed in a run comes out in time order: drive messages
+stamped in [k - 1, k) ms, then the HMPL messages and GDL lines of cycle k. Inside a cycle
 the drive skips the phases in which no task can run and its axis rests (drive_loop.py);
 across cycles the controller decides: `next_event` is the current cycle while a drive
 task is runnable or a drive's profile moves, else the cycle of the earliest wake-up of
@@ -28,15 +30,14 @@ has ended. Stepped and jumped runs give identical results.
 Motion. The program is the drive's firmware: its profile generator (drive_axis.PdlAxis,
 in counts at the phase rate, configured from the axis table by `pdl_axis_config`) gives
 the position demand of the machine axis's CiA 402 drive, which is under local control
-(`Cia402Drive.follow_local_demand`): after each cycle the client hands the demand the
-phases left to the drive, and the drive's mechanics follow it at the drive's step of
-the next cycle. So the controller's axis (`pos_fb`), the drive's objects
+(`Cia402Drive.follow_local_demand`): at the start of each cycle the client hands the
+demand the phases left to the drive, and the drive's mechanics follow it at the drive's
+step in the same cycle. So the controller's axis (`pos_fb`), the drive's objects
 (`position_actual`, `position_demand`) and the scope's `axisN.pos_fb` show the
-program's motion. Latency: the demand `driveN.ref_pos[0]` shows at the end of cycle k
-is the drive's demand in cycle k + 1 (the phases run after the motion step) and
-reaches the feedback after the mechanics' own delay (`delay_cycles`, 1 on the default
-ideal drive): `axisN.pos_fb` of cycle k + 1 + delay_cycles is `driveN.ref_pos[0]` of
-cycle k, in axis units. A machine run keeps going for those cycles after the drives'
+program's motion. Latency: the demand `driveN.ref_pos[0]` of a sample is the drive's
+demand in that cycle and reaches the feedback after the mechanics' own delay
+(`delay_cycles`, 1 on the default ideal drive): `axisN.pos_fb` of cycle k +
+delay_cycles is `driveN.ref_pos[0]` of cycle k, in axis units. A machine run keeps going for those cycles after the drives'
 last motion, so it ends with the feedback at the drives' final positions. The
 controller's axis is marked `controlled_by = "PDL drive"`: HMPL motion and setting
 commands to it are refused (lang/hmpl/lib/axis.py), its getters read the feedback.
@@ -169,8 +170,8 @@ class _Slot:
         """Phases per controller cycle."""
         self.demand = drive.axis.position
         """The last demand handed to the CiA 402 drive [counts]."""
-        self.latency = 1 + getattr(axis.drive.mechanics, "delay_cycles", 0)
-        """Cycles from a demand at the end of a cycle to the feedback that shows it."""
+        self.latency = getattr(axis.drive.mechanics, "delay_cycles", 0)
+        """Cycles from a demand handed over in a cycle to the feedback that shows it."""
         self.done = False
         """The phase loop found the drive idle (standalone: the run ends with that cycle)."""
 
@@ -284,16 +285,17 @@ class PdlDrives:
 
     # ---------------------------------------------------------------- the cycle client
 
-    def begin_cycle(self) -> None:
-        """Nothing: the drives run after the motion step."""
-
     def end_cycle(self) -> None:
-        """Run every drive, in axis order, to the end of this cycle; hand its demand over."""
+        """Nothing: the drives ran up to this cycle before its tasks."""
+
+    def begin_cycle(self) -> None:
+        """Run every drive, in axis order, up to the start of this cycle; hand its demand
+        to the axis, whose motion step in this cycle takes it."""
         cycle = self.controller.cycle
         self._started = True
         for s in self._slots:
             drive = s.drive
-            target = (cycle + 1) * s.per_cycle
+            target = cycle * s.per_cycle
             if drive.phase < target and not s.done:
                 s.done = drive.run_phases(target - drive.phase)
             p = drive.axis.position
@@ -331,7 +333,7 @@ class PdlDrives:
                 if self.standalone:
                     return cycle  # the cycle that finds the drive idle ends the run
                 continue
-            wake = phase // s.per_cycle
+            wake = phase // s.per_cycle + 1  # the cycle that runs that phase
             if wake <= cycle:
                 return cycle
             if best is None or wake < best:
