@@ -2,27 +2,16 @@
 
 from __future__ import annotations
 
-import io
 import os
 from pathlib import Path
 
 import pytest
 
-from motionvm.lang.gdl import compile_app, run_app
-from motionvm.lang.gdl.app import App
+from motionvm.lang.gdl import compile_app
 from motionvm.lang.gdl.lower import emit_python
 from motionvm.source.diagnostics import DiagnosticSink
 
 PROGRAMS = Path(__file__).resolve().parents[2] / "programs" / "gdl"
-
-
-def _app(tmp_path: Path, text: str) -> App:
-    path = tmp_path / "app.gdl"
-    path.write_text(text)
-    sink = DiagnosticSink()
-    app = compile_app([str(path)], sink=sink)
-    assert app is not None, [d.headline() for d in sink.items]
-    return app
 
 
 def test_gdl_generated_python_of_the_example(monkeypatch: pytest.MonkeyPatch) -> None:
@@ -61,15 +50,16 @@ END$MODULE;
 """
 
 
-def test_gdl_faults_point_at_the_users_line(tmp_path: Path) -> None:
-    app = _app(tmp_path, FAULTS)
+def test_gdl_faults_point_at_the_users_line(tmp_path: Path, cli) -> None:
+    path = tmp_path / "app.gdl"
+    path.write_text(FAULTS)
     scenario = tmp_path / "s.toml"
     scenario.write_text('[[event]]\nat = 0\nset = "STATUS OF go"\nvalue = "ON"\n')
-    out = io.StringIO()
-    assert run_app(app, str(scenario), None, out) == 1
+    rc, _out, err = cli("run", path, "--scenario", scenario)
+    assert rc == 1
     errors = [
         line.split(": runtime error ")[0].rsplit(":", 1)[1] + ":" + line.split(": ", 2)[2]
-        for line in out.getvalue().splitlines()
+        for line in err.splitlines()
         if "runtime error" in line
     ]
     assert errors == [

@@ -7,7 +7,8 @@ from pathlib import Path
 
 import pytest
 
-from motionvm.lang.gdl import compile_app, run_app
+from motionvm.api import Simulation
+from motionvm.lang.gdl import compile_app
 from motionvm.lang.gdl.app import App
 from motionvm.lang.gdl.client import GdlApplication
 from motionvm.lang.gdl.motors import GdlMachineError
@@ -45,11 +46,15 @@ END$MODULE;
 GO_AT_0_1 = '[[event]]\nat = 0.1\nset = "STATUS OF go"\nvalue = "ON"\n'
 
 
-def _app(tmp_path: Path, text: str = CELL) -> App:
+def _gdl(tmp_path: Path, text: str = CELL) -> str:
     path = tmp_path / "cell.gdl"
     path.write_text(text)
+    return str(path)
+
+
+def _app(tmp_path: Path, text: str = CELL) -> App:
     sink = DiagnosticSink()
-    app = compile_app([str(path)], sink=sink)
+    app = compile_app([_gdl(tmp_path, text)], sink=sink)
     assert app is not None, [d.headline() for d in sink.items]
     return app
 
@@ -60,11 +65,17 @@ def _scenario(tmp_path: Path, text: str) -> str:
     return str(path)
 
 
+def _run(tmp_path: Path, scenario: str | None, until: float | None, **kw) -> Simulation:
+    """CELL run through the API until `until`; no fault, no warning."""
+    sim = Simulation.from_files([_gdl(tmp_path)], scenario=scenario, **kw)
+    sim.run(until)
+    assert sim.faults == []
+    return sim
+
+
 def test_gdl_motors_are_machine_axes_in_declaration_order(tmp_path: Path) -> None:
-    app = _app(tmp_path)
-    controller = Controller()
-    out = io.StringIO()
-    assert run_app(app, _scenario(tmp_path, GO_AT_0_1), 1.0, out, controller=controller) == 0
+    sim = _run(tmp_path, _scenario(tmp_path, GO_AT_0_1), 1.0)
+    controller = sim.controller
     belt, lift = controller.axes[0], controller.axes[1]
     assert belt.enabled and lift.enabled
     # The move ended exactly on its target, and the drive's feedback followed it.
@@ -76,16 +87,11 @@ def test_gdl_motors_are_machine_axes_in_declaration_order(tmp_path: Path) -> Non
     assert belt.cruising and belt.ref_vel == pytest.approx(400.0)
     assert belt.ref_pos == pytest.approx(400.0 * (n / 1000 - 0.04), abs=1e-6)
     assert all(a.ref_pos == 0.0 and not a.enabled for a in controller.axes[2:])
-    assert "t=0.100 set OPERATING$CONDITION OF lift = RUNNING" in out.getvalue()
+    assert "t=0.100 set OPERATING$CONDITION OF lift = RUNNING" in sim.messages
 
 
 def test_gdl_run_ends_when_motors_stand_still_or_cruise(tmp_path: Path) -> None:
-    app = _app(tmp_path)
-    controller = Controller()
-    assert (
-        run_app(app, _scenario(tmp_path, GO_AT_0_1), None, io.StringIO(), controller=controller)
-        == 0
-    )
+    controller = _run(tmp_path, _scenario(tmp_path, GO_AT_0_1), None).controller
     # The lift arrives after ~0.6 s; the belt cruises from 0.18 s on: the run ends soon after.
     assert controller.axes[1].ref_pos == 250.0
     assert controller.axes[0].cruising
@@ -93,25 +99,22 @@ def test_gdl_run_ends_when_motors_stand_still_or_cruise(tmp_path: Path) -> None:
 
 
 def test_gdl_disabled_stops_the_motor_at_once(tmp_path: Path) -> None:
-    app = _app(tmp_path)
     s = _scenario(
         tmp_path, GO_AT_0_1 + '[[event]]\nat = 0.5\nset = "STATUS OF halt"\nvalue = "ON"\n'
     )
-    controller = Controller()
-    out = io.StringIO()
-    assert run_app(app, s, 0.6, out, controller=controller) == 0
-    belt = controller.axes[0]
+    sim = _run(tmp_path, s, 0.6)
+    belt = sim.controller.axes[0]
     # At 0.5 s the belt had jogged 0.4 s minus half its 0.08 s ramp at 400/s: it holds there.
     assert belt.ref_pos == pytest.approx(400.0 * (0.4 - 0.04), abs=1e-6)
     assert belt.enabled and not belt.moving and belt.ref_vel == 0.0
-    assert out.getvalue().splitlines()[-3:] == [
+    assert sim.messages[-3:] == [
         "t=0.500 set CONSTANT$STATUS OF belt = DISABLED",
         "t=0.500 set SPEED OF belt = 0",
         "t=0.500 set OPERATING$CONDITION OF belt = STOPPED",
     ]
 
 
-def test_gdl_too_few_machine_axes_is_an_error(tmp_path: Path) -> None:
+def test_gdl_too_few_machine_axes_is_an_error(tmp_path: Path, cli) -> None:
     app = _app(tmp_path)
     controller = Controller(0.001, MachineConfig(axes=default_axes(1)))
     with pytest.raises(
@@ -119,47 +122,43 @@ def test_gdl_too_few_machine_axes_is_an_error(tmp_path: Path) -> None:
         match=r"motor lift would be machine axis 1, but the machine has axes 0\.\.0",
     ):
         GdlApplication(controller, app, Scenario((), (), None), emit=print, report=print)
-    err = io.StringIO()
-    assert run_app(app, None, None, io.StringIO(), err, controller=controller) == 3
-    assert err.getvalue().startswith("error: ")
-    assert "give a machine file with 2 [[axis]] tables" in err.getvalue()
+    machine = tmp_path / "m.toml"
+    machine.write_text("axes = 1\n")
+    rc, out, err = cli("run", _gdl(tmp_path), "--machine", machine)
+    assert rc == 3 and out == ""
+    assert err.startswith("error: ")
+    assert "give a machine file with 2 [[axis]] tables" in err
 
 
 def test_gdl_time_comes_from_the_controller_cycle(tmp_path: Path) -> None:
-    app = _app(tmp_path)
     s = _scenario(tmp_path, '[[event]]\nat = 0.00149\nset = "STATUS OF go"\nvalue = "ON"\n')
-    controller = Controller(0.0005)
-    out = io.StringIO()
-    assert run_app(app, s, 0.01, out, controller=controller) == 0
-    lines = out.getvalue().splitlines()
-    assert lines[:2] == ["t=0.0015 input STATUS OF go = ON", "t=0.0015 run start"]
-    assert controller.cycle == 21  # until 0.01 s is inclusive: cycles 0..20
+    machine = tmp_path / "m.toml"
+    machine.write_text("[controller]\ncycle_time_ms = 0.5\n")
+    sim = _run(tmp_path, s, 0.01, machine=machine)
+    assert sim.messages[:2] == ["t=0.0015 input STATUS OF go = ON", "t=0.0015 run start"]
+    assert sim.controller.cycle == 21  # until 0.01 s is inclusive: cycles 0..20
 
 
 def test_gdl_motion_before_the_drive_is_enabled_waits_for_it(tmp_path: Path) -> None:
-    app = _app(tmp_path)
     s = _scenario(tmp_path, GO_AT_0_1.replace("0.1", "0"))
-    controller = Controller()
-    out = io.StringIO()
-    assert run_app(app, s, 0.005, out, controller=controller) == 0
-    assert "t=0.000 set OPERATING$CONDITION OF lift = RUNNING" in out.getvalue()
-    lift = controller.axes[1]
+    sim = _run(tmp_path, s, 0.005)
+    assert "t=0.000 set OPERATING$CONDITION OF lift = RUNNING" in sim.messages
+    lift = sim.controller.axes[1]
     assert not lift.enabled and lift.ref_pos == 0.0
-    controller = Controller()
-    assert run_app(app, s, None, io.StringIO(), controller=controller) == 0
-    assert controller.axes[1].ref_pos == 250.0
+    assert _run(tmp_path, s, None).controller.axes[1].ref_pos == 250.0
 
 
 def test_gdl_axis_fault_sets_diagn_status(tmp_path: Path) -> None:
-    app = _app(tmp_path)
     tight = axis_config({"max_pos_err": 0.01})  # the ideal drive lags one cycle: 0.4/cycle
-    controller = Controller(0.001, MachineConfig(axes=(tight, tight)))
-    out = io.StringIO()
-    assert run_app(app, _scenario(tmp_path, GO_AT_0_1), 0.2, out, controller=controller) == 0
-    lines = out.getvalue().splitlines()
-    faults = [line for line in lines if "DIAGN$STATUS" in line]
+    sim = _run(
+        tmp_path,
+        _scenario(tmp_path, GO_AT_0_1),
+        0.2,
+        machine=MachineConfig(0.001, axes=(tight, tight)),
+    )
+    faults = [line for line in sim.messages if "DIAGN$STATUS" in line]
     assert faults and faults[0].endswith("update DIAGN$STATUS OF belt = FAULT")
-    assert not controller.axes[0].enabled
+    assert not sim.controller.axes[0].enabled
 
 
 def test_gdl_scenario_times_round_up_to_the_cycle(tmp_path: Path) -> None:

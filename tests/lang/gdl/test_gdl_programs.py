@@ -11,14 +11,12 @@ Layout of `tests/programs/gdl/`:
 
 from __future__ import annotations
 
-import io
 import os
 import re
 from pathlib import Path
 
 import pytest
 
-from motionvm.lang.gdl import main_check, main_dump, main_run
 from motionvm.lang.gdl.compiler import compile_app
 from motionvm.lang.gdl.objects import TYPES
 from motionvm.source.diagnostics import DiagnosticSink
@@ -38,17 +36,20 @@ def _app_files(primary: Path) -> list[str]:
     return [primary.name] + [p.name for p in more]
 
 
-def _run(primary: Path) -> str:
+def _run(cli, primary: Path) -> str:
+    """`motionvm run` of the application: stdout and stderr in the order written, `exit N`."""
     scenario = primary.with_suffix(".toml")
-    buf = io.StringIO()
-    rc = main_run(_app_files(primary), scenario.name if scenario.exists() else None, None, buf, buf)
-    return buf.getvalue() + f"exit {rc}\n"
+    argv = ["run", *_app_files(primary)]
+    if scenario.exists():
+        argv += ["--scenario", scenario.name]
+    rc, out, _ = cli(*argv, merged=True)
+    return out + f"exit {rc}\n"
 
 
 @pytest.mark.parametrize("primary", _primaries(PROGRAMS), ids=lambda p: p.stem)
-def test_gdl_program_output(primary: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+def test_gdl_program_output(primary: Path, monkeypatch: pytest.MonkeyPatch, cli) -> None:
     monkeypatch.chdir(PROGRAMS)
-    got = _run(primary)
+    got = _run(cli, primary)
     expected = primary.with_suffix(".out")
     if os.environ.get("GDL_REGEN"):
         expected.write_text(got)
@@ -56,7 +57,7 @@ def test_gdl_program_output(primary: Path, monkeypatch: pytest.MonkeyPatch) -> N
 
 
 @pytest.mark.parametrize("primary", _primaries(PROGRAMS / "errors"), ids=lambda p: p.stem)
-def test_gdl_compile_errors(primary: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+def test_gdl_compile_errors(primary: Path, monkeypatch: pytest.MonkeyPatch, cli) -> None:
     monkeypatch.chdir(primary.parent)
     files = _app_files(primary)
     expected = []
@@ -68,9 +69,9 @@ def test_gdl_compile_errors(primary: Path, monkeypatch: pytest.MonkeyPatch) -> N
     assert compile_app(files, sink=sink) is None
     got = [(d.pos.file, d.pos.line, d.pos.col, d.severity, d.message) for d in sink.items]
     assert sorted(got) == sorted(expected)
-    err = io.StringIO()
-    assert main_check(files, io.StringIO(), err) == 2
-    assert "Traceback" not in err.getvalue()
+    rc, _out, err = cli("check", *files)
+    assert rc == 2
+    assert "Traceback" not in err
 
 
 def test_gdl_run_programs_cover_every_object_type(monkeypatch: pytest.MonkeyPatch) -> None:
@@ -84,9 +85,9 @@ def test_gdl_run_programs_cover_every_object_type(monkeypatch: pytest.MonkeyPatc
 
 
 @pytest.mark.parametrize("stage", ["tokens", "ast", "py"])
-def test_gdl_dump_stages(stage: str, monkeypatch: pytest.MonkeyPatch) -> None:
+def test_gdl_dump_stages(stage: str, monkeypatch: pytest.MonkeyPatch, cli) -> None:
     monkeypatch.chdir(PROGRAMS)
-    out, err = io.StringIO(), io.StringIO()
-    assert main_dump(["queue.gdl"], stage, out, err) == 0
-    assert err.getvalue() == "" and out.getvalue()
-    assert main_dump(["queue.gdl"], "bytecode", out, err) == 3
+    rc, out, err = cli("dump", "--stage", stage, "queue.gdl")
+    assert rc == 0
+    assert err == "" and out
+    assert cli("dump", "--stage", "bytecode", "queue.gdl")[0] == 3

@@ -2,15 +2,13 @@
 
 from __future__ import annotations
 
-import io
 from pathlib import Path
 
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from motionvm.lang.gdl import main_check, main_run
 from motionvm.lang.gdl.compiler import compile_app
-from motionvm.source.diagnostics import DiagnosticSink
+from motionvm.source.diagnostics import DiagnosticSink, render_diagnostic
 from motionvm.source.files import SourceFile
 
 PROGRAMS = Path(__file__).resolve().parents[2] / "programs" / "gdl"
@@ -48,27 +46,34 @@ def test_gdl_shuffled_words_never_raise(tmp_path_factory, words: list[str]) -> N
     _compile_text(" ".join(words), tmp_path_factory.mktemp("w"))
 
 
-def test_gdl_missing_file_is_a_diagnostic(tmp_path: Path) -> None:
-    err = io.StringIO()
-    assert main_check([str(tmp_path / "absent.gdl")], io.StringIO(), err) == 2
-    assert "absent.gdl:1:1: error: cannot read the file" in err.getvalue()
+def test_gdl_missing_file_is_a_diagnostic(tmp_path: Path, cli) -> None:
+    absent = tmp_path / "absent.gdl"
+    sink = DiagnosticSink()
+    assert compile_app([str(absent)], sink=sink) is None
+    assert sink.has_errors
+    rendered = "\n".join(render_diagnostic(d) for d in sink.items)
+    assert "absent.gdl:1:1: error: cannot read the file" in rendered
+    # The command line checks that its files exist before compiling: a bad command line.
+    rc, out, err = cli("check", absent)
+    assert (rc, out) == (3, "")
+    assert err == f"motionvm: error: {absent}: no such file\n"
 
 
-def test_gdl_binary_and_empty_files(tmp_path: Path) -> None:
+def test_gdl_binary_and_empty_files(tmp_path: Path, cli) -> None:
     (tmp_path / "bin.gdl").write_bytes(bytes(range(256)))
     (tmp_path / "empty.gdl").write_text("")
     for name in ("bin.gdl", "empty.gdl"):
-        err = io.StringIO()
-        assert main_check([str(tmp_path / name)], io.StringIO(), err) == 2
-        assert "Traceback" not in err.getvalue()
+        rc, _out, err = cli("check", tmp_path / name)
+        assert rc == 2
+        assert "Traceback" not in err
 
 
-def test_gdl_compile_errors_exit_2_and_nothing_runs(tmp_path: Path) -> None:
+def test_gdl_compile_errors_exit_2_and_nothing_runs(tmp_path: Path, cli) -> None:
     (tmp_path / "bad.gdl").write_text("MODULE m;\n  IO$BOARD b [ SLOT = 99 ];\nEND$MODULE;\n")
-    out, err = io.StringIO(), io.StringIO()
-    assert main_run([str(tmp_path / "bad.gdl")], None, None, out, err) == 2
-    assert out.getvalue() == ""
-    assert err.getvalue().splitlines()[1:] == [
+    rc, out, err = cli("run", tmp_path / "bad.gdl")
+    assert rc == 2
+    assert out == ""
+    assert err.splitlines()[1:] == [
         "  IO$BOARD b [ SLOT = 99 ];",
         "                      ^",
     ]
@@ -92,8 +97,6 @@ def test_gdl_random_scenarios_run_the_same_stepped_or_jumped(
         for ms, ref, on in events
     )
     (folder / "s.toml").write_text(toml)
-    app = compile_app([str(PROGRAMS / "packer.gdl")], sink=DiagnosticSink())
-    assert app is not None
-    jumped, stepped = jumped_and_stepped(app, str(folder / "s.toml"))
+    jumped, stepped = jumped_and_stepped([PROGRAMS / "packer.gdl"], str(folder / "s.toml"))
     assert jumped == stepped
     assert jumped[0].count("input ") == len(events)

@@ -2,12 +2,11 @@
 
 from __future__ import annotations
 
-import io
 from pathlib import Path
 
 import pytest
 
-from motionvm.lang.gdl import compile_app, main_run, run_app
+from motionvm.lang.gdl import compile_app
 from motionvm.lang.gdl import rts as rts_module
 from motionvm.lang.gdl.app import App
 from motionvm.lang.gdl.rts import Rts, format_time
@@ -30,11 +29,28 @@ END$MODULE;
 """
 
 
-def _app(tmp_path: Path, text: str) -> App:
+def _run_toggle(cli, *argv) -> tuple[int, str]:
+    """`motionvm run TOGGLE-FILE ARGV...`: (exit code, stdout and stderr in the order
+    written, after the compile warning every run of TOGGLE starts with)."""
+    rc, out, _ = cli("run", *argv, merged=True)
+    warning, source, caret, rest = out.split("\n", 3)
+    assert warning.endswith(
+        ":9:5: warning: procedure loop assigns STATUS OF flip, one of its own activators: "
+        "a change runs it once more"
+    )
+    assert (source.strip(), caret.strip()) == ("STATUS OF flip = NOT STATUS OF flip;", "^")
+    return rc, rest
+
+
+def _gdl(tmp_path: Path, text: str) -> str:
     path = tmp_path / "app.gdl"
     path.write_text(text)
+    return str(path)
+
+
+def _app(tmp_path: Path, text: str) -> App:
     sink = DiagnosticSink()
-    app = compile_app([str(path)], sink=sink)
+    app = compile_app([_gdl(tmp_path, text)], sink=sink)
     assert app is not None, [d.headline() for d in sink.items]
     return app
 
@@ -69,37 +85,30 @@ def test_gdl_jumping_the_clock_equals_stepping(
     name: str, monkeypatch: pytest.MonkeyPatch, jumped_and_stepped
 ) -> None:
     monkeypatch.chdir(PROGRAMS)
-    sink = DiagnosticSink()
-    app = compile_app([f"{name}.gdl"], sink=sink)
-    assert app is not None
-    jumped, stepped = jumped_and_stepped(app, f"{name}.toml")
+    jumped, stepped = jumped_and_stepped([f"{name}.gdl"], f"{name}.toml")
     assert jumped == stepped
     assert jumped[0]
 
 
-def test_gdl_runs_are_deterministic(monkeypatch: pytest.MonkeyPatch) -> None:
+def test_gdl_runs_are_deterministic(monkeypatch: pytest.MonkeyPatch, cli) -> None:
     monkeypatch.chdir(PROGRAMS)
-    runs = []
-    for _ in range(2):
-        out = io.StringIO()
-        main_run(["motion.gdl"], "motion.toml", None, out, out)
-        runs.append(out.getvalue())
+    runs = [cli("run", "motion.gdl", "--scenario", "motion.toml", merged=True) for _ in range(2)]
     assert runs[0] == runs[1]
 
 
 def test_gdl_runaway_activations_are_stopped(
-    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, cli
 ) -> None:
     monkeypatch.setattr(rts_module, "MAX_RUNS_PER_CYCLE", 3)
-    app = _app(tmp_path, TOGGLE)
+    path = _gdl(tmp_path, TOGGLE)
     s = _scenario(
         tmp_path,
         '[[event]]\nat = 0.5\nset = "STATUS OF go"\nvalue = "ON"\n'
         '[[event]]\nat = 0.6\nset = "STATUS OF go"\nvalue = "OFF"\n',
     )
-    out = io.StringIO()
-    assert run_app(app, s, None, out) == 1
-    lines = out.getvalue().splitlines()
+    rc, out = _run_toggle(cli, path, "--scenario", s)  # faults among messages
+    assert rc == 1
+    lines = out.splitlines()
     assert lines[:4] == [
         "t=0.500 input STATUS OF go = ON",
         "t=0.500 run loop",
@@ -144,29 +153,26 @@ def test_gdl_force_refuses_variables_without_f(tmp_path: Path) -> None:
         rts.force(app.objects["memo"], "VALUE", 0, 2)
 
 
-def test_gdl_force_from_the_command_line(tmp_path: Path) -> None:
-    path = tmp_path / "app.gdl"
-    path.write_text(TOGGLE)
-    out = io.StringIO()
-    assert (
-        main_run([str(path)], None, 0.01, out, io.StringIO(), forces=["STATUS OF flip = ON"]) == 0
-    )
-    assert out.getvalue().splitlines() == ["t=0.000 force STATUS OF flip = ON", "t=0.000 run loop"]
-    err = io.StringIO()
-    assert main_run([str(path)], None, 0.01, io.StringIO(), err, forces=["VALUE OF memo"]) == 3
-    assert "write --force 'KEYWORD OF object = value'" in err.getvalue()
+def test_gdl_force_from_the_command_line(tmp_path: Path, cli) -> None:
+    path = _gdl(tmp_path, TOGGLE)
+    rc, out, _ = cli("run", path, "--until", 0.01, "--force", "STATUS OF flip = ON")
+    assert rc == 0
+    assert out.splitlines() == ["t=0.000 force STATUS OF flip = ON", "t=0.000 run loop"]
+    rc, _, err = cli("run", path, "--until", 0.01, "--force", "VALUE OF memo")
+    assert rc == 3
+    assert "write --force 'KEYWORD OF object = value'" in err
 
 
-def test_gdl_until_ends_the_run(tmp_path: Path) -> None:
-    app = _app(tmp_path, TOGGLE)
+def test_gdl_until_ends_the_run(tmp_path: Path, cli) -> None:
+    path = _gdl(tmp_path, TOGGLE)
     s = _scenario(
         tmp_path, 'until = 0.2\n[[event]]\nat = 0.3\nset = "VALUE OF memo"\nvalue = "ON"\n'
     )
-    out = io.StringIO()
-    assert run_app(app, s, None, out) == 0
-    assert out.getvalue() == ""
-    assert run_app(app, s, 0.3, out) == 0
-    assert out.getvalue() == "t=0.300 input VALUE OF memo = ON\n"
+    assert _run_toggle(cli, path, "--scenario", s) == (0, "")
+    assert _run_toggle(cli, path, "--scenario", s, "--until", 0.3) == (
+        0,
+        "t=0.300 input VALUE OF memo = ON\n",
+    )
 
 
 @pytest.mark.parametrize(
@@ -218,42 +224,41 @@ def test_gdl_until_ends_the_run(tmp_path: Path) -> None:
         ),
     ],
 )
-def test_gdl_bad_scenarios_exit_3(tmp_path: Path, toml: str, message: str) -> None:
-    app = _app(tmp_path, TOGGLE)
-    out = io.StringIO()
-    rc = run_app(app, _scenario(tmp_path, toml), None, out)
+def test_gdl_bad_scenarios_exit_3(tmp_path: Path, toml: str, message: str, cli) -> None:
+    path = _gdl(tmp_path, TOGGLE)
+    rc, out, _ = cli("run", path, "--scenario", _scenario(tmp_path, toml), merged=True)
     if not message:  # DIAGN$STATUS of IO$BOARD has access rf: forcing is allowed
         assert rc == 0
         return
     assert rc == 3
-    assert message in out.getvalue()
+    assert message in out
 
 
-def test_gdl_scenario_refuses_to_force_rw(tmp_path: Path) -> None:
-    app = _app(
+def test_gdl_scenario_refuses_to_force_rw(tmp_path: Path, cli) -> None:
+    path = _gdl(
         tmp_path,
         TOGGLE.replace(
             "IO$BOARD io [ SLOT = 1 ];",
             "IO$BOARD io [ SLOT = 1 ];\n  DC$MOTOR$AXIS motor [ AXIS$NUMBER = 1 ];",
         ),
     )
-    out = io.StringIO()
     s = _scenario(
         tmp_path, '[[event]]\nat = 0\nforce = "CONSTANT$STATUS OF motor"\nvalue = "ENABLED"\n'
     )
-    assert run_app(app, s, None, out) == 3
-    assert "CONSTANT$STATUS of DC$MOTOR$AXIS cannot be forced (access rw, no 'f')" in out.getvalue()
+    rc, out, _ = cli("run", path, "--scenario", s, merged=True)
+    assert rc == 3
+    assert "CONSTANT$STATUS of DC$MOTOR$AXIS cannot be forced (access rw, no 'f')" in out
 
 
-def test_gdl_scenario_refuses_to_change_a_constant(tmp_path: Path) -> None:
-    app = _app(
+def test_gdl_scenario_refuses_to_change_a_constant(tmp_path: Path, cli) -> None:
+    path = _gdl(
         tmp_path,
         TOGGLE.replace("DIGITAL$VARIABLE memo [ ];", "INTEGER$CONSTANT memo [ VALUE = 1 ];"),
     )
-    out = io.StringIO()
     s = _scenario(tmp_path, '[[event]]\nat = 0\nset = "VALUE OF memo"\nvalue = 2\n')
-    assert run_app(app, s, None, out) == 3
-    assert "memo is an INTEGER$CONSTANT: it never changes" in out.getvalue()
+    rc, out, _ = cli("run", path, "--scenario", s, merged=True)
+    assert rc == 3
+    assert "memo is an INTEGER$CONSTANT: it never changes" in out
 
 
 FOLLOWERS = """MODULE f;
@@ -282,31 +287,30 @@ END$MODULE;
 def test_gdl_followers_update_the_same_when_the_clock_jumps(
     tmp_path: Path, jumped_and_stepped
 ) -> None:
-    app = _app(tmp_path, FOLLOWERS)
+    path = _gdl(tmp_path, FOLLOWERS)
     s = _scenario(
         tmp_path,
         '[[event]]\nat = 0.1\nset = "OPERATING$MODE OF plant"\nvalue = "AUTOMATIC"\n'
         '[[event]]\nat = 0.5\nset = "OPERATING$MODE OF plant"\nvalue = "MANUAL"\n',
     )
-    jumped, stepped = jumped_and_stepped(app, s)
+    jumped, stepped = jumped_and_stepped([path], s)
     assert jumped == stepped
     assert "t=0.501 update OPERATING$CONDITION OF spindle_encoder = STOPPED" in jumped[0]
-    until = jumped_and_stepped(app, s, until=0.3)
+    until = jumped_and_stepped([path], s, until=0.3)
     assert until[0] == until[1] and until[0][2] == 301
 
 
-def test_gdl_shuffled_order_of_shared_activators(monkeypatch: pytest.MonkeyPatch) -> None:
+def test_gdl_shuffled_order_of_shared_activators(monkeypatch: pytest.MonkeyPatch, cli) -> None:
     monkeypatch.chdir(PROGRAMS)
     orders = set()
+    argv = ("run", "queue.gdl", "--scenario", "queue.toml", "--shuffle-order")
     for seed in range(8):
-        out = io.StringIO()
-        assert main_run(["queue.gdl"], "queue.toml", None, out, out, shuffle_seed=seed) == 0
-        lines = out.getvalue().splitlines()
+        rc, out, _ = cli(*argv, seed, merged=True)
+        assert rc == 0
+        lines = out.splitlines()
         at_30 = [line for line in lines if line.startswith("t=0.030 run ")]
         orders.add(tuple(at_30))
-        again = io.StringIO()
-        main_run(["queue.gdl"], "queue.toml", None, again, again, shuffle_seed=seed)
-        assert again.getvalue() == out.getvalue()
+        assert cli(*argv, seed, merged=True) == (rc, out, "")
     assert orders == {
         ("t=0.030 run procedure_1", "t=0.030 run procedure_2"),
         ("t=0.030 run procedure_2", "t=0.030 run procedure_1"),
