@@ -103,6 +103,12 @@ class Simulation:
         self.session.step(cycles)
 
     @property
+    def fault_count(self) -> int:
+        """Runtime faults of tasks, drive tasks and procedures so far (the CLI exits 1
+        if any); `faults` holds their reports and the warnings of the run."""
+        return self.session.fault_count
+
+    @property
     def time(self) -> float:
         """Simulated time [s]."""
         return self.controller.sim_time

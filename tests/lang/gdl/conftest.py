@@ -33,7 +33,7 @@ def run_jumped_and_stepped(
         sim = Simulation.from_files(paths, scenario=scenario, skip=skip)
         sim.run(until)
         output = "".join(line + "\n" for line in sim.messages)
-        rc = 1 if sim.session.fault_count else 0  # the command line's exit code
+        rc = 1 if sim.fault_count else 0  # the command line's exit code
         runs.append((output, rc, sim.controller.cycle, sim.faults))
     return runs
 

@@ -119,7 +119,7 @@ def test_gdl_too_few_machine_axes_is_an_error(tmp_path: Path, cli) -> None:
     controller = Controller(0.001, MachineConfig(axes=default_axes(1)))
     with pytest.raises(
         GdlMachineError,
-        match=r"motor lift would be machine axis 1, but the machine has axes 0\.\.0",
+        match=r"motor lift has no machine axis: the machine's 1 axes are all taken",
     ):
         GdlApplication(controller, app, Scenario((), (), None), emit=print, report=print)
     machine = tmp_path / "m.toml"
