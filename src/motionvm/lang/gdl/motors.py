@@ -91,11 +91,13 @@ def assign_axes(
             continue
         axis = next(free, None)
         if axis is None:
+            owned = sum(1 for a in axes if getattr(a, "controlled_by", None) is not None)
+            needed = owned + len(motors)
             raise GdlMachineError(
                 f"{obj.pos.file}:{obj.pos.line}: motor {obj.name} has no machine axis: the "
                 f"machine's {len(axes)} axes are all taken (by PDL drives or other motors); "
                 f"the application declares {len(motors)} motors (give a machine file with "
-                "more [[axis]] tables)"
+                f"{needed} [[axis]] tables)"
             )
         out[obj.key] = axis
     for key, axis in out.items():
