@@ -93,9 +93,9 @@ class Simulation:
         return self.runtime.mem.load(sym.addr + index * elem.size, view_code(elem))
 
     def set_input(self, index: int, value: bool) -> None:
-        """Set controller general-purpose input `index` (HIMC_GPI)."""
-        self.runtime.gpi[index] = 1 if value else 0
+        """Set controller general-purpose input `index` (HIMC_GPI); IndexError if none."""
+        self.controller.io.set_input(index, value)
 
     def output(self, index: int) -> int:
-        """Controller general-purpose output `index` (HIMC_GPO)."""
-        return self.runtime.gpo[index]
+        """Controller general-purpose output `index` (HIMC_GPO); IndexError if none."""
+        return self.controller.io.output(index)

@@ -14,6 +14,7 @@ from __future__ import annotations
 import math
 from typing import Protocol
 
+from motionvm.io.gpio import DigitalIO
 from motionvm.motion.kernel import MotionKernel
 from motionvm.runtime.kernel import Kernel
 from motionvm.sim.machine import DEFAULT_MACHINE, MachineConfig
@@ -37,6 +38,7 @@ class Controller:
         self.cycle_time = cycle_time
         self.kernel = Kernel()
         self.motion = MotionKernel(list((machine or DEFAULT_MACHINE).axes), cycle_time)
+        self.io = DigitalIO()
         self.clients: list[CycleClient] = []
         self.busy_clients: list = []
         """Clients whose `busy()` keeps the run going and forbids jumps (PDL drives)."""
@@ -63,6 +65,7 @@ class Controller:
         """Run exactly one controller cycle."""
         for c in self.clients:
             c.begin_cycle()
+        self.motion.begin_cycle()
         self.kernel.run_cycle()
         self.motion.step()
         for c in self.clients:  # optional hook: sees the state the cycle left (scope recording)

@@ -1,4 +1,5 @@
-"""Scope channel sources: HMPL system and global variables, controller GPIO, axis variables.
+"""Scope channel sources: HMPL system and global variables, controller GPIO, axis
+variables, gears and gantry pairs, PDL drives.
 
 Channel names (README "Scope"):
 - `system_timeInMs` [ms], `system_fclk`, `system_ltest0..9`, `system_dtest0..9`,
@@ -8,12 +9,17 @@ Channel names (README "Scope"):
   `himc_gpi_bits`, `himc_gpo_bits` — all of them as one integer [raw];
 - `axisN.<variable>` — an axis variable of manual 5.1.1 (`axis0.ref_pos`), with the
   manual's unit, read through the axis layer's `variable(name)`;
+- `gearN.master_pos_gear`, `gearN.gear_cmd_pos`, `gearN.gear_ratio` — table 6.1.1.1 of
+  slave axis N (0 while it is no slave), and `gantryN.linear_ref`, `.yaw_ref`,
+  `.linear_fb`, `.yaw_fb` of gantry pair N (0 while there is no such pair):
+  `SyncScopeSource`;
 - `driveN.<name>` — a system variable or state of the PDL drive of axis N, or a global
   of its program (`drive1.x_ref_pos` [count], `drive1.fclk`, `drive1.x_run` [bool],
   `drive1.ref_pos[0]`, `drive1.p`): `PdlDriveSource`, which `sim/pdl_drives.PdlDrives`
   adds to `controller.scope_sources`.
-`registry_for()` wires the sources of one run; further layers add theirs to
-`controller.scope_sources` (a list) and are asked after these.
+`registry_for()` wires the sources of one run: the HMPL program's (if any), the
+controller's GPIO (`controller.io`), axes, gears and gantry pairs; further layers add
+theirs to `controller.scope_sources` (a list) and are asked after these.
 """
 
 from __future__ import annotations
@@ -25,11 +31,16 @@ from collections.abc import Callable, Iterable
 from functools import partial
 from importlib import resources
 
+from motionvm.io.gpio import DigitalIO
+from motionvm.motion.kernel import MotionKernel
 from motionvm.sim.scope import BIT_UNIT, RAW_UNIT, ChannelRegistry, ScopeError
 
 _ELEMENT = re.compile(r"([A-Za-z_]\w*)(?:\[(\d+)\])?")
 _GPIO = re.compile(r"(gpi|gpo)(\d+)")
 _AXIS = re.compile(r"axis(\d+)\.(\w+)")
+_SYNC = re.compile(r"(gear|gantry)(\d+)\.(\w+)")
+GEAR_VARIABLES = ("master_pos_gear", "gear_cmd_pos", "gear_ratio")
+GANTRY_VARIABLES = ("linear_ref", "yaw_ref", "linear_fb", "yaw_fb")
 # Array elements offered as suggestions, per array (system_user_table has 512000).
 _SUGGESTED_ELEMENTS = 10
 
@@ -105,19 +116,21 @@ class HmplSource:
 
 
 class GpioSource:
-    """The controller's general-purpose inputs and outputs, as HMPL sees them."""
+    """The controller's general-purpose inputs and outputs (a `DigitalIO`)."""
 
-    def __init__(self, runtime) -> None:
-        self.runtime = runtime
+    def __init__(self, io: DigitalIO) -> None:
+        self.io = io
 
     def resolve(self, name: str) -> tuple[Callable[[], float], str] | None:
-        if name in ("himc_gpi_bits", "himc_gpo_bits"):
-            bits = self.runtime.gpi if name == "himc_gpi_bits" else self.runtime.gpo
-            return (lambda: sum((1 << i) for i, b in enumerate(bits) if b)), RAW_UNIT
+        io = self.io
+        if name == "himc_gpi_bits":
+            return (lambda: io.input_bits), RAW_UNIT
+        if name == "himc_gpo_bits":
+            return (lambda: io.output_bits), RAW_UNIT
         m = _GPIO.fullmatch(name)
         if m is None:
             return None
-        bits = self.runtime.gpi if m.group(1) == "gpi" else self.runtime.gpo
+        bits = io.inputs if m.group(1) == "gpi" else io.outputs
         i = int(m.group(2))
         if i >= len(bits):
             raise ScopeError(
@@ -128,8 +141,8 @@ class GpioSource:
     def channel_names(self) -> Iterable[str]:
         yield "himc_gpi_bits"
         yield "himc_gpo_bits"
-        yield from (f"gpi{i}" for i in range(len(self.runtime.gpi)))
-        yield from (f"gpo{i}" for i in range(len(self.runtime.gpo)))
+        yield from (f"gpi{i}" for i in range(self.io.n_inputs))
+        yield from (f"gpo{i}" for i in range(self.io.n_outputs))
 
 
 def _manual_axis_units() -> dict[str, str | None]:
@@ -214,6 +227,47 @@ class AxisSource:
     def channel_names(self) -> Iterable[str]:
         for n, axis in enumerate(self._axes() or ()):
             yield from (f"axis{n}.{v}" for v in self._variable_names(axis))
+
+
+class SyncScopeSource:
+    """`gearN.*` and `gantryN.*` channels of the gears and gantry pairs of a controller's
+    motion kernel (`controller.motion`)."""
+
+    def __init__(self, controller) -> None:
+        self.controller = controller
+
+    def _value(self, kind: str, n: int, variable: str) -> float:
+        motion = self.controller.motion
+        if kind == "gear":
+            g = motion.gears.gear_of(n)
+            if g is None:
+                return 0.0
+            return g.ratio if variable == "gear_ratio" else getattr(g, variable)
+        pair = motion.gantries.pairs.get(n)
+        if pair is None:
+            return 0.0
+        value = getattr(pair, variable)
+        return value[0] if isinstance(value, tuple) else value
+
+    def resolve(self, name: str) -> tuple[Callable[[], float], str] | None:
+        m = _SYNC.fullmatch(name)
+        if m is None:
+            return None
+        kind, n, variable = m.group(1), int(m.group(2)), m.group(3)
+        known = GEAR_VARIABLES if kind == "gear" else GANTRY_VARIABLES
+        axes = self.controller.motion.axes
+        if variable not in known or n >= len(axes):
+            raise ScopeError(f"unknown scope channel '{name}'; {kind} channels are "
+                             f"{kind}0..{kind}{len(axes) - 1}.{{{', '.join(known)}}}")  # fmt: skip
+        unit = RAW_UNIT if variable == "gear_ratio" else "deg" if axes[n].rotary else "mm"
+        return (lambda: self._value(kind, n, variable)), unit
+
+    def channel_names(self) -> Iterable[str]:
+        n = len(self.controller.motion.axes)
+        for i in range(n):
+            yield from (f"gear{i}.{v}" for v in GEAR_VARIABLES)
+        for i in range(n // 2):
+            yield from (f"gantry{i}.{v}" for v in GANTRY_VARIABLES)
 
 
 _DRIVE = re.compile(r"drive(\d+)\.(.+)")
@@ -332,12 +386,18 @@ class PdlDriveSource:
 
 
 def registry_for(controller, runtime=None) -> ChannelRegistry:
-    """The channels of one run: HMPL variables and GPIO (if `runtime`), axes, then extra sources."""
+    """The channels of one run: HMPL variables (if `runtime`), the controller's GPIO (if
+    it has `io`), axes, gears and gantry pairs (if it has a motion kernel), then the
+    sources in `controller.scope_sources`."""
     reg = ChannelRegistry()
     if runtime is not None:
         reg.register(HmplSource(runtime))
-        reg.register(GpioSource(runtime))
+    io = getattr(controller, "io", None)
+    if isinstance(io, DigitalIO):
+        reg.register(GpioSource(io))
     reg.register(AxisSource(controller))
+    if isinstance(getattr(controller, "motion", None), MotionKernel):
+        reg.register(SyncScopeSource(controller))
     for source in getattr(controller, "scope_sources", ()):
         reg.register(source)
     return reg
