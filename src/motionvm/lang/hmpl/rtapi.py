@@ -63,8 +63,7 @@ class HmplRuntime:
         self.event_callbacks: list[Callable[[str, object], None]] = []
         self.faults = 0
         self.stamp = False
-        self.io = controller.io
-        self._inputs, self._outputs = self.io.inputs, self.io.outputs
+        self._inputs, self._outputs = controller.io.inputs, controller.io.outputs
         self.mutex_owner: list[int | None] = [None] * N_MUTEXES
         """The task id holding each mutex (MutexLock), None while it is free."""
         self.commands = MotionCommands(controller.motion)
