@@ -134,9 +134,9 @@ class Simulation:
         return rt.mem.load(sym.addr + index * elem.size, view_code(elem))
 
     def set_input(self, index: int, value: bool) -> None:
-        """Set controller general-purpose input `index` (HIMC_GPI)."""
-        self._hmpl().gpi[index] = 1 if value else 0
+        """Set controller general-purpose input `index` (HIMC_GPI); IndexError if none."""
+        self.controller.io.set_input(index, value)
 
     def output(self, index: int) -> int:
-        """Controller general-purpose output `index` (HIMC_GPO)."""
-        return self._hmpl().gpo[index]
+        """Controller general-purpose output `index` (HIMC_GPO); IndexError if none."""
+        return self.controller.io.output(index)

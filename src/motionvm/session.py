@@ -446,12 +446,7 @@ class Session:
         """Every channel this run offers: the machine's, then each language's."""
         from motionvm.sim.scope_sources import registry_for
 
-        reg = registry_for(self.controller, self.hmpl)
-        for client in (self.pdl, self.gdl):
-            if client is not None:
-                for source in client.scope_sources():
-                    reg.register(source)
-        return reg
+        return registry_for(self.controller, self.hmpl, self.pdl, self.gdl)
 
     def save_scope(self) -> None:
         """Write the recording to every `--scope-out` file (SessionError if one cannot

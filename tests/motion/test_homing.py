@@ -3,16 +3,25 @@ offset, timeout, failures, status bits."""
 
 from __future__ import annotations
 
+from functools import cache
+
 import pytest
 
 from motionvm.motion import axis_status as st
 from motionvm.motion.axis import Axis
 from motionvm.motion.axis_config import create
 from motionvm.motion.axis_status import AxisCommandError
-from motionvm.motion.homing import DRIVE_HOME_FAILED, DRIVE_HOME_TOUT, homing_of
+from motionvm.motion.homing import DRIVE_HOME_FAILED, DRIVE_HOME_TOUT, AxisHoming
 from motionvm.motion.homing_run import METHODS
 
 DT = 0.001
+
+
+@cache
+def homing_of(a: Axis) -> AxisHoming:
+    """The homing state of a test axis (a motion kernel keeps one per axis; these have none)."""
+    return AxisHoming(a)
+
 
 DEFAULT = {}
 """The default machine's axis: home switch on [0, 5] mm, index every 10 mm from 0,

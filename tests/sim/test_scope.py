@@ -335,7 +335,7 @@ def test_bad_axis_channels(name, message):
     assert message in str(err.value)
 
 
-def test_extra_sources_on_the_controller():
+def test_a_client_offers_its_own_sources():
     class Source:
         def resolve(self, name):
             return (lambda: 42.0, "mm") if name == "drive0.torque" else None
@@ -343,9 +343,12 @@ def test_extra_sources_on_the_controller():
         def channel_names(self):
             return ["drive0.torque"]
 
+    class Client(PassiveClient):
+        def scope_sources(self):
+            return [Source()]
+
     ctl = Controller()
-    ctl.scope_sources = [Source()]
-    reg = registry_for(ctl)
+    reg = registry_for(ctl, Client())
     assert reg.resolve("drive0.torque").getter() == 42.0
     with pytest.raises(ScopeError, match="did you mean drive0.torque"):
         reg.resolve("drive0.torq")

@@ -33,10 +33,9 @@ from EnableGantryPair to DisableGantryPair.
 from __future__ import annotations
 
 import math
-import weakref
 
 from motionvm.motion import axis_status as st
-from motionvm.motion.gear import CMD_INVALID_GANTRY_MODE, SyncError, gearbox_of
+from motionvm.motion.gear import CMD_INVALID_GANTRY_MODE, GearBox, SyncError
 
 OFF, ENABLING, ON, STOPPING = "off", "enabling", "on", "stopping"
 
@@ -199,13 +198,15 @@ class Gantry:
 
 
 class GantrySet:
-    """Every gantry pair of one motion kernel: the commands of chapter 7 and their checks."""
+    """Every gantry pair of one motion kernel (`MotionKernel.gantries`): the commands of
+    chapter 7 and their checks. `gears` is the same kernel's gear box: an axis is either
+    geared or paired, never both."""
 
-    def __init__(self, kernel):
+    def __init__(self, gears: GearBox):
         self.pairs: dict[int, Gantry] = {}
         """Pair id -> pair."""
-        self._gears = gearbox_of(kernel)
-        self._gears.gantry_axes = self.axis_ids
+        self._gears = gears
+        gears.gantry_axes = self.axis_ids
 
     def axis_ids(self) -> frozenset:
         return frozenset(a.axis_id for g in self.pairs.values() for a in g.axes)
@@ -277,17 +278,11 @@ class GantrySet:
             a.wake()
 
     def step(self) -> None:
-        """Once per cycle, before the tasks run (or first thing in the motion phase)."""
+        """Once per cycle, before the tasks run (`MotionKernel.begin_cycle`)."""
         for g in self.pairs.values():
             g.step()
 
 
-_SETS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
-
-
 def gantries_of(kernel) -> GantrySet:
-    """The gantry pairs of motion kernel `kernel` (created on first use)."""
-    s = _SETS.get(kernel)
-    if s is None:
-        s = _SETS[kernel] = GantrySet(kernel)
-    return s
+    """The gantry pairs of motion kernel `kernel` (its `gantries`)."""
+    return kernel.gantries

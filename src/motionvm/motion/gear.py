@@ -9,7 +9,8 @@ engaging never makes it jump:
 
 with (m_0, s_0) the two references at the moment the slave became synchronous. A `Gear`
 is the slave's reference provider (`Axis.follow`, motion/axis_follow.py); a `GearBox`
-holds every gear of one motion kernel and checks the commands of chapter 6.
+holds every gear of one motion kernel (`MotionKernel.gears`) and checks the commands of
+chapter 6.
 
 Decisions where the manual is silent:
 - A slave has one master; a master may have many slaves; an axis cannot be both (no
@@ -42,7 +43,6 @@ slaves; a kernel with a `step_order` list gets it sorted masters first (`GearBox
 from __future__ import annotations
 
 import math
-import weakref
 
 from motionvm.motion import axis_status as st
 from motionvm.motion.axis_status import AxisCommandError
@@ -338,12 +338,6 @@ class GearBox:
         self._reorder()
 
 
-_BOXES: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
-
-
 def gearbox_of(kernel) -> GearBox:
-    """The gears of motion kernel `kernel` (created on first use)."""
-    box = _BOXES.get(kernel)
-    if box is None:
-        box = _BOXES[kernel] = GearBox(kernel)
-    return box
+    """The gears of motion kernel `kernel` (its `gears`)."""
+    return kernel.gears

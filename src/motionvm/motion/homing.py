@@ -1,7 +1,7 @@
 """Homing of an axis (HIMC manual chapter 20): settings, MoveHome, homed/homing status.
 
-`homing_of(axis)` gives the axis's `AxisHoming` (created on first use, kept as long as
-the axis lives). `start()` runs one of the CiA 402 methods of table 20.1.1 (sequences in
+An `AxisHoming` is the homing state of one axis; the motion kernel keeps one per axis
+(`MotionKernel.homing[axis_id]`). `start()` runs one of the CiA 402 methods of table 20.1.1 (sequences in
 `homing_run.py`) by making the axis follow a `HomingRun`; the run drives the axis with
 its own profile (switch speed [mm/s], zero speed [mm/s], acceleration [mm/s^2]) against
 the simulated switches and index pulses of the axis's drive, and releases the axis at
@@ -25,7 +25,6 @@ or `set_homed()`. Settings changed while homing apply to the next homing.
 from __future__ import annotations
 
 import math
-import weakref
 from dataclasses import dataclass
 
 from motionvm.drives.objects import MODE_CSP
@@ -240,14 +239,3 @@ def _missing_signal(switches: Switches, method) -> str:
     if method.index and not switches.index_spacing:
         need.append("index pulses")
     return " and ".join(need) + (" (the machine has none)" if need else "")
-
-
-_STATE: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
-
-
-def homing_of(axis) -> AxisHoming:
-    """The homing state of `axis` (created with the manual's defaults on first use)."""
-    h = _STATE.get(axis)
-    if h is None:
-        h = _STATE[axis] = AxisHoming(axis)
-    return h

@@ -1,9 +1,23 @@
-"""The motion kernel: every axis of the machine, the simulated EtherCAT bus, last errors.
+"""The motion kernel: every axis of the machine, what feeds their references, the
+simulated EtherCAT bus, last errors.
 
-Stepped once per controller cycle after the tasks (`step`). The bus master's state
-(GetECATSt: 1 Init, 2 Pre-Operation, 4 Safe-Operation, 8 Operation) is Operation from
-power-on; ScanNetwork takes it down to Init and back up one state per cycle, and the
-drives cannot be enabled until it is back in Operation. Slave i is axis i's drive.
+It owns, besides the axes, the machine's reference providers and per-axis devices: the
+electronic gears (`gears`, motion/gear.py), the gantry pairs (`gantries`,
+motion/gantry.py), one homing state (`homing[axis_id]`, motion/homing.py) and one touch
+probe (`probes[axis_id]`, motion/touchprobe.py) per axis. The controller calls it twice
+per cycle:
+
+1. `begin_cycle`, before the tasks: the gantry pairs' enable sequences and engagement,
+   so that the tasks of a cycle see a pair settled;
+2. `step`, after the tasks: the bus, then every axis in `step_order`. An axis that
+   follows a provider (a gear, a gantry pair, a homing run: `Axis.follow`) pulls its
+   reference from it as it steps, so the order of the axes is the order of the
+   providers: gear masters step before their slaves. Providers that plan for several
+   axes at once (axis groups) take their place between the bus and the axes.
+
+The bus master's state (GetECATSt: 1 Init, 2 Pre-Operation, 4 Safe-Operation,
+8 Operation) is Operation from power-on; ScanNetwork takes it down to Init and back up
+one state per cycle, and the drives cannot be enabled until it is back in Operation. Slave i is axis i's drive.
 Group last errors live here for the group functions to come (16 groups).
 """
 
@@ -12,19 +26,31 @@ from __future__ import annotations
 from motionvm.motion import axis_status as st
 from motionvm.motion.axis import Axis
 from motionvm.motion.axis_config import AxisConfig
+from motionvm.motion.gantry import GantrySet
+from motionvm.motion.gear import GearBox
+from motionvm.motion.homing import AxisHoming
+from motionvm.motion.touchprobe import TouchProbe
 
 ECAT_INIT, ECAT_PREOP, ECAT_SAFEOP, ECAT_OP = 1, 2, 4, 8
 N_GROUPS = 16
 
 
 class MotionKernel:
-    """All axes of one controller and the bus they sit on."""
+    """All axes of one controller, their reference providers and the bus they sit on."""
 
     def __init__(self, configs: list[AxisConfig], dt: float):
         self.dt = dt
         self.axes = [Axis(i, c, dt) for i, c in enumerate(configs)]
         self.step_order = list(self.axes)
         """The order the axes step in: by id, gear masters first (motion/gear.py)."""
+        self.gears = GearBox(self)
+        """The electronic gears (manual chapter 6); it keeps `step_order` masters first."""
+        self.gantries = GantrySet(self.gears)
+        """The gantry pairs (manual chapter 7), stepped in `begin_cycle`."""
+        self.homing = [AxisHoming(a) for a in self.axes]
+        """The homing state of each axis (manual chapter 20), by axis id."""
+        self.probes = [TouchProbe(a) for a in self.axes]
+        """The touch probe of each axis (manual chapter 13), by axis id."""
         self.ecat_state = ECAT_OP
         """Master state of the bus [1, 2, 4, 8]."""
         self.system_last_error = 0
@@ -45,8 +71,12 @@ class MotionKernel:
 
     # ---- the cycle ------------------------------------------------------------------
 
+    def begin_cycle(self) -> None:
+        """Before the tasks of a cycle: the gantry pairs' enable sequences and engagement."""
+        self.gantries.step()
+
     def step(self) -> None:
-        """The motion phase of one cycle: the bus, then every axis in id order."""
+        """The motion phase of one cycle: the bus, then every axis in `step_order`."""
         if self._bus_steps:
             self.ecat_state = self._bus_steps.pop(0)
         for a in self.step_order:

@@ -11,7 +11,7 @@ same program gives the same schedule every run.
 from __future__ import annotations
 
 from collections.abc import Callable, Generator
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 from motionvm.runtime.clock import Clock
 from motionvm.runtime.errors import TaskExit
@@ -27,7 +27,6 @@ class Task:
     gen: Generator | None = None
     wake_cycle: int = 0
     name: str = ""
-    mutexes: set[int] = field(default_factory=set)
     starts: int = 0  # how many times the task was started
     context: object = None  # language run time's per-task data (e.g. the memory stack)
 
@@ -45,7 +44,6 @@ class Kernel:
         self.tasks = [Task(i) for i in range(n_tasks)]
         self._active: list[Task] = []  # running tasks in id order: a cycle visits only these
         self.current: Task | None = None
-        self.mutex_owner: list[int | None] = [None] * 8
         self.on_fault: Callable[[Task, BaseException], None] = lambda task, exc: None
         self.before_resume: Callable[[Task], None] = lambda task: None
         self.on_stop: Callable[[Task], None] = lambda task: None
@@ -65,7 +63,7 @@ class Kernel:
             self._active.sort(key=lambda x: x.id)
 
     def stop(self, task_id: int) -> None:
-        """Stop a task: close its generator, release its mutexes."""
+        """Stop a task: close its generator; `on_stop` then releases what it held."""
         t = self.tasks[task_id]
         gen = t.gen
         if gen is None:
@@ -95,10 +93,6 @@ class Kernel:
     def _release(self, t: Task) -> None:
         if t in self._active:
             self._active.remove(t)
-        for m in sorted(t.mutexes):
-            if self.mutex_owner[m] == t.id:
-                self.mutex_owner[m] = None
-        t.mutexes.clear()
         self.on_stop(t)
 
     @property

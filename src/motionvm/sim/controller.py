@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import math
 
+from motionvm.io.gpio import DigitalIO
 from motionvm.motion.kernel import MotionKernel
 from motionvm.runtime.clients import CycleClient
 from motionvm.runtime.clock import Clock
@@ -44,6 +45,7 @@ class Controller:
         self.cycle_time = cycle_time
         self.kernel = Kernel(self.clock)
         self.motion = MotionKernel(list((machine or DEFAULT_MACHINE).axes), cycle_time)
+        self.io = DigitalIO()
         self.clients: list[CycleClient] = []
         """Run sides stepped each cycle, in the order added (runtime/clients.py)."""
         self.skip = True
@@ -78,6 +80,7 @@ class Controller:
         clients = self.clients
         for c in clients:
             c.begin_cycle()
+        self.motion.begin_cycle()
         self.kernel.run_cycle()
         self.motion.step()
         for c in clients:

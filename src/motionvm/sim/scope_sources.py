@@ -1,17 +1,18 @@
-"""Scope channel sources: HMPL system and global variables, controller GPIO, axis variables.
+"""Scope channel sources of the machine: controller GPIO, axis variables, gears and
+gantry pairs; `registry_for` adds them to the sources of a run's language clients.
 
 Channel names (README "Scope"):
-- `system_timeInMs` [ms], `system_fclk`, `system_ltest0..9`, `system_dtest0..9`,
-  `system_mtest[i]`, `system_user_table[i]`, and any global variable of the program
-  by name (`count`; `table[3]` for an array element) [raw];
 - `gpi3`, `gpo5` — one controller general-purpose input/output bit [bool];
   `himc_gpi_bits`, `himc_gpo_bits` — all of them as one integer [raw];
 - `axisN.<variable>` — an axis variable of manual 5.1.1 (`axis0.ref_pos`), with the
   manual's unit, read through the axis layer's `variable(name)`;
-`registry_for()` wires these sources of one run; a language's run side offers further
-sources through its own `scope_sources()` (e.g. the `driveN.<name>` channels of PDL
-drives), which the assembler of the run registers after these; sources still listed in
-`controller.scope_sources` are asked after these too.
+- `gearN.master_pos_gear`, `gearN.gear_cmd_pos`, `gearN.gear_ratio` — table 6.1.1.1 of
+  slave axis N (0 while it is no slave), and `gantryN.linear_ref`, `.yaw_ref`,
+  `.linear_fb`, `.yaw_fb` of gantry pair N (0 while there is no such pair):
+  `SyncScopeSource`.
+`registry_for()` wires the sources of one run: each language run side's own (its
+`scope_sources()`: an HMPL program's variables, the `driveN.<name>` channels of PDL
+drives, the `OBJECT.STATE` channels of a GDL application), then these.
 """
 
 from __future__ import annotations
@@ -23,99 +24,33 @@ from collections.abc import Callable, Iterable
 from functools import partial
 from importlib import resources
 
+from motionvm.io.gpio import DigitalIO
+from motionvm.motion.kernel import MotionKernel
 from motionvm.sim.scope import BIT_UNIT, RAW_UNIT, ChannelRegistry, ScopeError
 
-_ELEMENT = re.compile(r"([A-Za-z_]\w*)(?:\[(\d+)\])?")
 _GPIO = re.compile(r"(gpi|gpo)(\d+)")
 _AXIS = re.compile(r"axis(\d+)\.(\w+)")
-# Array elements offered as suggestions, per array (system_user_table has 512000).
-_SUGGESTED_ELEMENTS = 10
-
-
-class HmplSource:
-    """System variables and global variables of a loaded HMPL program (an `HmplRuntime`)."""
-
-    def __init__(self, runtime) -> None:
-        self.runtime = runtime
-        self.program = runtime.program
-
-    def _symbol(self, base: str):
-        return self.program.sysvars.get(base) or self.program.globals_.get(base)
-
-    def resolve(self, name: str) -> tuple[Callable[[], float], str] | None:
-        m = _ELEMENT.fullmatch(name)
-        if m is None:
-            return None
-        base, index = m.group(1), m.group(2)
-        sym = self._symbol(base)
-        if sym is None:
-            return None
-        t = sym.type
-        elem_t = getattr(t, "elem", None)
-        if index is None:
-            if elem_t is not None:
-                raise ScopeError(
-                    f"scope channel '{name}' is an array of {t.n}; "
-                    f"record one element, e.g. '{base}[0]'"
-                )
-            return self._scalar(name, sym, t, sym.addr), self._unit(base)
-        if elem_t is None:
-            raise ScopeError(f"scope channel '{name}': '{base}' is not an array")
-        i = int(index)
-        if t.n is not None and i >= t.n:
-            raise ScopeError(
-                f"scope channel '{name}': index {i} is out of range for {base}[{t.n}] "
-                f"(0..{t.n - 1})"
-            )
-        if sym.storage == "pylist" and elem_t.is_scalar:  # an array kept as a Python list
-            ns, pyname = self.runtime.ns, sym.pyname
-            return (lambda: ns[pyname][i]), self._unit(base)
-        return self._scalar(name, sym, elem_t, sym.addr + i * elem_t.size), self._unit(base)
-
-    def _scalar(self, name: str, sym, t, addr: int) -> Callable[[], float]:
-        if not (t.is_arith or t.is_pointer):
-            raise ScopeError(f"scope channel '{name}' is a {t}; the scope records numbers")
-        if sym.storage == "const":
-            value = sym.const_value
-            return lambda: value
-        if sym.storage == "pyglobal":
-            return partial(self.runtime.ns.get, sym.pyname, 0)
-        if sym.storage != "static":
-            raise ScopeError(f"scope channel '{name}' is not a global variable")
-        kind = "i64" if t.is_pointer else t.code
-        size = t.size
-        if addr % size == 0:
-            return partial(getattr(self.runtime.mem, kind).__getitem__, addr // size)
-        return partial(self.runtime.mem.load, addr, kind)
-
-    @staticmethod
-    def _unit(base: str) -> str:
-        return "ms" if base == "system_timeInMs" else RAW_UNIT
-
-    def channel_names(self) -> Iterable[str]:
-        for table in (self.program.sysvars, self.program.globals_):
-            for base, sym in table.items():
-                n = getattr(sym.type, "n", None)
-                if getattr(sym.type, "elem", None) is None:
-                    yield base
-                else:
-                    yield from (f"{base}[{i}]" for i in range(min(n or 1, _SUGGESTED_ELEMENTS)))
+_SYNC = re.compile(r"(gear|gantry)(\d+)\.(\w+)")
+GEAR_VARIABLES = ("master_pos_gear", "gear_cmd_pos", "gear_ratio")
+GANTRY_VARIABLES = ("linear_ref", "yaw_ref", "linear_fb", "yaw_fb")
 
 
 class GpioSource:
-    """The controller's general-purpose inputs and outputs, as HMPL sees them."""
+    """The controller's general-purpose inputs and outputs (a `DigitalIO`)."""
 
-    def __init__(self, runtime) -> None:
-        self.runtime = runtime
+    def __init__(self, io: DigitalIO) -> None:
+        self.io = io
 
     def resolve(self, name: str) -> tuple[Callable[[], float], str] | None:
-        if name in ("himc_gpi_bits", "himc_gpo_bits"):
-            bits = self.runtime.gpi if name == "himc_gpi_bits" else self.runtime.gpo
-            return (lambda: sum((1 << i) for i, b in enumerate(bits) if b)), RAW_UNIT
+        io = self.io
+        if name == "himc_gpi_bits":
+            return (lambda: io.input_bits), RAW_UNIT
+        if name == "himc_gpo_bits":
+            return (lambda: io.output_bits), RAW_UNIT
         m = _GPIO.fullmatch(name)
         if m is None:
             return None
-        bits = self.runtime.gpi if m.group(1) == "gpi" else self.runtime.gpo
+        bits = io.inputs if m.group(1) == "gpi" else io.outputs
         i = int(m.group(2))
         if i >= len(bits):
             raise ScopeError(
@@ -126,8 +61,8 @@ class GpioSource:
     def channel_names(self) -> Iterable[str]:
         yield "himc_gpi_bits"
         yield "himc_gpo_bits"
-        yield from (f"gpi{i}" for i in range(len(self.runtime.gpi)))
-        yield from (f"gpo{i}" for i in range(len(self.runtime.gpo)))
+        yield from (f"gpi{i}" for i in range(self.io.n_inputs))
+        yield from (f"gpo{i}" for i in range(self.io.n_outputs))
 
 
 def _manual_axis_units() -> dict[str, str | None]:
@@ -214,13 +149,61 @@ class AxisSource:
             yield from (f"axis{n}.{v}" for v in self._variable_names(axis))
 
 
-def registry_for(controller, runtime=None) -> ChannelRegistry:
-    """The channels of one run: HMPL variables and GPIO (if `runtime`), axes, then extra sources."""
+class SyncScopeSource:
+    """`gearN.*` and `gantryN.*` channels of the gears and gantry pairs of a controller's
+    motion kernel (`controller.motion`)."""
+
+    def __init__(self, controller) -> None:
+        self.controller = controller
+
+    def _value(self, kind: str, n: int, variable: str) -> float:
+        motion = self.controller.motion
+        if kind == "gear":
+            g = motion.gears.gear_of(n)
+            if g is None:
+                return 0.0
+            return g.ratio if variable == "gear_ratio" else getattr(g, variable)
+        pair = motion.gantries.pairs.get(n)
+        if pair is None:
+            return 0.0
+        value = getattr(pair, variable)
+        return value[0] if isinstance(value, tuple) else value
+
+    def resolve(self, name: str) -> tuple[Callable[[], float], str] | None:
+        m = _SYNC.fullmatch(name)
+        if m is None:
+            return None
+        kind, n, variable = m.group(1), int(m.group(2)), m.group(3)
+        known = GEAR_VARIABLES if kind == "gear" else GANTRY_VARIABLES
+        axes = self.controller.motion.axes
+        if variable not in known or n >= len(axes):
+            raise ScopeError(f"unknown scope channel '{name}'; {kind} channels are "
+                             f"{kind}0..{kind}{len(axes) - 1}.{{{', '.join(known)}}}")  # fmt: skip
+        unit = RAW_UNIT if variable == "gear_ratio" else "deg" if axes[n].rotary else "mm"
+        return (lambda: self._value(kind, n, variable)), unit
+
+    def channel_names(self) -> Iterable[str]:
+        n = len(self.controller.motion.axes)
+        for i in range(n):
+            yield from (f"gear{i}.{v}" for v in GEAR_VARIABLES)
+        for i in range(n // 2):
+            yield from (f"gantry{i}.{v}" for v in GANTRY_VARIABLES)
+
+
+def registry_for(controller, *clients) -> ChannelRegistry:
+    """The channels of one run: each client's own (`scope_sources()`: an HMPL program's
+    variables, PDL drives, a GDL application's states), in the order given, then the
+    machine's: the controller's GPIO (if it has `io`), axes, gears and gantry pairs (if
+    it has a motion kernel)."""
     reg = ChannelRegistry()
-    if runtime is not None:
-        reg.register(HmplSource(runtime))
-        reg.register(GpioSource(runtime))
+    for client in clients:
+        if client is not None:
+            for source in client.scope_sources():
+                reg.register(source)
+    io = getattr(controller, "io", None)
+    if isinstance(io, DigitalIO):
+        reg.register(GpioSource(io))
     reg.register(AxisSource(controller))
-    for source in getattr(controller, "scope_sources", ()):
-        reg.register(source)
+    if isinstance(getattr(controller, "motion", None), MotionKernel):
+        reg.register(SyncScopeSource(controller))
     return reg

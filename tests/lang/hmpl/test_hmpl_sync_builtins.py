@@ -165,7 +165,7 @@ def test_the_sync_channels_are_offered_to_the_scope():
 }"""
     )
     reg = registry_for(sim.controller, sim.runtime)
-    assert sum(isinstance(s, SyncScopeSource) for s in sim.controller.scope_sources) == 1
+    assert sum(isinstance(s, SyncScopeSource) for s in reg.sources) == 1
     names = reg.names()
     assert "gear2.gear_cmd_pos" in names and "gantry0.yaw_fb" in names
     channels = [reg.resolve(n) for n in ("gear2.gear_cmd_pos", "gear2.master_pos_gear",

@@ -106,9 +106,7 @@ def assemble(path: Path, stamp: bool = True):
 
 
 def record(ctl, client, channels: list[str]) -> ScopeRecorder:
-    registry = registry_for(ctl)
-    for source in client.scope_sources():
-        registry.register(source)
+    registry = registry_for(ctl, client)
     recorder = ScopeRecorder(registry.resolve_all(channels), ctl.cycle_time)
     recorder.attach(ctl)
     return recorder

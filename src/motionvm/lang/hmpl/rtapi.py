@@ -1,9 +1,11 @@
 """The HMPL run time: loads a compiled program into a namespace and runs its tasks.
 
 It owns the program's memory, the namespace generated code runs in (helpers, memory
-views, built-ins bound as `b_NAME`), one memory stack per task, controller GPIO as
-HMPL sees it, message output, and fault reports in the DESIGN.md format
-`FILE:LINE: runtime error in task N: MESSAGE`.
+views, built-ins bound as `b_NAME`), one memory stack per task, the 8 mutexes of
+MutexLock/MutexUnlock (released when their task stops), message output, and fault
+reports `FILE:LINE: runtime error in task N: MESSAGE`. HIMC_GPI/HIMC_GPO read and write
+the controller's digital I/O (`controller.io`, io/gpio.py); the axis built-ins call the
+motion commands (`commands`, motion/commands/) on the controller's motion kernel.
 """
 
 from __future__ import annotations
@@ -19,10 +21,11 @@ from motionvm.lang.hmpl.compiler import N_TASKS, STACK_SIZE, STATIC_SIZE
 from motionvm.lang.hmpl.lib import library_classes
 from motionvm.lang.hmpl.program import CompiledProgram
 from motionvm.lang.hmpl.rthelpers import make_helpers
+from motionvm.motion.commands import MotionCommands
 from motionvm.runtime.errors import RuntimeFault
 from motionvm.runtime.kernel import Kernel, Task
 
-N_GPIO = 32
+N_MUTEXES = 8
 # Python's own frames per HMPL call are few; this bounds HMPL recursion depth.
 RECURSION_LIMIT = 6000
 
@@ -60,8 +63,11 @@ class HmplRuntime:
         self.event_callbacks: list[Callable[[str, object], None]] = []
         self.faults = 0
         self.stamp = False
-        self.gpi = [0] * N_GPIO
-        self.gpo = [0] * N_GPIO
+        self._inputs, self._outputs = controller.io.inputs, controller.io.outputs
+        self.mutex_owner: list[int | None] = [None] * N_MUTEXES
+        """The task id holding each mutex (MutexLock), None while it is free."""
+        self.commands = MotionCommands(controller.motion)
+        """The motion commands in manual units that the axis built-ins call."""
         self.user_files = {fname for fname, _ in program.codes}
         self.stacks = [
             TaskStack(mem, STATIC_SIZE + i * STACK_SIZE, STACK_SIZE) for i in range(N_TASKS)
@@ -113,9 +119,12 @@ class HmplRuntime:
 
     def begin_cycle(self) -> None:
         """Update the system variables of manual 22.2 for this cycle."""
+        controller = self.controller
+        # a host may give the controller another machine's motion kernel before it runs
+        self.commands.motion = controller.motion
         # time_ms and the ticks inlined (the same arithmetic; round of a float is an int)
         cycle = self.kernel.cycle
-        cycle_time = self.controller.cycle_time
+        cycle_time = controller.cycle_time
         i32 = self.mem.i32
         i32[self._time_addr] = round(cycle * (cycle_time * 1000.0)) & 0x7FFFFFFF
         ticks = round(cycle * cycle_time / 250e-6)
@@ -134,6 +143,12 @@ class HmplRuntime:
         """The tasks' wake-ups are the kernel's; the run time itself has none."""
         return None
 
+    def scope_sources(self) -> list:
+        """The program's system and global variables as scope channels."""
+        from motionvm.lang.hmpl.scope_source import HmplSource
+
+        return [HmplSource(self)]
+
     # ------------------------------------------------------------ output
 
     def emit(self, text: str) -> None:
@@ -150,19 +165,23 @@ class HmplRuntime:
 
     # ------------------------------------------------------------ GPIO
 
-    def _gpio_index(self, i: int, what: str) -> int:
-        if not 0 <= i < N_GPIO:
-            raise RuntimeFault(f"{what}({i}): index out of range (0..{N_GPIO - 1})")
+    @staticmethod
+    def _gpio_index(bits: list[int], i: int, what: str) -> int:
+        if not 0 <= i < len(bits):
+            raise RuntimeFault(f"{what}({i}): index out of range (0..{len(bits) - 1})")
         return i
 
     def _gpi(self, i: int) -> int:
-        return self.gpi[self._gpio_index(i, "HIMC_GPI")]
+        bits = self._inputs
+        return bits[self._gpio_index(bits, i, "HIMC_GPI")]
 
     def _gpo(self, i: int) -> int:
-        return self.gpo[self._gpio_index(i, "HIMC_GPO")]
+        bits = self._outputs
+        return bits[self._gpio_index(bits, i, "HIMC_GPO")]
 
     def _gpo_set(self, i: int, v) -> int:
-        self.gpo[self._gpio_index(i, "HIMC_GPO")] = 1 if v else 0
+        bits = self._outputs
+        bits[self._gpio_index(bits, i, "HIMC_GPO")] = 1 if v else 0
         return 1 if v else 0
 
     # ------------------------------------------------------------ tasks
@@ -204,6 +223,10 @@ class HmplRuntime:
 
     def _on_stop(self, t: Task) -> None:
         self.stacks[t.id].reset()
+        owners = self.mutex_owner
+        for m, owner in enumerate(owners):
+            if owner == t.id:
+                owners[m] = None
 
     def _on_fault(self, t: Task, exc: BaseException) -> None:
         self.faults += 1

@@ -12,6 +12,12 @@ Calling convention between generated code and a built-in method:
 - A *blocking* built-in (`@builtin(blocking=True)`) is a generator function: it yields
   wait objects to the kernel and returns its result; generated code calls it with
   `yield from`.
+
+A built-in that is a motion command as it stands (ints and doubles in, an int or a
+double out: `motionvm.motion.commands`) is declared `Name = command()`; the program's
+namespace then binds `b_Name` straight to the run time's `commands.Name`. Built-ins
+with pointers, arrays, strings or waits are `@builtin` methods that marshal around the
+command.
 """
 
 from __future__ import annotations
@@ -21,6 +27,24 @@ from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:  # pragma: no cover
     from motionvm.lang.hmpl.cmemory import Memory
+
+
+class _Command:
+    """A class attribute that is the HMPL built-in and motion command of its name."""
+
+    def __set_name__(self, owner: type, name: str) -> None:
+        self.name = name
+        self._hmpl_builtin = (name, False)
+
+    def __get__(self, lib: Library | None, owner: type | None = None) -> Any:
+        if lib is None:
+            return self
+        return getattr(lib.rt.commands, self.name)
+
+
+def command() -> _Command:
+    """Declare (`Name = command()`) the HMPL built-in that is motion command `Name`."""
+    return _Command()
 
 
 def builtin(name: str | None = None, *, blocking: bool = False) -> Callable:
@@ -38,7 +62,7 @@ class Library:
 
     `rt` is the program's run time (`motionvm.lang.hmpl.rtapi.HmplRuntime`); libraries use
     `rt.mem`, `rt.emit(text)`, `rt.sim_time` [s], `rt.cycle`, `rt.data_dir`,
-    `rt.current_task_id`, `rt.kernel`.
+    `rt.current_task_id`, `rt.kernel`, `rt.commands` (the motion commands).
     """
 
     def __init__(self, rt: Any) -> None:

@@ -3,8 +3,9 @@
 Sleep, RunScheduler and MutexLock are blocking: generator methods that yield to the
 kernel (`None` = next cycle, int = the cycle to wake at). Decisions where the manual is
 silent: Sleep(ms) waits ceil(ms / cycle) cycles (at least one); a task started by
-StartTask gets its first slice in the next cycle. The bus and system-state functions
-(IsSystemInit ..., GetECATSt) are in bus.py.
+StartTask gets its first slice in the next cycle. The owners of the 8 mutexes are kept
+by the run time (`rt.mutex_owner`), which frees a task's mutexes when it stops. The bus
+and system-state functions (IsSystemInit ..., GetECATSt) are in bus.py.
 """
 
 from __future__ import annotations
@@ -19,7 +20,6 @@ from motionvm.runtime.errors import RuntimeFault, TaskExit
 FIRMWARE_VERSION = f"motionvm {__version__}"
 FIRMWARE_DATE = "2026/11/25"
 MODEL_NUMBER = "MVM-SIM-64"
-N_MUTEXES = 8
 
 # Timer object layout (ctypes_.TIMER): int32 start [ms] at 0, int32 flags at 4
 _PREV_IN, _RUNNING, _Q = 1, 2, 4
@@ -68,30 +68,28 @@ class SystemLib(Library):
         yield None
 
     def _mutex_id(self, mutex_id: int, fn: str) -> int:
-        if not 0 <= mutex_id < N_MUTEXES:
-            raise RuntimeFault(f"{fn}: mutex id {mutex_id} out of range (0..{N_MUTEXES - 1})")
+        n = len(self.rt.mutex_owner)
+        if not 0 <= mutex_id < n:
+            raise RuntimeFault(f"{fn}: mutex id {mutex_id} out of range (0..{n - 1})")
         return mutex_id
 
     @builtin(blocking=True)
     def MutexLock(self, mutex_id: int):
         m = self._mutex_id(mutex_id, "MutexLock")
-        k = self.rt.kernel
-        me = k.current
-        if k.mutex_owner[m] == me.id:
+        owners = self.rt.mutex_owner
+        me = self.rt.kernel.current.id
+        if owners[m] == me:
             raise RuntimeFault(f"MutexLock: mutex {m} is already locked by this task")
-        while k.mutex_owner[m] is not None:
+        while owners[m] is not None:
             yield None
-        k.mutex_owner[m] = me.id
-        me.mutexes.add(m)
+        owners[m] = me
 
     @builtin()
     def MutexUnlock(self, mutex_id: int) -> None:
         m = self._mutex_id(mutex_id, "MutexUnlock")
-        k = self.rt.kernel
-        me = k.current
-        if k.mutex_owner[m] == me.id:
-            k.mutex_owner[m] = None
-            me.mutexes.discard(m)
+        owners = self.rt.mutex_owner
+        if owners[m] == self.rt.kernel.current.id:
+            owners[m] = None
 
     # ------------------------------------------------------------ timers
 

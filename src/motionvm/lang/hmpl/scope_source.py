@@ -1,0 +1,89 @@
+"""The scope channels of a loaded HMPL program: its system and global variables.
+
+`system_timeInMs` [ms], `system_fclk`, `system_ltest0..9`, `system_dtest0..9`,
+`system_mtest[i]`, `system_user_table[i]`, and any global variable of the program by
+name (`count`; `table[3]` for an array element) [raw]. The HMPL run time offers this
+source through `HmplRuntime.scope_sources()`.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Callable, Iterable
+from functools import partial
+
+from motionvm.runtime.scope import RAW_UNIT, ScopeError
+
+_ELEMENT = re.compile(r"([A-Za-z_]\w*)(?:\[(\d+)\])?")
+# Array elements offered as suggestions, per array (system_user_table has 512000).
+_SUGGESTED_ELEMENTS = 10
+
+
+class HmplSource:
+    """System variables and global variables of a loaded HMPL program (an `HmplRuntime`)."""
+
+    def __init__(self, runtime) -> None:
+        self.runtime = runtime
+        self.program = runtime.program
+
+    def _symbol(self, base: str):
+        return self.program.sysvars.get(base) or self.program.globals_.get(base)
+
+    def resolve(self, name: str) -> tuple[Callable[[], float], str] | None:
+        m = _ELEMENT.fullmatch(name)
+        if m is None:
+            return None
+        base, index = m.group(1), m.group(2)
+        sym = self._symbol(base)
+        if sym is None:
+            return None
+        t = sym.type
+        elem_t = getattr(t, "elem", None)
+        if index is None:
+            if elem_t is not None:
+                raise ScopeError(
+                    f"scope channel '{name}' is an array of {t.n}; "
+                    f"record one element, e.g. '{base}[0]'"
+                )
+            return self._scalar(name, sym, t, sym.addr), self._unit(base)
+        if elem_t is None:
+            raise ScopeError(f"scope channel '{name}': '{base}' is not an array")
+        i = int(index)
+        if t.n is not None and i >= t.n:
+            raise ScopeError(
+                f"scope channel '{name}': index {i} is out of range for {base}[{t.n}] "
+                f"(0..{t.n - 1})"
+            )
+        if sym.storage == "pylist" and elem_t.is_scalar:  # an array kept as a Python list
+            ns, pyname = self.runtime.ns, sym.pyname
+            return (lambda: ns[pyname][i]), self._unit(base)
+        return self._scalar(name, sym, elem_t, sym.addr + i * elem_t.size), self._unit(base)
+
+    def _scalar(self, name: str, sym, t, addr: int) -> Callable[[], float]:
+        if not (t.is_arith or t.is_pointer):
+            raise ScopeError(f"scope channel '{name}' is a {t}; the scope records numbers")
+        if sym.storage == "const":
+            value = sym.const_value
+            return lambda: value
+        if sym.storage == "pyglobal":
+            return partial(self.runtime.ns.get, sym.pyname, 0)
+        if sym.storage != "static":
+            raise ScopeError(f"scope channel '{name}' is not a global variable")
+        kind = "i64" if t.is_pointer else t.code
+        size = t.size
+        if addr % size == 0:
+            return partial(getattr(self.runtime.mem, kind).__getitem__, addr // size)
+        return partial(self.runtime.mem.load, addr, kind)
+
+    @staticmethod
+    def _unit(base: str) -> str:
+        return "ms" if base == "system_timeInMs" else RAW_UNIT
+
+    def channel_names(self) -> Iterable[str]:
+        for table in (self.program.sysvars, self.program.globals_):
+            for base, sym in table.items():
+                n = getattr(sym.type, "n", None)
+                if getattr(sym.type, "elem", None) is None:
+                    yield base
+                else:
+                    yield from (f"{base}[{i}]" for i in range(min(n or 1, _SUGGESTED_ELEMENTS)))
