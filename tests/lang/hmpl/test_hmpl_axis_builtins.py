@@ -4,15 +4,14 @@ from __future__ import annotations
 
 from motionvm.api import Simulation
 from motionvm.motion.axis_config import create
-from motionvm.motion.kernel import MotionKernel
+from motionvm.sim.machine import MachineConfig
 from motionvm.source.diagnostics import CompileError
 
 
 def sim_of(source: str, axes: list[dict] | None = None) -> Simulation:
-    sim = Simulation.from_source(source)
-    if axes is not None:  # the host API builds the default machine; swap in others
-        sim.controller.motion = MotionKernel([create(a) for a in axes], sim.controller.cycle_time)
-    return sim
+    if axes is None:
+        return Simulation.from_source(source)
+    return Simulation.from_source(source, machine=MachineConfig(axes=tuple(map(create, axes))))
 
 
 def test_move_and_wait_in_position():

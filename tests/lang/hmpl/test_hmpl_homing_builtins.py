@@ -9,7 +9,7 @@ from motionvm.drives.objects import DI_PROBE_INPUT
 from motionvm.lang.hmpl.compiler import TaskFile
 from motionvm.lang.hmpl.lib import implemented_builtins
 from motionvm.motion.axis_config import create
-from motionvm.motion.kernel import MotionKernel
+from motionvm.sim.machine import MachineConfig
 
 MANUAL = Path(__file__).resolve().parents[2] / "programs" / "hmpl" / "manual"
 
@@ -22,10 +22,9 @@ CH20 = ["MoveHome", "SetHomeMethod", "SetHomeSwitchVel", "SetHomeZeroVel", "SetH
 def sim_of(source: str, axes: list[dict] | None = None, tasks: list[str] = ()) -> Simulation:
     files = [TaskFile(0, "program.hmpl", source)]
     files += [TaskFile(i + 1, f"task{i + 1}.hmpl", t) for i, t in enumerate(tasks)]
-    sim = Simulation(files)
-    if axes is not None:
-        sim.controller.motion = MotionKernel([create(a) for a in axes], sim.controller.cycle_time)
-    return sim
+    if axes is None:
+        return Simulation(files)
+    return Simulation(files, machine=MachineConfig(axes=tuple(map(create, axes))))
 
 
 def run(source: str, **kw) -> list[str]:

@@ -120,8 +120,6 @@ class HmplRuntime:
     def begin_cycle(self) -> None:
         """Update the system variables of manual 22.2 for this cycle."""
         controller = self.controller
-        # a host may give the controller another machine's motion kernel before it runs
-        self.commands.motion = controller.motion
         # time_ms and the ticks inlined (the same arithmetic; round of a float is an int)
         cycle = self.kernel.cycle
         cycle_time = controller.cycle_time
