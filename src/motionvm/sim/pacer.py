@@ -1,4 +1,4 @@
-"""The real-time pacer: the one place that reads the wall clock (DESIGN.md).
+"""The real-time pacer: the one place that reads the wall clock.
 
 With `motionvm run --realtime` the controller never runs ahead of the wall clock: after
 each step it sleeps until `wall_time - wall_start >= sim_time - sim_start`. Results are
