@@ -3,7 +3,7 @@
 The master (the controller) writes the RxPDO objects (controlword 0x6040, modes of
 operation 0x6060, target position/velocity/torque) with `write`, calls `step(dt)` once
 per bus cycle, and reads the TxPDO objects (statusword 0x6041, actual values, digital
-inputs) with `read`. Objects are plain attributes too, for a fast cyclic path.
+inputs) with `read`. Objects are plain attributes too, for the cyclic master.
 
 Power drive state machine (CiA 402 figure "state machine", transitions 0-16):
 
@@ -40,6 +40,12 @@ _SW_BASE = {
     for s in State
 }
 _OFF = (Command.DISABLE_VOLTAGE, Command.QUICK_STOP)
+# an enum member read from its class costs a lookup through the metaclass each time
+_OPERATION_ENABLED = State.OPERATION_ENABLED
+_QUICK_STOP_ACTIVE = State.QUICK_STOP_ACTIVE
+_SW_OPERATION_ENABLED = _SW_BASE[State.OPERATION_ENABLED.value]
+_CSP = od.MODE_CSP
+_ERR_FOLLOWING = od.ERR_FOLLOWING
 
 
 class Cia402Drive:
@@ -94,26 +100,29 @@ class Cia402Drive:
         self.error_code = od.ERR_NONE
         self.state = State.NOT_READY_TO_SWITCH_ON
         """The power drive state (what the statusword shows)."""
-        self._cw_prev = 0
+        self._controlword_prev = 0
         self._settled: State | None = None
         self._timer = 0
         self._fault: int | None = None
         self._encoder_lost = False
         self._ramp_vel = 0.0
         self._stopped = False
-        self._r = 0.0  # unwrapped demand [counts]
+        self._demand = 0.0
+        """Position demand [counts], unwrapped (no int32 turn is ever added)."""
         self._target_prev = 0
         self._mode_prev = 0
         self.mechanics.set_position(position)
-        self._x_prev = float(position)
-        self._enc = round(position)  # unwrapped encoder count
-        self.position_actual = wrap_i32(self._enc)
+        self._motor_position_prev = float(position)
+        """Motor position [counts] at the end of the last cycle (for the sensors)."""
+        self._encoder = round(position)
+        """Encoder count, unwrapped."""
+        self.position_actual = wrap_i32(self._encoder)
         self.position_demand = self.position_actual
         self.velocity_actual = 0
         self.torque_actual = 0
         self.following_error = 0
-        self.digital_inputs = self.sensors.update(self._x_prev, self._x_prev)
-        self._update_statusword()
+        self.digital_inputs = self.sensors.update(self._motor_position_prev, self._motor_position_prev)
+        self.statusword = _SW_BASE[self.state._value_]
 
     @classmethod
     def create(cls, config: dict) -> Cia402Drive:
@@ -177,12 +186,13 @@ class Cia402Drive:
     tp2_positive_edge = property(lambda self: self.sensors.latched[2])
     tp2_negative_edge = property(lambda self: self.sensors.latched[3])
 
-    # Four TxPDO objects the fast axis cycle (motion/axis_fast.py) does not set: it
-    # leaves None, and they are then what _feedback would set from the state that cycle
-    # left (Operation enabled, encoder present), computed when read. Every step sets them.
+    # Four TxPDO objects a step leaves to be computed when read (None): in Operation
+    # enabled they follow from the state the step left (the mechanics, the demand and
+    # the encoder count), so the cycle does not round them unless someone reads them.
 
     @property
     def velocity_actual(self) -> int:
+        """0x606C [counts/s]."""
         v = self._velocity_actual
         if v is None:
             vel = round(self.mechanics.velocity)
@@ -195,6 +205,7 @@ class Cia402Drive:
 
     @property
     def torque_actual(self) -> int:
+        """0x6077 [per mille of the rated torque]."""
         t = self._torque_actual
         if t is None:
             t = round(self.mechanics.torque * self._per_mille_per_nm)
@@ -208,9 +219,10 @@ class Cia402Drive:
 
     @property
     def position_demand(self) -> int:
+        """0x6062 [counts]."""
         p = self._position_demand
         if p is None:
-            demand = round(self._r)
+            demand = round(self._demand)
             p = ((demand + 0x80000000) & 0xFFFFFFFF) - 0x80000000
         return p
 
@@ -220,15 +232,27 @@ class Cia402Drive:
 
     @property
     def following_error(self) -> int:
+        """0x60F4 [counts]: demand minus actual position."""
         fe = self._following_error
         if fe is None:
-            fe = round(self._r) - self._enc
+            fe = round(self._demand) - self._encoder
             fe = ((fe + 0x80000000) & 0xFFFFFFFF) - 0x80000000
         return fe
 
     @following_error.setter
     def following_error(self, value: int) -> None:
         self._following_error = value
+
+    @property
+    def settled(self) -> bool:
+        """True if the last controlword has done all it does in this state (no delay
+        runs): repeating it leaves the state as it is, unless a fault is raised."""
+        return self._settled is self.state
+
+    @property
+    def pending_fault(self) -> int | None:
+        """The error code of a fault raised and not yet reset, or None."""
+        return self._fault
 
     # ---- faults for tests -----------------------------------------------------------
 
@@ -249,16 +273,93 @@ class Cia402Drive:
     # ---- the cycle ------------------------------------------------------------------
 
     def step(self, dt: float) -> None:
-        """Advance one bus cycle of `dt` [s]: state machine, motion, feedback objects."""
-        cw = self.controlword
+        """Advance one bus cycle of `dt` [s]: state machine, motion, feedback objects.
+
+        A drive that repeats its last controlword in a state that command already
+        settled skips the state machine; in Operation enabled CSP the motion is the
+        demand following the target's change (the common cycle, taken inline).
+        Feedback: in Operation enabled the velocity, torque, demand and following error
+        are left to their properties (computed when read); the following error is
+        computed here only where it can exceed its window (an int32 error never
+        exceeds 2**31), the torque only where it can reach max_torque; the sensors are
+        not asked while the motor stays in their quiet interval."""
         state = self.state
-        if cw == self._cw_prev and state is self._settled and self._fault is None:
-            # fast path: the same command already left this state as it is
+        if (self.controlword != self._controlword_prev or state is not self._settled
+                or self._fault is not None):  # fmt: skip
+            state = self._power_state_machine(state)
+        m = self.mechanics
+        mode = self.mode
+        if state is _OPERATION_ENABLED and mode == _CSP:
+            if self._mode_prev != _CSP:
+                self._take_target()
+                self._mode_prev = self.mode_display = _CSP
+            target = self.target_position
+            change = target - self._target_prev
+            if not -0x80000000 <= change <= 0x7FFFFFFF:
+                change = ((change + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+            self._demand = demand = self._demand + change
+            self._target_prev = target
+            m.step_position(demand, dt)
+        else:
             self._move(state, dt)
-            self._feedback()
-            return
-        reset_edge = bool(cw & 0x80) and not self._cw_prev & 0x80
-        self._cw_prev = cw
+            state = self.state
+        # feedback
+        x = m.position
+        if not self._encoder_lost:
+            self._encoder = enc = round(x)
+            if not -0x80000000 <= enc <= 0x7FFFFFFF:
+                self.position_actual = ((enc + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+            else:
+                self.position_actual = enc
+            self._velocity_actual = None
+        else:
+            enc = self._encoder
+            self._velocity_actual = 0
+        self._torque_actual = None
+        s = self.sensors
+        x_0 = self._motor_position_prev
+        low, high = s.quiet_low, s.quiet_high
+        if low < x < high and low < x_0 < high and (
+            s.external == s.quiet_external and not s.tp_function
+        ):
+            self.digital_inputs = s.quiet_inputs
+        elif s.has_switches or s.tp_function or s.tp_status:
+            self.digital_inputs = s.update(x_0, x)
+        else:
+            self.digital_inputs = s.external
+        self._motor_position_prev = x
+        if state is _OPERATION_ENABLED:
+            self._position_demand = self._following_error = None
+            sw = _SW_OPERATION_ENABLED
+            if mode in _CYCLIC_MODES:
+                sw |= od.SW_FOLLOWS_TARGET
+            window = self.following_error_window
+            if window < 0x80000000 and mode == _CSP:
+                fe = round(self._demand) - enc
+                fe = ((fe + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+                if abs(fe) > window:
+                    self.inject_fault(_ERR_FOLLOWING)
+            limit = self.max_torque
+            if limit > 0:
+                # below limit - 1 the rounded torque cannot reach the limit
+                torque = m.torque * self._per_mille_per_nm
+                if not 1 - limit < torque < limit - 1 and abs(self.torque_actual) >= limit:
+                    sw |= od.SW_INTERNAL_LIMIT
+            if self._fault == _ERR_FOLLOWING:
+                sw |= od.SW_FOLLOWING_ERROR
+        else:
+            self._position_demand = ((enc + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+            self._following_error = 0
+            sw = _SW_BASE[state._value_]  # keyed by value: an enum member hashes slowly
+            if state is _QUICK_STOP_ACTIVE and self._stopped:
+                sw |= od.SW_TARGET_REACHED
+        self.statusword = sw
+
+    def _power_state_machine(self, state: State) -> State:
+        """One step of the power state machine from `state` under the controlword."""
+        cw = self.controlword
+        reset_edge = bool(cw & 0x80) and not self._controlword_prev & 0x80
+        self._controlword_prev = cw
         before = state
         if self._fault is not None and state not in (
             State.FAULT_REACTION_ACTIVE, State.FAULT, State.NOT_READY_TO_SWITCH_ON
@@ -281,8 +382,7 @@ class Cia402Drive:
         # a command that changed nothing and waits for nothing will not act again
         settled = state is before and self._timer == 0 and state in _SETTLED
         self._settled = state if settled else None
-        self._move(state, dt)
-        self._feedback()
+        return state
 
     def _transition(self, state: State, cmd: Command | None) -> State:
         waiting = False
@@ -334,44 +434,39 @@ class Cia402Drive:
 
     def _enter_operation(self) -> None:
         """Start from the actual position; CSP takes over its target at the next step."""
-        self._r = self.mechanics.position
+        self._demand = self.mechanics.position
         self._mode_prev = -1
 
     def _take_target(self) -> None:
         """Unwrap 0x607A next to the actual position, so no wrap turn is added."""
-        self._r = float(self._enc + wrap_i32(self.target_position - self.position_actual))
+        self._demand = float(self._encoder + wrap_i32(self.target_position - self.position_actual))
         self._target_prev = self.target_position
 
     def _enter_ramp(self, state: State) -> State:
         self._ramp_vel = self.mechanics.velocity
-        self._r = self.mechanics.position
+        self._demand = self.mechanics.position
         self._stopped = False
         if state is State.QUICK_STOP_ACTIVE and self.quick_stop_option == 0:
             return State.SWITCH_ON_DISABLED
         return state
 
     def _move(self, state: State, dt: float) -> None:
+        """The motion of a cycle other than CSP in Operation enabled (see `step`)."""
         m = self.mechanics
         if state is State.OPERATION_ENABLED:
             mode = self.mode
-            if mode == od.MODE_CSP:
-                if self._mode_prev != od.MODE_CSP:
-                    self._take_target()
-                self._r += wrap_i32(self.target_position - self._target_prev)
-                self._target_prev = self.target_position
-                m.step_position(self._r, dt)
-            elif mode == od.MODE_CSV:
+            if mode == od.MODE_CSV:
                 m.step_velocity(float(self.target_velocity), dt)
-                self._r = m.position
+                self._demand = m.position
             elif mode == od.MODE_CST:
                 limit = self.max_torque
                 per_mille = max(-limit, min(limit, self.target_torque))
                 m.step_torque(per_mille * self.rated_torque_nm / 1000.0, dt)
-                self._r = m.position
+                self._demand = m.position
             else:  # no mode, or homing left to the master: hold
                 if self._mode_prev in (od.MODE_CSV, od.MODE_CST):
-                    self._r = m.position
-                m.step_position(self._r, dt)
+                    self._demand = m.position
+                m.step_position(self._demand, dt)
             self._mode_prev = mode
             self.mode_display = mode
         elif state in (State.QUICK_STOP_ACTIVE, State.FAULT_REACTION_ACTIVE):
@@ -381,12 +476,12 @@ class Cia402Drive:
                 v_0 = self._ramp_vel
                 dv = self.quick_stop_decel * dt
                 v_1 = 0.0 if abs(v_0) <= dv else v_0 - math.copysign(dv, v_0)
-                self._r += 0.5 * (v_0 + v_1) * dt
+                self._demand += 0.5 * (v_0 + v_1) * dt
                 self._ramp_vel = v_1
-                m.step_position(self._r, dt)
+                m.step_position(self._demand, dt)
                 self._stopped = v_1 == 0.0
             elif state is State.QUICK_STOP_ACTIVE:
-                m.step_position(self._r, dt)
+                m.step_position(self._demand, dt)
             else:
                 m.step_free(dt)
             if self._stopped:
@@ -397,48 +492,5 @@ class Cia402Drive:
             self.mode_display = self.mode
         else:
             m.step_free(dt)
-            self._r = m.position
+            self._demand = m.position
             self.mode_display = self.mode
-
-    def _feedback(self) -> None:
-        m = self.mechanics
-        x = m.position
-        if not self._encoder_lost:
-            self._enc = enc = round(x)
-            self.position_actual = ((enc + 0x80000000) & 0xFFFFFFFF) - 0x80000000
-            vel = round(m.velocity)
-            self._velocity_actual = ((vel + 0x80000000) & 0xFFFFFFFF) - 0x80000000
-        else:
-            enc = self._enc
-            self._velocity_actual = 0
-        torque = round(m.torque * self._per_mille_per_nm)
-        self._torque_actual = (
-            torque if -32768 <= torque <= 32767 else max(-32768, min(32767, torque))
-        )
-        enabled = self.state is State.OPERATION_ENABLED
-        demand = round(self._r) if enabled else enc
-        self._position_demand = ((demand + 0x80000000) & 0xFFFFFFFF) - 0x80000000
-        self._following_error = fe = ((demand - enc + 0x80000000) & 0xFFFFFFFF) - 0x80000000
-        s = self.sensors
-        if s.has_switches or s.tp_function or s.tp_status:
-            self.digital_inputs = s.update(self._x_prev, x)
-        else:
-            self.digital_inputs = s.external
-        self._x_prev = x
-        if enabled and abs(fe) > self.following_error_window and self.mode == od.MODE_CSP:
-            self.inject_fault(od.ERR_FOLLOWING)
-        self._update_statusword()
-
-    def _update_statusword(self) -> None:
-        state = self.state
-        sw = _SW_BASE[state._value_]  # keyed by value: an enum member hashes slowly
-        if state is State.OPERATION_ENABLED:
-            if self.mode in _CYCLIC_MODES:
-                sw |= od.SW_FOLLOWS_TARGET
-            if abs(self._torque_actual) >= self.max_torque > 0:  # set just before
-                sw |= od.SW_INTERNAL_LIMIT
-            if self._fault == od.ERR_FOLLOWING:
-                sw |= od.SW_FOLLOWING_ERROR
-        elif state is State.QUICK_STOP_ACTIVE and self._stopped:
-            sw |= od.SW_TARGET_REACHED
-        self.statusword = sw

@@ -62,6 +62,13 @@ class Sensors:
         self._tp_function_prev = 0
         self._home_prev = False
         self._probe_prev = False
+        self.quiet_low = self.quiet_high = 0.0
+        """The quiet interval [counts] around the position of the last `update`: no
+        switch edge and no index pulse lies strictly inside. While x_0 and x_1 are both
+        inside, `external` is still `quiet_external` and `tp_function` is 0, `update`
+        would return `quiet_inputs` and change nothing, so a caller may skip it."""
+        self.quiet_external = 0
+        self.quiet_inputs = 0
 
     @classmethod
     def from_config(cls, cfg: Config) -> Sensors:
@@ -110,14 +117,15 @@ class Sensors:
 
     def update(self, x_0: float, x_1: float) -> int:
         """Advance one cycle from motor position x_0 to x_1 [counts]; return 0x60FD."""
-        inputs = self.external
+        bits = 0
         if self.negative_limit is not None and x_1 <= self.negative_limit:
-            inputs |= DI_NEGATIVE_LIMIT
+            bits |= DI_NEGATIVE_LIMIT
         if self.positive_limit is not None and x_1 >= self.positive_limit:
-            inputs |= DI_POSITIVE_LIMIT
+            bits |= DI_POSITIVE_LIMIT
         home = self._home(x_1)
         if home:
-            inputs |= DI_HOME_SWITCH
+            bits |= DI_HOME_SWITCH
+        inputs = self.external | bits
         index = self._index_crossed(x_0, x_1)
         if index is not None:
             inputs |= DI_INDEX_PULSE
@@ -126,7 +134,43 @@ class Sensors:
             self._probes(x_0, x_1, home, probe, index)
         self._home_prev = home
         self._probe_prev = probe
+        self._find_quiet_interval(x_1, self.external | bits)
         return inputs
+
+    def _find_quiet_interval(self, x: float, inputs: int) -> None:
+        """The widest interval around x [counts] without a switch edge or an index pulse
+        (empty if x is on an edge or a probe is on); `inputs` hold on all of it."""
+        low, high = -math.inf, math.inf
+        if not (self.tp_function or self.tp_status):
+            for edge in (self.negative_limit, self.positive_limit, self.home_low, self.home_high):
+                if edge is not None:
+                    if edge < x:
+                        low = max(low, edge)
+                    elif edge > x:
+                        high = min(high, edge)
+                    else:
+                        low = high = x
+            spacing = self.index_spacing
+            if spacing and low < high:
+                low, high = self._index_interval(x, spacing, low, high)
+        self.quiet_low, self.quiet_high = low, high
+        self.quiet_external = self.external
+        self.quiet_inputs = inputs
+
+    def _index_interval(self, x: float, spacing: float, low: float, high: float):
+        """(low, high) narrowed to positions whose index interval (`_index_crossed`'s
+        floor) is that of x. The floor of a rounded quotient grows with x, so two ends
+        that give x's floor bound positions that give it too; a margin far above the
+        rounding keeps the ends inside, and an end that fails the check empties it."""
+        offset = self.index_offset
+        n = math.floor((x - offset) / spacing)
+        lo, hi = offset + n * spacing, offset + (n + 1) * spacing
+        margin = 1e-6 * max(1.0, abs(lo), abs(hi))
+        lo, hi = max(low, lo + margin), min(high, hi - margin)
+        if not (lo < x < hi and math.floor((lo - offset) / spacing) == n
+                and math.floor((hi - offset) / spacing) == n):  # fmt: skip
+            return x, x
+        return lo, hi
 
     def _probes(self, x_0, x_1, home, probe, index) -> None:
         fn, prev = self.tp_function, self._tp_function_prev

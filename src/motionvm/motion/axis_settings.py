@@ -115,7 +115,7 @@ class AxisSettings:
         self.pos_fb = self.pos_fb_raw - self.pos_offset
         self.ref_pos += shift
         self.pg.reset(self.ref_pos)
-        self._in_pos_count = 0
+        self._in_pos_cycles = 0
         self.in_pos = False
 
     @property
@@ -149,7 +149,7 @@ class AxisSettings:
             )
         setattr(self, "ignore_" + which, bool(on))
         if which == "hwl":
-            self._di = -1  # re-evaluate the switch bits next cycle
+            self._digital_inputs = -1  # re-evaluate the switch bits next cycle
 
     def set_vel_scale(self, percent: float) -> None:
         self.wake()
@@ -161,8 +161,8 @@ class AxisSettings:
         self.vel_scale = percent
         if not self.halted:
             self.pg.set_velocity_scale(percent / 100.0)
-            if percent > 0.0 and self._deferred is not None:
-                self._start(self._deferred)
+            if percent > 0.0 and self._deferred_move is not None:
+                self._start(self._deferred_move)
 
     def set_rollover(self, value: float) -> None:
         """Single-turn range [mm or deg], 0 = off; only while disabled (5.3.39)."""
@@ -184,10 +184,10 @@ class AxisSettings:
                 st.CMD_INVALID_OP_MODE, f"axis {self.axis_id}: op mode {mode} is not 8, 9 or 10"
             )
         self.op_mode = self.drive.mode = mode
-        self._torque_pm = 0
+        self._torque_per_mille = 0
         self.drive.target_torque = 0
         self.drive.target_velocity = 0
-        self._source = PG
+        self._reference_source = PG
         self.pg.reset(self.pos_fb)
         self.ref_pos, self.ref_vel, self.ref_acc = self.pos_fb, 0.0, 0.0
 
@@ -197,7 +197,7 @@ class AxisSettings:
             raise AxisCommandError(
                 st.CMD_INVALID_BUFFER_MODE, f"axis {self.axis_id}: buffer mode {mode} is not 0 or 1"
             )
-        if self._queue:
+        if self._command_queue:
             raise AxisCommandError(
                 st.CMD_INVALID_SETBUFFERMODE, f"axis {self.axis_id} has buffered commands"
             )
@@ -206,7 +206,7 @@ class AxisSettings:
     @property
     def cmd_num(self) -> int:
         """Commands waiting in the buffer (the one running is not counted)."""
-        return len(self._queue)
+        return len(self._command_queue)
 
     # ---- status words (tables 5.1.1.4, 5.1.1.5) -------------------------------------
 
@@ -248,7 +248,7 @@ def _w(attr: str):
 
 _GETTERS = {
     "sync_pos_set": _w("ref_pos"),
-    "pg_pos_cmd": lambda a: a._wrapped(a.pg.target if a._source == PG else a.ref_pos),
+    "pg_pos_cmd": lambda a: a._wrapped(a.pg.target if a._reference_source == PG else a.ref_pos),
     "ref_pos": _w("ref_pos"),
     "ref_vel": lambda a: a.ref_vel,
     "ref_acc": lambda a: a.ref_acc,
