@@ -62,11 +62,19 @@ class Sensors:
         self._tp_function_prev = 0
         self._home_prev = False
         self._probe_prev = False
+        # Bands found by the last evaluation, so that a cycle that crosses no switch
+        # edge needs no new one: the switch band (an open interval of positions without
+        # a limit or home edge) with its inputs, and the index interval (positions with
+        # the same index number, see `_index_number`).
+        self._switch_low = self._switch_high = 0.0
+        self._switch_external = 0
+        self._switch_inputs = 0
+        self._index_low, self._index_high, self._index_n = math.inf, -math.inf, 0
         self.quiet_low = self.quiet_high = 0.0
-        """The quiet interval [counts] around the position of the last `update`: no
-        switch edge and no index pulse lies strictly inside. While x_0 and x_1 are both
-        inside, `external` is still `quiet_external` and `tp_function` is 0, `update`
-        would return `quiet_inputs` and change nothing, so a caller may skip it."""
+        """The quiet interval [counts]: the switch band and the index interval of the
+        last `update`'s end position, both. While x_0 and x_1 are inside, `external` is
+        still `quiet_external` and `tp_function` is 0, `update(x_0, x_1)` would return
+        `quiet_inputs` and change nothing, so a caller may skip it."""
         self.quiet_external = 0
         self.quiet_inputs = 0
 
@@ -116,7 +124,24 @@ class Sensors:
         return lo if entering_from_below else hi
 
     def update(self, x_0: float, x_1: float) -> int:
-        """Advance one cycle from motor position x_0 to x_1 [counts]; return 0x60FD."""
+        """Advance one cycle from motor position x_0 to x_1 [counts]; return 0x60FD.
+
+        Within the switch band of the last evaluation (same external inputs, no probe)
+        only the index pulse can change: it is found from the index numbers alone."""
+        if not (self._switch_low < x_1 < self._switch_high
+                and self.external == self._switch_external
+                and not (self.tp_function or self.tp_status)):  # fmt: skip
+            return self._evaluate(x_0, x_1)
+        inputs = self._switch_inputs
+        if self.index_spacing:
+            if self._index_number(x_0) != self._index_number(x_1):
+                inputs |= DI_INDEX_PULSE
+            self.quiet_low = max(self._switch_low, self._index_low)
+            self.quiet_high = min(self._switch_high, self._index_high)
+        return inputs
+
+    def _evaluate(self, x_0: float, x_1: float) -> int:
+        """`update` from scratch: switches, index pulse, probes; then the new bands."""
         bits = 0
         if self.negative_limit is not None and x_1 <= self.negative_limit:
             bits |= DI_NEGATIVE_LIMIT
@@ -134,12 +159,12 @@ class Sensors:
             self._probes(x_0, x_1, home, probe, index)
         self._home_prev = home
         self._probe_prev = probe
-        self._find_quiet_interval(x_1, self.external | bits)
+        self._find_switch_band(x_1, self.external | bits)
         return inputs
 
-    def _find_quiet_interval(self, x: float, inputs: int) -> None:
-        """The widest interval around x [counts] without a switch edge or an index pulse
-        (empty if x is on an edge or a probe is on); `inputs` hold on all of it."""
+    def _find_switch_band(self, x: float, inputs: int) -> None:
+        """The widest open interval around x [counts] without a limit or home edge
+        (empty if x is on an edge or a probe is on): on it the switch inputs are `inputs`."""
         low, high = -math.inf, math.inf
         if not (self.tp_function or self.tp_status):
             for edge in (self.negative_limit, self.positive_limit, self.home_low, self.home_high):
@@ -150,27 +175,32 @@ class Sensors:
                         high = min(high, edge)
                     else:
                         low = high = x
-            spacing = self.index_spacing
-            if spacing and low < high:
-                low, high = self._index_interval(x, spacing, low, high)
+        self._switch_low, self._switch_high = low, high
+        self._switch_external = self.quiet_external = self.external
+        self._switch_inputs = self.quiet_inputs = inputs
+        if self.index_spacing and low < high:
+            self._index_number(x)
+            low, high = max(low, self._index_low), min(high, self._index_high)
         self.quiet_low, self.quiet_high = low, high
-        self.quiet_external = self.external
-        self.quiet_inputs = inputs
 
-    def _index_interval(self, x: float, spacing: float, low: float, high: float):
-        """(low, high) narrowed to positions whose index interval (`_index_crossed`'s
-        floor) is that of x. The floor of a rounded quotient grows with x, so two ends
-        that give x's floor bound positions that give it too; a margin far above the
-        rounding keeps the ends inside, and an end that fails the check empties it."""
-        offset = self.index_offset
+    def _index_number(self, x: float) -> int:
+        """floor((x - index_offset) / index_spacing), as `_index_crossed` computes it,
+        from the index interval when x lies in it. The floor of a rounded quotient grows
+        with x, so two ends that give n bound positions that give n; the ends are kept a
+        margin far above the rounding inside the exact interval, and checked."""
+        if self._index_low <= x <= self._index_high:
+            return self._index_n
+        offset, spacing = self.index_offset, self.index_spacing
         n = math.floor((x - offset) / spacing)
         lo, hi = offset + n * spacing, offset + (n + 1) * spacing
         margin = 1e-6 * max(1.0, abs(lo), abs(hi))
-        lo, hi = max(low, lo + margin), min(high, hi - margin)
-        if not (lo < x < hi and math.floor((lo - offset) / spacing) == n
+        lo, hi = lo + margin, hi - margin
+        if (lo <= x <= hi and math.floor((lo - offset) / spacing) == n
                 and math.floor((hi - offset) / spacing) == n):  # fmt: skip
-            return x, x
-        return lo, hi
+            self._index_low, self._index_high, self._index_n = lo, hi, n
+        else:  # x too close to a pulse for a band: no interval
+            self._index_low, self._index_high, self._index_n = math.inf, -math.inf, n
+        return n
 
     def _probes(self, x_0, x_1, home, probe, index) -> None:
         fn, prev = self.tp_function, self._tp_function_prev
