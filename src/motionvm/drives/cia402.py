@@ -44,6 +44,7 @@ _OFF = (Command.DISABLE_VOLTAGE, Command.QUICK_STOP)
 _OPERATION_ENABLED = State.OPERATION_ENABLED
 _QUICK_STOP_ACTIVE = State.QUICK_STOP_ACTIVE
 _SW_OPERATION_ENABLED = _SW_BASE[State.OPERATION_ENABLED.value]
+_SW_CYCLIC = _SW_OPERATION_ENABLED | od.SW_FOLLOWS_TARGET
 _CSP = od.MODE_CSP
 _ERR_FOLLOWING = od.ERR_FOLLOWING
 
@@ -186,18 +187,18 @@ class Cia402Drive:
     tp2_positive_edge = property(lambda self: self.sensors.latched[2])
     tp2_negative_edge = property(lambda self: self.sensors.latched[3])
 
-    # Four TxPDO objects a step leaves to be computed when read (None): in Operation
-    # enabled they follow from the state the step left (the mechanics, the demand and
-    # the encoder count), so the cycle does not round them unless someone reads them.
+    # Four TxPDO objects that follow, in Operation enabled, from the state the last step
+    # left (the mechanics, the demand and the encoder count, which only a step changes):
+    # they are computed when read, so the cycle does not round them unless someone reads
+    # them. In every other state the step stores them.
 
     @property
     def velocity_actual(self) -> int:
         """0x606C [counts/s]."""
-        v = self._velocity_actual
-        if v is None:
+        if self.state is _OPERATION_ENABLED:
             vel = round(self.mechanics.velocity)
-            v = ((vel + 0x80000000) & 0xFFFFFFFF) - 0x80000000
-        return v
+            return ((vel + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+        return self._velocity_actual
 
     @velocity_actual.setter
     def velocity_actual(self, value: int) -> None:
@@ -206,12 +207,10 @@ class Cia402Drive:
     @property
     def torque_actual(self) -> int:
         """0x6077 [per mille of the rated torque]."""
-        t = self._torque_actual
-        if t is None:
+        if self.state is _OPERATION_ENABLED:
             t = round(self.mechanics.torque * self._per_mille_per_nm)
-            if not -32768 <= t <= 32767:
-                t = max(-32768, min(32767, t))
-        return t
+            return t if -32768 <= t <= 32767 else max(-32768, min(32767, t))
+        return self._torque_actual
 
     @torque_actual.setter
     def torque_actual(self, value: int) -> None:
@@ -220,11 +219,10 @@ class Cia402Drive:
     @property
     def position_demand(self) -> int:
         """0x6062 [counts]."""
-        p = self._position_demand
-        if p is None:
+        if self.state is _OPERATION_ENABLED:
             demand = round(self._demand)
-            p = ((demand + 0x80000000) & 0xFFFFFFFF) - 0x80000000
-        return p
+            return ((demand + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+        return self._position_demand
 
     @position_demand.setter
     def position_demand(self, value: int) -> None:
@@ -233,15 +231,29 @@ class Cia402Drive:
     @property
     def following_error(self) -> int:
         """0x60F4 [counts]: demand minus actual position."""
-        fe = self._following_error
-        if fe is None:
+        if self.state is _OPERATION_ENABLED:
             fe = round(self._demand) - self._encoder
-            fe = ((fe + 0x80000000) & 0xFFFFFFFF) - 0x80000000
-        return fe
+            return ((fe + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+        return self._following_error
 
     @following_error.setter
     def following_error(self, value: int) -> None:
         self._following_error = value
+
+    @property
+    def max_torque(self) -> int:
+        """0x6072 [per mille of the rated torque]: the internal limit bit's threshold."""
+        return self._max_torque
+
+    @max_torque.setter
+    def max_torque(self, value: int) -> None:
+        self._max_torque = value
+        # below this torque [N*m] the rounded torque actual stays under the limit: a
+        # margin far above the rounding of torque * per mille per N*m
+        if value <= 0:
+            self._torque_quiet_nm = math.inf
+        else:
+            self._torque_quiet_nm = (value - 1) / self._per_mille_per_nm * (1.0 - 1e-9)
 
     @property
     def settled(self) -> bool:
@@ -277,12 +289,10 @@ class Cia402Drive:
 
         A drive that repeats its last controlword in a state that command already
         settled skips the state machine; in Operation enabled CSP the motion is the
-        demand following the target's change (the common cycle, taken inline).
-        Feedback: in Operation enabled the velocity, torque, demand and following error
-        are left to their properties (computed when read); the following error is
-        computed here only where it can exceed its window (an int32 error never
-        exceeds 2**31), the torque only where it can reach max_torque; the sensors are
-        not asked while the motor stays in their quiet interval."""
+        demand following the target's change (the common cycle, taken inline). Three
+        checks are skipped where their outcome is known: the sensors while the motor
+        stays in their quiet interval, the following error where its window exceeds any
+        int32 error, the internal limit where the torque is well below max_torque."""
         state = self.state
         if (self.controlword != self._controlword_prev or state is not self._settled
                 or self._fault is not None):  # fmt: skip
@@ -295,7 +305,7 @@ class Cia402Drive:
                 self._mode_prev = self.mode_display = _CSP
             target = self.target_position
             change = target - self._target_prev
-            if not -0x80000000 <= change <= 0x7FFFFFFF:
+            if (change + 0x80000000) >> 32:  # beyond int32: the target wrapped
                 change = ((change + 0x80000000) & 0xFFFFFFFF) - 0x80000000
             self._demand = demand = self._demand + change
             self._target_prev = target
@@ -305,55 +315,60 @@ class Cia402Drive:
             state = self.state
         # feedback
         x = m.position
-        if not self._encoder_lost:
+        if self._encoder_lost:
+            enc = self._encoder
+        else:
             self._encoder = enc = round(x)
-            if not -0x80000000 <= enc <= 0x7FFFFFFF:
+            if (enc + 0x80000000) >> 32:  # beyond int32: the counter wraps
                 self.position_actual = ((enc + 0x80000000) & 0xFFFFFFFF) - 0x80000000
             else:
                 self.position_actual = enc
-            self._velocity_actual = None
-        else:
-            enc = self._encoder
-            self._velocity_actual = 0
-        self._torque_actual = None
         s = self.sensors
-        x_0 = self._motor_position_prev
-        low, high = s.quiet_low, s.quiet_high
-        if low < x < high and low < x_0 < high and (
-            s.external == s.quiet_external and not s.tp_function
+        # the sensors' last update ended at _motor_position_prev (the drive is their
+        # only caller), so that position lies in their quiet interval if it is not empty
+        if s.quiet_low < x < s.quiet_high and s.external == s.quiet_external and not (
+            s.tp_function
         ):
             self.digital_inputs = s.quiet_inputs
         elif s.has_switches or s.tp_function or s.tp_status:
-            self.digital_inputs = s.update(x_0, x)
+            self.digital_inputs = s.update(self._motor_position_prev, x)
         else:
             self.digital_inputs = s.external
         self._motor_position_prev = x
-        if state is _OPERATION_ENABLED:
-            self._position_demand = self._following_error = None
-            sw = _SW_OPERATION_ENABLED
-            if mode in _CYCLIC_MODES:
-                sw |= od.SW_FOLLOWS_TARGET
-            window = self.following_error_window
-            if window < 0x80000000 and mode == _CSP:
-                fe = round(self._demand) - enc
-                fe = ((fe + 0x80000000) & 0xFFFFFFFF) - 0x80000000
-                if abs(fe) > window:
-                    self.inject_fault(_ERR_FOLLOWING)
-            limit = self.max_torque
-            if limit > 0:
-                # below limit - 1 the rounded torque cannot reach the limit
-                torque = m.torque * self._per_mille_per_nm
-                if not 1 - limit < torque < limit - 1 and abs(self.torque_actual) >= limit:
-                    sw |= od.SW_INTERNAL_LIMIT
-            if self._fault == _ERR_FOLLOWING:
+        if state is not _OPERATION_ENABLED:
+            self.statusword = self._feedback_off(state, enc)
+            return
+        sw = _SW_CYCLIC if mode in _CYCLIC_MODES else _SW_OPERATION_ENABLED
+        if self.following_error_window < 0x80000000 and mode == _CSP:
+            fe = round(self._demand) - enc
+            fe = ((fe + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+            if abs(fe) > self.following_error_window:
+                self.inject_fault(_ERR_FOLLOWING)  # no fault was pending in this state
                 sw |= od.SW_FOLLOWING_ERROR
-        else:
-            self._position_demand = ((enc + 0x80000000) & 0xFFFFFFFF) - 0x80000000
-            self._following_error = 0
-            sw = _SW_BASE[state._value_]  # keyed by value: an enum member hashes slowly
-            if state is _QUICK_STOP_ACTIVE and self._stopped:
-                sw |= od.SW_TARGET_REACHED
+        torque = m.torque
+        quiet = self._torque_quiet_nm
+        if (torque >= quiet or torque <= -quiet) and abs(self.torque_actual) >= self._max_torque:
+            sw |= od.SW_INTERNAL_LIMIT
         self.statusword = sw
+
+    def _feedback_off(self, state: State, enc: int) -> int:
+        """The feedback objects outside Operation enabled; returns the statusword."""
+        m = self.mechanics
+        if self._encoder_lost:
+            self._velocity_actual = 0
+        else:
+            vel = round(m.velocity)
+            self._velocity_actual = ((vel + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+        torque = round(m.torque * self._per_mille_per_nm)
+        self._torque_actual = (
+            torque if -32768 <= torque <= 32767 else max(-32768, min(32767, torque))
+        )
+        self._position_demand = ((enc + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+        self._following_error = 0
+        sw = _SW_BASE[state._value_]  # keyed by value: an enum member hashes slowly
+        if state is _QUICK_STOP_ACTIVE and self._stopped:
+            sw |= od.SW_TARGET_REACHED
+        return sw
 
     def _power_state_machine(self, state: State) -> State:
         """One step of the power state machine from `state` under the controlword."""

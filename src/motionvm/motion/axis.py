@@ -76,7 +76,10 @@ class Axis(AxisSettings, AxisCycle, AxisFollow):
         """Encoder counts per axis unit [counts/mm or counts/deg]."""
         self.rotary = config.rotary
         self.kill_dec = config.kill_dec
-        self.sw_left, self.sw_right = config.sw_left, config.sw_right
+        self._sw_left, self._sw_right = config.sw_left, config.sw_right
+        self._ignore_swl = self._error_stop = False
+        self._rollover = 0.0
+        self._software_limits_changed()
         self.max_pos_err = config.max_pos_err
         self.inpos_radius = config.inpos_radius
         self._in_pos_debounce_cycles = round(config.inpos_debounce_ms / 1000.0 / dt)

@@ -43,6 +43,7 @@ provider (gear slave, gantry, homing) set with `Axis.follow`."""
 CW_DISABLE, CW_SHUTDOWN, CW_ENABLE, CW_FAULT_RESET = 0x00, 0x06, 0x0F, 0x80
 _OPERATION_ENABLED = State.OPERATION_ENABLED
 _FS_HW_LIMITS = st.FS_HW_RIGHT | st.FS_HW_LEFT
+_FS_DRIVE_FAULT = st.FS_DRIVE_FAULT
 
 
 class AxisCycle:
@@ -68,17 +69,17 @@ class AxisCycle:
             self.ref_pos = p
             self.ref_vel = v
             self.ref_acc = a
-            if not (self.ignore_swl or self.rollover or self.error_stop) and (
-                self._reference_source != TORQUE
-            ):
-                if p >= self.sw_right and v > 0.0:
+            # the stop positions are +-inf while the software limits are off
+            if p >= self._sw_stop_right and v > 0.0:
+                if self._reference_source != TORQUE:
                     self._limit_stop(st.SWRL, st.FS_SW_RIGHT)
-                elif p <= self.sw_left and v < 0.0:
+            elif p <= self._sw_stop_left and v < 0.0:
+                if self._reference_source != TORQUE:
                     self._limit_stop(st.SWLL, st.FS_SW_LEFT)
             mode = self.op_mode
             if mode == MODE_CSP:
                 counts = round((p + self.pos_offset) * self.cpu)
-                if not -0x80000000 <= counts <= 0x7FFFFFFF:  # int32 target wraps
+                if (counts + 0x80000000) >> 32:  # beyond int32: the target wraps
                     counts = ((counts + 0x80000000) & 0xFFFFFFFF) - 0x80000000
                 drive.target_position = counts
             elif mode == MODE_CSV:
@@ -97,30 +98,31 @@ class AxisCycle:
         position_actual = drive.position_actual
         delta = position_actual - self._position_actual
         if delta:
-            if not -0x80000000 <= delta <= 0x7FFFFFFF:  # the int32 counter wrapped
+            if (delta + 0x80000000) >> 32:  # beyond int32: the counter wrapped
                 delta = ((delta + 0x80000000) & 0xFFFFFFFF) - 0x80000000
             self._feedback_counts = counts = self._feedback_counts + delta
             self._position_actual = position_actual
             self.pos_fb_raw = raw = counts / self.cpu
             self.pos_fb = raw - self.pos_offset
-        if (
-            drive.statusword & SW_FAULT
-            or self.fault_status & st.FS_DRIVE_FAULT
-            or self._enabling
-            or (self.enabled and drive.state is not _OPERATION_ENABLED)
+        # enabled, the axis needs the drive in Operation enabled (no fault bit then)
+        enabled = self.enabled
+        if not enabled or drive.state is not _OPERATION_ENABLED or (
+            self.fault_status & _FS_DRIVE_FAULT
         ):
             self._drive_state_changed(drive)
+            enabled = self.enabled
         digital_inputs = drive.digital_inputs
         if digital_inputs != self._digital_inputs:
             self._hw_inputs(digital_inputs)
-        if self.enabled:
+        if enabled:
             if self.fault_status & _FS_HW_LIMITS:
                 self._hw_limit_stop()
             err = self.ref_pos - self.pos_fb
             if (err > self.max_pos_err or -err > self.max_pos_err) and not self.ignore_pe:
                 self._fault_disable(st.PERR, st.FS_POSITION_ERROR)
+                enabled = False
         # 6. status
-        if self.enabled:
+        if enabled:
             src = self._reference_source
             if src == PG:
                 # region I lasts while the generator outputs new positions: until the
@@ -148,6 +150,66 @@ class AxisCycle:
             self._watch_rest()
         else:
             self._still_cycles = 0
+
+    # ---- 2. software limits ---------------------------------------------------------
+
+    def _software_limits_changed(self) -> None:
+        """The stop positions of the cycle's limit check: the software limits while they
+        apply (not ignored, no rollover, no error stop yet), else +-inf."""
+        if self._ignore_swl or self._rollover or self._error_stop:
+            self._sw_stop_left, self._sw_stop_right = -math.inf, math.inf
+        else:
+            self._sw_stop_left, self._sw_stop_right = self._sw_left, self._sw_right
+
+    @property
+    def sw_left(self) -> float:
+        """Software left limit [mm] (SetSWLL)."""
+        return self._sw_left
+
+    @sw_left.setter
+    def sw_left(self, value: float) -> None:
+        self._sw_left = value
+        self._software_limits_changed()
+
+    @property
+    def sw_right(self) -> float:
+        """Software right limit [mm] (SetSWRL)."""
+        return self._sw_right
+
+    @sw_right.setter
+    def sw_right(self, value: float) -> None:
+        self._sw_right = value
+        self._software_limits_changed()
+
+    @property
+    def ignore_swl(self) -> bool:
+        """IgnoreSWL: no software limit check."""
+        return self._ignore_swl
+
+    @ignore_swl.setter
+    def ignore_swl(self, value: bool) -> None:
+        self._ignore_swl = value
+        self._software_limits_changed()
+
+    @property
+    def rollover(self) -> float:
+        """Single-turn range [mm or deg] (0: off); a rollover axis has no software limits."""
+        return self._rollover
+
+    @rollover.setter
+    def rollover(self, value: float) -> None:
+        self._rollover = value
+        self._software_limits_changed()
+
+    @property
+    def error_stop(self) -> bool:
+        """True after a fault or limit stop until Reset; the software limits rest then."""
+        return self._error_stop
+
+    @error_stop.setter
+    def error_stop(self, value: bool) -> None:
+        self._error_stop = value
+        self._software_limits_changed()
 
     # ---- 1. reference ---------------------------------------------------------------
 
