@@ -326,9 +326,7 @@ class Cia402Drive:
         s = self.sensors
         # the sensors' last update ended at _motor_position_prev (the drive is their
         # only caller), so that position lies in their quiet interval if it is not empty
-        if s.quiet_low < x < s.quiet_high and s.external == s.quiet_external and not (
-            s.tp_function
-        ):
+        if s.quiet_low < x < s.quiet_high:
             self.digital_inputs = s.quiet_inputs
         elif s.has_switches or s.tp_function or s.tp_status:
             self.digital_inputs = s.update(self._motor_position_prev, x)

@@ -116,11 +116,15 @@ class IdealMechanics:
     def step_position(self, r: float, dt: float) -> None:
         """The motor reaches demand r [counts] `delay_cycles` cycles later; the other
         modes are a demand computed from theirs."""
-        self._demand_vel = (r - self._demand) / dt
+        r_0 = self._demand
+        self._demand_vel = (r - r_0) / dt
         self._demand = r
-        line = self._line
-        line.append(r)
-        x = line.popleft()
+        if self.delay_cycles == 1:  # the delay line holds the last demand only
+            x = r_0
+        else:
+            line = self._line
+            line.append(r)
+            x = line.popleft()
         v = (x - self.position) / dt
         self.torque = self.inertia * (v - self.velocity) / dt * TWO_PI / self.counts_per_rev
         self.velocity = v

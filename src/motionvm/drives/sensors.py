@@ -53,9 +53,8 @@ class Sensors:
             v is not None for v in (negative_limit, positive_limit, home_low, index_spacing)
         )
         """False if no switch or index is configured (the drive then skips `update`)."""
-        self.external = 0
-        """Input bits [0x60FD layout] set by the plant wiring, ORed into the result."""
-        self.tp_function = 0
+        self._external = 0
+        self._tp_function = 0
         self.tp_status = 0
         self.latched = [0, 0, 0, 0]
         """Touch probe values [counts]: 1 positive, 1 negative, 2 positive, 2 negative."""
@@ -70,13 +69,33 @@ class Sensors:
         self._switch_external = 0
         self._switch_inputs = 0
         self._index_low, self._index_high, self._index_n = math.inf, -math.inf, 0
-        self.quiet_low = self.quiet_high = 0.0
+        self.quiet_low, self.quiet_high = math.inf, -math.inf
         """The quiet interval [counts]: the switch band and the index interval of the
-        last `update`'s end position, both. While x_0 and x_1 are inside, `external` is
-        still `quiet_external` and `tp_function` is 0, `update(x_0, x_1)` would return
-        `quiet_inputs` and change nothing, so a caller may skip it."""
-        self.quiet_external = 0
+        last `update`'s end position x, both (empty while a probe is on, and after a
+        write of `external` or `tp_function`). For x_0 = x and any x_1 inside,
+        `update(x_0, x_1)` would return `quiet_inputs` and change nothing, so the caller
+        may skip it."""
         self.quiet_inputs = 0
+
+    @property
+    def external(self) -> int:
+        """Input bits [0x60FD layout] set by the plant wiring, ORed into the result."""
+        return self._external
+
+    @external.setter
+    def external(self, value: int) -> None:
+        self._external = value
+        self.quiet_low, self.quiet_high = math.inf, -math.inf  # the bands are stale
+
+    @property
+    def tp_function(self) -> int:
+        """Touch probe function (0x60B8)."""
+        return self._tp_function
+
+    @tp_function.setter
+    def tp_function(self, value: int) -> None:
+        self._tp_function = value
+        self.quiet_low, self.quiet_high = math.inf, -math.inf  # probes are evaluated
 
     @classmethod
     def from_config(cls, cfg: Config) -> Sensors:
@@ -133,11 +152,12 @@ class Sensors:
                 and not (self.tp_function or self.tp_status)):  # fmt: skip
             return self._evaluate(x_0, x_1)
         inputs = self._switch_inputs
+        low, high = self._switch_low, self._switch_high
         if self.index_spacing:
             if self._index_number(x_0) != self._index_number(x_1):
                 inputs |= DI_INDEX_PULSE
-            self.quiet_low = max(self._switch_low, self._index_low)
-            self.quiet_high = min(self._switch_high, self._index_high)
+            low, high = max(low, self._index_low), min(high, self._index_high)
+        self.quiet_low, self.quiet_high = low, high
         return inputs
 
     def _evaluate(self, x_0: float, x_1: float) -> int:
@@ -166,7 +186,9 @@ class Sensors:
         """The widest open interval around x [counts] without a limit or home edge
         (empty if x is on an edge or a probe is on): on it the switch inputs are `inputs`."""
         low, high = -math.inf, math.inf
-        if not (self.tp_function or self.tp_status):
+        if self.tp_function or self.tp_status:
+            low = high = x
+        else:
             for edge in (self.negative_limit, self.positive_limit, self.home_low, self.home_high):
                 if edge is not None:
                     if edge < x:
@@ -176,7 +198,7 @@ class Sensors:
                     else:
                         low = high = x
         self._switch_low, self._switch_high = low, high
-        self._switch_external = self.quiet_external = self.external
+        self._switch_external = self.external
         self._switch_inputs = self.quiet_inputs = inputs
         if self.index_spacing and low < high:
             self._index_number(x)

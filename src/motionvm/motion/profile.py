@@ -266,13 +266,15 @@ class ProfileGenerator:
             self._seg_t_1 = INF
             self._tc_done = True
 
-    def _segment_at(self, tau: float) -> None:
-        """Advance the current segment to the one holding time tau [s] (or the end)."""
+    def _segment_at(self, tau: float) -> bool:
+        """Advance the current segment to the one holding time tau [s]; True if tau is
+        past the last one (the T-curve is done)."""
         i = self._seg_i
         segs = self._segs
         while i < self._nseg and tau >= segs[i][1]:
             i += 1
         self._enter_segment(i)
+        return self._tc_done
 
     def _start(self, plan: TCurve) -> None:
         if self._idle:
@@ -296,17 +298,17 @@ class ProfileGenerator:
             return self._out
         n = self._n + 1
         self._n = n
-        if not self._tc_done:
-            tau = n * self.dt
-            if tau >= self._seg_t_1:
-                self._segment_at(tau)
         if self._tc_done:
             p = self._p_f
         else:
-            x = tau - self._seg_t_0
-            p = self._seg_p_0 + (self._seg_v_0 + self._seg_half_a * x) * x
-        n_avg = self._n_avg
-        if n_avg > 1:
+            tau = n * self.dt
+            if tau >= self._seg_t_1 and self._segment_at(tau):
+                p = self._p_f
+            else:
+                x = tau - self._seg_t_0
+                p = self._seg_p_0 + (self._seg_v_0 + self._seg_half_a * x) * x
+        if self._n_avg > 1:
+            n_avg = self._n_avg
             r = p - self._base
             buf = self._buf
             j = self._j
