@@ -310,9 +310,11 @@ class Cia402Drive:
             self._demand = demand = self._demand + change
             self._target_prev = target
             m.step_position(demand, dt)
+            sw = _SW_CYCLIC
         else:
             self._move(state, dt)
             state = self.state
+            sw = _SW_CYCLIC if mode in _CYCLIC_MODES else _SW_OPERATION_ENABLED
         # feedback
         x = m.position
         if self._encoder_lost:
@@ -336,7 +338,6 @@ class Cia402Drive:
         if state is not _OPERATION_ENABLED:
             self.statusword = self._feedback_off(state, enc)
             return
-        sw = _SW_CYCLIC if mode in _CYCLIC_MODES else _SW_OPERATION_ENABLED
         if self.following_error_window < 0x80000000 and mode == _CSP:
             fe = round(self._demand) - enc
             fe = ((fe + 0x80000000) & 0xFFFFFFFF) - 0x80000000

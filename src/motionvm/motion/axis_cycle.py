@@ -32,6 +32,9 @@ from motionvm.drives.objects import (
     MODE_CSP,
     MODE_CSV,
     SW_FAULT,
+    SW_FOLLOWS_TARGET,
+    SW_REMOTE,
+    SW_VOLTAGE_ENABLED,
     State,
 )
 from motionvm.motion import axis_status as st
@@ -43,7 +46,9 @@ provider (gear slave, gantry, homing) set with `Axis.follow`."""
 CW_DISABLE, CW_SHUTDOWN, CW_ENABLE, CW_FAULT_RESET = 0x00, 0x06, 0x0F, 0x80
 _OPERATION_ENABLED = State.OPERATION_ENABLED
 _FS_HW_LIMITS = st.FS_HW_RIGHT | st.FS_HW_LEFT
-_FS_DRIVE_FAULT = st.FS_DRIVE_FAULT
+_SW_CYCLIC = (State.OPERATION_ENABLED.value | SW_VOLTAGE_ENABLED | SW_REMOTE
+              | SW_FOLLOWS_TARGET)  # fmt: skip
+"""The statusword of a drive in Operation enabled in a cyclic mode, without fault or limit."""
 
 
 class AxisCycle:
@@ -104,11 +109,10 @@ class AxisCycle:
             self._position_actual = position_actual
             self.pos_fb_raw = raw = counts / self.cpu
             self.pos_fb = raw - self.pos_offset
-        # enabled, the axis needs the drive in Operation enabled (no fault bit then)
+        # an enabled axis needs a drive in Operation enabled following its cyclic
+        # target, no fault; any other statusword is looked at closely
         enabled = self.enabled
-        if not enabled or drive.state is not _OPERATION_ENABLED or (
-            self.fault_status & _FS_DRIVE_FAULT
-        ):
+        if not enabled or drive.statusword != _SW_CYCLIC:
             self._drive_state_changed(drive)
             enabled = self.enabled
         digital_inputs = drive.digital_inputs
