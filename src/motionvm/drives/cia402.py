@@ -254,6 +254,7 @@ class Cia402Drive:
             self._torque_quiet_nm = math.inf
         else:
             self._torque_quiet_nm = (value - 1) / self._per_mille_per_nm * (1.0 - 1e-9)
+        self._torque_quiet_neg_nm = -self._torque_quiet_nm
 
     @property
     def settled(self) -> bool:
@@ -320,7 +321,7 @@ class Cia402Drive:
         if self._encoder_lost:
             enc = self._encoder
         else:
-            self._encoder = enc = round(x)
+            self._encoder = enc = x.__round__()  # round(x) without the built-in's lookup
             if (enc + 0x80000000) >> 32:  # beyond int32: the counter wraps
                 self.position_actual = ((enc + 0x80000000) & 0xFFFFFFFF) - 0x80000000
             else:
@@ -345,8 +346,9 @@ class Cia402Drive:
                 self.inject_fault(_ERR_FOLLOWING)  # no fault was pending in this state
                 sw |= od.SW_FOLLOWING_ERROR
         torque = m.torque
-        quiet = self._torque_quiet_nm
-        if (torque >= quiet or torque <= -quiet) and abs(self.torque_actual) >= self._max_torque:
+        if (torque >= self._torque_quiet_nm or torque <= self._torque_quiet_neg_nm) and abs(
+            self.torque_actual
+        ) >= self._max_torque:
             sw |= od.SW_INTERNAL_LIMIT
         self.statusword = sw
 

@@ -83,7 +83,8 @@ class AxisCycle:
                     self._limit_stop(st.SWLL, st.FS_SW_LEFT)
             mode = self.op_mode
             if mode == MODE_CSP:
-                counts = round((p + self.pos_offset) * self.cpu)
+                # x.__round__() is round(x) without the built-in's method lookup
+                counts = ((p + self.pos_offset) * self.cpu).__round__()
                 if (counts + 0x80000000) >> 32:  # beyond int32: the target wraps
                     counts = ((counts + 0x80000000) & 0xFFFFFFFF) - 0x80000000
                 drive.target_position = counts
@@ -122,7 +123,7 @@ class AxisCycle:
             if self.fault_status & _FS_HW_LIMITS:
                 self._hw_limit_stop()
             err = self.ref_pos - self.pos_fb
-            if (err > self.max_pos_err or -err > self.max_pos_err) and not self.ignore_pe:
+            if (err > self._max_pos_err or err < self._min_pos_err) and not self.ignore_pe:
                 self._fault_disable(st.PERR, st.FS_POSITION_ERROR)
                 enabled = False
         # 6. status
@@ -154,6 +155,15 @@ class AxisCycle:
             self._watch_rest()
         else:
             self._still_cycles = 0
+
+    @property
+    def max_pos_err(self) -> float:
+        """Position error protection range [mm]: beyond it the axis is disabled."""
+        return self._max_pos_err
+
+    @max_pos_err.setter
+    def max_pos_err(self, value: float) -> None:
+        self._max_pos_err, self._min_pos_err = value, -value
 
     # ---- 2. software limits ---------------------------------------------------------
 
