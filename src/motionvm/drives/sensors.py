@@ -154,9 +154,15 @@ class Sensors:
         inputs = self._switch_inputs
         low, high = self._switch_low, self._switch_high
         if self.index_spacing:
-            if self._index_number(x_0) != self._index_number(x_1):
+            # x_0 is mostly in the index interval already (the last update's x_1)
+            n_0 = (self._index_n if self._index_low <= x_0 <= self._index_high
+                   else self._index_number(x_0))  # fmt: skip
+            if n_0 != self._index_number(x_1):
                 inputs |= DI_INDEX_PULSE
-            low, high = max(low, self._index_low), min(high, self._index_high)
+            if self._index_low > low:
+                low = self._index_low
+            if self._index_high < high:
+                high = self._index_high
         self.quiet_low, self.quiet_high = low, high
         return inputs
 

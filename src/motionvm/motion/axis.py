@@ -67,6 +67,22 @@ Move = MoveAbsolute | MoveRelative | MoveVelocity | MovePvt
 class Axis(AxisSettings, AxisCycle, AxisFollow):
     """One axis of the controller, stepped once per cycle by the motion kernel."""
 
+    __slots__ = (  # every attribute is set up in __init__: nothing can be bolted on
+        "_command_queue", "_commands_seen", "_cycle", "_deferred_move", "_digital_inputs",
+        "_enable_cycles", "_enable_timeout_cycles", "_enabling", "_error_stop",
+        "_fault_reset_cycles", "_feedback_counts", "_ignore_swl", "_in_pos_cycles",
+        "_in_pos_debounce_cycles", "_last_snapshot", "_max_pos_err", "_min_pos_err",
+        "_move_end_cycle", "_move_start_cycle", "_position_actual", "_provider", "_pvt_cycle",
+        "_pvt_trajectory", "_ramp_decel", "_ramp_vel", "_reference_source",
+        "_rest_after_cycles", "_resting", "_rollover", "_still_cycles", "_sw_left", "_sw_right",
+        "_sw_stop_left", "_sw_stop_right", "_torque_per_mille", "_wake_key_at_rest", "axis_id",
+        "buffer_mode", "config", "cpu", "drive", "dt", "enabled", "extra_status",
+        "fault_status", "halted", "ignore_hwl", "ignore_pe", "in_pos", "inpos_radius",
+        "kill_dec", "last_error", "move_time_ms", "moving", "op_mode", "pg", "pos_fb",
+        "pos_fb_raw", "pos_offset", "ref_acc", "ref_pos", "ref_vel", "rotary",
+        "settling_time_ms", "stopping", "vel_scale", "__weakref__"
+    )  # fmt: skip
+
     def __init__(self, axis_id: int, config: AxisConfig, dt: float, drive=None):
         self.axis_id = axis_id
         self.config = config
@@ -95,6 +111,8 @@ class Axis(AxisSettings, AxisCycle, AxisFollow):
         self.error_stop = self.stopping = self.halted = False
         self.moving = self.in_pos = False
         self.fault_status = self.last_error = 0
+        self.extra_status = 0
+        """Bits that gear, group, gantry and homing set (3-9, 11, 12 of table 5.1.1.5)."""
         self.pos_offset = 0.0
         self.move_time_ms = self.settling_time_ms = 0.0
         # the reference: its source (axis_cycle.PG ...) and what each source needs

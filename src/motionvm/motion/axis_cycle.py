@@ -54,6 +54,8 @@ _SW_CYCLIC = (State.OPERATION_ENABLED.value | SW_VOLTAGE_ENABLED | SW_REMOTE
 class AxisCycle:
     """The cyclic part of `Axis` (a mixin: the attributes are set up by `Axis.__init__`)."""
 
+    __slots__ = ()
+
     # ---- the cycle ------------------------------------------------------------------
 
     def step(self) -> None:

@@ -20,6 +20,8 @@ class ReferenceProvider(Protocol):
 class AxisFollow:
     """Mixin of `Axis` (attributes set up by `Axis.__init__`)."""
 
+    __slots__ = ()
+
     def follow(self, provider: ReferenceProvider) -> None:
         """From the next cycle on, take the reference from `provider`."""
         self._provider = provider

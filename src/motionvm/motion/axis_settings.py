@@ -31,6 +31,8 @@ def _positive(value: float, code: int, what: str, axis_id: int) -> float:
 class AxisSettings:
     """5.3 Get/Set functions of `Axis`."""
 
+    __slots__ = ()
+
     # ---- profile limits (5.3.1-5.3.10, 5.3.15-5.3.16) -------------------------------
 
     def set_vel(self, vel: float) -> None:
@@ -229,8 +231,6 @@ class AxisSettings:
             s |= st.MS_ACCELERATING
         return s | self.extra_status
 
-    extra_status = 0
-    """Bits that gear, group, gantry and homing set (3-9, 11, 12 of table 5.1.1.5)."""
 
     # ---- variables by name (5.1.1) --------------------------------------------------
 
