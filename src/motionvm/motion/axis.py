@@ -74,12 +74,12 @@ class Axis(AxisSettings, AxisCycle, AxisFollow):
         "_in_pos_debounce_cycles", "_last_snapshot", "_max_pos_err", "_min_pos_err",
         "_move_end_cycle", "_move_start_cycle", "_position_actual", "_provider", "_pvt_cycle",
         "_pvt_trajectory", "_ramp_decel", "_ramp_vel", "_reference_source",
-        "_rest_after_cycles", "_resting", "_rollover", "_still_cycles", "_sw_left", "_sw_right",
+        "_rest_after_cycles", "_rollover", "_still_cycles", "_sw_left", "_sw_right",
         "_sw_stop_left", "_sw_stop_right", "_torque_per_mille", "_wake_key_at_rest", "axis_id",
         "buffer_mode", "config", "cpu", "drive", "dt", "enabled", "extra_status",
         "fault_status", "halted", "ignore_hwl", "ignore_pe", "in_pos", "inpos_radius",
         "kill_dec", "last_error", "move_time_ms", "moving", "op_mode", "pg", "pos_fb",
-        "pos_fb_raw", "pos_offset", "ref_acc", "ref_pos", "ref_vel", "rotary",
+        "pos_fb_raw", "pos_offset", "ref_acc", "ref_pos", "ref_vel", "resting", "rotary",
         "settling_time_ms", "stopping", "vel_scale", "__weakref__"
     )  # fmt: skip
 
@@ -139,7 +139,8 @@ class Axis(AxisSettings, AxisCycle, AxisFollow):
         self.pos_fb_raw = self.pos_fb = self._feedback_counts / self.cpu
         self.ref_pos, self.ref_vel, self.ref_acc = self.pos_fb, 0.0, 0.0
         # resting (axis_cycle.py)
-        self._resting = False
+        self.resting = False
+        """True while the axis is a fixed point and skips its cycles (read only)."""
         self._wake_key_at_rest: tuple = ()
         self._last_snapshot: tuple = ()
         self._still_cycles = 0

@@ -60,10 +60,10 @@ class AxisCycle:
 
     def step(self) -> None:
         """Run this axis's part of one controller cycle."""
-        if self._resting:
+        if self.resting:
             if self._wake_key() == self._wake_key_at_rest:
                 return
-            self._resting = False
+            self.resting = False
             self._still_cycles = 0
         drive = self.drive
         self._cycle += 1
@@ -446,21 +446,16 @@ class AxisCycle:
         if snap == self._last_snapshot and snap[8]:
             self._still_cycles += 1
             if self._still_cycles >= self._rest_after_cycles:
-                self._resting = True
+                self.resting = True
                 self._wake_key_at_rest = self._wake_key()
         else:
             self._still_cycles = 0
             self._last_snapshot = snap
 
-    @property
-    def resting(self) -> bool:
-        """True while the axis is a fixed point and skips its cycles."""
-        return self._resting
-
     def wake(self) -> None:
         """Leave rest (every command calls this)."""
         self._commands_seen += 1
-        self._resting = False
+        self.resting = False
         self._still_cycles = 0
 
     @property

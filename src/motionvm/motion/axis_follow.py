@@ -26,7 +26,7 @@ class AxisFollow:
         """From the next cycle on, take the reference from `provider`."""
         self._provider = provider
         self._reference_source = EXT
-        self._resting = False
+        self.resting = False
 
     @property
     def following(self):
