@@ -76,7 +76,7 @@ class Axis(AxisSettings, AxisCycle, AxisFollow):
         "_pvt_trajectory", "_ramp_decel", "_ramp_vel", "_reference_source",
         "_rest_after_cycles", "_rollover", "_still_cycles", "_sw_left", "_sw_right",
         "_sw_stop_left", "_sw_stop_right", "_torque_per_mille", "_wake_key_at_rest", "axis_id",
-        "buffer_mode", "config", "cpu", "drive", "dt", "enabled", "extra_status",
+        "buffer_mode", "config", "controlled_by", "cpu", "drive", "dt", "enabled", "extra_status",
         "fault_status", "halted", "ignore_hwl", "ignore_pe", "in_pos", "inpos_radius",
         "kill_dec", "last_error", "move_time_ms", "moving", "op_mode", "pg", "pos_fb",
         "pos_fb_raw", "pos_offset", "ref_acc", "ref_pos", "ref_vel", "resting", "rotary",
@@ -112,6 +112,8 @@ class Axis(AxisSettings, AxisCycle, AxisFollow):
         self.moving = self.in_pos = False
         self.fault_status = self.last_error = 0
         self.extra_status = 0
+        self.controlled_by: str | None = None
+        """Who commands the axis instead of the controller's tasks (a PDL drive), or None."""
         """Bits that gear, group, gantry and homing set (3-9, 11, 12 of table 5.1.1.5)."""
         self.pos_offset = 0.0
         self.move_time_ms = self.settling_time_ms = 0.0
