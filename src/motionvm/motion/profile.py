@@ -194,11 +194,12 @@ class ProfileGenerator:
     @property
     def is_cruising(self) -> bool:
         """True while a jog holds its final velocity: the T-curve is in its open-ended
-        cruise and every sample in the smoothing window is on it, so the output moves on
-        at that velocity until the next command."""
+        cruise and every sample behind the last three outputs (the smoothing window, two
+        cycles more for the velocity and acceleration differences) is on it, so the
+        output moves on at that velocity until the next command."""
+        first = self._n - self._n_avg - 1  # the oldest sample of the last three outputs
         return (self.mode == VELOCITY and not self._idle and self._seg_t_1 == INF
-                and self._n >= self._n_avg
-                and (self._n - self._n_avg + 1) * self.dt >= self._seg_t_0)  # fmt: skip
+                and first >= 1 and first * self.dt >= self._seg_t_0)  # fmt: skip
 
     @property
     def is_halted(self) -> bool:
