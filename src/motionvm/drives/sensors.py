@@ -222,11 +222,10 @@ class Sensors:
         n = math.floor((x - offset) / spacing)
         lo, hi = offset + n * spacing, offset + (n + 1) * spacing
         margin = 1e-6 * max(1.0, abs(lo), abs(hi))
-        lo, hi = lo + margin, hi - margin
-        if (lo <= x <= hi and math.floor((lo - offset) / spacing) == n
-                and math.floor((hi - offset) / spacing) == n):  # fmt: skip
+        lo, hi = min(lo + margin, x), max(hi - margin, x)  # x itself gives n
+        if math.floor((lo - offset) / spacing) == n == math.floor((hi - offset) / spacing):
             self._index_low, self._index_high, self._index_n = lo, hi, n
-        else:  # x too close to a pulse for a band: no interval
+        else:  # a spacing too fine for the margin: no interval
             self._index_low, self._index_high, self._index_n = math.inf, -math.inf, n
         return n
 
