@@ -52,6 +52,18 @@ _ERR_FOLLOWING = od.ERR_FOLLOWING
 class Cia402Drive:
     """One servo drive: object dictionary, power state machine, modes, mechanics, sensors."""
 
+    __slots__ = (  # the object dictionary and the drive's state, all set up in __init__
+        "_controlword_prev", "_demand", "_encoder", "_encoder_lost", "_fault",
+        "_following_error", "_max_torque", "_mode_prev", "_motor_position_prev",
+        "_per_mille_per_nm", "_position_demand", "_ramp_vel", "_settled", "_stopped",
+        "_target_prev", "_timer", "_torque_actual", "_torque_quiet_neg_nm", "_torque_quiet_nm",
+        "_velocity_actual", "boot_cycles", "controlword", "device_type", "digital_inputs",
+        "enable_cycles", "error_code", "following_error_window", "mechanics", "mode",
+        "mode_display", "position_actual", "quick_stop_decel", "quick_stop_option",
+        "rated_torque", "rated_torque_nm", "sensors", "state", "statusword", "supported_modes",
+        "switch_on_cycles", "target_position", "target_torque", "target_velocity", "__weakref__"
+    )  # fmt: skip
+
     KEYS = frozenset({
         "mechanics", "boot_cycles", "switch_on_cycles", "enable_cycles", "rated_torque",
         "max_torque", "quick_stop_decel", "quick_stop_option", "following_error_window",

@@ -79,6 +79,11 @@ class IdealMechanics:
     both outputs pass the same delay line. Power off stops the motor at once.
     """
 
+    __slots__ = (  # set up in __init__
+        "_demand", "_demand_vel", "_line", "counts_per_rev", "delay_cycles", "inertia",
+        "position", "torque", "velocity"
+    )  # fmt: skip
+
     KEYS = frozenset({"delay_cycles", "inertia", "counts_per_rev"})
 
     def __init__(self, delay_cycles: int = 0, inertia: float = 1e-4, counts_per_rev: int = 1 << 17):

@@ -34,6 +34,14 @@ from motionvm.drives.objects import (
 class Sensors:
     """Switch and index signals derived from the motor position; touch probe latches."""
 
+    __slots__ = (  # set up in __init__
+        "_external", "_home_prev", "_index_high", "_index_low", "_index_n", "_probe_prev",
+        "_switch_external", "_switch_high", "_switch_inputs", "_switch_low", "_tp_function",
+        "_tp_function_prev", "has_switches", "home_high", "home_low", "index_offset",
+        "index_spacing", "latched", "negative_limit", "positive_limit", "quiet_high",
+        "quiet_inputs", "quiet_low", "tp_status"
+    )  # fmt: skip
+
     def __init__(
         self,
         negative_limit: float | None = None,
