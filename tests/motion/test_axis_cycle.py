@@ -115,9 +115,20 @@ def _state(a: Axis) -> tuple:
     d, m = a.drive, a.drive.mechanics
     return (
         tuple(a.variable(n) for n in VARIABLES),
-        (d.controlword, d.statusword, d.target_position, d.position_actual, d.position_demand,
-         d.velocity_actual, d.torque_actual, d.following_error, d.digital_inputs, d.error_code,
-         d.mode_display, d.state),  # fmt: skip
+        (
+            d.controlword,
+            d.statusword,
+            d.target_position,
+            d.position_actual,
+            d.position_demand,
+            d.velocity_actual,
+            d.torque_actual,
+            d.following_error,
+            d.digital_inputs,
+            d.error_code,
+            d.mode_display,
+            d.state,
+        ),  # fmt: skip
         (m.position, m.velocity, m.torque),
         (a.enabled, a.moving, a.in_pos, a.error_stop, a.last_error, a.resting, a.cruising),
     )

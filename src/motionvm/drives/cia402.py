@@ -134,7 +134,9 @@ class Cia402Drive:
         self.velocity_actual = 0
         self.torque_actual = 0
         self.following_error = 0
-        self.digital_inputs = self.sensors.update(self._motor_position_prev, self._motor_position_prev)
+        self.digital_inputs = self.sensors.update(
+            self._motor_position_prev, self._motor_position_prev
+        )
         self.statusword = _SW_BASE[self.state._value_]
 
     @classmethod

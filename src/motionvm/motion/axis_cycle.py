@@ -94,12 +94,11 @@ class AxisCycle:
                 drive.target_velocity = round(v * self.cpu)
             else:
                 drive.target_torque = self._torque_per_mille
-            controlword = CW_ENABLE
+            drive.controlword = CW_ENABLE
         else:
-            controlword = self._disabled_controlword()
+            drive.controlword = self._disabled_controlword()
         if self._fault_reset_cycles is not None:
-            controlword |= self._fault_reset_bit()
-        drive.controlword = controlword
+            drive.controlword |= self._fault_reset_bit()
         # 4. the drive
         drive.step(self.dt)
         # 5. feedback and faults
@@ -360,9 +359,7 @@ class AxisCycle:
             if not self.in_pos and self._in_pos_cycles > self._in_pos_debounce_cycles:
                 self.in_pos = True
                 if self._move_end_cycle >= 0:
-                    self.settling_time_ms = (
-                        (self._cycle - self._move_end_cycle) * self.dt * 1000.0
-                    )
+                    self.settling_time_ms = (self._cycle - self._move_end_cycle) * self.dt * 1000.0
                     self._move_end_cycle = -1
         else:
             self._in_pos_cycles = 0

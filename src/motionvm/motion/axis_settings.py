@@ -231,7 +231,6 @@ class AxisSettings:
             s |= st.MS_ACCELERATING
         return s | self.extra_status
 
-
     # ---- variables by name (5.1.1) --------------------------------------------------
 
     def variable(self, name: str) -> float | int:
