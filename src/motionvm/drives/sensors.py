@@ -5,7 +5,10 @@ active at or below `negative_limit`, the positive limit at or above `positive_li
 the home switch on [home_low, home_high]. Index pulses come every `index_spacing`
 counts at `index_offset` (+ n * spacing). Each cycle the drive passes the motor
 position before and after the cycle; edges are located exactly on the switch or index
-position, as a hardware latch would.
+position, as a hardware latch would. Between switch edges only the index pulse can
+change; the sensors keep the band of positions without a switch edge and the interval
+without an index pulse around the last position, and publish both together as the quiet
+interval, inside which a cycle changes nothing (the drive then skips `update`).
 
 Touch probes (CiA 402 0x60B8/0x60B9, 0x60BA..0x60BD): probe 1 samples the home switch
 or the index pulse, probe 2 an external input (digital input bit 17) or the index.

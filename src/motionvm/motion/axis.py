@@ -8,6 +8,13 @@ Commands are methods that raise `AxisCommandError(code, message)` when the manua
 rules refuse them; `code` is the low half of the axis error (table 18.1.2.1). An
 accepted move makes `moving` true and `in_pos` false at once, in the calling cycle.
 Decisions where the manual is silent are documented at each method.
+
+A move is a value (`MoveAbsolute`, `MoveRelative`, `MoveVelocity`, `MovePvt`): the
+command queue of buffer mode 1 and a move deferred by a zero velocity scale hold them,
+and `_start` starts one. The parts of an axis: its profile generator `pg`, its `drive`
+(with mechanics and sensors), the feedback counts unwrapped from the drive's int32
+position actual, the reference source (profile, PVT, ramp, torque or a provider), the
+command queue, and the status (moving, in position, resting).
 """
 
 from __future__ import annotations
