@@ -323,16 +323,16 @@ class ProfileGenerator:
             self._sum = s
             if self._tc_done:
                 self._flush += 1
-                out = p if self._flush >= n_avg else self._base + s / n_avg
+                if self._flush < n_avg:
+                    p = self._base + s / n_avg
             else:
-                out = self._base + s / n_avg
-        else:
-            out = p
+                p = self._base + s / n_avg
         p_prev, v_prev, _ = self._out
-        v = (out - p_prev) * self._inv_dt
-        a = (v - v_prev) * self._inv_dt
-        self._out = res = (out, v, a)
-        if v == 0.0 and a == 0.0 and self._tc_done and out == self._p_f:
+        inv_dt = self._inv_dt
+        v = (p - p_prev) * inv_dt
+        a = (v - v_prev) * inv_dt
+        self._out = res = (p, v, a)
+        if v == 0.0 and a == 0.0 and self._tc_done and p == self._p_f:
             self._idle = True
             if not self._pending():
                 self.mode = IDLE
