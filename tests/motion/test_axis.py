@@ -266,7 +266,7 @@ def test_torque_mode_clamps_to_the_continuous_torque():
     with pytest.raises(AxisCommandError):
         a.move_abs(1.0)
     a.move_trq(5.0)
-    assert a.drive.rated_torque_nm == 2.0 and a._torque_pm == 1000
+    assert a.drive.rated_torque_nm == 2.0 and a._torque_per_mille == 1000
     for _ in range(20):
         a.step()
     assert a.drive.target_torque == 1000

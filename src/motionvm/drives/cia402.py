@@ -3,7 +3,7 @@
 The master (the controller) writes the RxPDO objects (controlword 0x6040, modes of
 operation 0x6060, target position/velocity/torque) with `write`, calls `step(dt)` once
 per bus cycle, and reads the TxPDO objects (statusword 0x6041, actual values, digital
-inputs) with `read`. Objects are plain attributes too, for a fast cyclic path.
+inputs) with `read`. Objects are plain attributes too, for the cyclic master.
 
 Power drive state machine (CiA 402 figure "state machine", transitions 0-16):
 
@@ -40,10 +40,31 @@ _SW_BASE = {
     for s in State
 }
 _OFF = (Command.DISABLE_VOLTAGE, Command.QUICK_STOP)
+# an enum member read from its class costs a lookup through the metaclass each time
+_OPERATION_ENABLED = State.OPERATION_ENABLED
+_QUICK_STOP_ACTIVE = State.QUICK_STOP_ACTIVE
+_SW_OPERATION_ENABLED = _SW_BASE[State.OPERATION_ENABLED.value]
+_SW_CYCLIC = _SW_OPERATION_ENABLED | od.SW_FOLLOWS_TARGET
+# under local control: Operation enabled, the controlword not processed (no remote bit)
+_SW_LOCAL = _SW_OPERATION_ENABLED & ~od.SW_REMOTE
+_CSP = od.MODE_CSP
+_ERR_FOLLOWING = od.ERR_FOLLOWING
 
 
 class Cia402Drive:
     """One servo drive: object dictionary, power state machine, modes, mechanics, sensors."""
+
+    __slots__ = (  # the object dictionary and the drive's state, all set up in __init__
+        "_controlword_prev", "_demand", "_encoder", "_encoder_lost", "_fault",
+        "_following_error", "_max_torque", "_mode_prev", "_motor_position_prev",
+        "_per_mille_per_nm", "_position_demand", "_ramp_vel", "_settled", "_stopped",
+        "_target_prev", "_timer", "_torque_actual", "_torque_quiet_neg_nm", "_torque_quiet_nm",
+        "_velocity_actual", "boot_cycles", "controlword", "device_type", "digital_inputs",
+        "enable_cycles", "error_code", "following_error_window", "local_demand", "mechanics", "mode",
+        "mode_display", "position_actual", "quick_stop_decel", "quick_stop_option",
+        "rated_torque", "rated_torque_nm", "sensors", "state", "statusword", "supported_modes",
+        "switch_on_cycles", "target_position", "target_torque", "target_velocity", "__weakref__"
+    )  # fmt: skip
 
     KEYS = frozenset({
         "mechanics", "boot_cycles", "switch_on_cycles", "enable_cycles", "rated_torque",
@@ -94,26 +115,34 @@ class Cia402Drive:
         self.error_code = od.ERR_NONE
         self.state = State.NOT_READY_TO_SWITCH_ON
         """The power drive state (what the statusword shows)."""
-        self._cw_prev = 0
+        self._controlword_prev = 0
         self._settled: State | None = None
         self._timer = 0
         self._fault: int | None = None
         self._encoder_lost = False
         self._ramp_vel = 0.0
         self._stopped = False
-        self._r = 0.0  # unwrapped demand [counts]
+        self._demand = 0.0
+        """Position demand [counts], unwrapped (no int32 turn is ever added)."""
         self._target_prev = 0
         self._mode_prev = 0
+        self.local_demand: float | None = None
+        """The position demand [counts, unwrapped] of the drive's own firmware under local
+        control (`follow_local_demand`); None while the master commands the drive."""
         self.mechanics.set_position(position)
-        self._x_prev = float(position)
-        self._enc = round(position)  # unwrapped encoder count
-        self.position_actual = wrap_i32(self._enc)
+        self._motor_position_prev = float(position)
+        """Motor position [counts] at the end of the last cycle (for the sensors)."""
+        self._encoder = round(position)
+        """Encoder count, unwrapped."""
+        self.position_actual = wrap_i32(self._encoder)
         self.position_demand = self.position_actual
         self.velocity_actual = 0
         self.torque_actual = 0
         self.following_error = 0
-        self.digital_inputs = self.sensors.update(self._x_prev, self._x_prev)
-        self._update_statusword()
+        self.digital_inputs = self.sensors.update(
+            self._motor_position_prev, self._motor_position_prev
+        )
+        self.statusword = _SW_BASE[self.state._value_]
 
     @classmethod
     def create(cls, config: dict) -> Cia402Drive:
@@ -177,17 +206,18 @@ class Cia402Drive:
     tp2_positive_edge = property(lambda self: self.sensors.latched[2])
     tp2_negative_edge = property(lambda self: self.sensors.latched[3])
 
-    # Four TxPDO objects the fast axis cycle (motion/axis_fast.py) does not set: it
-    # leaves None, and they are then what _feedback would set from the state that cycle
-    # left (Operation enabled, encoder present), computed when read. Every step sets them.
+    # Four TxPDO objects that follow, in Operation enabled, from the state the last step
+    # left (the mechanics, the demand and the encoder count, which only a step changes):
+    # they are computed when read, so the cycle does not round them unless someone reads
+    # them. In every other state the step stores them.
 
     @property
     def velocity_actual(self) -> int:
-        v = self._velocity_actual
-        if v is None:
+        """0x606C [counts/s]."""
+        if self.state is _OPERATION_ENABLED:
             vel = round(self.mechanics.velocity)
-            v = ((vel + 0x80000000) & 0xFFFFFFFF) - 0x80000000
-        return v
+            return ((vel + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+        return self._velocity_actual
 
     @velocity_actual.setter
     def velocity_actual(self, value: int) -> None:
@@ -195,12 +225,11 @@ class Cia402Drive:
 
     @property
     def torque_actual(self) -> int:
-        t = self._torque_actual
-        if t is None:
+        """0x6077 [per mille of the rated torque]."""
+        if self.state is _OPERATION_ENABLED:
             t = round(self.mechanics.torque * self._per_mille_per_nm)
-            if not -32768 <= t <= 32767:
-                t = max(-32768, min(32767, t))
-        return t
+            return t if -32768 <= t <= 32767 else max(-32768, min(32767, t))
+        return self._torque_actual
 
     @torque_actual.setter
     def torque_actual(self, value: int) -> None:
@@ -208,11 +237,11 @@ class Cia402Drive:
 
     @property
     def position_demand(self) -> int:
-        p = self._position_demand
-        if p is None:
-            demand = round(self._r)
-            p = ((demand + 0x80000000) & 0xFFFFFFFF) - 0x80000000
-        return p
+        """0x6062 [counts]."""
+        if self.state is _OPERATION_ENABLED:
+            demand = round(self._demand)
+            return ((demand + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+        return self._position_demand
 
     @position_demand.setter
     def position_demand(self, value: int) -> None:
@@ -220,15 +249,42 @@ class Cia402Drive:
 
     @property
     def following_error(self) -> int:
-        fe = self._following_error
-        if fe is None:
-            fe = round(self._r) - self._enc
-            fe = ((fe + 0x80000000) & 0xFFFFFFFF) - 0x80000000
-        return fe
+        """0x60F4 [counts]: demand minus actual position."""
+        if self.state is _OPERATION_ENABLED:
+            fe = round(self._demand) - self._encoder
+            return ((fe + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+        return self._following_error
 
     @following_error.setter
     def following_error(self, value: int) -> None:
         self._following_error = value
+
+    @property
+    def max_torque(self) -> int:
+        """0x6072 [per mille of the rated torque]: the internal limit bit's threshold."""
+        return self._max_torque
+
+    @max_torque.setter
+    def max_torque(self, value: int) -> None:
+        self._max_torque = value
+        # below this torque [N*m] the rounded torque actual stays under the limit: a
+        # margin far above the rounding of torque * per mille per N*m
+        if value <= 0:
+            self._torque_quiet_nm = math.inf
+        else:
+            self._torque_quiet_nm = (value - 1) / self._per_mille_per_nm * (1.0 - 1e-9)
+        self._torque_quiet_neg_nm = -self._torque_quiet_nm
+
+    @property
+    def settled(self) -> bool:
+        """True if the last controlword has done all it does in this state (no delay
+        runs): repeating it leaves the state as it is, unless a fault is raised."""
+        return self._settled is self.state
+
+    @property
+    def pending_fault(self) -> int | None:
+        """The error code of a fault raised and not yet reset, or None."""
+        return self._fault
 
     # ---- faults for tests -----------------------------------------------------------
 
@@ -248,10 +304,6 @@ class Cia402Drive:
 
     # ---- local control: a program on the drive commands the motor ----------------------
 
-    local_demand: float | None = None
-    """The position demand [counts, unwrapped] of the drive's own firmware under local
-    control (`follow_local_demand`); None while the master commands the drive."""
-
     def follow_local_demand(self, counts: float | None) -> None:
         """Local control: from the next `step` on the motor follows `counts` [counts,
         unwrapped], a demand generated on the drive itself (a program running on it), as
@@ -267,39 +319,117 @@ class Cia402Drive:
                 self.local_demand = None
                 self.state = State.SWITCH_ON_DISABLED
                 self._settled = None
-                self._r = self.mechanics.position
-                self._update_statusword()
+                self._demand = self.mechanics.position
+                self.statusword = self._feedback_off(self.state, self._encoder)
             return
         if self.local_demand is None:
-            self.state = State.OPERATION_ENABLED
+            self.state = _OPERATION_ENABLED
             self._settled = None
         self.local_demand = float(counts)
-
-    def _step_local(self, dt: float) -> None:
-        """One step under local control: the motor follows `local_demand` as in CSP."""
-        self._r = r = self.local_demand
-        self.mechanics.step_position(r, dt)
-        self.mode_display = self.mode
-        self._settled = self.state  # only a new demand moves the motor again
-        self._feedback()
-        self.statusword &= ~(od.SW_REMOTE | od.SW_FOLLOWS_TARGET)
 
     # ---- the cycle ------------------------------------------------------------------
 
     def step(self, dt: float) -> None:
-        """Advance one bus cycle of `dt` [s]: state machine, motion, feedback objects."""
-        if self.local_demand is not None:  # the drive's own firmware commands the motor
-            self._step_local(dt)
-            return
-        cw = self.controlword
+        """Advance one bus cycle of `dt` [s]: state machine, motion, feedback objects.
+
+        A drive that repeats its last controlword in a state that command already
+        settled skips the state machine; in Operation enabled CSP the motion is the
+        demand following the target's change (the common cycle, taken inline). Three
+        checks are skipped where their outcome is known: the sensors while the motor
+        stays in their quiet interval, the following error where its window exceeds any
+        int32 error, the internal limit where the torque is well below max_torque.
+        Under local control (`follow_local_demand`) the motor follows the drive's own
+        demand as in CSP and the master's controlword and targets are not processed."""
         state = self.state
-        if cw == self._cw_prev and state is self._settled and self._fault is None:
-            # fast path: the same command already left this state as it is
-            self._move(state, dt)
-            self._feedback()
+        m = self.mechanics
+        mode = self.mode
+        local = self.local_demand is not None
+        if local:  # the drive's own firmware commands the motor
+            self._demand = demand = self.local_demand
+            m.step_position(demand, dt)
+            self.mode_display = mode
+            self._settled = state  # only a new demand moves the motor again
+            sw = _SW_LOCAL
+        else:
+            if (self.controlword != self._controlword_prev or state is not self._settled
+                    or self._fault is not None):  # fmt: skip
+                state = self._power_state_machine(state)
+            if state is _OPERATION_ENABLED and mode == _CSP:
+                if self._mode_prev != _CSP:
+                    self._take_target()
+                    self._mode_prev = self.mode_display = _CSP
+                target = self.target_position
+                change = target - self._target_prev
+                if (change + 0x80000000) >> 32:  # beyond int32: the target wrapped
+                    change = ((change + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+                self._demand = demand = self._demand + change
+                self._target_prev = target
+                m.step_position(demand, dt)
+                sw = _SW_CYCLIC
+            else:
+                self._move(state, dt)
+                state = self.state
+                sw = _SW_CYCLIC if mode in _CYCLIC_MODES else _SW_OPERATION_ENABLED
+        # feedback
+        x = m.position
+        if self._encoder_lost:
+            enc = self._encoder
+        else:
+            self._encoder = enc = x.__round__()  # round(x) without the built-in's lookup
+            if (enc + 0x80000000) >> 32:  # beyond int32: the counter wraps
+                self.position_actual = ((enc + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+            else:
+                self.position_actual = enc
+        s = self.sensors
+        # the sensors' last update ended at _motor_position_prev (the drive is their
+        # only caller), so that position lies in their quiet interval if it is not empty
+        if s.quiet_low < x < s.quiet_high:
+            self.digital_inputs = s.quiet_inputs
+        elif s.has_switches or s.tp_function or s.tp_status:
+            self.digital_inputs = s.update(self._motor_position_prev, x)
+        else:
+            self.digital_inputs = s.external
+        self._motor_position_prev = x
+        if state is not _OPERATION_ENABLED:
+            self.statusword = self._feedback_off(state, enc)
             return
-        reset_edge = bool(cw & 0x80) and not self._cw_prev & 0x80
-        self._cw_prev = cw
+        if self.following_error_window < 0x80000000 and mode == _CSP and not local:
+            fe = round(self._demand) - enc
+            fe = ((fe + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+            if abs(fe) > self.following_error_window:
+                self.inject_fault(_ERR_FOLLOWING)  # no fault was pending in this state
+                sw |= od.SW_FOLLOWING_ERROR
+        torque = m.torque
+        if (torque >= self._torque_quiet_nm or torque <= self._torque_quiet_neg_nm) and abs(
+            self.torque_actual
+        ) >= self._max_torque:
+            sw |= od.SW_INTERNAL_LIMIT
+        self.statusword = sw
+
+    def _feedback_off(self, state: State, enc: int) -> int:
+        """The feedback objects outside Operation enabled; returns the statusword."""
+        m = self.mechanics
+        if self._encoder_lost:
+            self._velocity_actual = 0
+        else:
+            vel = round(m.velocity)
+            self._velocity_actual = ((vel + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+        torque = round(m.torque * self._per_mille_per_nm)
+        self._torque_actual = (
+            torque if -32768 <= torque <= 32767 else max(-32768, min(32767, torque))
+        )
+        self._position_demand = ((enc + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+        self._following_error = 0
+        sw = _SW_BASE[state._value_]  # keyed by value: an enum member hashes slowly
+        if state is _QUICK_STOP_ACTIVE and self._stopped:
+            sw |= od.SW_TARGET_REACHED
+        return sw
+
+    def _power_state_machine(self, state: State) -> State:
+        """One step of the power state machine from `state` under the controlword."""
+        cw = self.controlword
+        reset_edge = bool(cw & 0x80) and not self._controlword_prev & 0x80
+        self._controlword_prev = cw
         before = state
         if self._fault is not None and state not in (
             State.FAULT_REACTION_ACTIVE, State.FAULT, State.NOT_READY_TO_SWITCH_ON
@@ -322,8 +452,7 @@ class Cia402Drive:
         # a command that changed nothing and waits for nothing will not act again
         settled = state is before and self._timer == 0 and state in _SETTLED
         self._settled = state if settled else None
-        self._move(state, dt)
-        self._feedback()
+        return state
 
     def _transition(self, state: State, cmd: Command | None) -> State:
         waiting = False
@@ -375,44 +504,39 @@ class Cia402Drive:
 
     def _enter_operation(self) -> None:
         """Start from the actual position; CSP takes over its target at the next step."""
-        self._r = self.mechanics.position
+        self._demand = self.mechanics.position
         self._mode_prev = -1
 
     def _take_target(self) -> None:
         """Unwrap 0x607A next to the actual position, so no wrap turn is added."""
-        self._r = float(self._enc + wrap_i32(self.target_position - self.position_actual))
+        self._demand = float(self._encoder + wrap_i32(self.target_position - self.position_actual))
         self._target_prev = self.target_position
 
     def _enter_ramp(self, state: State) -> State:
         self._ramp_vel = self.mechanics.velocity
-        self._r = self.mechanics.position
+        self._demand = self.mechanics.position
         self._stopped = False
         if state is State.QUICK_STOP_ACTIVE and self.quick_stop_option == 0:
             return State.SWITCH_ON_DISABLED
         return state
 
     def _move(self, state: State, dt: float) -> None:
+        """The motion of a cycle other than CSP in Operation enabled (see `step`)."""
         m = self.mechanics
         if state is State.OPERATION_ENABLED:
             mode = self.mode
-            if mode == od.MODE_CSP:
-                if self._mode_prev != od.MODE_CSP:
-                    self._take_target()
-                self._r += wrap_i32(self.target_position - self._target_prev)
-                self._target_prev = self.target_position
-                m.step_position(self._r, dt)
-            elif mode == od.MODE_CSV:
+            if mode == od.MODE_CSV:
                 m.step_velocity(float(self.target_velocity), dt)
-                self._r = m.position
+                self._demand = m.position
             elif mode == od.MODE_CST:
                 limit = self.max_torque
                 per_mille = max(-limit, min(limit, self.target_torque))
                 m.step_torque(per_mille * self.rated_torque_nm / 1000.0, dt)
-                self._r = m.position
+                self._demand = m.position
             else:  # no mode, or homing left to the master: hold
                 if self._mode_prev in (od.MODE_CSV, od.MODE_CST):
-                    self._r = m.position
-                m.step_position(self._r, dt)
+                    self._demand = m.position
+                m.step_position(self._demand, dt)
             self._mode_prev = mode
             self.mode_display = mode
         elif state in (State.QUICK_STOP_ACTIVE, State.FAULT_REACTION_ACTIVE):
@@ -422,12 +546,12 @@ class Cia402Drive:
                 v_0 = self._ramp_vel
                 dv = self.quick_stop_decel * dt
                 v_1 = 0.0 if abs(v_0) <= dv else v_0 - math.copysign(dv, v_0)
-                self._r += 0.5 * (v_0 + v_1) * dt
+                self._demand += 0.5 * (v_0 + v_1) * dt
                 self._ramp_vel = v_1
-                m.step_position(self._r, dt)
+                m.step_position(self._demand, dt)
                 self._stopped = v_1 == 0.0
             elif state is State.QUICK_STOP_ACTIVE:
-                m.step_position(self._r, dt)
+                m.step_position(self._demand, dt)
             else:
                 m.step_free(dt)
             if self._stopped:
@@ -438,48 +562,5 @@ class Cia402Drive:
             self.mode_display = self.mode
         else:
             m.step_free(dt)
-            self._r = m.position
+            self._demand = m.position
             self.mode_display = self.mode
-
-    def _feedback(self) -> None:
-        m = self.mechanics
-        x = m.position
-        if not self._encoder_lost:
-            self._enc = enc = round(x)
-            self.position_actual = ((enc + 0x80000000) & 0xFFFFFFFF) - 0x80000000
-            vel = round(m.velocity)
-            self._velocity_actual = ((vel + 0x80000000) & 0xFFFFFFFF) - 0x80000000
-        else:
-            enc = self._enc
-            self._velocity_actual = 0
-        torque = round(m.torque * self._per_mille_per_nm)
-        self._torque_actual = (
-            torque if -32768 <= torque <= 32767 else max(-32768, min(32767, torque))
-        )
-        enabled = self.state is State.OPERATION_ENABLED
-        demand = round(self._r) if enabled else enc
-        self._position_demand = ((demand + 0x80000000) & 0xFFFFFFFF) - 0x80000000
-        self._following_error = fe = ((demand - enc + 0x80000000) & 0xFFFFFFFF) - 0x80000000
-        s = self.sensors
-        if s.has_switches or s.tp_function or s.tp_status:
-            self.digital_inputs = s.update(self._x_prev, x)
-        else:
-            self.digital_inputs = s.external
-        self._x_prev = x
-        if enabled and abs(fe) > self.following_error_window and self.mode == od.MODE_CSP:
-            self.inject_fault(od.ERR_FOLLOWING)
-        self._update_statusword()
-
-    def _update_statusword(self) -> None:
-        state = self.state
-        sw = _SW_BASE[state._value_]  # keyed by value: an enum member hashes slowly
-        if state is State.OPERATION_ENABLED:
-            if self.mode in _CYCLIC_MODES:
-                sw |= od.SW_FOLLOWS_TARGET
-            if abs(self._torque_actual) >= self.max_torque > 0:  # set just before
-                sw |= od.SW_INTERNAL_LIMIT
-            if self._fault == od.ERR_FOLLOWING:
-                sw |= od.SW_FOLLOWING_ERROR
-        elif state is State.QUICK_STOP_ACTIVE and self._stopped:
-            sw |= od.SW_TARGET_REACHED
-        self.statusword = sw

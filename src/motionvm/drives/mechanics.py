@@ -79,6 +79,11 @@ class IdealMechanics:
     both outputs pass the same delay line. Power off stops the motor at once.
     """
 
+    __slots__ = (  # set up in __init__
+        "_demand", "_demand_vel", "_line", "counts_per_rev", "delay_cycles", "inertia",
+        "position", "torque", "velocity"
+    )  # fmt: skip
+
     KEYS = frozenset({"delay_cycles", "inertia", "counts_per_rev"})
 
     def __init__(self, delay_cycles: int = 0, inertia: float = 1e-4, counts_per_rev: int = 1 << 17):
@@ -94,8 +99,9 @@ class IdealMechanics:
         """Actual torque [N*m]."""
         self._line: deque[float] = deque([0.0] * delay_cycles)
         self._demand = 0.0
-        self._dv: float | None = 0.0
-        self._lazy_dt = 0.0
+        """The last position demand [counts]."""
+        self._demand_vel = 0.0
+        """Velocity of the demand [counts/s] (CST integrates on from it)."""
 
     @classmethod
     def create(cls, config: dict) -> IdealMechanics:
@@ -109,48 +115,35 @@ class IdealMechanics:
     def set_position(self, position: float) -> None:
         """Place the motor at `position` [counts], at rest."""
         self.position = self._demand = float(position)
-        self.velocity = self._dv = self.torque = 0.0
+        self.velocity = self._demand_vel = self.torque = 0.0
         self._line = deque([self.position] * self.delay_cycles)
 
-    @property
-    def _demand_vel(self) -> float:
-        """Velocity of the demand [counts/s]. The fast axis cycle (motion/axis_fast.py)
-        leaves None with a delay line of at least one cycle: it is then the last demand
-        minus the one before (the line's last two, or the position with a delay of one)
-        over the cycle time `_lazy_dt`, as step_position computes it. Every step sets it."""
-        v = self._dv
-        if v is None:
+    def step_position(self, r: float, dt: float) -> None:
+        """The motor reaches demand r [counts] `delay_cycles` cycles later; the other
+        modes are a demand computed from theirs."""
+        r_0 = self._demand
+        self._demand_vel = (r - r_0) / dt
+        self._demand = r
+        if self.delay_cycles == 1:  # the delay line holds the last demand only
+            x = r_0
+        else:
             line = self._line
-            prev = line[-2] if len(line) >= 2 else self.position
-            v = (line[-1] - prev) / self._lazy_dt
-        return v
-
-    @_demand_vel.setter
-    def _demand_vel(self, value: float) -> None:
-        self._dv = value
-
-    def _advance(self, demand: float, dt: float) -> None:
-        self._demand = demand
-        line = self._line
-        line.append(demand)
-        new = line.popleft()
-        v = (new - self.position) / dt
+            line.append(r)
+            x = line.popleft()
+        v = (x - self.position) / dt
         self.torque = self.inertia * (v - self.velocity) / dt * TWO_PI / self.counts_per_rev
         self.velocity = v
-        self.position = new
-
-    def step_position(self, r: float, dt: float) -> None:
-        self._dv = (r - self._demand) / dt
-        self._advance(r, dt)
+        self.position = x
 
     def step_velocity(self, v_ref: float, dt: float) -> None:
-        self._dv = v_ref
-        self._advance(self._demand + v_ref * dt, dt)
+        self.step_position(self._demand + v_ref * dt, dt)
+        self._demand_vel = v_ref
 
     def step_torque(self, tau: float, dt: float) -> None:
         v_0 = self._demand_vel
-        self._dv = v_1 = v_0 + tau / self.inertia * self.counts_per_rev / TWO_PI * dt
-        self._advance(self._demand + 0.5 * (v_0 + v_1) * dt, dt)
+        v_1 = v_0 + tau / self.inertia * self.counts_per_rev / TWO_PI * dt
+        self.step_position(self._demand + 0.5 * (v_0 + v_1) * dt, dt)
+        self._demand_vel = v_1
 
     def step_free(self, dt: float) -> None:
         self.set_position(self.position)

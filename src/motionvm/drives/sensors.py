@@ -5,7 +5,10 @@ active at or below `negative_limit`, the positive limit at or above `positive_li
 the home switch on [home_low, home_high]. Index pulses come every `index_spacing`
 counts at `index_offset` (+ n * spacing). Each cycle the drive passes the motor
 position before and after the cycle; edges are located exactly on the switch or index
-position, as a hardware latch would.
+position, as a hardware latch would. Between switch edges only the index pulse can
+change; the sensors keep the band of positions without a switch edge and the interval
+without an index pulse around the last position, and publish both together as the quiet
+interval, inside which a cycle changes nothing (the drive then skips `update`).
 
 Touch probes (CiA 402 0x60B8/0x60B9, 0x60BA..0x60BD): probe 1 samples the home switch
 or the index pulse, probe 2 an external input (digital input bit 17) or the index.
@@ -34,6 +37,14 @@ from motionvm.drives.objects import (
 class Sensors:
     """Switch and index signals derived from the motor position; touch probe latches."""
 
+    __slots__ = (  # set up in __init__
+        "_external", "_home_prev", "_index_high", "_index_low", "_index_n", "_probe_prev",
+        "_switch_external", "_switch_high", "_switch_inputs", "_switch_low", "_tp_function",
+        "_tp_function_prev", "has_switches", "home_high", "home_low", "index_offset",
+        "index_spacing", "latched", "negative_limit", "positive_limit", "quiet_high",
+        "quiet_inputs", "quiet_low", "tp_status"
+    )  # fmt: skip
+
     def __init__(
         self,
         negative_limit: float | None = None,
@@ -53,15 +64,49 @@ class Sensors:
             v is not None for v in (negative_limit, positive_limit, home_low, index_spacing)
         )
         """False if no switch or index is configured (the drive then skips `update`)."""
-        self.external = 0
-        """Input bits [0x60FD layout] set by the plant wiring, ORed into the result."""
-        self.tp_function = 0
+        self._external = 0
+        self._tp_function = 0
         self.tp_status = 0
         self.latched = [0, 0, 0, 0]
         """Touch probe values [counts]: 1 positive, 1 negative, 2 positive, 2 negative."""
         self._tp_function_prev = 0
         self._home_prev = False
         self._probe_prev = False
+        # Bands found by the last evaluation, so that a cycle that crosses no switch
+        # edge needs no new one: the switch band (an open interval of positions without
+        # a limit or home edge) with its inputs, and the index interval (positions with
+        # the same index number, see `_index_number`).
+        self._switch_low = self._switch_high = 0.0
+        self._switch_external = 0
+        self._switch_inputs = 0
+        self._index_low, self._index_high, self._index_n = math.inf, -math.inf, 0
+        self.quiet_low, self.quiet_high = math.inf, -math.inf
+        """The quiet interval [counts]: the switch band and the index interval of the
+        last `update`'s end position x, both (empty while a probe is on, and after a
+        write of `external` or `tp_function`). For x_0 = x and any x_1 inside,
+        `update(x_0, x_1)` would return `quiet_inputs` and change nothing, so the caller
+        may skip it."""
+        self.quiet_inputs = 0
+
+    @property
+    def external(self) -> int:
+        """Input bits [0x60FD layout] set by the plant wiring, ORed into the result."""
+        return self._external
+
+    @external.setter
+    def external(self, value: int) -> None:
+        self._external = value
+        self.quiet_low, self.quiet_high = math.inf, -math.inf  # the bands are stale
+
+    @property
+    def tp_function(self) -> int:
+        """Touch probe function (0x60B8)."""
+        return self._tp_function
+
+    @tp_function.setter
+    def tp_function(self, value: int) -> None:
+        self._tp_function = value
+        self.quiet_low, self.quiet_high = math.inf, -math.inf  # probes are evaluated
 
     @classmethod
     def from_config(cls, cfg: Config) -> Sensors:
@@ -109,15 +154,40 @@ class Sensors:
         return lo if entering_from_below else hi
 
     def update(self, x_0: float, x_1: float) -> int:
-        """Advance one cycle from motor position x_0 to x_1 [counts]; return 0x60FD."""
-        inputs = self.external
+        """Advance one cycle from motor position x_0 to x_1 [counts]; return 0x60FD.
+
+        Within the switch band of the last evaluation (same external inputs, no probe)
+        only the index pulse can change: it is found from the index numbers alone."""
+        if not (self._switch_low < x_1 < self._switch_high
+                and self.external == self._switch_external
+                and not (self.tp_function or self.tp_status)):  # fmt: skip
+            return self._evaluate(x_0, x_1)
+        inputs = self._switch_inputs
+        low, high = self._switch_low, self._switch_high
+        if self.index_spacing:
+            # x_0 is mostly in the index interval already (the last update's x_1)
+            n_0 = (self._index_n if self._index_low <= x_0 <= self._index_high
+                   else self._index_number(x_0))  # fmt: skip
+            if n_0 != self._index_number(x_1):
+                inputs |= DI_INDEX_PULSE
+            if self._index_low > low:
+                low = self._index_low
+            if self._index_high < high:
+                high = self._index_high
+        self.quiet_low, self.quiet_high = low, high
+        return inputs
+
+    def _evaluate(self, x_0: float, x_1: float) -> int:
+        """`update` from scratch: switches, index pulse, probes; then the new bands."""
+        bits = 0
         if self.negative_limit is not None and x_1 <= self.negative_limit:
-            inputs |= DI_NEGATIVE_LIMIT
+            bits |= DI_NEGATIVE_LIMIT
         if self.positive_limit is not None and x_1 >= self.positive_limit:
-            inputs |= DI_POSITIVE_LIMIT
+            bits |= DI_POSITIVE_LIMIT
         home = self._home(x_1)
         if home:
-            inputs |= DI_HOME_SWITCH
+            bits |= DI_HOME_SWITCH
+        inputs = self.external | bits
         index = self._index_crossed(x_0, x_1)
         if index is not None:
             inputs |= DI_INDEX_PULSE
@@ -126,7 +196,49 @@ class Sensors:
             self._probes(x_0, x_1, home, probe, index)
         self._home_prev = home
         self._probe_prev = probe
+        self._find_switch_band(x_1, self.external | bits)
         return inputs
+
+    def _find_switch_band(self, x: float, inputs: int) -> None:
+        """The widest open interval around x [counts] without a limit or home edge
+        (empty if x is on an edge or a probe is on): on it the switch inputs are `inputs`."""
+        low, high = -math.inf, math.inf
+        if self.tp_function or self.tp_status:
+            low = high = x
+        else:
+            for edge in (self.negative_limit, self.positive_limit, self.home_low, self.home_high):
+                if edge is not None:
+                    if edge < x:
+                        low = max(low, edge)
+                    elif edge > x:
+                        high = min(high, edge)
+                    else:
+                        low = high = x
+        self._switch_low, self._switch_high = low, high
+        self._switch_external = self.external
+        self._switch_inputs = self.quiet_inputs = inputs
+        if self.index_spacing and low < high:
+            self._index_number(x)
+            low, high = max(low, self._index_low), min(high, self._index_high)
+        self.quiet_low, self.quiet_high = low, high
+
+    def _index_number(self, x: float) -> int:
+        """floor((x - index_offset) / index_spacing), as `_index_crossed` computes it,
+        from the index interval when x lies in it. The floor of a rounded quotient grows
+        with x, so two ends that give n bound positions that give n; the ends are kept a
+        margin far above the rounding inside the exact interval, and checked."""
+        if self._index_low <= x <= self._index_high:
+            return self._index_n
+        offset, spacing = self.index_offset, self.index_spacing
+        n = math.floor((x - offset) / spacing)
+        lo, hi = offset + n * spacing, offset + (n + 1) * spacing
+        margin = 1e-6 * max(1.0, abs(lo), abs(hi))
+        lo, hi = min(lo + margin, x), max(hi - margin, x)  # x itself gives n
+        if math.floor((lo - offset) / spacing) == n == math.floor((hi - offset) / spacing):
+            self._index_low, self._index_high, self._index_n = lo, hi, n
+        else:  # a spacing too fine for the margin: no interval
+            self._index_low, self._index_high, self._index_n = math.inf, -math.inf, n
+        return n
 
     def _probes(self, x_0, x_1, home, probe, index) -> None:
         fn, prev = self.tp_function, self._tp_function_prev

@@ -8,12 +8,20 @@ Commands are methods that raise `AxisCommandError(code, message)` when the manua
 rules refuse them; `code` is the low half of the axis error (table 18.1.2.1). An
 accepted move makes `moving` true and `in_pos` false at once, in the calling cycle.
 Decisions where the manual is silent are documented at each method.
+
+A move is a value (`MoveAbsolute`, `MoveRelative`, `MoveVelocity`, `MovePvt`): the
+command queue of buffer mode 1 and a move deferred by a zero velocity scale hold them,
+and `_start` starts one. The parts of an axis: its profile generator `pg`, its `drive`
+(with mechanics and sensors), the feedback counts unwrapped from the drive's int32
+position actual, the reference source (profile, PVT, ramp, torque or a provider), the
+command queue, and the status (moving, in position, resting).
 """
 
 from __future__ import annotations
 
 import math
 from collections import deque
+from dataclasses import dataclass
 
 from motionvm.drives.objects import MODE_CSP, MODE_CST
 from motionvm.motion import axis_status as st
@@ -29,8 +37,58 @@ QUEUE_SIZE = 32
 """Commands an axis buffers in buffer mode 1 (eERR_AXIS_CMD_QUEUE_FULL beyond)."""
 
 
+# ---- moves, as the queue and a deferred start hold them ---------------------------------
+
+
+@dataclass(frozen=True, slots=True)
+class MoveAbsolute:
+    """Move to `target` [mm] and stop there."""
+
+    target: float
+
+
+@dataclass(frozen=True, slots=True)
+class MoveRelative:
+    """Move by `distance` [mm] from the reference where the move starts (buffered)."""
+
+    distance: float
+
+
+@dataclass(frozen=True, slots=True)
+class MoveVelocity:
+    """Jog at `velocity` [mm/s]; the sign is the direction."""
+
+    velocity: float
+
+
+@dataclass(frozen=True, slots=True)
+class MovePvt:
+    """Follow `trajectory` (times [s] from the start of the move)."""
+
+    trajectory: PvtTrajectory
+
+
+Move = MoveAbsolute | MoveRelative | MoveVelocity | MovePvt
+
+
 class Axis(AxisSettings, AxisCycle, AxisFollow):
     """One axis of the controller, stepped once per cycle by the motion kernel."""
+
+    __slots__ = (  # every attribute is set up in __init__: nothing can be bolted on
+        "_command_queue", "_commands_seen", "_cycle", "_deferred_move", "_digital_inputs",
+        "_enable_cycles", "_enable_timeout_cycles", "_enabling", "_error_stop",
+        "_fault_reset_cycles", "_feedback_counts", "_ignore_swl", "_in_pos_cycles",
+        "_in_pos_debounce_cycles", "_last_snapshot", "_max_pos_err", "_min_pos_err",
+        "_move_end_cycle", "_move_start_cycle", "_position_actual", "_provider", "_pvt_cycle",
+        "_pvt_trajectory", "_ramp_decel", "_ramp_vel", "_reference_source",
+        "_rest_after_cycles", "_rollover", "_still_cycles", "_sw_left", "_sw_right",
+        "_sw_stop_left", "_sw_stop_right", "_torque_per_mille", "_wake_key_at_rest", "axis_id",
+        "buffer_mode", "config", "controlled_by", "cpu", "drive", "dt", "enabled", "extra_status",
+        "fault_status", "halted", "ignore_hwl", "ignore_pe", "in_pos", "inpos_radius",
+        "kill_dec", "last_error", "move_time_ms", "moving", "op_mode", "pg", "pos_fb",
+        "pos_fb_raw", "pos_offset", "ref_acc", "ref_pos", "ref_vel", "resting", "rotary",
+        "settling_time_ms", "stopping", "vel_scale", "__weakref__"
+    )  # fmt: skip
 
     def __init__(self, axis_id: int, config: AxisConfig, dt: float, drive=None):
         self.axis_id = axis_id
@@ -38,13 +96,17 @@ class Axis(AxisSettings, AxisCycle, AxisFollow):
         self.dt = dt
         self.drive = drive if drive is not None else build_drive(config)
         self.cpu = config.counts_per_unit
+        """Encoder counts per axis unit [counts/mm or counts/deg]."""
         self.rotary = config.rotary
         self.kill_dec = config.kill_dec
-        self.sw_left, self.sw_right = config.sw_left, config.sw_right
+        self._sw_left, self._sw_right = config.sw_left, config.sw_right
+        self._ignore_swl = self._error_stop = False
+        self._rollover = 0.0
+        self._software_limits_changed()
         self.max_pos_err = config.max_pos_err
         self.inpos_radius = config.inpos_radius
-        self._debounce_cycles = round(config.inpos_debounce_ms / 1000.0 / dt)
-        self._enable_timeout = math.ceil(config.enable_timeout_ms / 1000.0 / dt)
+        self._in_pos_debounce_cycles = round(config.inpos_debounce_ms / 1000.0 / dt)
+        self._enable_timeout_cycles = math.ceil(config.enable_timeout_ms / 1000.0 / dt)
         self.pg = ProfileGenerator(dt, config.max_vel, config.max_acc, config.max_dec,
                                    config.smooth_time_ms / 1000.0, config.start_position)  # fmt: skip
         self.ignore_hwl = self.ignore_swl = self.ignore_pe = False
@@ -56,35 +118,43 @@ class Axis(AxisSettings, AxisCycle, AxisFollow):
         self.error_stop = self.stopping = self.halted = False
         self.moving = self.in_pos = False
         self.fault_status = self.last_error = 0
+        self.extra_status = 0
+        self.controlled_by: str | None = None
+        """Who commands the axis instead of the controller's tasks (a PDL drive), or None."""
+        """Bits that gear, group, gantry and homing set (3-9, 11, 12 of table 5.1.1.5)."""
         self.pos_offset = 0.0
         self.move_time_ms = self.settling_time_ms = 0.0
-        self._source = PG
-        self._ext = None  # the provider while following (axis_follow.py)
-        self._queue: deque = deque()
-        self._pvt: PvtTrajectory | None = None
-        self._deferred: tuple | None = None
-        self._n = 0
-        self._ramp_v = self._ramp_d = 0.0
-        self._torque_pm = 0
-        self._clearing: int | None = None  # cycles spent resetting a drive fault
+        # the reference: its source (axis_cycle.PG ...) and what each source needs
+        self._reference_source = PG
+        self._provider = None  # the provider while following (axis_follow.py)
+        self._command_queue: deque[Move] = deque()
+        self._deferred_move: Move | None = None  # waits for a velocity scale above 0
+        self._pvt_trajectory: PvtTrajectory | None = None
+        self._pvt_cycle = 0  # cycles since the PVT move started
+        self._ramp_vel = self._ramp_decel = 0.0  # [mm/s], [mm/s^2]
+        self._torque_per_mille = 0  # torque command [per mille of the rated torque]
+        # power: enable sequence and fault reset, counted in cycles
+        self._fault_reset_cycles: int | None = None  # while a drive fault is reset
         self._enable_cycles = 0
-        self._in_pos_count = 0
+        # status: the cycle count and the cycles a move started and ended
+        self._in_pos_cycles = 0
         self._cycle = 0
-        self._cmd_cycle = 0
-        self._end_cycle = -1
-        self._pa = self.drive.position_actual
-        self._fb_counts = self._pa
-        self._di = -1
-        self.pos_fb_raw = self.pos_fb = self._fb_counts / self.cpu
-        self.vel_fb = 0.0
+        self._move_start_cycle = 0
+        self._move_end_cycle = -1
+        # feedback: the drive's int32 position_actual unwrapped into feedback counts
+        self._position_actual = self.drive.position_actual
+        self._feedback_counts = self._position_actual
+        self._digital_inputs = -1  # the 0x60FD value last seen (-1: none yet)
+        self.pos_fb_raw = self.pos_fb = self._feedback_counts / self.cpu
         self.ref_pos, self.ref_vel, self.ref_acc = self.pos_fb, 0.0, 0.0
-        self._rest = False
-        self._rest_key: tuple = ()
-        self._last_snap: tuple = ()
-        self._still = 0
-        self._wake_count = 0
-        self._fast_ok: bool | None = None
-        self._rest_after = getattr(self.drive.mechanics, "delay_cycles", 0) + 3
+        # resting (axis_cycle.py)
+        self.resting = False
+        """True while the axis is a fixed point and skips its cycles (read only)."""
+        self._wake_key_at_rest: tuple = ()
+        self._last_snapshot: tuple = ()
+        self._still_cycles = 0
+        self._commands_seen = 0
+        self._rest_after_cycles = getattr(self.drive.mechanics, "delay_cycles", 0) + 3
 
     # ---- checks ---------------------------------------------------------------------
 
@@ -115,31 +185,31 @@ class Axis(AxisSettings, AxisCycle, AxisFollow):
     def _accepted(self) -> None:
         """A move was accepted: region I starts in this very cycle (figure 5.1.4)."""
         if not self.moving:
-            self._cmd_cycle = self._cycle
+            self._move_start_cycle = self._cycle
         self.moving = True
         self.in_pos = False
-        self._in_pos_count = 0
-        self._end_cycle = -1
+        self._in_pos_cycles = 0
+        self._move_end_cycle = -1
 
-    def _buffered(self, cmd: tuple) -> bool:
-        """Queue `cmd` if buffer mode 1 and the axis moves; True if queued."""
+    def _buffered(self, move: Move) -> bool:
+        """Queue `move` if buffer mode 1 and the axis moves; True if queued."""
         if self.buffer_mode == 1 and self.moving:
-            if len(self._queue) >= QUEUE_SIZE:
+            if len(self._command_queue) >= QUEUE_SIZE:
                 raise AxisCommandError(
                     st.CMD_QUEUE_FULL, f"axis {self.axis_id}: command queue full ({QUEUE_SIZE})"
                 )
-            self._queue.append(cmd)
+            self._command_queue.append(move)
             return True
         return False
 
     def _drop_motion(self) -> None:
-        self._queue.clear()
-        self._source = PG
+        self._command_queue.clear()
+        self._reference_source = PG
         self.pg.reset(self.pos_fb)
         self.ref_pos, self.ref_vel, self.ref_acc = self.pos_fb, 0.0, 0.0
-        self._torque_pm = 0
+        self._torque_per_mille = 0
         self.drive.target_torque = 0
-        self._deferred = None
+        self._deferred_move = None
         if self.halted:
             self.halted = False
             self.pg.set_velocity_scale(self.vel_scale / 100.0)
@@ -176,8 +246,8 @@ class Axis(AxisSettings, AxisCycle, AxisFollow):
         """
         self.wake()
         if self.fault_status & st.FS_DRIVE_FAULT:
-            if self._clearing is None:
-                self._clearing = 0
+            if self._fault_reset_cycles is None:
+                self._fault_reset_cycles = 0
             return
         self._clear_errors()
 
@@ -216,8 +286,9 @@ class Axis(AxisSettings, AxisCycle, AxisFollow):
         """Move to `pos` [mm]; while moving in buffer mode 0 the target changes on the fly."""
         self._require_motion_ok()
         target = self._check_target(pos)
-        if not self._buffered(("abs", target)):
-            self._start(("abs", target))
+        move = MoveAbsolute(target)
+        if not self._buffered(move):
+            self._start(move)
 
     def move_rel(self, dist: float) -> None:
         """Move `dist` [mm] from the current reference (buffered: from the previous end)."""
@@ -227,10 +298,10 @@ class Axis(AxisSettings, AxisCycle, AxisFollow):
                 st.CMD_INVALID_POS, f"axis {self.axis_id}: distance {dist!r} is not a number"
             )
         if self.buffer_mode == 1 and self.moving:
-            self._buffered(("rel", dist))
+            self._buffered(MoveRelative(dist))
             return
         base = self.ref_pos if self.following is None else self.pg.output[0]
-        self._start(("abs", self._check_target(base + dist)))
+        self._start(MoveAbsolute(self._check_target(base + dist)))
 
     def move_vel(self, vel: float) -> None:
         """Jog at `vel` [mm/s] (sign = direction), capped at the maximum velocity."""
@@ -239,8 +310,9 @@ class Axis(AxisSettings, AxisCycle, AxisFollow):
             raise AxisCommandError(
                 st.CMD_INVALID_VEL, f"axis {self.axis_id}: velocity {vel!r} is not a number"
             )
-        if not self._buffered(("vel", vel)):
-            self._start(("vel", vel))
+        move = MoveVelocity(vel)
+        if not self._buffered(move):
+            self._start(move)
 
     def move_pvt(self, times_ms: list[float], pos: list[float], vel: list[float]) -> None:
         """PVT motion through up to 50 points; times [ms] from now, positions absolute.
@@ -282,8 +354,9 @@ class Axis(AxisSettings, AxisCycle, AxisFollow):
                 f"axis {self.axis_id}: PVT acceleration {a_peak:g} "
                 f"exceeds the limit {self.config.acc_limit:g}",
             )
-        if not self._buffered(("pvt", traj)):
-            self._start(("pvt", traj))
+        move = MovePvt(traj)
+        if not self._buffered(move):
+            self._start(move)
 
     def move_trq(self, torque: float) -> None:
         """Torque command [N*m] in op mode 10, clamped to the continuous (rated) torque."""
@@ -294,42 +367,42 @@ class Axis(AxisSettings, AxisCycle, AxisFollow):
             )
         rated = self.drive.rated_torque_nm
         torque = max(-rated, min(rated, torque))
-        self._torque_pm = round(torque / rated * 1000.0)
-        self._source = TORQUE
-        if self._torque_pm:
+        self._torque_per_mille = round(torque / rated * 1000.0)
+        self._reference_source = TORQUE
+        if self._torque_per_mille:
             self._accepted()
 
-    def _start(self, cmd: tuple) -> None:
-        """Start `cmd` now. A new move ends a Halt; at a velocity scale of 0 a move from
+    def _start(self, move: Move) -> None:
+        """Start `move` now. A new move ends a Halt; at a velocity scale of 0 a move from
         rest waits (moving) until the scale is raised, as the generator would drop it."""
-        kind, arg = cmd
         self._accepted()
-        self._deferred = None
+        self._deferred_move = None
         if self.halted:
             self.halted = False
             self.pg.set_velocity_scale(self.vel_scale / 100.0)
-        if kind != "pvt" and self.pg.velocity_scale == 0.0 and self.pg.is_done:
-            self._deferred = cmd
+        is_pvt = type(move) is MovePvt
+        if not is_pvt and self.pg.velocity_scale == 0.0 and self.pg.is_done:
+            self._deferred_move = move
             return
-        if kind == "pvt":
-            self._source = PVT
-            self._pvt = arg
-            self._n = 0
+        if is_pvt:
+            self._reference_source = PVT
+            self._pvt_trajectory = move.trajectory
+            self._pvt_cycle = 0
             return
         if self.following is None:  # a gantry axis stays on its pair reference
-            self._source = PG
-        if kind == "abs":
-            self.pg.move_to(arg)
-        elif kind == "rel":
-            self.pg.move_to(self._check_target(self.ref_pos + arg))
+            self._reference_source = PG
+        if type(move) is MoveAbsolute:
+            self.pg.move_to(move.target)
+        elif type(move) is MoveRelative:
+            self.pg.move_to(self._check_target(self.ref_pos + move.distance))
         else:
-            self.pg.move_velocity(arg)
+            self.pg.move_velocity(move.velocity)
 
     def _start_next(self) -> None:
-        while self._queue:
-            cmd = self._queue.popleft()
+        while self._command_queue:
+            move = self._command_queue.popleft()
             try:
-                self._start(cmd)
+                self._start(move)
                 return
             except AxisCommandError as exc:  # e.g. a relative target beyond a limit
                 self.last_error = st.axis_error(exc.code, self.axis_id)
@@ -337,18 +410,18 @@ class Axis(AxisSettings, AxisCycle, AxisFollow):
     def stop(self, decel: float | None = None) -> None:
         """Stop at the maximum deceleration (or `decel`); clears the path planning."""
         self.wake()
-        self._queue.clear()
-        self._deferred = None
+        self._command_queue.clear()
+        self._deferred_move = None
         if not self.enabled or not self.moving:
             return
         decel = self.pg.d_max if decel is None else decel
         self.stopping = True
         self.halted = False
-        if self._source == PG or getattr(self.following, "accepts_moves", False):
+        if self._reference_source == PG or getattr(self.following, "accepts_moves", False):
             self.pg.set_velocity_scale(self.vel_scale / 100.0)
             self.pg.stop(decel)
-        elif self._source == TORQUE:
-            self._torque_pm = 0
+        elif self._reference_source == TORQUE:
+            self._torque_per_mille = 0
             self._start_ramp(self.vel_fb, decel)
         else:
             self._start_ramp(self.ref_vel, decel)
@@ -356,7 +429,7 @@ class Axis(AxisSettings, AxisCycle, AxisFollow):
     def halt(self) -> None:
         """Pause: the velocity goes to 0 and the move waits for Resume (still `moving`)."""
         self._require_motion_ok()
-        if self._source != PG:
+        if self._reference_source != PG:
             raise AxisCommandError(
                 st.CMD_INVALID_STATE, f"axis {self.axis_id}: Halt works on profile moves only"
             )

@@ -1,16 +1,20 @@
 """One motion cycle of an axis: reference, limits, PDO out, drive step, feedback, faults, status.
 
 Order in a cycle (after the tasks ran):
-  1. reference: the profile generator, a PVT trajectory, a fault ramp, or (torque mode)
-     the feedback itself;
+  1. reference: the profile generator, a PVT trajectory, a fault ramp, an external
+     provider, or (torque mode) the feedback itself;
   2. software limits on the reference (fault reaction: stop at kill deceleration);
   3. outputs: controlword and, by op mode, target position / velocity / torque;
   4. the drive steps one cycle;
-  5. feedback: position (unwrapped counts), velocity, statusword, digital inputs;
-     drive fault or abnormal disable -> disable; hardware limits -> kill stop;
-     position error beyond max_pos_err -> disable (table 5.1.1.4);
+  5. feedback: position (unwrapped counts), statusword, digital inputs; drive fault or
+     abnormal disable -> disable; hardware limits -> kill stop; position error beyond
+     max_pos_err -> disable (table 5.1.1.4);
   6. status: moving (region I of figure 5.1.4), in position (regions II/III: within the
-     target radius for the debounce time), accelerating; buffered commands start.
+     target radius for the debounce time); buffered commands start.
+
+`step` is the only implementation of this cycle. The common case (a profile move in
+CSP, no fault, no limit switch) runs straight through it; every rarer case branches
+off into a method of its own.
 
 An axis whose state is a fixed point (nothing changed for a few cycles, nothing pending)
 rests: its step only checks that no command or input woke it. Stepping it would give
@@ -28,243 +32,357 @@ from motionvm.drives.objects import (
     MODE_CSP,
     MODE_CSV,
     SW_FAULT,
+    SW_FOLLOWS_TARGET,
+    SW_REMOTE,
+    SW_VOLTAGE_ENABLED,
     State,
 )
 from motionvm.motion import axis_status as st
-from motionvm.motion.axis_fast import fast_step
 
 PG, PVT, RAMP, TORQUE, EXT = 0, 1, 2, 3, 4
 """Reference sources: profile generator, PVT, kill ramp, torque mode, an external
 provider (gear slave, gantry, homing) set with `Axis.follow`."""
 
 CW_DISABLE, CW_SHUTDOWN, CW_ENABLE, CW_FAULT_RESET = 0x00, 0x06, 0x0F, 0x80
+_OPERATION_ENABLED = State.OPERATION_ENABLED
+_FS_HW_LIMITS = st.FS_HW_RIGHT | st.FS_HW_LEFT
+_SW_CYCLIC = (State.OPERATION_ENABLED.value | SW_VOLTAGE_ENABLED | SW_REMOTE
+              | SW_FOLLOWS_TARGET)  # fmt: skip
+"""The statusword of a drive in Operation enabled in a cyclic mode, without fault or limit."""
 
 
 class AxisCycle:
     """The cyclic part of `Axis` (a mixin: the attributes are set up by `Axis.__init__`)."""
 
-    fast_path = True
-    """Use `axis_fast.fast_step` where it applies (False: always the general path)."""
-
-    # ---- 1. reference ---------------------------------------------------------------
-
-    def _reference(self) -> tuple[float, float, float]:
-        src = self._source
-        if src == PG:
-            pg = self.pg
-            if self._queue and pg.is_done:
-                self._start_next()
-                pg = self.pg
-            if self._source == PG:
-                return pg.step()
-            src = self._source
-        if src == PVT:
-            self._n += 1
-            p, v, a = self._pvt.evaluate(self._n * self.dt)
-            if self._n * self.dt >= self._pvt.duration:
-                self._source = PG
-                self.pg.reset(p)
-                return p, 0.0, (0.0 - self.ref_vel) / self.dt
-            return p, v, a
-        if src == RAMP:
-            v_0 = self._ramp_v
-            dv = self._ramp_d * self.dt
-            v_1 = 0.0 if abs(v_0) <= dv else v_0 - math.copysign(dv, v_0)
-            p = self.ref_pos + 0.5 * (v_0 + v_1) * self.dt
-            self._ramp_v = v_1
-            if v_1 == 0.0:
-                self._source = PG
-                self.pg.reset(p)
-            return p, v_1, (v_1 - v_0) / self.dt
-        if src == EXT:
-            return self._ext.reference(self)
-        return self.pos_fb, self.vel_fb, 0.0  # torque mode: the reference follows
+    __slots__ = ()
 
     # ---- the cycle ------------------------------------------------------------------
 
     def step(self) -> None:
         """Run this axis's part of one controller cycle."""
-        if self._rest:
-            if self._wake_key() == self._rest_key:
+        if self.resting:
+            if self._wake_key() == self._wake_key_at_rest:
                 return
-            self._rest = False
-            self._still = 0
-        if self.fast_path and fast_step(self):
-            return
-        self._fast_ok = None
-        d = self.drive
+            self.resting = False
+            self._still_cycles = 0
+        drive = self.drive
         self._cycle += 1
+        # 1.-3. reference, software limits, outputs
         if self.enabled:
-            p, v, a = self._reference()
-            self.ref_pos, self.ref_vel, self.ref_acc = p, v, a
-            if not (self.ignore_swl or self.rollover or self.error_stop) and self._source != TORQUE:
-                if p >= self.sw_right and v > 0.0:
+            if self._reference_source == PG and not self._command_queue:
+                p, v, a = self.pg.step()
+            else:
+                p, v, a = self._reference()
+            self.ref_pos = p
+            self.ref_vel = v
+            self.ref_acc = a
+            # the stop positions are +-inf while the software limits are off
+            if p >= self._sw_stop_right and v > 0.0:
+                if self._reference_source != TORQUE:
                     self._limit_stop(st.SWRL, st.FS_SW_RIGHT)
-                elif p <= self.sw_left and v < 0.0:
+            elif p <= self._sw_stop_left and v < 0.0:
+                if self._reference_source != TORQUE:
                     self._limit_stop(st.SWLL, st.FS_SW_LEFT)
             mode = self.op_mode
             if mode == MODE_CSP:
-                c = round((p + self.pos_offset) * self.cpu)
-                d.target_position = ((c + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+                # x.__round__() is round(x) without the built-in's method lookup
+                counts = ((p + self.pos_offset) * self.cpu).__round__()
+                if (counts + 0x80000000) >> 32:  # beyond int32: the target wraps
+                    counts = ((counts + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+                drive.target_position = counts
             elif mode == MODE_CSV:
-                d.target_velocity = round(v * self.cpu)
+                drive.target_velocity = round(v * self.cpu)
             else:
-                d.target_torque = self._torque_pm
-            cw = CW_ENABLE
+                drive.target_torque = self._torque_per_mille
+            drive.controlword = CW_ENABLE
         else:
-            cw = self._disabled_controlword()
-        if self._clearing is not None:
-            cw |= self._fault_reset_bit()
-        d.controlword = cw
-        d.step(self.dt)
-        self._feedback()
+            drive.controlword = self._disabled_controlword()
+        if self._fault_reset_cycles is not None:
+            drive.controlword |= self._fault_reset_bit()
+        # 4. the drive
+        drive.step(self.dt)
+        # 5. feedback and faults
+        position_actual = drive.position_actual
+        delta = position_actual - self._position_actual
+        if delta:
+            if (delta + 0x80000000) >> 32:  # beyond int32: the counter wrapped
+                delta = ((delta + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+            self._feedback_counts = counts = self._feedback_counts + delta
+            self._position_actual = position_actual
+            self.pos_fb_raw = raw = counts / self.cpu
+            self.pos_fb = raw - self.pos_offset
+        # an enabled axis needs a drive in Operation enabled following its cyclic
+        # target, no fault; any other statusword is looked at closely
+        enabled = self.enabled
+        if not enabled or drive.statusword != _SW_CYCLIC:
+            self._drive_state_changed(drive)
+            enabled = self.enabled
+        digital_inputs = drive.digital_inputs
+        if digital_inputs != self._digital_inputs:
+            self._hw_inputs(digital_inputs)
+        if enabled:
+            if self.fault_status & _FS_HW_LIMITS:
+                self._hw_limit_stop()
+            err = self.ref_pos - self.pos_fb
+            if (err > self._max_pos_err or err < self._min_pos_err) and not self.ignore_pe:
+                self._fault_disable(st.PERR, st.FS_POSITION_ERROR)
+                enabled = False
+        # 6. status
+        if enabled:
+            src = self._reference_source
+            if src == PG:
+                # region I lasts while the generator outputs new positions: until the
+                # first cycle that repeats the last one (the velocity is then 0)
+                moving = (self.ref_vel != 0.0 or not self.pg.is_done or bool(self._command_queue)
+                          or self._deferred_move is not None)  # fmt: skip
+            elif src == TORQUE:
+                moving = self._torque_per_mille != 0
+            elif src == EXT:  # a provider may say when its reference rests (gear, gantry)
+                ext = self._provider
+                moving = ext.moving(self) if hasattr(ext, "moving") else True
+            else:
+                moving = True
+            if moving:
+                self.moving = True
+                self.in_pos = False
+                self._in_pos_cycles = 0
+                self._still_cycles = 0
+                return
+            self._settle()
+        else:
+            self.moving = self.in_pos = False
+            self._in_pos_cycles = 0
         if self._idle_candidate():
             self._watch_rest()
         else:
-            self._still = 0
+            self._still_cycles = 0
+
+    @property
+    def max_pos_err(self) -> float:
+        """Position error protection range [mm]: beyond it the axis is disabled."""
+        return self._max_pos_err
+
+    @max_pos_err.setter
+    def max_pos_err(self, value: float) -> None:
+        self._max_pos_err, self._min_pos_err = value, -value
+
+    # ---- 2. software limits ---------------------------------------------------------
+
+    def _software_limits_changed(self) -> None:
+        """The stop positions of the cycle's limit check: the software limits while they
+        apply (not ignored, no rollover, no error stop yet), else +-inf."""
+        if self._ignore_swl or self._rollover or self._error_stop:
+            self._sw_stop_left, self._sw_stop_right = -math.inf, math.inf
+        else:
+            self._sw_stop_left, self._sw_stop_right = self._sw_left, self._sw_right
+
+    @property
+    def sw_left(self) -> float:
+        """Software left limit [mm] (SetSWLL)."""
+        return self._sw_left
+
+    @sw_left.setter
+    def sw_left(self, value: float) -> None:
+        self._sw_left = value
+        self._software_limits_changed()
+
+    @property
+    def sw_right(self) -> float:
+        """Software right limit [mm] (SetSWRL)."""
+        return self._sw_right
+
+    @sw_right.setter
+    def sw_right(self, value: float) -> None:
+        self._sw_right = value
+        self._software_limits_changed()
+
+    @property
+    def ignore_swl(self) -> bool:
+        """IgnoreSWL: no software limit check."""
+        return self._ignore_swl
+
+    @ignore_swl.setter
+    def ignore_swl(self, value: bool) -> None:
+        self._ignore_swl = value
+        self._software_limits_changed()
+
+    @property
+    def rollover(self) -> float:
+        """Single-turn range [mm or deg] (0: off); a rollover axis has no software limits."""
+        return self._rollover
+
+    @rollover.setter
+    def rollover(self, value: float) -> None:
+        self._rollover = value
+        self._software_limits_changed()
+
+    @property
+    def error_stop(self) -> bool:
+        """True after a fault or limit stop until Reset; the software limits rest then."""
+        return self._error_stop
+
+    @error_stop.setter
+    def error_stop(self, value: bool) -> None:
+        self._error_stop = value
+        self._software_limits_changed()
+
+    # ---- 1. reference ---------------------------------------------------------------
+
+    def _reference(self) -> tuple[float, float, float]:
+        """The reference of a cycle other than a plain profile move (see `step`)."""
+        src = self._reference_source
+        if src == PG:
+            pg = self.pg
+            if self._command_queue and pg.is_done:
+                self._start_next()
+            if self._reference_source == PG:
+                return pg.step()
+            src = self._reference_source
+        if src == PVT:
+            self._pvt_cycle += 1
+            t = self._pvt_cycle * self.dt
+            p, v, a = self._pvt_trajectory.evaluate(t)
+            if t >= self._pvt_trajectory.duration:
+                self._reference_source = PG
+                self.pg.reset(p)
+                return p, 0.0, (0.0 - self.ref_vel) / self.dt
+            return p, v, a
+        if src == RAMP:
+            v_0 = self._ramp_vel
+            dv = self._ramp_decel * self.dt
+            v_1 = 0.0 if abs(v_0) <= dv else v_0 - math.copysign(dv, v_0)
+            p = self.ref_pos + 0.5 * (v_0 + v_1) * self.dt
+            self._ramp_vel = v_1
+            if v_1 == 0.0:
+                self._reference_source = PG
+                self.pg.reset(p)
+            return p, v_1, (v_1 - v_0) / self.dt
+        if src == EXT:
+            return self._provider.reference(self)
+        return self.pos_fb, self.vel_fb, 0.0  # torque mode: the reference follows
+
+    # ---- 3. outputs while disabled --------------------------------------------------
 
     @property
     def vel_fb(self) -> float:
-        """Velocity feedback [mm/s]: the drive's actual velocity in axis units (the fast
-        cycle, axis_fast.py, leaves None: it is then computed when read)."""
-        v = self._vel_fb
-        return self.drive.velocity_actual / self.cpu if v is None else v
-
-    @vel_fb.setter
-    def vel_fb(self, value: float) -> None:
-        self._vel_fb = value
+        """Velocity feedback [mm/s]: the drive's actual velocity in axis units."""
+        return self.drive.velocity_actual / self.cpu
 
     def _disabled_controlword(self) -> int:
-        d = self.drive
-        pa = d.position_actual
-        d.target_position = pa  # an enabled drive then starts where it stands
+        drive = self.drive
+        drive.target_position = drive.position_actual  # an enabled drive starts where it stands
         if not self._enabling:
             self.ref_pos, self.ref_vel, self.ref_acc = self.pos_fb, 0.0, 0.0
             return CW_DISABLE
         self._enable_cycles += 1
-        if self._enable_cycles > self._enable_timeout:
+        if self._enable_cycles > self._enable_timeout_cycles:
             self._enabling = False
             self.last_error = st.axis_error(st.DRIVE_ENABLE_TOUT, self.axis_id)
             return CW_DISABLE
         return (
             CW_SHUTDOWN
-            if d.state in (State.SWITCH_ON_DISABLED, State.NOT_READY_TO_SWITCH_ON)
+            if drive.state in (State.SWITCH_ON_DISABLED, State.NOT_READY_TO_SWITCH_ON)
             else CW_ENABLE
         )
 
     def _fault_reset_bit(self) -> int:
         """Controlword bit 7 while a drive fault is reset: a rising edge every other cycle."""
-        self._clearing += 1
-        if self._clearing > self._enable_timeout:
-            self._clearing = None
+        self._fault_reset_cycles += 1
+        if self._fault_reset_cycles > self._enable_timeout_cycles:
+            self._fault_reset_cycles = None
             self.last_error = st.axis_error(st.DRIVE_CLEAR_ERROR_TOUT, self.axis_id)
             return 0
-        return CW_FAULT_RESET if self._clearing % 2 else 0
+        return CW_FAULT_RESET if self._fault_reset_cycles % 2 else 0
 
     # ---- 5. feedback and faults -----------------------------------------------------
 
-    def _feedback(self) -> None:
-        d = self.drive
-        pa = d.position_actual
-        delta = pa - self._pa
-        if delta:
-            self._fb_counts += ((delta + 0x80000000) & 0xFFFFFFFF) - 0x80000000
-            self._pa = pa
-            self.pos_fb_raw = self._fb_counts / self.cpu
-            self.pos_fb = self.pos_fb_raw - self.pos_offset
-        self._vel_fb = d.velocity_actual / self.cpu
-        state = d.state
-        if d.statusword & SW_FAULT:
+    def _drive_state_changed(self, drive) -> None:
+        """A drive fault came or went, or the power state is not the axis's: fault
+        reactions, the end of a fault reset, the end of the enable sequence."""
+        state = drive.state
+        if drive.statusword & SW_FAULT:
             self.fault_status |= st.FS_DRIVE_FAULT
             if not self.error_stop:
                 self._fault_disable(st.DRIVE_FAULT, 0)
         else:
             if self.fault_status & st.FS_DRIVE_FAULT:
                 self.fault_status &= ~st.FS_DRIVE_FAULT
-                if self._clearing is not None:
-                    self._clearing = None
+                if self._fault_reset_cycles is not None:
+                    self._fault_reset_cycles = None
                     self._clear_errors()
-            if self.enabled and state is not State.OPERATION_ENABLED:
+            if self.enabled and state is not _OPERATION_ENABLED:
                 self._fault_disable(st.DRIVE_ABNORMAL_DISABLE, 0)
-        if self._enabling and state is State.OPERATION_ENABLED:
+        if self._enabling and state is _OPERATION_ENABLED:
             self._enabling = False
             self.enabled = True
-            self._source = PG
+            self._reference_source = PG
             self.pg.reset(self.pos_fb)
             self.ref_pos, self.ref_vel, self.ref_acc = self.pos_fb, 0.0, 0.0
-            self._in_pos_count = 0
-        di = d.digital_inputs
-        if di != self._di:
-            self._hw_inputs(di)
-        if self.enabled:
-            self._enabled_checks()
-        self._update_status()
+            self._in_pos_cycles = 0
 
-    def _hw_inputs(self, di: int) -> None:
+    def _hw_inputs(self, digital_inputs: int) -> None:
         """New digital inputs: the hardware limit bits of fault_status follow the switches.
 
-        IgnoreHWL only suppresses the limit's fault reaction (`_enabled_checks`); the bits
+        IgnoreHWL only suppresses the limit's fault reaction (`_hw_limit_stop`); the bits
         and IsHWLL/IsHWRL still show the switches (0x60FD), as the manual's homing examples
         rely on when they search a limit switch with IgnoreHWL set."""
-        self._di = di
-        fs = self.fault_status & ~(st.FS_HW_RIGHT | st.FS_HW_LEFT)
-        if di & DI_POSITIVE_LIMIT:
+        self._digital_inputs = digital_inputs
+        fs = self.fault_status & ~_FS_HW_LIMITS
+        if digital_inputs & DI_POSITIVE_LIMIT:
             fs |= st.FS_HW_RIGHT
-        if di & DI_NEGATIVE_LIMIT:
+        if digital_inputs & DI_NEGATIVE_LIMIT:
             fs |= st.FS_HW_LEFT
         self.fault_status = fs
 
-    def _enabled_checks(self) -> None:
-        """Hardware limit in the direction of motion: kill stop; position error: disable."""
+    def _hw_limit_stop(self) -> None:
+        """A hardware limit switch is on: kill stop if the reference moves into it."""
         fs = self.fault_status
-        if fs & (st.FS_HW_RIGHT | st.FS_HW_LEFT) and not self.error_stop and not self.ignore_hwl:
+        if not self.error_stop and not self.ignore_hwl:
             v = self.ref_vel
             if fs & st.FS_HW_RIGHT and v > 0.0:
                 self._limit_stop(st.HWRL, st.FS_HW_RIGHT)
             elif fs & st.FS_HW_LEFT and v < 0.0:
                 self._limit_stop(st.HWLL, st.FS_HW_LEFT)
-        err = self.ref_pos - self.pos_fb
-        if (err > self.max_pos_err or -err > self.max_pos_err) and not self.ignore_pe:
-            self._fault_disable(st.PERR, st.FS_POSITION_ERROR)
 
-    def _update_status(self) -> None:
-        if not self.enabled:
-            self.moving = self.in_pos = False
-            self._in_pos_count = 0
-            return
-        src = self._source
-        if src == PG:
-            # region I lasts while the generator outputs new positions: until the
-            # first cycle that repeats the last one (the velocity is then 0)
-            moving = (not self.pg.is_done or self.ref_vel != 0.0 or bool(self._queue)
-                      or self._deferred is not None)  # fmt: skip
-        elif src == TORQUE:
-            moving = self._torque_pm != 0
-        elif src == EXT:  # a provider may say when its reference rests (gear, gantry)
-            moving = self._ext.moving(self) if hasattr(self._ext, "moving") else True
-        else:
-            moving = True
-        if moving:
-            self.moving = True
-            self.in_pos = False
-            self._in_pos_count = 0
-            return
+    # ---- 6. status ------------------------------------------------------------------
+
+    def _settle(self) -> None:
+        """The reference rests: region I ends, then in position after the debounce time."""
         if self.moving:  # region I ends
             self.moving = False
             self.stopping = False
-            self._end_cycle = end = max(self._cycle - 1, self._cmd_cycle)
-            self.move_time_ms = (end - self._cmd_cycle) * self.dt * 1000.0
+            self._move_end_cycle = end = max(self._cycle - 1, self._move_start_cycle)
+            self.move_time_ms = (end - self._move_start_cycle) * self.dt * 1000.0
         err = self.ref_pos - self.pos_fb
         if -self.inpos_radius <= err <= self.inpos_radius:
-            self._in_pos_count += 1
-            if not self.in_pos and self._in_pos_count > self._debounce_cycles:
+            self._in_pos_cycles += 1
+            if not self.in_pos and self._in_pos_cycles > self._in_pos_debounce_cycles:
                 self.in_pos = True
-                if self._end_cycle >= 0:
-                    self.settling_time_ms = (self._cycle - self._end_cycle) * self.dt * 1000.0
-                    self._end_cycle = -1
+                if self._move_end_cycle >= 0:
+                    self.settling_time_ms = (self._cycle - self._move_end_cycle) * self.dt * 1000.0
+                    self._move_end_cycle = -1
         else:
-            self._in_pos_count = 0
+            self._in_pos_cycles = 0
             self.in_pos = False
+
+    @property
+    def cruising(self) -> bool:
+        """True while the axis jogs at the constant velocity it was commanded and has
+        reached (MoveVel; not stopping or halted, nothing buffered) and no software or
+        hardware limit can stop it: nothing about its motion changes by itself."""
+        if not (self.moving and self.enabled and self._reference_source == PG) or (
+            self.stopping or self.halted or self.error_stop or self._command_queue
+            or self._deferred_move is not None or not self.pg.is_cruising
+        ):  # fmt: skip
+            return False
+        if not (self.ignore_swl or self.rollover):
+            return False  # a jog ends on a software limit, whichever way it goes
+        if not self.ignore_hwl:
+            sensors = self.drive.sensors
+            switch = sensors.positive_limit if self.ref_vel > 0.0 else sensors.negative_limit
+            if switch is not None:
+                return False
+        return True
 
     # ---- fault reactions (table 5.1.1.4) --------------------------------------------
 
@@ -273,9 +391,9 @@ class AxisCycle:
         self.fault_status |= bit | st.FS_ERROR_STOP
         self.error_stop = True
         self.last_error = st.axis_error(code, self.axis_id)
-        self._queue.clear()
+        self._command_queue.clear()
         self.stopping = True
-        if self._source == PG:
+        if self._reference_source == PG:
             self.pg.stop(self.kill_dec)
         else:
             self._start_ramp(self.ref_vel, self.kill_dec)
@@ -293,55 +411,49 @@ class AxisCycle:
         """Brake the reference from velocity v_0 to rest at `decel` (PVT and torque stops)."""
         if self.op_mode not in (MODE_CSP, MODE_CSV):
             self.op_mode = self.drive.mode = MODE_CSP
-            self._torque_pm = 0
-        self._source = RAMP
-        self._ramp_v = v_0
-        self._ramp_d = decel
+            self._torque_per_mille = 0
+        self._reference_source = RAMP
+        self._ramp_vel = v_0
+        self._ramp_decel = decel
 
     # ---- resting --------------------------------------------------------------------
 
     def _idle_candidate(self) -> bool:
-        if self.moving or self._enabling or self._clearing is not None:
+        if self.moving or self._enabling or self._fault_reset_cycles is not None:
             return False
         if self.enabled:
-            return self.in_pos and self._source == PG and not self._queue
+            return self.in_pos and self._reference_source == PG and not self._command_queue
         return True
 
     def _snapshot(self) -> tuple:
-        d = self.drive
-        m = d.mechanics
-        return (d.statusword, d.position_actual, d.velocity_actual, d.torque_actual,
-                d.digital_inputs, m.position, m.velocity, d.state, d._settled is d.state,
-                self.fault_status, self.ref_pos, self.pos_fb)  # fmt: skip
+        drive = self.drive
+        m = drive.mechanics
+        return (drive.statusword, drive.position_actual, drive.velocity_actual,
+                drive.torque_actual, drive.digital_inputs, m.position, m.velocity, drive.state,
+                drive.settled, self.fault_status, self.ref_pos, self.pos_fb)  # fmt: skip
 
     def _wake_key(self) -> tuple:
-        d = self.drive
-        # the drive has no public "quiescent" query: its fault latch is read directly
-        return (d.controlword, d.mode, d.target_position, d.target_velocity, d.target_torque,
-                d.tp_function, d.sensors.external, d._fault, self._wake_count)  # fmt: skip
+        drive = self.drive
+        return (drive.controlword, drive.mode, drive.target_position, drive.target_velocity,
+                drive.target_torque, drive.tp_function, drive.sensors.external,
+                drive.pending_fault, self._commands_seen)  # fmt: skip
 
     def _watch_rest(self) -> None:
         snap = self._snapshot()
-        if snap == self._last_snap and snap[8]:
-            self._still += 1
-            if self._still >= self._rest_after:
-                self._rest = True
-                self._rest_key = self._wake_key()
+        if snap == self._last_snapshot and snap[8]:
+            self._still_cycles += 1
+            if self._still_cycles >= self._rest_after_cycles:
+                self.resting = True
+                self._wake_key_at_rest = self._wake_key()
         else:
-            self._still = 0
-            self._last_snap = snap
-
-    @property
-    def resting(self) -> bool:
-        """True while the axis is a fixed point and skips its cycles."""
-        return self._rest
+            self._still_cycles = 0
+            self._last_snapshot = snap
 
     def wake(self) -> None:
         """Leave rest (every command calls this)."""
-        self._wake_count += 1
-        self._fast_ok = None
-        self._rest = False
-        self._still = 0
+        self._commands_seen += 1
+        self.resting = False
+        self._still_cycles = 0
 
     @property
     def home_switch(self) -> bool:

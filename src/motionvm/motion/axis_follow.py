@@ -20,22 +20,22 @@ class ReferenceProvider(Protocol):
 class AxisFollow:
     """Mixin of `Axis` (attributes set up by `Axis.__init__`)."""
 
+    __slots__ = ()
+
     def follow(self, provider: ReferenceProvider) -> None:
         """From the next cycle on, take the reference from `provider`."""
-        self._ext = provider
-        self._source = EXT
-        self._rest = False
-        self._fast_ok = None  # the fast path serves the profile generator only
+        self._provider = provider
+        self._reference_source = EXT
+        self.resting = False
 
     @property
     def following(self):
         """The provider the axis follows, or None."""
-        return self._ext if self._source == EXT else None
+        return self._provider if self._reference_source == EXT else None
 
     def release(self) -> None:
         """Return to the profile generator, starting from the current reference."""
-        if self._source == EXT:
-            self._ext = None
-            self._source = PG
-            self._fast_ok = None
+        if self._reference_source == EXT:
+            self._provider = None
+            self._reference_source = PG
             self.pg.reset(self.ref_pos)

@@ -20,7 +20,6 @@ from motionvm.drives.objects import (
 from motionvm.motion import axis_status as st
 from motionvm.motion.axis_cycle import PG
 from motionvm.motion.axis_status import AxisCommandError
-from motionvm.motion.profile import VELOCITY
 
 
 def _positive(value: float, code: int, what: str, axis_id: int) -> float:
@@ -31,6 +30,8 @@ def _positive(value: float, code: int, what: str, axis_id: int) -> float:
 
 class AxisSettings:
     """5.3 Get/Set functions of `Axis`."""
+
+    __slots__ = ()
 
     # ---- profile limits (5.3.1-5.3.10, 5.3.15-5.3.16) -------------------------------
 
@@ -116,7 +117,7 @@ class AxisSettings:
         self.pos_fb = self.pos_fb_raw - self.pos_offset
         self.ref_pos += shift
         self.pg.reset(self.ref_pos)
-        self._in_pos_count = 0
+        self._in_pos_cycles = 0
         self.in_pos = False
 
     @property
@@ -150,7 +151,7 @@ class AxisSettings:
             )
         setattr(self, "ignore_" + which, bool(on))
         if which == "hwl":
-            self._di = -1  # re-evaluate the switch bits next cycle
+            self._digital_inputs = -1  # re-evaluate the switch bits next cycle
 
     def set_vel_scale(self, percent: float) -> None:
         self.wake()
@@ -162,8 +163,8 @@ class AxisSettings:
         self.vel_scale = percent
         if not self.halted:
             self.pg.set_velocity_scale(percent / 100.0)
-            if percent > 0.0 and self._deferred is not None:
-                self._start(self._deferred)
+            if percent > 0.0 and self._deferred_move is not None:
+                self._start(self._deferred_move)
 
     def set_rollover(self, value: float) -> None:
         """Single-turn range [mm or deg], 0 = off; only while disabled (5.3.39)."""
@@ -185,10 +186,10 @@ class AxisSettings:
                 st.CMD_INVALID_OP_MODE, f"axis {self.axis_id}: op mode {mode} is not 8, 9 or 10"
             )
         self.op_mode = self.drive.mode = mode
-        self._torque_pm = 0
+        self._torque_per_mille = 0
         self.drive.target_torque = 0
         self.drive.target_velocity = 0
-        self._source = PG
+        self._reference_source = PG
         self.pg.reset(self.pos_fb)
         self.ref_pos, self.ref_vel, self.ref_acc = self.pos_fb, 0.0, 0.0
 
@@ -198,7 +199,7 @@ class AxisSettings:
             raise AxisCommandError(
                 st.CMD_INVALID_BUFFER_MODE, f"axis {self.axis_id}: buffer mode {mode} is not 0 or 1"
             )
-        if self._queue:
+        if self._command_queue:
             raise AxisCommandError(
                 st.CMD_INVALID_SETBUFFERMODE, f"axis {self.axis_id} has buffered commands"
             )
@@ -207,7 +208,7 @@ class AxisSettings:
     @property
     def cmd_num(self) -> int:
         """Commands waiting in the buffer (the one running is not counted)."""
-        return len(self._queue)
+        return len(self._command_queue)
 
     # ---- status words (tables 5.1.1.4, 5.1.1.5) -------------------------------------
 
@@ -216,20 +217,6 @@ class AxisSettings:
         """|ref_vel| grows; an |ref_acc| below 1e-6 * max_acc is rounding of a cruise."""
         a = self.ref_acc
         return self.moving and self.ref_vel * a > 0.0 and abs(a) > 1e-6 * self.pg.a_max
-
-    @property
-    def cruising(self) -> bool:
-        """True while the axis jogs (MoveVel) at a constant velocity it has reached: it
-        moves, but nothing about its motion changes until it is commanded again; an
-        |ref_acc| below 1e-6 * max_acc is rounding of a cruise (as in `accelerating`)."""
-        return (
-            self.moving
-            and self._source == PG
-            and self.pg.mode == VELOCITY
-            and not self.halted
-            and self.ref_vel != 0.0
-            and abs(self.ref_acc) <= 1e-6 * self.pg.a_max
-        )
 
     @property
     def motion_status(self) -> int:
@@ -243,9 +230,6 @@ class AxisSettings:
         if self.accelerating:
             s |= st.MS_ACCELERATING
         return s | self.extra_status
-
-    extra_status = 0
-    """Bits that gear, group, gantry and homing set (3-9, 11, 12 of table 5.1.1.5)."""
 
     # ---- variables by name (5.1.1) --------------------------------------------------
 
@@ -263,7 +247,7 @@ def _w(attr: str):
 
 _GETTERS = {
     "sync_pos_set": _w("ref_pos"),
-    "pg_pos_cmd": lambda a: a._wrapped(a.pg.target if a._source == PG else a.ref_pos),
+    "pg_pos_cmd": lambda a: a._wrapped(a.pg.target if a._reference_source == PG else a.ref_pos),
     "ref_pos": _w("ref_pos"),
     "ref_vel": lambda a: a.ref_vel,
     "ref_acc": lambda a: a.ref_acc,

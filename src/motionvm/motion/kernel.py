@@ -80,9 +80,6 @@ class MotionKernel:
         if self._bus_steps:
             self.ecat_state = self._bus_steps.pop(0)
         for a in self.step_order:
-            f = a._fast_ok  # the axis's fast cycle function, if it has one (axis_fast.py)
-            if f and not a._rest and f():
-                continue
             a.step()
 
     def busy(self) -> bool:
@@ -105,7 +102,7 @@ class MotionKernel:
         if self._bus_steps:
             return False
         for a in self.axes:
-            if not a._rest:
+            if not a.resting:
                 return False
         return True
 

@@ -27,7 +27,7 @@ from __future__ import annotations
 
 import math
 
-from motionvm.motion.tcurve import TCurve, plan_position, plan_velocity
+from motionvm.motion.tcurve import INF, TCurve, plan_position, plan_velocity
 
 IDLE, POSITION, VELOCITY, STOP = "idle", "position", "velocity", "stop"
 
@@ -55,7 +55,12 @@ class ProfileGenerator:
         "_out",
         "_p_f",
         "_plan",
+        "_seg_half_a",
         "_seg_i",
+        "_seg_p_0",
+        "_seg_t_0",
+        "_seg_t_1",
+        "_seg_v_0",
         "_segs",
         "_sum",
         "_tc_done",
@@ -187,6 +192,16 @@ class ProfileGenerator:
         return self._tc_done and self._out[0] == self._p_f and not self._pending()
 
     @property
+    def is_cruising(self) -> bool:
+        """True while a jog holds its final velocity: the T-curve is in its open-ended
+        cruise and every sample behind the last three outputs (the smoothing window, two
+        cycles more for the velocity and acceleration differences) is on it, so the
+        output moves on at that velocity until the next command."""
+        first = self._n - self._n_avg - 1  # the oldest sample of the last three outputs
+        return (self.mode == VELOCITY and not self._idle and self._seg_t_1 == INF
+                and first >= 1 and first * self.dt >= self._seg_t_0)  # fmt: skip
+
+    @property
     def is_halted(self) -> bool:
         """True while a move or jog rests at a zero velocity scale, waiting to go on."""
         return self._idle and self._pending()
@@ -234,9 +249,33 @@ class ProfileGenerator:
         self._plan = plan
         self._segs = plan.segs
         self._nseg = len(plan.segs)
-        self._seg_i = 0
         self._n = 0
         self._p_f = plan.p_f
+        self._enter_segment(0)
+
+    def _enter_segment(self, i: int) -> None:
+        """Make segment i the current one: its fields are what `step` evaluates.
+
+        `_seg_half_a` is 0.5 * a: `0.5 * a * x` is evaluated as `(0.5 * a) * x`, so the
+        product taken once per segment gives the same bits as `TCurve.evaluate`."""
+        self._seg_i = i
+        if i < self._nseg:
+            t_0, t_1, p_0, v_0, a = self._segs[i]
+            self._seg_t_0, self._seg_t_1, self._seg_p_0, self._seg_v_0 = t_0, t_1, p_0, v_0
+            self._seg_half_a = 0.5 * a
+        else:  # past the last segment: the plan holds p_f
+            self._seg_t_1 = INF
+            self._tc_done = True
+
+    def _segment_at(self, tau: float) -> bool:
+        """Advance the current segment to the one holding time tau [s]; True if tau is
+        past the last one (the T-curve is done)."""
+        i = self._seg_i
+        segs = self._segs
+        while i < self._nseg and tau >= segs[i][1]:
+            i += 1
+        self._enter_segment(i)
+        return self._tc_done
 
     def _start(self, plan: TCurve) -> None:
         if self._idle:
@@ -264,22 +303,13 @@ class ProfileGenerator:
             p = self._p_f
         else:
             tau = n * self.dt
-            i = self._seg_i
-            seg = self._segs[i]
-            while tau >= seg[1]:
-                i += 1
-                if i == self._nseg:
-                    break
-                seg = self._segs[i]
-            self._seg_i = i
-            if i == self._nseg:
-                self._tc_done = True
+            if tau >= self._seg_t_1 and self._segment_at(tau):
                 p = self._p_f
             else:
-                x = tau - seg[0]
-                p = seg[2] + (seg[3] + 0.5 * seg[4] * x) * x
-        n_avg = self._n_avg
-        if n_avg > 1:
+                x = tau - self._seg_t_0
+                p = self._seg_p_0 + (self._seg_v_0 + self._seg_half_a * x) * x
+        if self._n_avg > 1:
+            n_avg = self._n_avg
             r = p - self._base
             buf = self._buf
             j = self._j
@@ -293,16 +323,16 @@ class ProfileGenerator:
             self._sum = s
             if self._tc_done:
                 self._flush += 1
-                out = p if self._flush >= n_avg else self._base + s / n_avg
+                if self._flush < n_avg:
+                    p = self._base + s / n_avg
             else:
-                out = self._base + s / n_avg
-        else:
-            out = p
+                p = self._base + s / n_avg
         p_prev, v_prev, _ = self._out
-        v = (out - p_prev) * self._inv_dt
-        a = (v - v_prev) * self._inv_dt
-        self._out = res = (out, v, a)
-        if v == 0.0 and a == 0.0 and self._tc_done and out == self._p_f:
+        inv_dt = self._inv_dt
+        v = (p - p_prev) * inv_dt
+        a = (v - v_prev) * inv_dt
+        self._out = res = (p, v, a)
+        if v == 0.0 and a == 0.0 and self._tc_done and p == self._p_f:
             self._idle = True
             if not self._pending():
                 self.mode = IDLE
