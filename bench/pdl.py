@@ -10,7 +10,7 @@
    s = s + k;`), locals for scalars, lists for arrays, the 32-bit masking the
    algorithm needs. The ratio is PDL time / Python time; the RESULT is the median.
 
-Targets (issue 4): real-time factor >= 5, kernel ratio <= 2.0.
+Targets: real-time factor >= 5, kernel ratio <= 2.0.
 Run: python bench/pdl.py
 """
 

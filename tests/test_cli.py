@@ -1,4 +1,4 @@
-"""The command line contract of DESIGN.md: subcommands, exit codes, diagnostics, options."""
+"""The command line contract: subcommands, exit codes, diagnostics, options."""
 
 from __future__ import annotations
 

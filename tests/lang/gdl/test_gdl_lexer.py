@@ -1,4 +1,4 @@
-"""GDL lexer: the description's lexical rules, cases X1-X7 of GDL.md section 8."""
+"""GDL lexer: the description's lexical rules, case by case."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Snapshots of the generated Python for a few programs (STYLE.md item 11): a change in the
+"""Snapshots of the generated Python for a few programs: a change in the
 lowering shows up as a reviewed diff. Refresh with MOTIONVM_REGEN=1."""
 
 from __future__ import annotations

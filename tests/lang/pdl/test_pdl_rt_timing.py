@@ -1,6 +1,6 @@
 """PDL drive scheduling: phase clock, task_prior weights, sleep vs wait, lock, host control.
 
-The reference model is spec/PDL.md §2.6 (manual §1.1.1): runnable tasks take turns in
+The reference model is the manual's §1.1.1: runnable tasks take turns in
 task order, task n keeping max(task_prior[n], 1) consecutive phases; sleeping tasks
 are not runnable, waiting ones are and burn their phases.
 """
@@ -185,7 +185,7 @@ def test_host_writes_honour_ro_and_lp_w44() -> None:
     d.write("pgain", 0.25)
     assert d.read("pgain") == 0.25
     d.run(1.0)
-    assert d.read("pgain") == pytest.approx(0.7)  # PDL code itself may write it (G35)
+    assert d.read("pgain") == pytest.approx(0.7)  # PDL code itself may write it
 
 
 def test_promoted_loop_shares_globals_at_every_yield() -> None:

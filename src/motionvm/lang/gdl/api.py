@@ -3,7 +3,7 @@
 One `ProcedureApi` serves one procedure run. It checks what needs values: subscripts
 against ARRAY$SIZE, static limits of assigned values (PWM VALUE 0..1000, the integer
 range), operator arguments, division by zero and the WHILE iteration budget. A
-violation raises `GdlFault`: nothing is assigned and the run is aborted (GDL.md G9);
+violation raises `GdlFault`: nothing is assigned and the run is aborted;
 the RTS reports it at the user's line, read from the generated code's frame.
 """
 
@@ -19,7 +19,7 @@ if TYPE_CHECKING:
     from motionvm.lang.gdl.rts import Rts
 
 MAX_LOOP_ITERATIONS = 100_000
-"""WHILE iterations allowed in one procedure run before it is aborted (G25)."""
+"""WHILE iterations allowed in one procedure run before it is aborted."""
 
 
 class ProcedureApi:

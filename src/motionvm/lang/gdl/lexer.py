@@ -1,4 +1,4 @@
-"""GDL lexer: the description's lexical rules (text 3.1, GDL.md section 2).
+"""GDL lexer: the description's lexical rules (the GDL description, 3.1).
 
 - accepted characters: letters, digits, `& = + - * / ( ) , ; < > $ [ ] { } ' _ |`,
   SP, CR, LF, HT; anything else outside strings and comments is an error;
@@ -7,7 +7,7 @@
 - delimiters: single, and `<>`, `<=`, `>=` only when written together;
 - integers: at most 9 digits, no reals, the minus sign is a separate delimiter;
 - strings: `'...'`, at most 40 characters, HT becomes one space, a string continues
-  on the next line after an opening quote preceded only by spaces (G6);
+  on the next line after an opening quote preceded only by spaces;
 - comments: `|...|`, not nestable, anywhere between words, acting as a space.
 """
 

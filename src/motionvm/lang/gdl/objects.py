@@ -1,7 +1,7 @@
 """The GDL object-type table: parameters, state variables, operators and activators.
 
-The GDL description defines checks "per type" but lists almost no type in full (GDL.md
-G1), so the compiler and the RTS are driven by this one table (shapes in `objspec`).
+The GDL description defines checks "per type" but lists almost no type in full,
+so the compiler and the RTS are driven by this one table (shapes in `objspec`).
 Entries marked [T] come from the description; everything else is motionvm's proposal.
 `doc.py` renders the table into the package README.
 """
@@ -351,7 +351,7 @@ TYPE_BY_NAME: dict[str, ObjType] = {t.name: t for t in TYPES}
 
 GLOBAL_ACTIVATORS: dict[str, tuple[str, ...]] = {
     "ANY$DIAGN$STATUS": ("DIAGN$STATUS",),  # [T]
-    "ANY$OPERATING$CONDITION": ("OPERATING$CONDITION",),  # [P] the lost second one (G2)
+    "ANY$OPERATING$CONDITION": ("OPERATING$CONDITION",),  # [P] the lost second one
 }
 
 DIGITAL_CONSTANTS = ("ON", "OFF")

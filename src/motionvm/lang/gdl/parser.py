@@ -1,4 +1,4 @@
-"""GDL parser: hand-written recursive descent over the grammar of GDL.md section 9.3.
+"""GDL parser: hand-written recursive descent over the GDL grammar (docs/lang/gdl.md).
 
 Each `_parse_<rule>` carries its rule as a `# BNF:` comment; `docs/lang/gdl.md` is
 generated from those lines. Errors are reported to the sink and the parser recovers at

@@ -1,6 +1,6 @@
 """The GDL run-time support (RTS): object state, activators, the ready queue, output.
 
-Model (GDL.md 9.5, text 3.3):
+Model (the GDL description, 3.3):
 - Every state variable of every object element holds a value; values start from the
   declaration (INITIAL$VALUE, VALUE) or the type default. Initial values are not events.
 - A change of a state variable that is an activator *triggers*: every procedure whose
@@ -8,12 +8,12 @@ Model (GDL.md 9.5, text 3.3):
   order (files as given, modules and procedures in textual order). This is the fixed,
   documented order for procedures sharing an activator; programs needing an order
   chain through a DIGITAL$FLAG [T]. Writing the value a variable already has is no
-  change (G18).
+  change.
 - Procedures (lowered to Python by `lower.py`) run one at a time to completion, in
   zero simulated time; a change during a run (its own activator, an injected input)
   queues one more run behind it [T].
 - Forcing (`f` access, the debugger): a forced value hides every write until released;
-  forcing and releasing are changes like any other (G20).
+  forcing and releasing are changes like any other.
 - Time is the controller's clock (`runtime.clock.Clock`): an integer cycle count and the
   cycle time. The RTS never advances it; `client.GdlApplication` runs it once per cycle.
 
@@ -101,7 +101,7 @@ class Rts:
 
         `axes`: the machine axis of each motor object, by object key (`motors.assign_axes`).
         `shuffle_seed`: order procedures sharing an activator by a seeded permutation of
-        the link order instead (G13: a test that a program does not depend on the order).
+        the link order instead (a test that a program does not depend on the order).
         """
         self.app = app
         self.clock = clock

@@ -85,7 +85,7 @@ def builtin_signatures() -> dict[str, BuiltinSig]:
             params.append((p["name"], _PARAM_TYPES[p["type"]]))
         proto = e["prototype"]
         if name != e["prototype"].split("(")[0].split()[-1].lstrip("*") and "(" in proto:
-            # the digest keeps the manual's misspelt prototype (e.g. Idexp); show the real name
+            # hmpl_api.json keeps the manual's misspelt prototype (e.g. Idexp); show the real name
             head, _, tail = proto.partition("(")
             proto = re.sub(r"\w+$", name, head) + "(" + tail
         out[name] = BuiltinSig(

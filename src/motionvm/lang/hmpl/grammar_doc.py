@@ -1,5 +1,5 @@
 """Generate docs/lang/hmpl.md from the `# BNF:` lines of the HMPL parser (the grammar is the
-documentation: STYLE.md item 5). `python -m motionvm.lang.hmpl.grammar_doc` rewrites the file
+documentation). `python -m motionvm.lang.hmpl.grammar_doc` rewrites the file
 (run from the repository root); a test checks that it is current."""
 
 from __future__ import annotations

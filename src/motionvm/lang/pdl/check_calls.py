@@ -1,4 +1,4 @@
-"""PDL checker, calls: procedures (manual §1.3, spec/PDL.md §9.1) and built-in functions.
+"""PDL checker, calls: procedures (manual §1.3) and built-in functions.
 
 The number of arguments and each argument's type must match the declaration; there
 are no default arguments and no overloading. Arguments pass by value; a pointer

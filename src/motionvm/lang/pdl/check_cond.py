@@ -2,7 +2,7 @@
 
 A bare name in a condition must be a state; a short/long variable holding a state
 address is written `<var>`; relations compare numbers; TOUT takes an integer start
-time on the left and an integer duration on the right (spec/PDL.md §7).
+time on the left and an integer duration on the right.
 """
 
 from __future__ import annotations
@@ -17,7 +17,7 @@ if TYPE_CHECKING:
 
 
 def check_cond(sc: StatementChecker, c: n.Cond) -> None:
-    """Report names and operands that do not fit a condition (spec/PDL.md §7)."""
+    """Report names and operands that do not fit a condition."""
     if isinstance(c, n.Logic):
         for t in c.terms:
             check_cond(sc, t)

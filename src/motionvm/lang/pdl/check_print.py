@@ -2,7 +2,7 @@
 
 Up to 8 arguments; conversions follow C printf; `%s` takes the longs that hold a string,
 4 characters each, so with `%s` the argument count is only bounded from below. A
-conversion whose type does not fit its argument is a warning, as spec/PDL.md §11.1 says.
+conversion whose type does not fit its argument is a warning.
 """
 
 from __future__ import annotations

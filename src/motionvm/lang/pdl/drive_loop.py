@@ -1,7 +1,7 @@
 """The drive's phase loop: pick the task of each phase, resume it, step the axis.
 
 Kept apart from `drive_rt.Drive` because it is the hot path of a simulation: one
-iteration per 66.7 µs phase, locals only. Weighted round-robin as spec/PDL.md §2.6
+iteration per 66.7 µs phase, locals only. Weighted round-robin as `drive_rt`
 describes; a phase in which no task is runnable and the axis rests is skipped in one
 jump to the next wake-up (identical to stepping: nothing else changes meanwhile).
 

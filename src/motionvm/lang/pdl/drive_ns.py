@@ -1,8 +1,7 @@
 """The run-time API of generated PDL code: every name `lower*.py` emits, bound to one drive.
 
 `runtime_namespace(drive)` returns the globals dict the compiled module runs in. The
-generated code may use only these names (DESIGN.md: "generated code calls only the
-names of its run-time API module"):
+generated code calls only the names of this module:
 
     _M _H _F            long/short/float views of the drive memory
     _S _ST _MEND        system variable slots, state bytes, memory size [words]

@@ -1,6 +1,6 @@
 """The simulated PDL drive: 4 tasks on the 15 kHz phase clock, memory, axis, messages.
 
-Scheduling (manual §1.1.1, spec/PDL.md §2.6): time advances in phases of 1/15000 s;
+Scheduling (manual §1.1.1): time advances in phases of 1/15000 s;
 `fclk` counts them as a wrapping signed 32-bit value. The runnable tasks (started,
 not ended, not sleeping) take turns in increasing task number; task n keeps the CPU
 for max(task_prior[n], 1) consecutive phases. A task holding `lock` gets every phase
@@ -36,14 +36,14 @@ N_TASKS = 4
 
 @dataclass
 class DriveConfig:
-    """Drive parameters; the defaults are the manual's (spec/PDL.md §1.1)."""
+    """Drive parameters; the defaults are the manual's."""
 
     phase_rate: int = 15_000
-    """Phases per second [1/s] (G2: configurable, 20000 for older drives)."""
+    """Phases per second [1/s] (configurable, 20000 for older drives)."""
     budget: int = 1
     """Statements a task executes per phase."""
     wait_unit_us: int = 50
-    """`wait` unit [µs] (G1)."""
+    """`wait` unit [µs]."""
     max_depth: int = 64
     """Nested `call`s and procedure calls per task."""
     stack_words: int = 4096

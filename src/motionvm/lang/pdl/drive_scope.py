@@ -1,6 +1,6 @@
 """Scope channels of PDL drives: `driveN.<name>`, a drive's system variable, state or global.
 
-Names (README "Scope"): a system variable or state of spec/PDL.md §13 in any case, as
+Names (README "Scope"): a system variable or state of the drive (`sysvars.py`) in any case, as
 the drive's compiler reads them (`drive1.x_ref_pos` [count], `drive1.X_trg`,
 `drive1.fclk`, `drive1.x_run` [bool], `drive1.ref_pos[0]`), or a global of the drive's
 program (`drive1.p`, `drive1.tab[3]`). N is the drive's number: the id of the axis it
@@ -25,7 +25,7 @@ _UNIT_IN_DOC = re.compile(r"\[([^\]]+)\]\s*$")
 
 
 class PdlDriveSource:
-    """`driveN.<name>` of PDL drives: system variables and states (spec/PDL.md §13, any
+    """`driveN.<name>` of PDL drives: system variables and states (any
     case, as the drive's compiler reads them) and the program's global variables.
 
     `drives` maps a drive number (the axis id in a machine file) to its `Drive`. With

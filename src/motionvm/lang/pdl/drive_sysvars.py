@@ -1,6 +1,6 @@
 """Where the drive keeps its system variables and states, and what writing them does.
 
-The catalog (`sysvars.py`, spec/PDL.md §13) names them; here each numeric system
+The catalog (`sysvars.py`) names them; here each numeric system
 variable gets `size` slots of one Python list `S` (generated code reads `S[k]`), in
 catalog order, and each state is one byte of the status array `ST` at its bit address
 (`<state>` is that address). Writes go through `SysVarStore.write`, which converts to

@@ -1,8 +1,8 @@
 """PDL lexer: source text to tokens with positions; comments and `\\`-newline splices removed.
 
-Keywords and directives are case-insensitive (`Sleep`, `#Long`, spec/PDL.md G28): a
+Keywords and directives are case-insensitive (`Sleep`, `#Long`): a
 keyword token's `value` is its lower-case spelling. Identifiers keep their case.
-Typographic quotes from pasted PDF text are read as ASCII quotes (§0.2).
+Typographic quotes from pasted PDF text are read as ASCII quotes.
 """
 
 from __future__ import annotations

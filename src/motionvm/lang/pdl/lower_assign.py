@@ -1,4 +1,4 @@
-"""Lower the PDL assignment forms (manual §2.1, spec/PDL.md §6) to Python statements.
+"""Lower the PDL assignment forms (manual §2.1) to Python statements.
 
 Forms 1, 4, 6, compound operators, `sttovar` and `sizeof` become one store; form 2
 (initialiser lists) and 3 (strings, 4 characters per long, LSB first) write a block
@@ -39,7 +39,7 @@ _SIMPLE_FUNCS = {
 
 
 def pack_string(text: str) -> tuple[int, ...]:
-    """4 characters per signed 32-bit word, LSB first, the last word zero-padded (§6.7)."""
+    """4 characters per signed 32-bit word, LSB first, the last word zero-padded."""
     data = text.encode("latin-1", "replace")
     words = []
     for k in range(0, max(len(data), 1), 4):

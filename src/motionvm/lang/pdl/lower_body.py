@@ -130,7 +130,7 @@ class BodyLowerer(FlowLowering):
     # ------------------------------------------------------------ bodies
 
     def prepare_landings(self, labels: dict[str, LabelSym], items: tuple[n.Item, ...]) -> None:
-        """Mark the statements an indirect `goto label[i]` may land on (spec/PDL.md §8.4)."""
+        """Mark the statements an indirect `goto label[i]` may land on."""
         indirect = {s.label for s in _walk(items) if isinstance(s, n.Goto) and s.index is not None}
         for name in sorted(indirect):
             lab = labels.get(name)
@@ -244,7 +244,7 @@ class BodyLowerer(FlowLowering):
         ret.value = self.new_segment()
 
     def ret(self, pos: object) -> None:
-        """`ret`: back to the last `call`, or the end of the task if there is none (G4)."""
+        """`ret`: back to the last `call`, or the end of the task if there is none."""
         self.flush()
         self.uses_dispatch = True
         pop = ast.Call(

@@ -20,7 +20,7 @@ becomes
         M[7] = _w32(M[7] + M[8])
 
 A float stored into an integer rounds (`_rnd`, halves away from zero); `/` always
-divides as real numbers (spec/PDL.md §6.2, G3).
+divides as real numbers.
 """
 
 from __future__ import annotations
@@ -467,7 +467,7 @@ class ExprLowering:
     # ------------------------------------------------------------ stores
 
     def store(self, t: n.VarRef | n.Deref, value: ast.expr, kind: str) -> list[ast.stmt]:
-        """Statements storing `value` (of `kind`) into the target, converting as §4.7 says."""
+        """Statements storing `value` (of `kind`) into the target, converting to its type."""
         sym = self.sym(t)
         assert isinstance(sym, VarSym)
         if isinstance(t, n.Deref):

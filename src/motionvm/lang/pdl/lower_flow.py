@@ -105,7 +105,7 @@ class FlowLowering:
     def s_Loop(self: BodyLowerer, s: n.Loop, flat: bool) -> None:
         self.pending += 1
         count, _ = self.x.read(s.count)
-        # n is read once as an unsigned 16-bit count, 0 meaning 65536 (spec/PDL.md G29).
+        # n is read once as an unsigned 16-bit count, 0 meaning 65536.
         times = ast.BoolOp(
             op=ast.Or(), values=[binop(count, ast.BitAnd(), const(0xFFFF)), const(65536)]
         )

@@ -26,7 +26,7 @@ class FloatConst:
 
 @dataclass(frozen=True, slots=True)
 class StringConst:
-    """A string literal; in an assignment it packs 4 characters per long (§6.7)."""
+    """A string literal; in an assignment it packs 4 characters per long."""
 
     pos: SourcePos
     value: str
@@ -134,7 +134,7 @@ class StateTest:
 
 @dataclass(frozen=True, slots=True)
 class BitTest:
-    """`var->bit` (extension, G13): bit `bit` of an integer variable as a condition."""
+    """`var->bit` (an extension): bit `bit` of an integer variable as a condition."""
 
     pos: SourcePos
     var: VarRef
@@ -159,7 +159,7 @@ class Not:
 
 @dataclass(frozen=True, slots=True)
 class Logic:
-    """`t0 op0 t1 op1 t2 ...`: `&` and `|` evaluated left to right, equal precedence (G9)."""
+    """`t0 op0 t1 op1 t2 ...`: `&` and `|` evaluated left to right, equal precedence."""
 
     pos: SourcePos
     terms: tuple[Cond, ...]
@@ -266,7 +266,7 @@ class IncDec:
 
 @dataclass(frozen=True, slots=True)
 class Goto:
-    """`goto label;` or `goto label[index];` (index counts code units, §8.4)."""
+    """`goto label;` or `goto label[index];` (index counts code units)."""
 
     pos: SourcePos
     label: str

@@ -1,7 +1,7 @@
 """PDL parser: hand-written recursive descent from preprocessed tokens to `nodes.Program`.
 
-Each `_parse_<rule>` carries its `# BNF:` line; together they are the grammar of
-spec/PDL.md §14. Errors are reported to the sink and the parser resynchronises at the
+Each `_parse_<rule>` carries its `# BNF:` line; together they are the PDL grammar
+(docs/lang/pdl.md). Errors are reported to the sink and the parser resynchronises at the
 next `;` (or enters the `do` block it finds first, so `end`s stay matched). A missing
 `;` at the end of a line is reported and assumed, a name on its own line missing its
 `:` is reported and taken as a label: one typo, one message.

@@ -1,6 +1,6 @@
 """PDL preprocessor: #define/#undef, #ifdef family, #include, on the lexer's tokens.
 
-Directives are line-oriented and start a line (manual §2.5.3-§2.5.6, spec/PDL.md §12).
+Directives are line-oriented and start a line (manual §2.5.3-§2.5.6).
 A `#define` body is every token to the end of the (spliced) line, a trailing `;`
 included: `#define size 10;` makes `array[size]` read `array[10;]`, as the manual
 warns. Tokens copied from a macro body carry the position of the macro's use and the

@@ -1,4 +1,4 @@
-"""PDL built-in functions (manual §2.3, spec/PDL.md §10) and the arithmetic helpers of `%`.
+"""PDL built-in functions (manual §2.3) and the arithmetic helpers of `%`.
 
 Each function takes Python numbers and returns the exact value the manual states;
 the generated code then converts it to the target's type like any assignment
@@ -28,7 +28,7 @@ def f32(x: float) -> float:
 
 
 def c_mod(a: float, b: float) -> int:
-    """`a % b` as C: the remainder takes the sign of the dividend (spec/PDL.md §6.2)."""
+    """`a % b` as C: the remainder takes the sign of the dividend."""
     if b == 0:
         raise RuntimeFault("division by zero (remainder '%')")
     r = abs(a) % abs(b)
@@ -71,7 +71,7 @@ def f_sqrt(a: float) -> float:
 
 
 def shift(a: int, n: int) -> int:
-    """Shift the 32-bit pattern left (n > 0) or right, zero-filled (n < 0); G24."""
+    """Shift the 32-bit pattern left (n > 0) or right, zero-filled (n < 0)."""
     if n >= 32 or n <= -32:
         return 0
     u = a & MASK32

@@ -9,7 +9,7 @@ pointers are word addresses):
 
 * a long or float element: its word index (1..);
 * a short element: SHORT_TAG + its half-word index, because two shorts share a word
-  and a long pointer may point to a short (spec/PDL.md §4.8, G26).
+  and a long pointer may point to a short.
 
 Pointer arithmetic counts elements, so it is plain integer addition on both forms.
 Every word has a kind in `kinds` (LONG, FLOAT, SHORT, or FREE); dereferencing checks
@@ -41,7 +41,7 @@ def w32(v: int) -> int:
 
 
 def w16(v: int) -> int:
-    """Keep the low 16 bits as a signed short (long -> short, spec/PDL.md §4.7)."""
+    """Keep the low 16 bits as a signed short (long -> short)."""
     return ((v + 0x8000) & 0xFFFF) - 0x8000
 
 
@@ -70,7 +70,7 @@ class Memory:
         self._global_kinds[word : word + n_words] = bytes([kind]) * n_words
 
     def clear(self) -> None:
-        """Zero every variable (drive reset, spec/PDL.md §4.5)."""
+        """Zero every variable (drive reset)."""
         self.buf[:] = bytes(len(self.buf))
         self.kinds[:] = self._global_kinds
 
@@ -196,7 +196,7 @@ INT_LIMITS = {32: (-0x8000_0000, 0x7FFF_FFFF), 16: (-0x8000, 0x7FFF)}
 
 
 def round_int(x: float, bits: int = 32) -> int:
-    """A float stored into an integer: nearest, halves away from zero, saturated (§4.7, G3)."""
+    """A float stored into an integer: nearest, halves away from zero, saturated."""
     if math.isnan(x):
         return 0
     lo, hi = INT_LIMITS[bits]

@@ -1,4 +1,4 @@
-"""printl/prints/retprintl message formatting (manual §2.4, spec/PDL.md §11.1).
+"""printl/prints/retprintl message formatting (manual §2.4).
 
 A format is split once, at compile time, by `printfmt.parse_format`; at run time the
 argument values are captured when the statement executes and formatted as C printf
@@ -8,7 +8,7 @@ would on the drive's 32-bit values:
   pattern; `%c`: the low byte as a character;
 * `%g` (and `%f`, `%e`): a float; an integer argument is converted numerically;
 * `%s`: takes consecutive arguments, 4 characters each, LSB first, up to and including
-  the first one holding a NUL byte (G19).
+  the first one holding a NUL byte.
 
 A float given to an integer conversion is rounded first (the checker warns).
 """

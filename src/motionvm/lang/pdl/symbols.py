@@ -14,7 +14,7 @@ from motionvm.lang.pdl.sysvars import SysVar
 from motionvm.source.files import SourcePos
 
 MAX_VAR_NAME = 17
-"""User-variable name length (manual §1; §2.5.2 says 15, G6)."""
+"""User-variable name length (manual §1; §2.5.2 says 15)."""
 
 PORTABLE_VAR_NAME = 15
 MAX_LABEL_NAME = 24
@@ -135,7 +135,7 @@ def sym_kind_text(sym: VarSym) -> str:
 
 
 def code_units(item: n.Item) -> int:
-    """Size of a statement in drive code units ([P] spec/PDL.md §8.4, G7).
+    """Size of a statement in drive code units (the manual gives none: ours).
 
     goto and exitproc are 1 unit, printl/prints/retprintl with k arguments 2 + k, so
     `goto label[i]` can step over tables of them as the manual's examples do.

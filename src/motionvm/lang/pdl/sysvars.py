@@ -1,6 +1,6 @@
-"""The drive's system variables and states that PDL programs use (spec/PDL.md §13).
+"""The drive's system variables and states that PDL programs use.
 
-The manual has no table of them (G36); this catalog holds every name its text and
+The manual has no table of them; this catalog holds every name its text and
 examples use, with a type, an element count and whether a program may write it. The
 checker reads it to resolve names; the drive run time implements the same names.
 Lookup ignores case: the manual itself writes `X_vel_max` and `x_jvl`, `X_LL` and
@@ -76,7 +76,7 @@ def _build() -> dict[str, SysVar]:
     for i, (name, kind, size, ro, doc) in enumerate(_VARIABLES):
         table[name.lower()] = SysVar(name, kind, size, ro, doc, i)
     for bit, (name, is_input, doc) in enumerate(_STATES):
-        # Inputs and internal states may be written, but the drive refreshes them (§11.4).
+        # Inputs and internal states may be written, but the drive refreshes them.
         table[name.lower()] = SysVar(name, "state", 1, False, doc, bit, is_input)
     return table
 
