@@ -17,8 +17,7 @@ import time
 
 from motionvm.api import Simulation
 from motionvm.lang.hmpl.compiler import TaskFile
-from motionvm.motion.kernel import MotionKernel
-from motionvm.sim.machine import default_axes
+from motionvm.sim.machine import MachineConfig, default_axes
 
 TASK = """
 int seed = SEED;
@@ -50,10 +49,8 @@ def _sources(n_axes: int) -> list[str]:
 
 def simulation(n_axes: int) -> Simulation:
     """The benchmark's simulation with `n_axes` default axes (not yet run)."""
-    sim = Simulation([TaskFile(i, f"bench{i}.hmpl", s) for i, s in enumerate(_sources(n_axes))])
-    # the host API builds the default machine; swap in n axes before the first cycle
-    sim.controller.motion = MotionKernel(list(default_axes(n_axes)), sim.controller.cycle_time)
-    return sim
+    tasks = [TaskFile(i, f"bench{i}.hmpl", s) for i, s in enumerate(_sources(n_axes))]
+    return Simulation(tasks, machine=MachineConfig(axes=default_axes(n_axes)))
 
 
 def measure(n_axes: int, seconds: float, repeat: int = 3) -> float:

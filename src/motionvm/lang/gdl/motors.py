@@ -85,13 +85,13 @@ def assign_axes(
             )
         out[obj.key] = axes[spec.axis]
     taken = {id(a) for a in out.values()}
-    free = iter(a for a in axes if id(a) not in taken and getattr(a, "controlled_by", None) is None)
+    free = iter(a for a in axes if id(a) not in taken and a.controlled_by is None)
     for obj in motors:
         if obj.key in out:
             continue
         axis = next(free, None)
         if axis is None:
-            owned = sum(1 for a in axes if getattr(a, "controlled_by", None) is not None)
+            owned = sum(1 for a in axes if a.controlled_by is not None)
             needed = owned + len(motors)
             raise GdlMachineError(
                 f"{obj.pos.file}:{obj.pos.line}: motor {obj.name} has no machine axis: the "

@@ -36,7 +36,7 @@ class AxisCommands(CommandBase):
         a = self._axis(axis_id)
         if a is None:
             return st.SYS_HMPL_ARG_OUT_OF_RANGE
-        if getattr(a, "controlled_by", None):  # a PDL program runs the drive
+        if a.controlled_by is not None:  # a PDL program or a GDL motor owns the axis
             return self._fail(a, st.CMD_INVALID_CONTROL_MODE)
         return self._run(a, getattr(a, method), *args)
 
