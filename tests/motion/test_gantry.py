@@ -11,8 +11,8 @@ from hypothesis import strategies as hs
 from motionvm.motion import axis_status as st
 from motionvm.motion import gear
 from motionvm.motion.axis_config import create
-from motionvm.motion.gantry import ENABLING, OFF, STOPPING, from_axes, gantries_of, to_axes
-from motionvm.motion.gear import SyncError, gearbox_of
+from motionvm.motion.gantry import ENABLING, OFF, STOPPING, from_axes, to_axes
+from motionvm.motion.gear import SyncError
 from motionvm.motion.kernel import MotionKernel
 from motionvm.motion.tolerances import P_TOL
 
@@ -26,7 +26,7 @@ def kernel(n: int = 4, **config) -> MotionKernel:
 
 def cycle(k: MotionKernel) -> None:
     """One cycle: the gantry step (before the tasks), then the motion phase."""
-    gantries_of(k).step()
+    k.gantries.step()
     k.step()
 
 
@@ -39,7 +39,7 @@ def run_until(k: MotionKernel, cond, limit: int = 100_000) -> int:
 
 
 def paired(k: MotionKernel, rhs: int = 0, lhs: int = 1):
-    g = gantries_of(k).enable_pair(k.axes[rhs], k.axes[lhs])
+    g = k.gantries.enable_pair(k.axes[rhs], k.axes[lhs])
     k.axes[rhs].enable()
     run_until(k, lambda: g.engaged)
     return g
@@ -68,7 +68,7 @@ def test_transform_of_the_manual():
 def test_enabling_one_axis_enables_the_pair_and_engages_without_a_jump():
     k = kernel(start_position=0.0)
     k.axes[1].drive.mechanics.position = 0.0
-    g = gantries_of(k).enable_pair(k.axes[0], k.axes[1])
+    g = k.gantries.enable_pair(k.axes[0], k.axes[1])
     assert g.pair_id == 0 and g.state == OFF
     assert all(a.motion_status & st.MS_GANTRY for a in g.axes)
     k.axes[0].enable()
@@ -148,7 +148,7 @@ def test_a_stop_of_one_axis_stops_both_and_the_pair_re_engages():
 
 def test_pair_ids_and_queries():
     k = kernel(6)
-    gs = gantries_of(k)
+    gs = k.gantries
     a = k.axes
     assert gs.enable_pair(a[2], a[3]).pair_id == 0
     assert gs.enable_pair(a[4], a[0]).pair_id == 1
@@ -163,7 +163,7 @@ def test_pair_ids_and_queries():
 
 def test_commands_refused_with_the_manual_codes():
     k = kernel(4)
-    gs = gantries_of(k)
+    gs = k.gantries
     a = k.axes
     with pytest.raises(SyncError) as e:
         gs.enable_pair(a[0], a[0])
@@ -175,7 +175,7 @@ def test_commands_refused_with_the_manual_codes():
     assert (e.value.code, e.value.axis_id) == (st.CMD_INVALID_ENABLED, 1)
     a[2].enable()
     run_until(k, lambda: a[2].enabled)
-    gearbox_of(k).enable_gear(a[1], a[2])
+    k.gears.enable_gear(a[1], a[2])
     a[1].disable()
     a[2].disable()
     cycle(k)
@@ -193,7 +193,7 @@ def test_commands_refused_with_the_manual_codes():
     assert e.value.code == st.CMD_INVALID_ENABLED
     a[3].enable()
     with pytest.raises(SyncError) as e:  # a gantry axis cannot be geared
-        gearbox_of(k).enable_gear(a[3], a[1])
+        k.gears.enable_gear(a[3], a[1])
     assert (e.value.code, e.value.axis_id) == (gear.CMD_INVALID_GANTRY_MODE, 3)
 
 
@@ -204,12 +204,12 @@ def test_a_partner_in_error_stop_keeps_the_pair_off():
     run_until(k, lambda: l.enabled)
     l.drive.inject_fault(0x7500)
     run_until(k, lambda: l.error_stop)
-    gantries_of(k).enable_pair(r, l)
+    k.gantries.enable_pair(r, l)
     r.enable()
     run_until(k, lambda: r.enabled)
     cycle(k)
     cycle(k)
-    assert not r.enabled and gantries_of(k).pair_of(0).state == OFF
+    assert not r.enabled and k.gantries.pair_of(0).state == OFF
 
 
 def test_two_runs_give_identical_traces():

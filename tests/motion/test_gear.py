@@ -13,7 +13,7 @@ from hypothesis import strategies as hs
 from motionvm.motion import axis_status as st
 from motionvm.motion import gear
 from motionvm.motion.axis_config import create
-from motionvm.motion.gear import DISENGAGED, ENGAGED, ENGAGING, SyncError, gearbox_of
+from motionvm.motion.gear import DISENGAGED, ENGAGED, ENGAGING, SyncError
 from motionvm.motion.kernel import MotionKernel
 from motionvm.motion.tolerances import P_TOL, limit_slack
 
@@ -37,7 +37,7 @@ def run_until(k: MotionKernel, cond, limit: int = 100_000) -> int:
 
 
 def geared(k: MotionKernel, master: int, slave: int, ratio: float):
-    box = gearbox_of(k)
+    box = k.gears
     box.enable_gear(k.axes[master], k.axes[slave])
     box.gear_in(k.axes[master], k.axes[slave], ratio)
     return box.gear_of(slave)
@@ -47,7 +47,7 @@ def geared(k: MotionKernel, master: int, slave: int, ratio: float):
 def test_slave_follows_the_master_command_times_the_ratio_in_the_same_cycle(ratio):
     k = kernel()
     g = geared(k, 0, 1, ratio)
-    assert g.in_gear and gearbox_of(k).lag_cycles(1) == 0
+    assert g.in_gear and k.gears.lag_cycles(1) == 0
     m, s = k.axes[0], k.axes[1]
     m.move_abs(100.0)
     for _ in range(300):
@@ -77,7 +77,7 @@ def test_gearing_is_relative_to_where_both_axes_stand():
 def test_a_master_with_a_higher_id_is_seen_late_only_if_it_steps_after_its_slave():
     k = kernel()
     geared(k, 3, 1, 2.0)
-    lag = gearbox_of(k).lag_cycles(1)
+    lag = k.gears.lag_cycles(1)
     order = getattr(k, "step_order", k.axes)
     assert lag == (1 if order.index(k.axes[3]) > order.index(k.axes[1]) else 0)
     m, s = k.axes[3], k.axes[1]
@@ -93,7 +93,7 @@ def test_a_master_with_a_higher_id_is_seen_late_only_if_it_steps_after_its_slave
 def test_a_kernel_with_a_step_order_steps_masters_first():
     k = kernel(4)
     k.step_order = list(k.axes)
-    box = gearbox_of(k)
+    box = k.gears
     geared(k, 3, 1, 1.0)
     geared(k, 2, 0, 1.0)
     assert [a.axis_id for a in k.step_order] == [2, 3, 0, 1]
@@ -106,7 +106,7 @@ def test_a_kernel_with_a_step_order_steps_masters_first():
 def test_gear_in_on_a_moving_master_ramps_the_ratio_at_the_slave_acceleration():
     k = kernel()
     m, s = k.axes[0], k.axes[1]
-    box = gearbox_of(k)
+    box = k.gears
     box.enable_gear(m, s)
     m.move_vel(500.0)
     run_until(k, lambda: abs(m.ref_vel - 500.0) < 1e-6)
@@ -132,8 +132,8 @@ def test_gear_out_brakes_the_slave_and_hands_it_back_to_its_profile_generator():
     run_until(k, lambda: abs(m.ref_vel - 400.0) < 1e-6)
     k.step()
     assert s.ref_vel == pytest.approx(-400.0)
-    gearbox_of(k).gear_out(s)
-    assert not gearbox_of(k).is_in_gear(1)
+    k.gears.gear_out(s)
+    assert not k.gears.is_in_gear(1)
     n = run_until(k, lambda: s.following is None)
     assert n == pytest.approx(400.0 / s.pg.d_max / DT, abs=1)
     assert s.ref_vel == 0.0
@@ -150,7 +150,7 @@ def test_gear_out_brakes_the_slave_and_hands_it_back_to_its_profile_generator():
 def test_gear_out_of_a_resting_slave_lets_go_at_once_and_disable_gear_uncouples():
     k = kernel()
     s = k.axes[1]
-    box = gearbox_of(k)
+    box = k.gears
     geared(k, 0, 1, 2.0)
     assert s.motion_status & st.MS_GEAR and s.motion_status & st.MS_SYNC
     assert box.is_master(0) and box.is_slave(1) and box.ratio(1) == 2.0
@@ -181,7 +181,7 @@ def test_changing_the_ratio_while_engaged_ramps_from_the_old_one():
     g = geared(k, 0, 1, 1.0)
     m.move_vel(200.0)
     run_until(k, lambda: abs(m.ref_vel - 200.0) < 1e-6)
-    gearbox_of(k).gear_in(m, s, 3.0)
+    k.gears.gear_in(m, s, 3.0)
     assert g.state == ENGAGING
     run_until(k, lambda: g.in_gear)
     k.step()
@@ -206,7 +206,7 @@ def test_a_slave_that_faults_leaves_its_gear():
     g = geared(k, 0, 1, 1.0)
     s.disable()
     assert not g.in_gear and g.state == DISENGAGED
-    assert gearbox_of(k).is_slave(1)
+    assert k.gears.is_slave(1)
 
 
 @pytest.mark.parametrize(
@@ -221,14 +221,14 @@ def test_a_slave_that_faults_leaves_its_gear():
 def test_commands_refused_with_the_manual_codes(call, code, axis):
     k = kernel(2)
     with pytest.raises(SyncError) as e:
-        call(gearbox_of(k), k.axes)
+        call(k.gears, k.axes)
     assert (e.value.code, e.value.axis_id) == (code, axis)
 
 
 def test_bad_ratios_states_and_chains_are_refused():
     k = kernel(4)
     a = k.axes
-    box = gearbox_of(k)
+    box = k.gears
     box.enable_gear(a[0], a[1])
     for ratio in (0.0, math.nan, math.inf, 1001.0):
         with pytest.raises(SyncError) as e:
@@ -268,7 +268,7 @@ def test_two_runs_give_identical_traces():
         rows = []
         for i in range(400):
             if i == 150:
-                gearbox_of(k).gear_out(k.axes[1])
+                k.gears.gear_out(k.axes[1])
             k.step()
             rows.append(tuple((a.ref_pos, a.pos_fb, a.motion_status) for a in k.axes))
         return rows
@@ -326,7 +326,7 @@ def test_property_gear_in_on_a_cruising_master_keeps_the_slave_acceleration(rati
         a.enable()
     run_until(k, lambda: all(a.enabled for a in k.axes))
     m, s = k.axes
-    box = gearbox_of(k)
+    box = k.gears
     box.enable_gear(m, s)
     m.move_vel(v_m)
     run_until(k, lambda: not m.pg.is_done and m.ref_acc == 0.0 and abs(m.ref_vel - v_m) < 1e-6)

@@ -281,8 +281,3 @@ class GantrySet:
         """Once per cycle, before the tasks run (`MotionKernel.begin_cycle`)."""
         for g in self.pairs.values():
             g.step()
-
-
-def gantries_of(kernel) -> GantrySet:
-    """The gantry pairs of motion kernel `kernel` (its `gantries`)."""
-    return kernel.gantries

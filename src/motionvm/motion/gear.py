@@ -336,8 +336,3 @@ class GearBox:
         del self.gears[slave.axis_id]
         slave.extra_status = slave.extra_status & ~SLAVE_BITS
         self._reorder()
-
-
-def gearbox_of(kernel) -> GearBox:
-    """The gears of motion kernel `kernel` (its `gears`)."""
-    return kernel.gears

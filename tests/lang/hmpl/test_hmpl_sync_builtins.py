@@ -6,7 +6,6 @@ import pytest
 
 from motionvm.api import Simulation
 from motionvm.lang.hmpl.lib.sync import SyncScopeSource
-from motionvm.motion.gear import gearbox_of
 from motionvm.sim.scope import ScopeError
 from motionvm.sim.scope_sources import registry_for
 
@@ -88,7 +87,7 @@ def test_a_slave_follows_a_master_with_a_higher_id():
         sim.step()
         trace.append((axes[3].ref_pos, axes[1].ref_pos))
     assert sim.messages == ["80.0000"]
-    lag = gearbox_of(sim.controller.motion).lag_cycles(1)  # 1 while axes step in id order
+    lag = sim.controller.motion.gears.lag_cycles(1)  # 1 while axes step in id order
     moving = [i for i in range(1, len(trace)) if trace[i][0] != trace[i - 1][0]]
     assert moving
     for i in moving:
