@@ -5,14 +5,16 @@ task gives every axis of its half that is in position a new random target in
 [-400, 400] mm (a seeded linear congruential generator in HMPL), so the axes move
 almost all the time. Default machine axes (ideal drives, 1-cycle delay), 1 ms cycle.
 Prints a table and `RESULT realtime_factor_<N>axes=<value>` for N = 1, 8, 32, 64.
-Timing: the best of 3 runs per case, in CPU seconds of this process (the wall time on an
-idle machine; other load on a busy machine then does not distort the figures).
+Timing: after one untimed warm-up run of the case (the interpreter specializes the hot
+code on its first runs), the median of 5 runs, in CPU seconds of this process
+(`time.process_time`: other load on a busy machine does not count).
 Run: python bench/motion.py [--seconds S]
 """
 
 from __future__ import annotations
 
 import argparse
+import statistics
 import time
 
 from motionvm.api import Simulation
@@ -53,18 +55,23 @@ def simulation(n_axes: int) -> Simulation:
     return Simulation(tasks, machine=MachineConfig(axes=default_axes(n_axes)))
 
 
-def measure(n_axes: int, seconds: float, repeat: int = 3) -> float:
-    """Simulated s per wall s over `seconds` of simulated time, best of `repeat` runs."""
-    best = float("inf")
-    for _ in range(repeat):
+def measure(n_axes: int, seconds: float, repeat: int = 5) -> float:
+    """Simulated s per CPU s over `seconds` of simulated time: the median of `repeat`
+    runs after one untimed warm-up run. Every run must end in the same state."""
+    times, states = [], set()
+    for k in range(repeat + 1):
         sim = simulation(n_axes)
         sim.run(until=0.05)  # enable the axes
         t_0 = time.process_time()
         sim.run(until=0.05 + seconds)
-        best = min(best, time.process_time() - t_0)
+        if k:
+            times.append(time.process_time() - t_0)
         if not all(a.moving or a.in_pos for a in sim.controller.motion.axes) or sim.faults:
             raise SystemExit(f"benchmark broken: an axis is idle or a task faulted {sim.faults}")
-    return seconds / best
+        states.add(tuple(a.pos_fb for a in sim.controller.motion.axes))
+    if len(states) != 1:
+        raise SystemExit("benchmark broken: runs of one case ended in different states")
+    return seconds / statistics.median(times)
 
 
 def main() -> None:

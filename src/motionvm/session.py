@@ -33,9 +33,8 @@ import os
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-from motionvm.lang.hmpl.compiler import TaskFile, compile_tasks
-from motionvm.lang.hmpl.rtapi import HmplRuntime, data_dir_default
 from motionvm.runtime.scope import ScopeError
 from motionvm.sim.controller import Controller
 from motionvm.sim.machine import (
@@ -47,6 +46,10 @@ from motionvm.sim.machine import (
 )
 from motionvm.sim.scope import ChannelRegistry, ScopeRecorder, ScopeRequest
 from motionvm.source.diagnostics import Diagnostic, DiagnosticSink, render_diagnostic
+
+if TYPE_CHECKING:  # each language is imported when a run has a file of it
+    from motionvm.lang.hmpl.compiler import TaskFile
+    from motionvm.lang.hmpl.rtapi import HmplRuntime
 
 LANGUAGES = {".hmpl": "HMPL", ".pdl": "PDL", ".gdl": "GDL"}
 """File suffix -> language."""
@@ -146,6 +149,8 @@ def place_tasks(sources: Sequence[Source]) -> list[TaskFile]:
             raise SessionError(f"more than {N_TASKS} task files")
         placed[nxt] = s
         nxt += 1
+    from motionvm.lang.hmpl.compiler import TaskFile
+
     return [TaskFile(t, s.path, s.text) for t, s in sorted(placed.items())]
 
 
@@ -221,6 +226,8 @@ def compile_run(
     failed: list[Diagnostic] = []
     pdl_failed = gdl_failed = False
     if by_lang["HMPL"]:
+        from motionvm.lang.hmpl.compiler import compile_tasks
+
         sink = DiagnosticSink()
         prog, mem = compile_tasks(place_tasks(by_lang["HMPL"]), sink)
         _render(sink.items, report)
@@ -322,6 +329,8 @@ class Session:
         self.pdl = None
         self.gdl = None
         if compiled.hmpl is not None:
+            from motionvm.lang.hmpl.rtapi import HmplRuntime, data_dir_default
+
             prog, mem = compiled.hmpl
             if spec.data_dir is not None:
                 data_dir = Path(spec.data_dir)

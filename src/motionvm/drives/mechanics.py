@@ -18,14 +18,18 @@ from __future__ import annotations
 
 import math
 from collections import deque
+from typing import TYPE_CHECKING
 
-import numpy as np
+if TYPE_CHECKING:  # numpy is imported where the servo model's matrices are built
+    import numpy as np
 
 TWO_PI = 2.0 * math.pi
 
 
 def _expm(a: np.ndarray) -> np.ndarray:
     """Matrix exponential by scaling and squaring of a Taylor series (small matrices)."""
+    import numpy as np  # only the servo model needs it; ~0.1 s off every other run
+
     norm = float(np.max(np.sum(np.abs(a), axis=1)))
     squarings = max(0, math.ceil(math.log2(norm)) + 1) if norm > 0.5 else 0
     a = a / 2.0**squarings
@@ -239,6 +243,8 @@ class ServoMechanics:
         """Rows (x, v) of the exact transition for the CSP, CSV and torque dynamics."""
         m = self._cache.get(dt)
         if m is None:
+            import numpy as np
+
             g = self.tuned_inertia / self.inertia
             b = self.friction / self.inertia
             wn2 = self._kp * self._kv
