@@ -31,7 +31,7 @@ from __future__ import annotations
 import dataclasses
 import os
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -113,7 +113,7 @@ class RunSpec:
     """Jump the clock over idle cycles (False: `--no-skip`, step every cycle; the same
     output either way). The environment variable MOTIONVM_NO_SKIP=1 also turns it off."""
     scope_title: str = ""
-    extra: dict = field(default_factory=dict)
+    """The title of scope plots (the command line's files)."""
 
 
 def load_machine_spec(machine: MachineConfig | str | Path | None) -> MachineConfig:
@@ -242,9 +242,9 @@ def compile_run(
 
         try:
             if standalone:  # one program on the command line, the default machine
-                drives = compile_program(by_lang["PDL"][0].path, spec.pdl_starts, report)
+                drives = compile_program(by_lang["PDL"][0].path, spec.pdl_starts, report, failed)
             else:
-                drives = compile_drives(machine, report)
+                drives = compile_drives(machine, report, failed)
         except PdlStartError as exc:
             raise SessionError(str(exc), located=True) from None
         pdl_failed = drives is None
@@ -283,7 +283,7 @@ def _place_pdl(
     free = [i for i in range(len(machine.axes)) if i not in taken]
     if not free:
         raise SessionError(f"{files[0].path}: every axis of the machine runs a PDL program")
-    spec = PdlDriveSpec(free[0], Path(files[0].path), tuple(starts), where="--start")
+    spec = PdlDriveSpec(free[0], Path(files[0].path), tuple(starts))  # no `where`: --start
     return dataclasses.replace(machine, pdl_drives=(*machine.pdl_drives, spec))
 
 

@@ -90,7 +90,9 @@ class CompiledDrive:
     program: PdlProgram
 
 
-def _compile(specs: Sequence[tuple[PdlDriveSpec, str]], report) -> list[CompiledDrive] | None:
+def _compile(
+    specs: Sequence[tuple[PdlDriveSpec, str]], report, errors: list | None
+) -> list[CompiledDrive] | None:
     sink = DiagnosticSink()
     out: list[CompiledDrive] = []
     for spec, path in specs:
@@ -99,43 +101,51 @@ def _compile(specs: Sequence[tuple[PdlDriveSpec, str]], report) -> list[Compiled
             out.append(CompiledDrive(spec, program))
     for d in sorted(sink.items, key=lambda d: (d.pos.file, d.pos.line, d.pos.col)):
         report(render_diagnostic(d))
+    if errors is not None:
+        errors.extend(sink.errors())
     return None if sink.has_errors else out
 
 
-def compile_drives(
-    machine: MachineConfig, report: Callable[[str], None]
-) -> list[CompiledDrive] | None:
-    """Compile the machine's PDL programs; None (diagnostics reported) on any compile error.
-
-    Raises PdlStartError for a `pdl_start` label the program lacks.
-    """
-    out = _compile([(spec, str(spec.path)) for spec in machine.pdl_drives], report)
-    for c in out or ():
+def _check_starts(drives: list[CompiledDrive] | None) -> None:
+    """PdlStartError for a start label a program lacks: a machine-file error naming the
+    key (`pdl_start`), or a command-line error (`--start`) for a spec with no `where`."""
+    for c in drives or ():
         for label in c.spec.starts:
             if label != "top" and label not in c.program.entries:
+                if not c.spec.where:
+                    raise PdlStartError(
+                        f"motionvm: --start {label}: the program has no label '{label}'"
+                    )
                 raise PdlStartError(
                     f"{c.spec.where}: error: [[axis]] {c.spec.axis}: pdl_start: "
                     f"{c.spec.path.name} has no label '{label}'"
                 )
+
+
+def compile_drives(
+    machine: MachineConfig, report: Callable[[str], None], errors: list | None = None
+) -> list[CompiledDrive] | None:
+    """Compile the machine's PDL programs; None (diagnostics reported, and the errors
+    added to `errors`) on any compile error.
+
+    Raises PdlStartError for a start label a program lacks.
+    """
+    out = _compile([(spec, str(spec.path)) for spec in machine.pdl_drives], report, errors)
+    _check_starts(out)
     return out
 
 
 def compile_program(
-    path: str, starts: Sequence[str], report: Callable[[str], None]
+    path: str, starts: Sequence[str], report: Callable[[str], None], errors: list | None = None
 ) -> list[CompiledDrive] | None:
     """Compile one standalone program for the drive of axis 0, host starts `starts` (in
     order; "top": the first statement); None (diagnostics reported) on a compile error.
 
     Raises PdlStartError for a start label the program lacks.
     """
-    spec = PdlDriveSpec(axis=0, path=Path(path), starts=tuple(starts), where=path)
-    out = _compile([(spec, path)], report)  # the path as given: faults name it so
-    for c in out or ():
-        for label in c.spec.starts:
-            if label != "top" and label not in c.program.entries:
-                raise PdlStartError(
-                    f"motionvm: --start {label}: the program has no label '{label}'"
-                )
+    spec = PdlDriveSpec(axis=0, path=Path(path), starts=tuple(starts))
+    out = _compile([(spec, path)], report, errors)  # the path as given: faults name it so
+    _check_starts(out)
     return out
 
 
