@@ -18,11 +18,11 @@ from pathlib import Path
 
 from motionvm.lang.hmpl.compiler import TaskFile
 from motionvm.lang.hmpl.lvalues import view_code
-from motionvm.session import CompileFailed, RunSpec, Session, SessionError, Source
+from motionvm.session import CompileFailed, RunResult, RunSpec, Session, SessionError, Source
 from motionvm.sim.machine import MachineConfig
 from motionvm.source.diagnostics import CompileError
 
-__all__ = ["CompileError", "SessionError", "Simulation"]
+__all__ = ["CompileError", "RunResult", "SessionError", "Simulation"]
 
 
 class Simulation:
@@ -94,9 +94,11 @@ class Simulation:
         """Call `callback(kind, payload)` for each SendEvent ('event', id) and SendMsgEvent ('msg', text)."""
         self._hmpl().event_callbacks.append(callback)
 
-    def run(self, until: float | None = None) -> None:
-        """Run until every part has finished, or until `until` seconds of simulated time."""
-        self.session.run(until)
+    def run(self, until: float | None = None, timeout: float | None = None) -> RunResult:
+        """Run until every part has finished, or until `until` seconds of simulated time,
+        or until `timeout` seconds (a run that should have finished by then). Returns why
+        it stopped (`reason`: "finished", "until", "timeout") and what still ran."""
+        return self.session.run(until, timeout=timeout)
 
     def step(self, cycles: int = 1) -> None:
         """Run exactly `cycles` controller cycles."""

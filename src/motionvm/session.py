@@ -29,6 +29,7 @@ Assembly, in order:
 from __future__ import annotations
 
 import dataclasses
+import math
 import os
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
@@ -36,7 +37,8 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from motionvm.runtime.scope import ScopeError
-from motionvm.sim.controller import Controller
+from motionvm.runtime.waits import Waiting
+from motionvm.sim.controller import FINISHED, UNTIL, Controller
 from motionvm.sim.machine import (
     DEFAULT_MACHINE,
     MachineConfig,
@@ -296,6 +298,30 @@ def check(spec: RunSpec, report: Callable[[str], None]) -> bool:
     return True
 
 
+TIMEOUT = "timeout"
+"""`Session.run` ended at its `timeout`: the run should have finished before."""
+
+
+@dataclass(frozen=True)
+class RunResult:
+    """Why a run stopped, when, and what still ran then."""
+
+    reason: str
+    """FINISHED (nothing left to do), UNTIL (the end time came first), TIMEOUT (the run
+    had not finished by its timeout) or STOPPED (its output went away)."""
+    sim_time: float
+    """Simulated time at the end [s]."""
+    still_running: list[Waiting]
+    """With UNTIL and TIMEOUT: every task, drive task, scenario and axis that had not
+    finished, with the place in the user's file where it waits (if one says it)."""
+    end: float | None = None
+    """The end time asked for [s]: `until` (or a GDL scenario's), or `timeout`."""
+
+    @property
+    def finished(self) -> bool:
+        return self.reason == FINISHED
+
+
 class Session:
     """One assembled run: the controller and every language's run side on it."""
 
@@ -420,16 +446,35 @@ class Session:
         if self.recorder is not None:
             self.recorder.attach(self.controller)
 
-    def run(self, until: float | None = None, realtime: bool = False) -> None:
-        """Run until every part has finished, or until `until` seconds of simulated time."""
-        if until is not None and not until >= 0:
-            raise SessionError(f"--until must be a non-negative number of seconds, got {until}")
+    def run(
+        self, until: float | None = None, realtime: bool = False, timeout: float | None = None
+    ) -> RunResult:
+        """Run until every part has finished, or until `until` seconds of simulated time
+        (the run was meant to last that long), or until `timeout` seconds (the run should
+        have finished by then). Returns why it stopped and, if it did not finish, what
+        still ran and where."""
+        for value, option in ((until, "--until"), (timeout, "--timeout")):
+            if value is not None and not (value >= 0 and math.isfinite(value)):
+                raise SessionError(
+                    f"{option} must be a finite, non-negative number of seconds, got {value}"
+                )
         self.boot()
-        if self.gdl is not None:  # a GDL end time is inclusive: events due at it apply
-            until = self.gdl.run_until(until)
-        self.controller.run(until, realtime=realtime)
+        by_timeout = timeout is not None and (until is None or timeout <= until)
+        if by_timeout:
+            asked = end = timeout
+        else:
+            asked = end = until
+            if self.gdl is not None:  # a GDL end time is inclusive: events due at it apply
+                if asked is None:
+                    asked = self.gdl.scenario.until
+                end = self.gdl.run_until(end)
+        reason = self.controller.run(end, realtime=realtime)
         if self.gdl is not None:
             self.gdl.finish()
+        if reason == UNTIL and by_timeout:
+            reason = TIMEOUT
+        waiting = self.controller.still_running() if reason in (UNTIL, TIMEOUT) else []
+        return RunResult(reason, self.controller.sim_time, waiting, asked)
 
     def step(self, cycles: int = 1) -> None:
         """Run exactly `cycles` controller cycles."""

@@ -3,7 +3,8 @@
 Parsing arguments and printing only: every run is assembled by `motionvm.session`, the
 same code the Python API uses. Exit codes: 0 ok; 1 a task stopped with a runtime
 error; 2 compile errors (nothing runs); 3 bad command line, machine file, scenario or
-scope request; 4 an internal error of motionvm itself (a bug); 130 interrupted.
+scope request; 4 an internal error of motionvm itself (a bug); 124 the run had not
+finished at `--timeout`; 130 interrupted.
 """
 
 from __future__ import annotations
@@ -18,6 +19,7 @@ from motionvm.cli.exits import (
     EXIT_INTERRUPTED,
     EXIT_OK,
     EXIT_RUNTIME,
+    EXIT_TIMEOUT,
     EXIT_USAGE,
     UsageError,
 )
@@ -29,6 +31,7 @@ __all__ = [
     "EXIT_INTERRUPTED",
     "EXIT_OK",
     "EXIT_RUNTIME",
+    "EXIT_TIMEOUT",
     "EXIT_USAGE",
     "UsageError",
     "main",

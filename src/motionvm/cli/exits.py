@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 EXIT_OK, EXIT_RUNTIME, EXIT_COMPILE, EXIT_USAGE, EXIT_INTERNAL = 0, 1, 2, 3, 4
+EXIT_TIMEOUT = 124
+"""The run had not finished at `--timeout` (as timeout(1) exits)."""
 EXIT_INTERRUPTED = 130
 
 

@@ -16,7 +16,17 @@ def build_parser() -> argparse.ArgumentParser:
         "--machine", metavar="FILE.toml", help="machine file (default: the built-in machine)"
     )
     r.add_argument(
-        "--until", type=float, metavar="SECONDS", help="stop after this much simulated time"
+        "--until",
+        type=float,
+        metavar="SECONDS",
+        help="run this long (simulated time); exit 0, with a note of what still ran",
+    )
+    r.add_argument(
+        "--timeout",
+        type=float,
+        metavar="SECONDS",
+        help="a run that has not finished after this much simulated time fails (exit 124), "
+        "naming where each task waits",
     )
     r.add_argument("--stamp", action="store_true", help="prefix messages with [t=SECONDS][task N]")
     r.add_argument(

@@ -4,10 +4,20 @@ from __future__ import annotations
 
 import os
 import sys
+import time
 from pathlib import Path
 
-from motionvm.cli.exits import EXIT_COMPILE, EXIT_OK, EXIT_RUNTIME, UsageError
-from motionvm.session import CompileFailed, RunSpec, Session, SessionError, Source, check
+from motionvm.cli.exits import EXIT_COMPILE, EXIT_OK, EXIT_RUNTIME, EXIT_TIMEOUT, UsageError
+from motionvm.session import (
+    TIMEOUT,
+    CompileFailed,
+    RunSpec,
+    Session,
+    SessionError,
+    Source,
+    check,
+)
+from motionvm.sim.controller import UNTIL
 
 
 def sources_of(args) -> list[Source]:
@@ -96,8 +106,6 @@ def cmd_run(args) -> int:
         skip=not args.no_skip,
         scope_title=" ".join(list(args.files) + list(args.task)),
     )
-    if args.until is not None and not args.until >= 0:
-        raise UsageError(f"--until must be a non-negative number of seconds, got {args.until}")
     out = sys.stdout
     session: Session | None = None
 
@@ -113,11 +121,13 @@ def cmd_run(args) -> int:
         session = Session(spec, emit=emit, report=_report)
         if not sources and not session.machine.pdl_drives:
             raise UsageError("no input files (and the machine file puts no PDL program on a drive)")
+        wall_0 = time.perf_counter()  # for the summary line only; the run never reads it
         try:
-            session.run(args.until, realtime=bool(args.realtime))
+            result = session.run(args.until, realtime=bool(args.realtime), timeout=args.timeout)
         except KeyboardInterrupt:
             session.save_scope()  # keep what was recorded up to the interrupt
             raise
+        wall = time.perf_counter() - wall_0
         try:
             out.flush()
         except BrokenPipeError:
@@ -127,4 +137,33 @@ def cmd_run(args) -> int:
         return EXIT_COMPILE
     except SessionError as exc:
         raise UsageError(str(exc), located=exc.located) from None
+    _verdict(result, args)
+    if sys.stderr.isatty():
+        _summary(result, wall, session.fault_count)
+    if result.reason == TIMEOUT:
+        return EXIT_TIMEOUT
     return EXIT_RUNTIME if session.fault_count else EXIT_OK
+
+
+def _verdict(result, args) -> None:
+    """The notes of a run that `--until` ended, the errors of one `--timeout` ended."""
+    if result.reason == UNTIL:
+        for w in result.still_running:
+            _report(w.render("note", f"still ran when the run ended at t={result.end:g} s"))
+    elif result.reason == TIMEOUT:
+        for w in result.still_running:
+            _report(w.render("error", f"had not finished after --timeout {args.timeout:g} s"))
+        _report(
+            f"motionvm: error: the run did not finish within --timeout {args.timeout:g} s of "
+            "simulated time"
+        )
+
+
+def _summary(result, wall: float, faults: int) -> None:
+    """One line for a person at a terminal: simulated time, wall time, speed, faults."""
+    factor = f"{result.sim_time / wall:.0f}x real time" if wall > 0 else "instant"
+    plural = "" if faults == 1 else "s"
+    _report(
+        f"motionvm: {result.sim_time:.3f} s simulated in {wall:.2f} s ({factor}), "
+        f"{faults} fault{plural}"
+    )

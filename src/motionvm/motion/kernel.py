@@ -30,6 +30,7 @@ from motionvm.motion.gantry import GantrySet
 from motionvm.motion.gear import GearBox
 from motionvm.motion.homing import AxisHoming
 from motionvm.motion.touchprobe import TouchProbe
+from motionvm.runtime.waits import Waiting
 
 ECAT_INIT, ECAT_PREOP, ECAT_SAFEOP, ECAT_OP = 1, 2, 4, 8
 N_GROUPS = 16
@@ -96,6 +97,18 @@ class MotionKernel:
             if (a.moving or (a.enabled and not a.in_pos)) and not a.cruising:
                 return True
         return False
+
+    def still_running(self) -> list[Waiting]:
+        """A `Waiting` for every axis that keeps the run busy (`busy`)."""
+        out = []
+        for a in self.axes:
+            if a.moving and not a.cruising:
+                out.append(Waiting(f"axis {a.axis_id}", why="moving"))
+            elif a._enabling:
+                out.append(Waiting(f"axis {a.axis_id}", why="enabling"))
+            elif a.enabled and not a.in_pos and not a.cruising:
+                out.append(Waiting(f"axis {a.axis_id}", why="settling into position"))
+        return out
 
     def at_rest(self) -> bool:
         """True if no axis needs stepping: the controller may then jump ahead in time."""

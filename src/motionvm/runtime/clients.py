@@ -20,6 +20,9 @@ and between cycles asks each client
                     until another part acts. The controller jumps the clock over the
                     cycles before the earliest next event of all clients, tasks and
                     axes; returning the current cycle means "step every cycle".
+    still_running() what keeps it busy, as `runtime.waits.Waiting` items (which task,
+                    where it waits), for the notes of a run that `--until` or
+                    `--timeout` ended.
 
 A jump must give byte-identical results to stepping, so a client that cannot tell
 when it changes next returns the current cycle.
@@ -42,6 +45,8 @@ class CycleClient(Protocol):
 
     def next_event(self) -> int | None: ...
 
+    def still_running(self) -> list: ...
+
 
 class PassiveClient:
     """A client with no work of its own: a base for clients that only observe."""
@@ -57,3 +62,6 @@ class PassiveClient:
 
     def next_event(self) -> int | None:
         return None
+
+    def still_running(self) -> list:
+        return []

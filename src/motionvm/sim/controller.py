@@ -22,6 +22,7 @@ from motionvm.motion.kernel import MotionKernel
 from motionvm.runtime.clients import CycleClient
 from motionvm.runtime.clock import Clock
 from motionvm.runtime.kernel import Kernel
+from motionvm.runtime.waits import Waiting
 from motionvm.sim.machine import DEFAULT_MACHINE, MachineConfig
 from motionvm.sim.pacer import RealTimePacer
 
@@ -31,6 +32,10 @@ def until_cycle(until: float, cycle_time: float) -> int:
     `until` (a run lasts at least that long; 0.35 s of 1 ms cycles is 350 cycles, not 351,
     despite 0.35 / 0.001 being 349.99999999999994 in floating point)."""
     return math.ceil(until / cycle_time - 1e-9)
+
+
+FINISHED, UNTIL, STOPPED = "finished", "until", "stopped"
+"""Why `Controller.run` returned."""
 
 
 class Controller:
@@ -100,23 +105,35 @@ class Controller:
                 wake = e
         return wake
 
-    def run(self, until: float | None = None, realtime: bool = False) -> None:
+    def run(self, until: float | None = None, realtime: bool = False) -> str:
         """Run until nothing is left to do, or until `until` seconds of simulated time;
-        with `realtime`, never ahead of the wall clock (sim/pacer.py)."""
+        with `realtime`, never ahead of the wall clock (sim/pacer.py). Returns why it
+        stopped: FINISHED (nothing left to do), UNTIL (the end time came first) or
+        STOPPED (`stop_requested`)."""
         end_cycle = None if until is None else until_cycle(until, self.cycle_time)
         clock = self.clock
         pacer = RealTimePacer(self.sim_time) if realtime else None
         self.stop_requested = False
         while self.busy():
             if self.stop_requested:
-                return
+                return STOPPED
             if pacer is not None:
                 pacer.wait(self.sim_time)
             if end_cycle is not None and clock.cycle >= end_cycle:
-                return
+                return UNTIL
             if self.skip and self.motion.at_rest():
                 wake = self.next_event()
                 if wake is not None and wake > clock.cycle:
                     clock.cycle = wake if end_cycle is None else min(wake, end_cycle)
                     continue
             self.step()
+        return FINISHED
+
+    def still_running(self) -> list[Waiting]:
+        """What keeps the run busy: each client's tasks and programs (where they wait),
+        then every axis that moves, enables or settles."""
+        out: list[Waiting] = []
+        for c in self.clients:
+            out.extend(c.still_running())
+        out.extend(self.motion.still_running())
+        return out

@@ -224,6 +224,10 @@ class ScopeRecorder:
         """Every cycle is sampled: the clock may not jump."""
         return self._controller.cycle
 
+    def still_running(self) -> list:
+        """Nothing: recording never keeps a run going."""
+        return []
+
     def sample(self, cycle: int) -> None:
         """Record every channel as cycle `cycle` (if it is an `every`-th cycle)."""
         if (cycle - self._first_cycle) % self.every:

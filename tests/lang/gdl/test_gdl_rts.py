@@ -168,7 +168,12 @@ def test_gdl_until_ends_the_run(tmp_path: Path, cli) -> None:
     s = _scenario(
         tmp_path, 'until = 0.2\n[[event]]\nat = 0.3\nset = "VALUE OF memo"\nvalue = "ON"\n'
     )
-    assert _run_toggle(cli, path, "--scenario", s) == (0, "")
+    # the run ends at the scenario's `until`; the event after it is named on stderr
+    assert _run_toggle(cli, path, "--scenario", s) == (
+        0,
+        "motionvm: note: the GDL scenario (1 event not applied yet, the next at t=0.300) "
+        "still ran when the run ended at t=0.2 s\n",
+    )
     assert _run_toggle(cli, path, "--scenario", s, "--until", 0.3) == (
         0,
         "t=0.300 input VALUE OF memo = ON\n",

@@ -36,9 +36,10 @@ from typing import TYPE_CHECKING
 
 from motionvm.lang.gdl.app import App, ProcInfo
 from motionvm.lang.gdl.motors import assign_axes
-from motionvm.lang.gdl.rts import Rts
+from motionvm.lang.gdl.rts import Rts, format_time
 from motionvm.lang.gdl.scenario import Event, Scenario, ScenarioError, parse_target, parse_value
 from motionvm.lang.gdl.scope import GdlScopeSource
+from motionvm.runtime.waits import Waiting
 
 if TYPE_CHECKING:
     from motionvm.runtime.scope import ChannelSource
@@ -173,6 +174,26 @@ class GdlApplication:
 
     def busy(self) -> bool:
         return not self._started or bool(self._timed) or self.rts.transient
+
+    def still_running(self) -> list[Waiting]:
+        """The scenario events not applied yet, and the devices still changing."""
+        out: list[Waiting] = []
+        if self._timed:
+            cycle, ev = self._timed[0]
+            out.append(
+                Waiting(
+                    "the GDL scenario",
+                    why=f"{len(self._timed)} event{'s' if len(self._timed) > 1 else ''} not "
+                    "applied yet, the next at "
+                    f"t={format_time(cycle, self.controller.cycle_time)}",
+                )
+            )
+        for key, dev in self.rts.devices.items():
+            if dev.transient:
+                obj = self.app.objects[key]
+                out.append(Waiting(f"{obj.type.name} {obj.name}", obj.pos.file, obj.pos.line,
+                                   obj.pos.col, why="still changing"))  # fmt: skip
+        return out
 
     def next_event(self) -> int | None:
         cycle = self.controller.cycle

@@ -141,6 +141,21 @@ class HmplRuntime:
         """The tasks' wake-ups are the kernel's; the run time itself has none."""
         return None
 
+    def still_running(self) -> list:
+        """Every running task and the line of the user's code where it waits."""
+        from motionvm.runtime.waits import Waiting, suspended_at
+
+        out = []
+        for t in self.kernel.tasks:
+            if t.gen is None:
+                continue
+            at = suspended_at(t.gen, self.user_files.__contains__)
+            if at is None:
+                out.append(Waiting(f"task {t.id}", why="not started yet"))
+            else:
+                out.append(Waiting(f"task {t.id}", *at))
+        return out
+
     def scope_sources(self) -> list:
         """The program's system and global variables as scope channels."""
         from motionvm.lang.hmpl.scope_source import HmplSource

@@ -69,6 +69,7 @@ from motionvm.lang.pdl.drive_scope import PdlDriveSource
 from motionvm.lang.pdl.lower import PdlProgram
 from motionvm.lang.pdl.program import compile_pdl
 from motionvm.motion.axis_config import AxisConfig
+from motionvm.runtime.waits import Waiting, suspended_at
 from motionvm.sim.machine import MachineConfig, PdlDriveSpec
 from motionvm.source.diagnostics import DiagnosticSink, render_diagnostic
 
@@ -319,6 +320,27 @@ class PdlDrives:
         if self.standalone:  # the drive's own loop: until a cycle finds it idle
             return not self._started or not s.done
         return s.drive.busy
+
+    def still_running(self) -> list[Waiting]:
+        """Every drive task still running and the program line where it waits, then every
+        drive whose own profile still moves."""
+        out: list[Waiting] = []
+        for s in self._slots:
+            drive = s.drive
+            who = "" if self.standalone else f"drive {s.axis_id} "
+            program = drive.program
+            for t in drive.tasks:
+                if t.gen is None:
+                    continue
+                at = suspended_at(t.gen, program.path.__eq__)
+                if at is None:
+                    out.append(Waiting(f"{who}task {t.id}"))
+                else:
+                    file, line = program.where(at[1])
+                    out.append(Waiting(f"{who}task {t.id}", file, line))
+            if drive.axis.moving:
+                out.append(Waiting(f"the profile of {who.strip() or 'the drive'}", why="moving"))
+        return out
 
     def busy(self) -> bool:
         """True while a drive task runs or sleeps or a drive's profile moves, and (machine
