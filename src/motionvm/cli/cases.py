@@ -13,7 +13,8 @@ carries expectations, either
                                (exit 2, nothing runs); FILE defaults to the file
                                that holds the comment
   `args: ARG...`               extra `motionvm run` options (shell quoting), e.g. --until 2
-  `task N: FILE`               HMPL: FILE runs as task N (the program is task 0)
+  `task N: FILE`               HMPL: FILE runs as task N (the program is task 0);
+                               these directives replace the `X.taskK.hmpl` files
 
 Run inputs follow the file names (the program's folder is the working directory):
 `X.taskK.hmpl` (K = 1, 2, ...) are the tasks after an HMPL program; `X.toml` is the

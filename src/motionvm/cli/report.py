@@ -128,7 +128,8 @@ class TextReport:
     def start(self, n_cases: int, n_deselected: int, where: str) -> None:
         if self.verbosity >= 0:
             more = f" ({n_deselected} deselected)" if n_deselected else ""
-            self.out.write(f"collected {n_cases} cases{more}{where}\n\n")
+            noun = "case" if n_cases == 1 else "cases"
+            self.out.write(f"collected {n_cases} {noun}{more}{where}\n\n")
 
     def progress(self, v: Verdict) -> None:
         if self.verbosity > 0:
@@ -154,6 +155,8 @@ class TextReport:
             self.out.write("\n")
         if stopped:
             self.out.write("stopping after the first failure (-x)\n")
+        if bad:
+            self.out.write(_rule("short summary", "=") + "\n")
         for v in bad:
             self.out.write(f"{_WORD[v.status]} {v.case.id}\n")
         self.out.write(summary(verdicts, wall_time) + "\n")
