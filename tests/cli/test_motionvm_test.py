@@ -15,7 +15,8 @@ from pathlib import Path
 import pytest
 
 from motionvm.cli import main
-from motionvm.cli.cases import collect
+from motionvm.cli.cases import Case, collect
+from motionvm.cli.test import select
 
 REPO = Path(__file__).resolve().parents[2]
 
@@ -271,3 +272,48 @@ def test_dask_missing_names_the_extra(suite: Path, monkeypatch) -> None:
     code, _, err = motionvm_test("--dask", "tcp://127.0.0.1:1", cwd=suite)
     assert code == 3
     assert "pip install 'motionvm[cluster]'" in err
+
+
+def test_run_arguments_of_directives_and_companions(tmp_path: Path) -> None:
+    write(
+        tmp_path,
+        {
+            "cell.hmpl": PRINTS
+            + "// task 3: cell.task1.hmpl\n// expect: hello\n// args: --until 1\n",
+            "cell.task1.hmpl": PRINTS,
+            "cell.toml": "",
+            "cell.b10.gdl": GDL,
+            "cell.b9.gdl": GDL,
+            "cell.scenario.toml": SCENARIO,
+        },
+    )
+    (case,) = collect([str(tmp_path)])
+    assert case.argv == (
+        "--until",
+        "1",
+        "cell.hmpl",
+        "--task",
+        "3=cell.task1.hmpl",
+        "--machine",
+        "cell.toml",
+        "cell.b9.gdl",
+        "cell.b10.gdl",
+        "--scenario",
+        "cell.scenario.toml",
+    )
+    assert case.expect.stdout == (("text", "hello"),) and case.expect.exit_code == 0
+
+
+@pytest.mark.parametrize(
+    "expr, chosen",
+    [
+        ("hello", ["hmpl/hello.hmpl"]),
+        ("HELLO", ["hmpl/hello.hmpl"]),
+        ("not hmpl", ["pdl/stale.pdl"]),
+        ("hmpl and not hello", ["hmpl/wrong.hmpl"]),
+        ("stale or hello", ["hmpl/hello.hmpl", "pdl/stale.pdl"]),
+    ],
+)
+def test_k_expressions(expr: str, chosen: list[str]) -> None:
+    cases = [Case(i, "/", ()) for i in ("hmpl/hello.hmpl", "hmpl/wrong.hmpl", "pdl/stale.pdl")]
+    assert [c.id for c in select(cases, expr)] == chosen

@@ -74,7 +74,7 @@ def cmd_test(args) -> int:
     if args.junitxml:
         try:
             write_junit(args.junitxml, verdicts, wall_time)
-        except OSError as exc:
+        except (OSError, ValueError) as exc:  # unreachable, or not an address
             raise UsageError(f"--junitxml {args.junitxml}: {exc.strerror or exc}") from None
     return EXIT_OK if all(v.status == PASSED for v in verdicts) else EXIT_RUNTIME
 
@@ -109,7 +109,7 @@ def _run(cases: list[Case], args, jobs: int, report: TextReport) -> tuple[list[V
             raise UsageError(
                 "--dask needs dask.distributed: pip install 'motionvm[cluster]'"
             ) from None
-        except OSError as exc:
+        except (OSError, ValueError) as exc:  # unreachable, or not an address
             raise UsageError(f"--dask {args.dask}: cannot reach the scheduler: {exc}") from None
         stream = _chain(first, outcomes)
     else:
