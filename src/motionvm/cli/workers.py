@@ -135,7 +135,10 @@ class _Worker:
         self.index = index
         self.started = time.perf_counter()
         self.deadline = time.monotonic() + timeout
-        self.conn.send(case)
+        try:
+            self.conn.send(case)
+        except OSError:  # the worker died while idle: its sentinel reports it next
+            pass
 
     def kill(self) -> None:
         if self.process.is_alive():
