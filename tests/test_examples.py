@@ -8,15 +8,16 @@ not examples of their own. A GDL example `NN_topic.gdl` runs with its scenario
 `NN_topic.toml` when there is one; an HMPL example runs on the machine file
 `NN_topic.toml` when there is one (`--machine`); a GDL application beside it,
 `NN_topic.NAME.gdl`, is passed after the tasks (all three languages on one machine),
-with its scenario `NN_topic.scenario.toml` when there is one. Set MOTIONVM_TEST_CMD to run another command instead of
-`python -m motionvm` (see tests/lang/hmpl/test_hmpl_programs.py).
+with its scenario `NN_topic.scenario.toml` when there is one. These are the conventions of
+`motionvm test` (`motionvm.cli.cases.run_arguments`), shared here. Set MOTIONVM_TEST_CMD
+to run another command instead of `python -m motionvm` (see
+tests/lang/hmpl/test_hmpl_programs.py).
 """
 
 from __future__ import annotations
 
 import difflib
 import os
-import re
 import shlex
 import subprocess
 import sys
@@ -24,39 +25,15 @@ from pathlib import Path
 
 import pytest
 
+from motionvm.cli.cases import CaseError, is_case_file, run_arguments
+
 REPO = Path(__file__).resolve().parents[1]
 EXAMPLES = REPO / "examples"
-SUFFIXES = (".hmpl", ".gdl")
 TIMEOUT_S = 60
 
 
 def collect_examples() -> list[Path]:
-    return sorted(p for p in EXAMPLES.glob("*") if p.suffix in SUFFIXES and "." not in p.stem)
-
-
-def task_files(example: Path) -> list[str]:
-    """The example's task files NN_topic.task1.hmpl, task2, ... in task order."""
-    pattern = re.compile(rf"{re.escape(example.stem)}\.task(\d+){re.escape(example.suffix)}")
-    found = {}
-    for p in example.parent.iterdir():
-        m = pattern.fullmatch(p.name)
-        if m:
-            found[int(m.group(1))] = p.name
-    numbers = sorted(found)
-    if numbers != list(range(1, len(numbers) + 1)):
-        pytest.fail(f"{example.name}: task files must be numbered 1, 2, ...: {numbers}")
-    return [found[n] for n in numbers]
-
-
-def companions(example: Path) -> list[str]:
-    """An HMPL example's GDL application `NN_topic.NAME.gdl` and its scenario."""
-    if example.suffix != ".hmpl":
-        return []
-    out = sorted(p.name for p in example.parent.glob(f"{example.stem}.*.gdl"))
-    scenario = example.with_name(f"{example.stem}.scenario.toml")
-    if out and scenario.is_file():
-        out += ["--scenario", scenario.name]
-    return out
+    return sorted(p for p in EXAMPLES.iterdir() if is_case_file(p))
 
 
 def base_command() -> list[str]:
@@ -76,14 +53,11 @@ def test_example(example: Path, tmp_path: Path) -> None:
     env["MOTIONVM_DATA_DIR"] = str(tmp_path)
     src = str(REPO / "src")
     env["PYTHONPATH"] = src + (os.pathsep + env["PYTHONPATH"] if env.get("PYTHONPATH") else "")
-    extra = task_files(example)
-    scenario = example.with_suffix(".toml")
-    if example.suffix == ".gdl" and scenario.is_file():
-        extra += ["--scenario", scenario.name]  # a GDL example's stimuli: NN_topic.toml
-    elif example.suffix == ".hmpl" and scenario.is_file():
-        extra += ["--machine", scenario.name]  # an HMPL example's machine: NN_topic.toml
-    extra += companions(example)
-    cmd = base_command() + ["run", example.name, *extra]
+    try:
+        argv = run_arguments(example)  # task files, machine or scenario, companions
+    except CaseError as exc:
+        pytest.fail(str(exc), pytrace=False)
+    cmd = base_command() + ["run", *argv]
     try:
         proc = subprocess.run(
             cmd,

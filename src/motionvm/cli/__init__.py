@@ -1,4 +1,4 @@
-"""The `motionvm` command: run | check | compile | builtins | dump.
+"""The `motionvm` command: run | check | compile | builtins | dump | test.
 
 Parsing arguments and printing only: every run is assembled by `motionvm.session`, the
 same code the Python API uses. Exit codes: 0 ok; 1 a task stopped with a runtime
@@ -80,6 +80,10 @@ def _dispatch(args) -> int:
         from motionvm.cli.info import cmd_dump
 
         return cmd_dump(args)
+    if args.cmd == "test":
+        from motionvm.cli.test import cmd_test
+
+        return cmd_test(args)
     from motionvm.cli import run
 
     if args.cmd == "check":

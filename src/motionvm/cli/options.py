@@ -87,4 +87,29 @@ def build_parser() -> argparse.ArgumentParser:
     d.add_argument("--stage", choices=["tokens", "ast", "py"], required=True)
     d.add_argument("file", metavar="FILE")
     d.add_argument("--task-id", type=int, default=0)
+    add_test_parser(sub)
     return p
+
+
+def add_test_parser(sub) -> None:
+    """`motionvm test`: run programs that carry expectations (see cli/cases.py)."""
+    t = sub.add_parser("test", help="run programs that carry expectations; report like pytest")
+    t.add_argument(
+        "files", nargs="*", metavar="PATH", help="files or folders (default: the current folder)"
+    )
+    t.add_argument("-k", metavar="EXPR", help="only cases whose path contains EXPR ('not X' too)")
+    t.add_argument("-x", "--exitfirst", action="store_true", help="stop at the first failure")
+    t.add_argument("-q", "--quiet", action="count", default=0, help="less output")
+    t.add_argument("-v", "--verbose", action="count", default=0, help="one line per case")
+    t.add_argument(
+        "-j", "--jobs", type=int, metavar="N", help="worker processes (default: one per CPU)"
+    )
+    t.add_argument(
+        "--case-timeout",
+        type=float,
+        default=60.0,
+        metavar="SECONDS",
+        help="wall-clock time limit of one case (default 60)",
+    )
+    t.add_argument("--junitxml", metavar="FILE", help="also write a JUnit XML report")
+    t.add_argument("--dask", metavar="ADDRESS", help="run the cases on the Dask cluster at ADDRESS")
