@@ -116,9 +116,8 @@ def test_gdl_runaway_activations_are_stopped(
         "t=0.500 run loop",
     ]
     assert lines[7].endswith(
-        "runtime error in procedure loop: more than 3 procedure runs at "
-        "t=0.500: procedures keep triggering each other (ready queue "
-        "cleared)"
+        "runtime error in procedure loop at t=0.500 s: more than 3 procedure runs in one "
+        "cycle: procedures keep triggering each other (ready queue cleared)"
     )
     assert lines[8] == "t=0.600 input STATUS OF go = OFF"
 
