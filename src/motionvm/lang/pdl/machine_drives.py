@@ -291,7 +291,7 @@ class PdlDrives:
                     self._report(text)
             if self.standalone and not drive.busy:
                 self._report(
-                    f"{drive.program.path}: note: no task runs: the program has no "
+                    f"{drive.program.path}:1:1: note: no task runs: the program has no "
                     "'#task/n;' and no --start label was given"
                 )
 
