@@ -157,3 +157,23 @@ def test_a_force_text_stays_a_command_line_error(tmp_path):
     code, _out, err = cli(tmp_path, "run", "app.gdl", "--force", "STATUS OF gone = ON")
     assert code == 3
     assert err == "motionvm: error: --force 'STATUS OF gone = ON': unknown object 'gone'\n"
+
+
+def test_a_machine_file_that_is_not_utf8_is_located(tmp_path):
+    write(tmp_path, "a.hmpl", "void main() { }\n")
+    (tmp_path / "m.toml").write_bytes(b"axes = 1\n# caf\xe9\n")
+    code, _out, err = cli(tmp_path, "run", "--machine", "m.toml", "a.hmpl")
+    assert code == 3
+    assert err == "m.toml:2:6: error: invalid TOML: the file is not UTF-8 text\n"
+
+
+def test_an_injection_that_never_applied_is_a_located_warning(tmp_path):
+    write(tmp_path, "app.gdl", GDL_APP)
+    write(
+        tmp_path,
+        "s.toml",
+        '\n[[event]]\nat = 0.1\nset = "STATUS OF go"\nvalue = "ON"\nduring = "bump"\nline = 99\n',
+    )
+    code, _out, err = cli(tmp_path, "run", "app.gdl", "--scenario", "s.toml")
+    assert code == 0
+    assert err == "s.toml:2:1: warning: scenario event 1 (during bump, line 99) was never applied\n"

@@ -43,7 +43,12 @@ from motionvm.motion.axis_config import AxisConfig, AxisConfigError, build_drive
 from motionvm.motion.axis_config import create as create_axis
 from motionvm.source.diagnostics import Diagnostic
 from motionvm.source.files import SourcePos
-from motionvm.source.toml_places import array_table_place, key_place, syntax_error_place
+from motionvm.source.toml_places import (
+    array_table_place,
+    key_place,
+    syntax_error_place,
+    undecodable_place,
+)
 
 
 class MachineFileError(Exception):
@@ -153,11 +158,17 @@ def load_machine(path: str | Path) -> MachineConfig:
     """Read and validate a machine file; MachineFileError lists every problem of it."""
     p = Path(path)
     try:
-        text = p.read_text("utf-8")
+        raw = p.read_bytes()
     except OSError as exc:
         raise MachineFileError(
             f"cannot read machine file {p}: {exc.strerror or exc}", located=False
         ) from None
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        problems = _Problems(p, "")
+        problems.add(undecodable_place(raw, exc), "invalid TOML: the file is not UTF-8 text")
+        problems.raise_any()
     problems = _Problems(p, text)
     try:
         data = tomllib.loads(text)

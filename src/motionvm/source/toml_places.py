@@ -71,6 +71,12 @@ def array_table_place(lines: list[str], array: str, index: int, key: str | None)
     return header
 
 
+def undecodable_place(data: bytes, exc: UnicodeDecodeError) -> Place:
+    """The place of the first byte of `data` that is not UTF-8 (TOML files are UTF-8)."""
+    before = data[: exc.start]
+    return before.count(b"\n") + 1, exc.start - (before.rfind(b"\n") + 1) + 1
+
+
 def syntax_error_place(exc: tomllib.TOMLDecodeError, lines: list[str]) -> tuple[Place, str]:
     """The place and the message (without its own `(at line L, column C)`) of a TOML
     syntax error; an error at the end of the document is after its last character."""

@@ -39,6 +39,7 @@ from motionvm.source.toml_places import (
     array_table_place,
     key_place,
     syntax_error_place,
+    undecodable_place,
 )
 
 EVENT_KEYS = {"at", "set", "force", "release", "value", "during", "line"}
@@ -247,15 +248,16 @@ def load_scenario(path: str, app: App) -> Scenario:
     """Read and validate a scenario file against the application; ScenarioError lists
     every problem of it."""
     try:
-        text = Path(path).read_bytes().decode("utf-8")
+        raw = Path(path).read_bytes()
     except OSError as exc:
         raise ScenarioError(f"cannot read the scenario {path}: {exc.strerror or exc}") from None
-    except UnicodeDecodeError:
-        text = None
-    problems = _Problems(path, text or "")
-    if text is None:
-        problems.add((1, 1), "not valid TOML: the file is not UTF-8 text")
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        problems = _Problems(path, "")
+        problems.add(undecodable_place(raw, exc), "not valid TOML: the file is not UTF-8 text")
         problems.raise_any()
+    problems = _Problems(path, text)
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
