@@ -41,14 +41,7 @@ from pathlib import Path
 
 from motionvm.motion.axis_config import AxisConfig, AxisConfigError, build_drive
 from motionvm.motion.axis_config import create as create_axis
-from motionvm.source.diagnostics import Diagnostic
-from motionvm.source.files import SourcePos
-from motionvm.source.toml_places import (
-    array_table_place,
-    key_place,
-    syntax_error_place,
-    undecodable_place,
-)
+from motionvm.source.toml_places import TomlProblems, syntax_error_place, undecodable_place
 
 
 class MachineFileError(Exception):
@@ -116,42 +109,19 @@ DEFAULT_MACHINE = MachineConfig()
 _KNOWN = {"controller": {"cycle_time_ms", "task_slice", "data_dir"}, "axis": set(), "axes": set()}
 
 
-class _Problems:
-    """The problems found in one machine file, each at a line and column of its text."""
-
-    def __init__(self, path: Path, text: str) -> None:
-        self.path = path
-        self.lines = text.splitlines()
-        self.items: list[Diagnostic] = []
-
-    def add(self, place: tuple[int, int], message: str) -> None:
-        self.items.append(Diagnostic(SourcePos(str(self.path), *place), message))
-
-    def at(self, section: str, key: str | None, message: str) -> None:
-        """A problem of `key` in `[section]` ("": the top level; key None: the header)."""
-        self.add(self.place(section, key), message)
+class _Problems(TomlProblems):
+    """The problems of one machine file."""
 
     def at_axis(self, index: int, key: str, message: str) -> None:
         """A problem of `key` in the `index`-th [[axis]] table, prefixed `[[axis]] N: `."""
-        self.add(self.place_in_axis(index, key), f"[[axis]] {index}: {message}")
-
-    def place(self, section: str, key: str | None) -> tuple[int, int]:
-        """(line, column) of `key` in `[section]`, or of the section's header."""
-        return key_place(self.lines, section, key)
-
-    def place_in_axis(self, index: int, key: str) -> tuple[int, int]:
-        """(line, column) of `key` (dotted: its last part) in the `index`-th [[axis]]
-        table; its header when the key is not written there."""
-        return array_table_place(self.lines, "axis", index, key) or (1, 1)
+        self.in_array("axis", index, key, f"[[axis]] {index}: {message}")
 
     def where_in_axis(self, index: int, key: str) -> str:
-        line, col = self.place_in_axis(index, key)
-        return f"{self.path}:{line}:{col}"
+        return self.where(self.array_place("axis", index, key))
 
     def raise_any(self) -> None:
         if self.items:
-            items = sorted(self.items, key=lambda d: (d.pos.line, d.pos.col))
-            raise MachineFileError(*(d.headline() for d in items))
+            raise MachineFileError(*self.headlines())
 
 
 def load_machine(path: str | Path) -> MachineConfig:
@@ -166,10 +136,10 @@ def load_machine(path: str | Path) -> MachineConfig:
     try:
         text = raw.decode("utf-8")
     except UnicodeDecodeError as exc:
-        problems = _Problems(p, "")
+        problems = _Problems(str(p), "")
         problems.add(undecodable_place(raw, exc), "invalid TOML: the file is not UTF-8 text")
         problems.raise_any()
-    problems = _Problems(p, text)
+    problems = _Problems(str(p), text)
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
@@ -310,7 +280,7 @@ def _pdl_keys(table: dict, i: int, problems: _Problems) -> PdlDriveSpec | None:
             problems.at_axis(i, "pdl_start", 'pdl_start needs a PDL program: add pdl = "FILE.pdl"')
         return None
     ok = True
-    path = problems.path.parent / str(prog)
+    path = Path(problems.path).parent / str(prog)
     if not isinstance(prog, str) or not prog.lower().endswith(".pdl"):
         problems.at_axis(i, "pdl", f"pdl = {prog!r}: must be the name of a .pdl file")
         ok = False

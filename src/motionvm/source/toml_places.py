@@ -2,13 +2,17 @@
 
 `tomllib` gives values without positions, so the machine-file and scenario readers find
 the key they complain about in the text: the first `key =` (bare or quoted) of the table,
-which is where a user looks for it. Lines and columns count from 1.
+which is where a user looks for it. Lines and columns count from 1. `TomlProblems`
+collects a file's problems at their places, so that a reader reports them all at once.
 """
 
 from __future__ import annotations
 
 import re
 import tomllib
+
+from motionvm.source.diagnostics import Diagnostic
+from motionvm.source.files import SourcePos
 
 Place = tuple[int, int]
 """(line, column), both from 1."""
@@ -29,9 +33,9 @@ def _header(line: str) -> str | None:
     return m.group(1) if m else None
 
 
-def key_place(lines: list[str], section: str, key: str | None) -> Place:
+def key_place(lines: list[str], section: str, key: str | None) -> Place | None:
     """Where `key` is written in `[section]` ("": the top level, before any header); with
-    key None, the section's header. (1, 1) when it is not found."""
+    key None, the section's header. None when it is not found."""
     in_sec = section == ""
     for i, line in enumerate(lines, 1):
         name = _header(line)
@@ -42,7 +46,7 @@ def key_place(lines: list[str], section: str, key: str | None) -> Place:
             continue
         if in_sec and key is not None and re.match(_key_pattern(key), line.strip()):
             return i, _indent(line) + 1
-    return 1, 1
+    return None
 
 
 def array_table_place(lines: list[str], array: str, index: int, key: str | None) -> Place | None:
@@ -90,3 +94,44 @@ def syntax_error_place(exc: tomllib.TOMLDecodeError, lines: list[str]) -> tuple[
     if lines:
         return (len(lines), len(lines[-1]) + 1), text
     return (1, 1), text
+
+
+class TomlProblems:
+    """The problems of one TOML file, each at a line and column of its text."""
+
+    def __init__(self, path: str, text: str) -> None:
+        self.path = path
+        self.lines = text.splitlines()
+        self.items: list[Diagnostic] = []
+
+    def add(self, place: Place, message: str) -> None:
+        self.items.append(Diagnostic(SourcePos(self.path, *place), message))
+
+    def at(self, section: str, key: str | None, message: str) -> None:
+        """A problem of `key` in `[section]` ("": the top level; key None: the table).
+        Not found as written: the table's header or its key (an inline table), else 1:1."""
+        place = key_place(self.lines, section, key)
+        if place is None and section:
+            place = key_place(self.lines, section, None) or key_place(self.lines, "", section)
+        self.add(place or (1, 1), message)
+
+    def in_array(self, array: str, index: int, key: str | None, message: str) -> None:
+        """A problem of `key` in the `index`-th `[[array]]` table (None: the table)."""
+        self.add(self.array_place(array, index, key), message)
+
+    def array_place(self, array: str, index: int, key: str | None) -> Place:
+        """`array_table_place`, else the top-level key `array` (inline tables), else 1:1."""
+        return (
+            array_table_place(self.lines, array, index, key)
+            or key_place(self.lines, "", array)
+            or (1, 1)
+        )
+
+    def where(self, place: Place) -> str:
+        """`FILE:LINE:COL` of a place."""
+        return f"{self.path}:{place[0]}:{place[1]}"
+
+    def headlines(self) -> list[str]:
+        """`FILE:LINE:COL: error: MESSAGE` of every problem, in file order."""
+        items = sorted(self.items, key=lambda d: (d.pos.line, d.pos.col))
+        return [d.headline() for d in items]

@@ -31,16 +31,9 @@ from pathlib import Path
 from motionvm.lang.gdl.app import App, ObjectInfo
 from motionvm.lang.gdl.lexer import tokenize
 from motionvm.lang.gdl.objects import INT_LIMIT, StateSpec
-from motionvm.source.diagnostics import Diagnostic, DiagnosticSink, TooManyErrors
-from motionvm.source.files import SourcePos
+from motionvm.source.diagnostics import DiagnosticSink, TooManyErrors
 from motionvm.source.suggest import did_you_mean
-from motionvm.source.toml_places import (
-    Place,
-    array_table_place,
-    key_place,
-    syntax_error_place,
-    undecodable_place,
-)
+from motionvm.source.toml_places import TomlProblems, syntax_error_place, undecodable_place
 
 EVENT_KEYS = {"at", "set", "force", "release", "value", "during", "line"}
 
@@ -151,27 +144,12 @@ def parse_value(target: Target, raw: object) -> object:
     raise ValueError(f"{ref} takes one of {', '.join(spec.values)}, not {raw!r}")
 
 
-class _Problems:
-    """The problems found in one scenario file, each at a line and column of its text."""
-
-    def __init__(self, path: str, text: str) -> None:
-        self.path = path
-        self.lines = text.splitlines()
-        self.items: list[Diagnostic] = []
-
-    def add(self, place: Place, message: str) -> None:
-        self.items.append(Diagnostic(SourcePos(self.path, *place), message))
-
-    def event_place(self, index: int, key: str | None) -> Place:
-        """`key` of the `index`-th (from 0) event; its header for None or a missing key."""
-        return array_table_place(self.lines, "event", index, key) or key_place(
-            self.lines, "", "event"
-        )
+class _Problems(TomlProblems):
+    """The problems of one scenario file."""
 
     def raise_any(self) -> None:
         if self.items:
-            items = sorted(self.items, key=lambda d: (d.pos.line, d.pos.col))
-            raise ScenarioError(*(d.headline() for d in items), located=True)
+            raise ScenarioError(*self.headlines(), located=True)
 
 
 def _seconds(at: object) -> float:
@@ -187,7 +165,7 @@ def _event(app: App, index: int, raw: object, problems: _Problems) -> Event | No
     found = len(problems.items)
 
     def bad(key: str | None, message: str) -> None:
-        problems.add(problems.event_place(index, key), f"event {number}: {message}")
+        problems.in_array("event", index, key, f"event {number}: {message}")
 
     if not isinstance(raw, dict):
         bad(None, "an event is a table")
@@ -239,8 +217,7 @@ def _event(app: App, index: int, raw: object, problems: _Problems) -> Event | No
             bad("line", "'line' must be a line number")
     if len(problems.items) > found or target is None or at is None:
         return None
-    header = problems.event_place(index, None)
-    where = f"{problems.path}:{header[0]}:{header[1]}"
+    where = problems.where(problems.array_place("event", index, None))
     return Event(number, at, actions[0], target, value, during, line, where)
 
 
@@ -264,31 +241,28 @@ def load_scenario(path: str, app: App) -> Scenario:
         place, message = syntax_error_place(exc, problems.lines)
         problems.add(place, f"not valid TOML: {message}")
         problems.raise_any()
-    lines = problems.lines
     for key in sorted(set(data) - {"until", "initial", "event"}):
-        problems.add(
-            key_place(lines, "", key), f"unknown key '{key}' (keys: event, initial, until)"
-        )
+        problems.at("", key, f"unknown key '{key}' (keys: event, initial, until)")
     until = data.get("until")
     if until is not None and (
         not isinstance(until, int | float) or isinstance(until, bool) or until < 0
     ):
-        problems.add(key_place(lines, "", "until"), "'until' must be a number of seconds >= 0")
+        problems.at("", "until", "'until' must be a number of seconds >= 0")
         until = None
     initial: list[tuple[Target, object]] = []
     table = data.get("initial", {})
     if not isinstance(table, dict):
-        problems.add(key_place(lines, "", "initial"), "[initial] must be a table")
+        problems.at("", "initial", "[initial] must be a table")
         table = {}
     for ref, raw in table.items():
         try:
             target = parse_target(app, ref)
             initial.append((target, parse_value(target, raw)))
         except ValueError as exc:
-            problems.add(key_place(lines, "initial", ref), f"[initial]: {exc}")
+            problems.at("initial", ref, f"[initial]: {exc}")
     raw_events = data.get("event", [])
     if not isinstance(raw_events, list):
-        problems.add(key_place(lines, "", "event"), "events are written [[event]]")
+        problems.at("", "event", "events are written [[event]]")
         raw_events = []
     events = [_event(app, i, e, problems) for i, e in enumerate(raw_events)]
     problems.raise_any()
