@@ -64,7 +64,9 @@ def test_runtime_error_exit_1_other_tasks_go_on(tmp_path):
     write(tmp_path, "t1.hmpl", 'void main() { Sleep(10); Print("task 1 still runs"); }\n')
     r = run(["run", "t0.hmpl", "t1.hmpl"], tmp_path)
     assert r.returncode == 1
-    assert r.stderr.strip() == "t0.hmpl:5: runtime error in task 0: integer modulo by zero"
+    assert r.stderr.strip() == (
+        "t0.hmpl:5:5: runtime error in task 0 at t=0.003 s: integer modulo by zero"
+    )
     assert r.stdout == "task 1 still runs\n"
 
 
@@ -106,7 +108,7 @@ def test_bad_machine_file_names_key_and_line(tmp_path):
     write(tmp_path, "m.toml", "[controller]\ncycle_time_ms = 1.0\ntask_slice = -5\n")
     r = run(["run", "--machine", "m.toml", "a.hmpl"], tmp_path)
     assert r.returncode == 3
-    assert r.stderr.startswith("m.toml:3: error: ") and "task_slice" in r.stderr
+    assert r.stderr.startswith("m.toml:3:1: error: ") and "task_slice" in r.stderr
 
 
 def test_compile_emit_python(tmp_path):

@@ -60,11 +60,13 @@ N_TASKS = 64
 
 class SessionError(Exception):
     """Input that is not a program cannot be used: the command line, a machine file, a
-    scenario, a scope request (the CLI's exit code 3). The message is complete;
-    `located` messages start with the place (`FILE:LINE: error: ...`)."""
+    scenario, a scope request (the CLI's exit code 3). The message is complete; a bad
+    file gives one message per problem (`messages`, all of them at once), `located`:
+    each starts with the place (`FILE:LINE:COL: error: ...`)."""
 
-    def __init__(self, message: str, *, located: bool = False) -> None:
-        super().__init__(message)
+    def __init__(self, *messages: str, located: bool = False) -> None:
+        super().__init__("\n".join(messages))
+        self.messages = list(messages)
         self.located = located
 
 
@@ -119,7 +121,8 @@ class RunSpec:
 
 
 def load_machine_spec(machine: MachineConfig | str | Path | None) -> MachineConfig:
-    """The machine of a run; SessionError (naming file, line and key) for a bad file."""
+    """The machine of a run; SessionError (each problem at its file, line and column) for
+    a bad file."""
     if machine is None:
         return DEFAULT_MACHINE
     if isinstance(machine, MachineConfig):
@@ -127,7 +130,7 @@ def load_machine_spec(machine: MachineConfig | str | Path | None) -> MachineConf
     try:
         return load_machine(machine)
     except MachineFileError as exc:
-        raise SessionError(str(exc), located=True) from None
+        raise SessionError(*exc.messages, located=exc.located) from None
 
 
 def place_tasks(sources: Sequence[Source]) -> list[TaskFile]:
@@ -423,8 +426,10 @@ class Session:
                 shuffle_seed=spec.shuffle_seed,
                 motor_axes=self.machine.gdl_motors,
             )
-        except (ScenarioError, GdlMachineError) as exc:
-            raise SessionError(f"error: {exc}", located=True) from None
+        except ScenarioError as exc:  # a scenario file's problems, or a --force text
+            raise SessionError(*exc.messages, located=exc.located) from None
+        except GdlMachineError as exc:
+            raise SessionError(str(exc), located=True) from None
 
     # ------------------------------------------------------------ running
 

@@ -66,25 +66,25 @@ def test_axes_zero_is_a_machine_without_axes(tmp_path):
 
 
 @pytest.mark.parametrize(
-    ("text", "line", "words"),
+    ("text", "place", "words"),
     [
-        ("[[axis]]\nmax_vel = 0\n", 2, ["max_vel = 0", "positive"]),
-        ('[[axis]]\n\n[[axis]]\ntype = "spiral"\n', 4, ["[[axis]] 1", "type"]),
-        ("[[axis]]\nspeed = 3\n", 2, ["unknown key 'speed'"]),
-        ("[[axis]]\nsw_left = 5.0\nsw_right = -5.0\n", 3, ["sw_right"]),
-        ("axes = 1\n[[axis]]\n[[axis]]\n", 1, ["axes = 1", "2 [[axis]]"]),
-        ("axes = 65\n", 1, ["axes = 65"]),
-        ('[[axis]]\ndrive = { mechanics = { model = "warp" } }\n', 2, ["model = 'warp'"]),
-        ("[[axis]]\ndrive = { positive_limit = 3 }\n", 2, ["hw_left, hw_right"]),
-        ("[[axis]]\nsmooth_time_ms = 600\n", 2, ["0 to 500"]),
+        ("[[axis]]\nmax_vel = 0\n", "2:1", ["max_vel = 0", "positive"]),
+        ('[[axis]]\n\n[[axis]]\ntype = "spiral"\n', "4:1", ["[[axis]] 1", "type"]),
+        ("[[axis]]\nspeed = 3\n", "2:1", ["unknown key 'speed'"]),
+        ("[[axis]]\nsw_left = 5.0\nsw_right = -5.0\n", "3:1", ["sw_right"]),
+        ("axes = 1\n[[axis]]\n[[axis]]\n", "1:1", ["axes = 1", "2 [[axis]]"]),
+        ("axes = 65\n", "1:1", ["axes = 65"]),
+        ('[[axis]]\ndrive = { mechanics = { model = "warp" } }\n', "2:25", ["model = 'warp'"]),
+        ("[[axis]]\ndrive = { positive_limit = 3 }\n", "2:11", ["hw_left, hw_right"]),
+        ("[[axis]]\nsmooth_time_ms = 600\n", "2:1", ["0 to 500"]),
     ],
 )
-def test_bad_axis_values_name_file_line_and_key(tmp_path, text, line, words):
+def test_bad_axis_values_name_file_line_and_key(tmp_path, text, place, words):
     p = write(tmp_path, text)
     with pytest.raises(MachineFileError) as exc:
         load_machine(p)
     msg = str(exc.value)
-    assert msg.startswith(f"{p}:{line}: error: "), msg
+    assert msg.startswith(f"{p}:{place}: error: "), msg
     for w in words:
         assert w in msg
 
@@ -107,4 +107,4 @@ def test_the_cli_reports_a_bad_axis_with_exit_code_3(tmp_path):
     r = subprocess.run([sys.executable, "-m", "motionvm", "run", "--machine", str(p), str(prog)],
                        check=False, capture_output=True, text=True, timeout=60)  # fmt: skip
     assert r.returncode == 3
-    assert f"{p}:2: error:" in r.stderr and "kill_dec" in r.stderr
+    assert f"{p}:2:1: error:" in r.stderr and "kill_dec" in r.stderr

@@ -76,7 +76,10 @@ void main() {
     )
     sim.run()
     assert len(sim.faults) == 1
-    assert "t0.hmpl:6: runtime error in task 0: integer division by zero" in sim.faults[0]
+    assert (
+        "t0.hmpl:6:5: runtime error in task 0 at t=0.005 s: integer division by zero"
+        in sim.faults[0]
+    )
     assert sim.messages == ["task 1 done at 11"]
 
 

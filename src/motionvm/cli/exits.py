@@ -11,8 +11,9 @@ EXIT_INTERRUPTED = 130
 class UsageError(Exception):
     """A bad command line, machine file, scenario or scope request: exit code 3.
 
-    `located` messages already name a file and line (`FILE:LINE: error: ...`) and are
-    printed as they are; others get the `motionvm: error:` prefix.
+    `located` messages already name a file, line and column (`FILE:LINE:COL: error: ...`,
+    one line per problem of a file) and are printed as they are; others get the
+    `motionvm: error:` prefix.
     """
 
     def __init__(self, message: str, *, located: bool = False) -> None:

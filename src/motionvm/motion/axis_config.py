@@ -35,11 +35,16 @@ from dataclasses import dataclass, field
 
 
 class AxisConfigError(ValueError):
-    """A bad axis setting; `key` names it (a dotted path below the axis table)."""
+    """A bad axis setting; `key` names it (a dotted path below the axis table).
 
-    def __init__(self, key: str, message: str):
+    `problems` lists every bad setting found in the table, as (key, message), in the
+    order checked; the first one is this error's own `key` and message.
+    """
+
+    def __init__(self, key: str, message: str, problems: list[tuple[str, str]] | None = None):
         super().__init__(message)
         self.key = key
+        self.problems = problems or [(key, message)]
 
 
 _SENSOR_KEYS = (
@@ -122,21 +127,31 @@ def _number(table: dict, key: str, default: float, *, positive=False, nonneg=Fal
 
 
 def create(table: dict) -> AxisConfig:
-    """Validate an `[[axis]]` table; an unknown key or a bad value raises AxisConfigError."""
+    """Validate an `[[axis]]` table; unknown keys or bad values raise one AxisConfigError
+    listing every one of them (`problems`)."""
+    problems: list[tuple[str, str]] = []
+
+    def number(key: str, default, **kind):
+        try:
+            return _number(table, key, default, **kind)
+        except AxisConfigError as exc:
+            problems.append((exc.key, str(exc)))
+            return default
+
     known = set(AxisConfig.__dataclass_fields__) - {"rotary"} | {"type"}
     for key in table:
         if key not in known:
-            raise AxisConfigError(
-                key, f"unknown key '{key}' in [[axis]] (known: {', '.join(sorted(known))})"
+            problems.append(
+                (key, f"unknown key '{key}' in [[axis]] (known: {', '.join(sorted(known))})")
             )
     kind = table.get("type", "linear")
     if kind not in ("linear", "rotary"):
-        raise AxisConfigError("type", f'type = {kind!r}: must be "linear" or "rotary"')
+        problems.append(("type", f'type = {kind!r}: must be "linear" or "rotary"'))
     rotary = kind == "rotary"
     c = AxisConfig(rotary=rotary, counts_per_unit=1000.0 if rotary else 10000.0)
     if rotary:  # a rotary table turns on: no limit switches unless given
         c.hw_left = c.hw_right = None
-    c.counts_per_unit = _number(table, "counts_per_unit", c.counts_per_unit, positive=True)
+    c.counts_per_unit = number("counts_per_unit", c.counts_per_unit, positive=True)
     for key in (
         "max_vel",
         "max_acc",
@@ -149,42 +164,50 @@ def create(table: dict) -> AxisConfig:
         "enable_timeout_ms",
         "torque_constant",
     ):
-        setattr(c, key, _number(table, key, getattr(c, key), positive=True))
+        setattr(c, key, number(key, getattr(c, key), positive=True))
     for key in ("inpos_debounce_ms", "home_width"):
-        setattr(c, key, _number(table, key, getattr(c, key), nonneg=True))
+        setattr(c, key, number(key, getattr(c, key), nonneg=True))
     for key in ("sw_left", "sw_right", "index_offset", "start_position"):
-        setattr(c, key, _number(table, key, getattr(c, key)))
+        setattr(c, key, number(key, getattr(c, key)))
     for key in ("hw_left", "hw_right", "home_pos"):
-        setattr(c, key, _number(table, key, getattr(c, key), optional=True))
-    c.index_spacing = _number(table, "index_spacing", c.index_spacing, positive=True, optional=True)
-    c.smooth_time_ms = _number(table, "smooth_time_ms", 0.0, nonneg=True)
+        setattr(c, key, number(key, getattr(c, key), optional=True))
+    c.index_spacing = number("index_spacing", c.index_spacing, positive=True, optional=True)
+    c.smooth_time_ms = number("smooth_time_ms", 0.0, nonneg=True)
     if c.smooth_time_ms > 500:
-        raise AxisConfigError(
-            "smooth_time_ms", f"smooth_time_ms = {c.smooth_time_ms:g}: must be 0 to 500"
+        problems.append(
+            ("smooth_time_ms", f"smooth_time_ms = {c.smooth_time_ms:g}: must be 0 to 500")
         )
     if c.sw_left >= c.sw_right:
-        raise AxisConfigError(
-            "sw_right", f"sw_right = {c.sw_right:g} must be above sw_left = {c.sw_left:g}"
+        problems.append(
+            ("sw_right", f"sw_right = {c.sw_right:g} must be above sw_left = {c.sw_left:g}")
         )
     if c.hw_left is not None and c.hw_right is not None and c.hw_left >= c.hw_right:
-        raise AxisConfigError(
-            "hw_right", f"hw_right = {c.hw_right:g} must be above hw_left = {c.hw_left:g}"
+        problems.append(
+            ("hw_right", f"hw_right = {c.hw_right:g} must be above hw_left = {c.hw_left:g}")
         )
     if abs(c.start_position) * c.counts_per_unit >= 2**31:
-        raise AxisConfigError(
-            "start_position",
-            f"start_position = {c.start_position:g} is outside the int32 encoder range",
+        problems.append(
+            (
+                "start_position",
+                f"start_position = {c.start_position:g} is outside the int32 encoder range",
+            )
         )
     drive = table.get("drive", {})
     if not isinstance(drive, dict):
-        raise AxisConfigError("drive", f"drive = {drive!r}: must be a table")
+        problems.append(("drive", f"drive = {drive!r}: must be a table"))
+        drive = {}
     for key in _SENSOR_KEYS + ("position",):
         if key in drive:
-            raise AxisConfigError(
-                f"drive.{key}",
-                f"drive.{key}: set the switches and index in the axis table "
-                "(hw_left, hw_right, home_pos, home_width, index_spacing, index_offset, start_position)",
+            problems.append(
+                (
+                    f"drive.{key}",
+                    f"drive.{key}: set the switches and index in the axis table "
+                    "(hw_left, hw_right, home_pos, home_width, index_spacing, index_offset, "
+                    "start_position)",
+                )
             )
+    if problems:
+        raise AxisConfigError(*problems[0], problems)
     c.drive = drive
     return c
 

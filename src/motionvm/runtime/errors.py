@@ -6,8 +6,9 @@ from __future__ import annotations
 class RuntimeFault(Exception):
     """A user program's fault: stops the task that raised it, never the controller.
 
-    The kernel reports it as `FILE:LINE: runtime error in task N: MESSAGE`, taking the
-    line from the deepest frame of the user's code.
+    The language's run time reports it as
+    `FILE:LINE:COL: runtime error in task N at t=S s: MESSAGE`, taking the place from the
+    deepest frame of the user's code (fault_position.py).
     """
 
 

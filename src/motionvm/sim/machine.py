@@ -27,7 +27,9 @@ drive whose feedback follows the command one cycle late.
 The `pdl` and `gdl` keys are read here (the PDL and GDL run sides use them); the other
 axis keys go to motion/axis_config.py. An axis has at most one owner: a PDL program on
 its drive or a GDL motor object (`gdl`); GDL motors not named here take the free axes in
-declaration order. A bad file is reported as `FILE:LINE: error: MESSAGE` naming the key (exit code 3).
+declaration order. A bad file is reported as one `FILE:LINE:COL: error: MESSAGE` line per
+problem, pointing at the key (or section) and naming it; every problem of the file is
+reported at once, in file order (exit code 3).
 """
 
 from __future__ import annotations
@@ -39,10 +41,21 @@ from pathlib import Path
 
 from motionvm.motion.axis_config import AxisConfig, AxisConfigError, build_drive
 from motionvm.motion.axis_config import create as create_axis
+from motionvm.source.toml_places import TomlProblems, syntax_error_place, undecodable_place
 
 
 class MachineFileError(Exception):
-    """A machine file that cannot be used; the message names file, line and key."""
+    """A machine file that cannot be used.
+
+    `messages`: one complete line per problem, in file order; `located`: they read
+    `FILE:LINE:COL: error: MESSAGE` (False: the file could not be read at all, an error
+    of the command line that named it).
+    """
+
+    def __init__(self, *messages: str, located: bool = True) -> None:
+        super().__init__("\n".join(messages))
+        self.messages = list(messages)
+        self.located = located
 
 
 @dataclass(frozen=True)
@@ -68,7 +81,7 @@ class PdlDriveSpec:
     starts: tuple[str, ...] = ()
     """Labels the host starts after the drive's reset, in order."""
     where: str = ""
-    """`FILE:LINE` of the `pdl_start` key, for errors found after compiling."""
+    """`FILE:LINE:COL` of the `pdl_start` key, for errors found after compiling."""
 
 
 @dataclass(frozen=True)
@@ -79,7 +92,7 @@ class GdlMotorSpec:
     name: str
     """The motor object's name, as written (GDL names ignore case)."""
     where: str = ""
-    """`FILE:LINE` of the key, for errors found once the application is compiled."""
+    """`FILE:LINE:COL` of the key, for errors found once the application is compiled."""
 
 
 MAX_AXES = 64
@@ -96,93 +109,90 @@ DEFAULT_MACHINE = MachineConfig()
 _KNOWN = {"controller": {"cycle_time_ms", "task_slice", "data_dir"}, "axis": set(), "axes": set()}
 
 
-def _line_of(text: str, section: str, key: str | None) -> int:
-    lines = text.splitlines()
-    in_sec = section == ""
-    for i, line in enumerate(lines, 1):
-        s = line.strip()
-        if s.startswith("["):
-            in_sec = s.strip("[]").strip() == section
-            if key is None and in_sec:
-                return i
-            continue
-        if in_sec and key is not None and re.match(rf"{re.escape(key)}\s*=", s):
-            return i
-    return 1
+class _Problems(TomlProblems):
+    """The problems of one machine file."""
 
+    def at_axis(self, index: int, key: str, message: str) -> None:
+        """A problem of `key` in the `index`-th [[axis]] table, prefixed `[[axis]] N: `."""
+        self.in_array("axis", index, key, f"[[axis]] {index}: {message}")
 
-def _line_of_axis(text: str, index: int, key: str) -> int:
-    """Line of `key` (dotted: its last part) in the `index`-th [[axis]] table."""
-    last = key.split(".")[-1]
-    seen, header = -1, 1
-    for i, line in enumerate(text.splitlines(), 1):
-        s = line.strip()
-        if re.match(r"\[\[\s*axis\s*\]\]", s):
-            seen += 1
-            if seen == index:
-                header = i
-            elif seen > index:
-                break
-            continue
-        if seen == index and re.search(rf"(^|[{{,\s]){re.escape(last)}\s*=", s):
-            return i
-    return header
+    def where_in_axis(self, index: int, key: str) -> str:
+        return self.where(self.array_place("axis", index, key))
+
+    def raise_any(self) -> None:
+        if self.items:
+            raise MachineFileError(*self.headlines())
 
 
 def load_machine(path: str | Path) -> MachineConfig:
-    """Read and validate a machine file."""
+    """Read and validate a machine file; MachineFileError lists every problem of it."""
     p = Path(path)
     try:
-        text = p.read_text("utf-8")
+        raw = p.read_bytes()
     except OSError as exc:
-        raise MachineFileError(f"{p}: error: cannot read machine file: {exc.strerror}") from None
+        raise MachineFileError(
+            f"cannot read machine file {p}: {exc.strerror or exc}", located=False
+        ) from None
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        problems = _Problems(str(p), "")
+        problems.add(undecodable_place(raw, exc), "invalid TOML: the file is not UTF-8 text")
+        problems.raise_any()
+    problems = _Problems(str(p), text)
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
-        m = re.search(r"line (\d+)", str(exc))
-        line = m.group(1) if m else "1"
-        raise MachineFileError(f"{p}:{line}: error: invalid TOML: {exc}") from None
-
-    def bad(section: str, key: str | None, msg: str) -> MachineFileError:
-        return MachineFileError(f"{p}:{_line_of(text, section, key)}: error: {msg}")
-
+        place, message = syntax_error_place(exc, problems.lines)
+        problems.add(place, f"invalid TOML: {message}")
+        problems.raise_any()
     for sec, val in data.items():
-        if sec not in _KNOWN:
-            raise bad(sec, None, f"unknown section [{sec}] (known: {', '.join(sorted(_KNOWN))})")
         if sec in ("axis", "axes"):
             continue
+        if sec not in _KNOWN:
+            if isinstance(val, dict):
+                problems.at(sec, None, f"unknown section [{sec}] (known: axis, controller)")
+            else:
+                problems.at("", sec, f"unknown key '{sec}' (known: axes, axis, controller)")
+            continue
         if not isinstance(val, dict):
-            raise bad("", sec, f"'{sec}' must be a table")
+            problems.at("", sec, f"'{sec}' must be a table")
+            continue
         for key in val:
             if key not in _KNOWN[sec]:
-                raise bad(
-                    sec,
-                    key,
-                    f"unknown key '{key}' in [{sec}] (known: {', '.join(sorted(_KNOWN[sec]))})",
-                )
+                known = ", ".join(sorted(_KNOWN[sec]))
+                problems.at(sec, key, f"unknown key '{key}' in [{sec}] (known: {known})")
     ctl = data.get("controller", {})
+    if not isinstance(ctl, dict):
+        ctl = {}
     cycle_ms = ctl.get("cycle_time_ms", 1.0)
     if (
         isinstance(cycle_ms, bool)
         or not isinstance(cycle_ms, (int, float))
         or not 0.125 <= cycle_ms <= 100
     ):
-        raise bad(
+        problems.at(
             "controller",
             "cycle_time_ms",
             f"cycle_time_ms = {cycle_ms!r}: must be a number from 0.125 to 100",
         )
+        cycle_ms = 1.0
     slice_ = ctl.get("task_slice", 2000)
     if isinstance(slice_, bool) or not isinstance(slice_, int) or not 1 <= slice_ <= 10_000_000:
-        raise bad(
+        problems.at(
             "controller",
             "task_slice",
             f"task_slice = {slice_!r}: must be an integer from 1 to 10000000",
         )
+        slice_ = 2000
     data_dir = ctl.get("data_dir")
     if data_dir is not None and not isinstance(data_dir, str):
-        raise bad("controller", "data_dir", f"data_dir = {data_dir!r}: must be a string (a folder)")
-    axes, pdl, gdl = _load_axes(data, text, p)
+        problems.at(
+            "controller", "data_dir", f"data_dir = {data_dir!r}: must be a string (a folder)"
+        )
+        data_dir = None
+    axes, pdl, gdl = _load_axes(data, problems)
+    problems.raise_any()
     return MachineConfig(
         cycle_time=cycle_ms / 1000.0,
         task_slice=slice_,
@@ -194,85 +204,106 @@ def load_machine(path: str | Path) -> MachineConfig:
     )
 
 
-def _load_axes(data: dict, text: str, p: Path) -> tuple[tuple[AxisConfig, ...], tuple, tuple]:
+def _load_axes(data: dict, problems: _Problems) -> tuple[tuple[AxisConfig, ...], tuple, tuple]:
     tables = data.get("axis", [])
     if not isinstance(tables, list) or not all(isinstance(t, dict) for t in tables):
-        raise MachineFileError(
-            f"{p}:{_line_of(text, '', 'axis')}: error: 'axis' must be written as [[axis]] tables"
-        )
+        problems.at("", "axis", "'axis' must be written as [[axis]] tables")
+        tables = []
     n = data.get("axes", len(tables) if tables else DEFAULT_N_AXES)
     if isinstance(n, bool) or not isinstance(n, int) or not 0 <= n <= MAX_AXES:
-        raise MachineFileError(
-            f"{p}:{_line_of(text, '', 'axes')}: error: axes = {n!r}: must be an integer from 0 to {MAX_AXES}"
-        )
-    if len(tables) > n:
-        raise MachineFileError(
-            f"{p}:{_line_of(text, '', 'axes')}: error: axes = {n} but {len(tables)} [[axis]] tables are given"
-        )
+        problems.at("", "axes", f"axes = {n!r}: must be an integer from 0 to {MAX_AXES}")
+        n = max(len(tables), DEFAULT_N_AXES)
+    elif len(tables) > n:
+        problems.at("", "axes", f"axes = {n} but {len(tables)} [[axis]] tables are given")
+        n = len(tables)
     out, pdl, gdl = [], [], []
     for i, table in enumerate(tables):
         table = dict(table)
-        spec = _pdl_keys(table, i, text, p)
+        spec = _pdl_keys(table, i, problems)
         if spec is not None:
             pdl.append(spec)
-        motor = _gdl_key(table, i, text, p, spec is not None)
+        motor = _gdl_key(table, i, problems, "pdl" in tables[i])
         if motor is not None:
             gdl.append(motor)
-        try:
-            config = create_axis(table)
-            build_drive(config)  # a bad drive or mechanics key fails here, at load time
-        except AxisConfigError as exc:
-            line = _line_of_axis(text, i, exc.key)
-            raise MachineFileError(f"{p}:{line}: error: [[axis]] {i}: {exc}") from None
-        out.append(config)
+        out.append(_axis_config(table, i, problems))
     return tuple(out) + default_axes(n - len(tables)), tuple(pdl), tuple(gdl)
 
 
-def _gdl_key(table: dict, i: int, text: str, p: Path, has_pdl: bool) -> GdlMotorSpec | None:
+def _axis_config(table: dict, i: int, problems: _Problems) -> AxisConfig:
+    """The `i`-th [[axis]] table's configuration; each bad key (of the axis, then the
+    first of its drive table) is a problem, and the default axis stands in."""
+    try:
+        config = create_axis(table)
+    except AxisConfigError as exc:
+        for key, message in exc.problems:
+            problems.at_axis(i, key, message)
+        drive = table.get("drive")
+        try:  # the drive's own keys are checked with the axis's defaults
+            probe = create_axis({"drive": drive} if isinstance(drive, dict) else {})
+        except AxisConfigError:  # reported above
+            return AxisConfig()
+        config = AxisConfig()
+    else:
+        probe = config
+    try:
+        build_drive(probe)  # a bad drive or mechanics key fails here, at load time
+    except AxisConfigError as exc:
+        problems.at_axis(i, exc.key, str(exc))
+        return AxisConfig()
+    return config
+
+
+def _gdl_key(table: dict, i: int, problems: _Problems, has_pdl: bool) -> GdlMotorSpec | None:
     """Take `gdl` out of the `i`-th [[axis]] table and check it."""
     name = table.pop("gdl", None)
     if name is None:
         return None
-    line = _line_of_axis(text, i, "gdl")
     if not isinstance(name, str) or not re.fullmatch(r"[A-Za-z_][\w$]*", name):
-        raise MachineFileError(
-            f"{p}:{line}: error: [[axis]] {i}: gdl = {name!r}: must be the name of a GDL "
-            "motor object"
-        )
+        problems.at_axis(i, "gdl", f"gdl = {name!r}: must be the name of a GDL motor object")
+        return None
     if has_pdl:
-        raise MachineFileError(
-            f"{p}:{line}: error: [[axis]] {i}: gdl = {name!r}: the axis's drive already runs "
-            "a PDL program (an axis has one owner)"
+        problems.at_axis(
+            i,
+            "gdl",
+            f"gdl = {name!r}: the axis's drive already runs a PDL program (an axis has one owner)",
         )
-    return GdlMotorSpec(axis=i, name=name, where=f"{p}:{line}")
+        return None
+    return GdlMotorSpec(axis=i, name=name, where=problems.where_in_axis(i, "gdl"))
 
 
-def _pdl_keys(table: dict, i: int, text: str, p: Path) -> PdlDriveSpec | None:
+def _pdl_keys(table: dict, i: int, problems: _Problems) -> PdlDriveSpec | None:
     """Take `pdl` and `pdl_start` out of the `i`-th [[axis]] table and check them."""
     prog = table.pop("pdl", None)
     starts = table.pop("pdl_start", None)
-
-    def bad(key: str, msg: str) -> MachineFileError:
-        return MachineFileError(f"{p}:{_line_of_axis(text, i, key)}: error: [[axis]] {i}: {msg}")
-
     if prog is None:
         if starts is not None:
-            raise bad("pdl_start", 'pdl_start needs a PDL program: add pdl = "FILE.pdl"')
+            problems.at_axis(i, "pdl_start", 'pdl_start needs a PDL program: add pdl = "FILE.pdl"')
         return None
+    ok = True
+    path = Path(problems.path).parent / str(prog)
     if not isinstance(prog, str) or not prog.lower().endswith(".pdl"):
-        raise bad("pdl", f"pdl = {prog!r}: must be the name of a .pdl file")
-    path = p.parent / prog
-    if not path.is_file():
-        raise bad("pdl", f"pdl = {prog!r}: no such file ({path})")
+        problems.at_axis(i, "pdl", f"pdl = {prog!r}: must be the name of a .pdl file")
+        ok = False
+    elif not path.is_file():
+        problems.at_axis(i, "pdl", f"pdl = {prog!r}: no such file ({path})")
+        ok = False
     if starts is None:
         starts = []
     if not isinstance(starts, list) or not all(isinstance(s, str) for s in starts):
-        raise bad("pdl_start", f'pdl_start = {starts!r}: must be a list of labels, e.g. ["_go"]')
+        problems.at_axis(
+            i, "pdl_start", f'pdl_start = {starts!r}: must be a list of labels, e.g. ["_go"]'
+        )
+        return None
     for label in starts:
         if label != "top" and not label.startswith("_"):
-            raise bad(
+            problems.at_axis(
+                i,
                 "pdl_start",
-                f"pdl_start: '{label}': the host can only start labels beginning with '_' (or \"top\")",
+                f"pdl_start: '{label}': the host can only start labels beginning with '_' "
+                '(or "top")',
             )
-    line = _line_of_axis(text, i, "pdl_start" if starts else "pdl")
-    return PdlDriveSpec(axis=i, path=path, starts=tuple(starts), where=f"{p}:{line}")
+            ok = False
+    if not ok:
+        return None
+    where = problems.where_in_axis(i, "pdl_start" if starts else "pdl")
+    return PdlDriveSpec(axis=i, path=path, starts=tuple(starts), where=where)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import re
 from pathlib import Path
 
 import pytest
@@ -57,14 +58,11 @@ def test_gdl_faults_point_at_the_users_line(tmp_path: Path, cli) -> None:
     scenario.write_text('[[event]]\nat = 0\nset = "STATUS OF go"\nvalue = "ON"\n')
     rc, _out, err = cli("run", path, "--scenario", scenario)
     assert rc == 1
-    errors = [
-        line.split(": runtime error ")[0].rsplit(":", 1)[1] + ":" + line.split(": ", 2)[2]
-        for line in err.splitlines()
-        if "runtime error" in line
-    ]
+    fault = re.compile(r".*app\.gdl:(\d+:\d+): runtime error in procedure \w+ at t=0\.000 s: (.*)")
+    errors = [":".join(m.groups()) for m in map(fault.fullmatch, err.splitlines()) if m]
     assert errors == [
-        "13:index 10 of v is outside 1..3 (ARRAY$SIZE)",
-        "19:division by zero",
+        "13:9:index 10 of v is outside 1..3 (ARRAY$SIZE)",
+        "19:37:division by zero",
     ]
 
 

@@ -116,9 +116,8 @@ def test_gdl_runaway_activations_are_stopped(
         "t=0.500 run loop",
     ]
     assert lines[7].endswith(
-        "runtime error in procedure loop: more than 3 procedure runs at "
-        "t=0.500: procedures keep triggering each other (ready queue "
-        "cleared)"
+        "runtime error in procedure loop at t=0.500 s: more than 3 procedure runs in one "
+        "cycle: procedures keep triggering each other (ready queue cleared)"
     )
     assert lines[8] == "t=0.600 input STATUS OF go = OFF"
 
@@ -181,62 +180,75 @@ def test_gdl_until_ends_the_run(tmp_path: Path, cli) -> None:
 
 
 @pytest.mark.parametrize(
-    ("toml", "message"),
+    ("toml", "place", "message"),
     [
-        ("[[event]\n", "not valid TOML"),
-        ("speed = 3\n", "unknown key 'speed'"),
+        ("[[event]\n", "1:8", "not valid TOML"),
+        ("speed = 3\n", "1:1", "unknown key 'speed'"),
         (
             '[[event]]\nat = 0.1\nset = "STATUS OF gone"\nvalue = "ON"\n',
+            "3:1",
             "event 1: unknown object 'gone'",
         ),
         (
             '[[event]]\nat = 0.1\nset = "STATUS OF go"\nvalue = 3\n',
+            "4:1",
             "event 1: STATUS OF go takes ON or OFF, not 3",
         ),
         (
             '[[event]]\nat = 0.1\nset = "STATUS OF go{2}"\nvalue = "ON"\n',
+            "3:1",
             "event 1: index 2 of go is outside none: it is not an array",
         ),
         (
             '[[event]]\nat = 0.1\nset = "SPEED OF go"\nvalue = "ON"\n',
+            "3:1",
             "event 1: DIGITAL$INPUT has no state variable SPEED",
         ),
-        ('[[event]]\nat = 0.1\nforce = "DIAGN$STATUS OF io"\nvalue = "FAULT"\n', ""),
+        ('[[event]]\nat = 0.1\nforce = "DIAGN$STATUS OF io"\nvalue = "FAULT"\n', "", ""),
         (
             '[[event]]\nat = -1\nset = "STATUS OF go"\nvalue = "ON"\n',
+            "2:1",
             "event 1: 'at' must be a number of seconds >= 0, not -1",
         ),
         (
             '[[event]]\nat = 0.1\nset = "STATUS OF go"\nvalue = "ON"\nduring = "loop"\n',
+            "5:1",
             "event 1: 'during' and 'line' go together",
         ),
         (
             '[[event]]\nat = 0.1\nset = "STATUS OF go"\nvalue = "ON"\nduring = "nope"\nline = 3\n',
+            "5:1",
             "event 1: unknown procedure 'nope'",
         ),
         (
             '[[event]]\nat = 0.1\nset = "STATUS OF go"\nforce = "STATUS OF go"\nvalue = "ON"\n',
+            "4:1",
             "event 1: give exactly one of set, force, release",
         ),
-        ('[initial]\n"STATUS go" = "ON"\n', "'STATUS go' is not 'KEYWORD OF object'"),
+        ('[initial]\n"STATUS go" = "ON"\n', "2:1", "'STATUS go' is not 'KEYWORD OF object'"),
         (
             '[[event]]\nat = 0\nforce = "DIAGN$STATUS OF io"\nvalue = "BROKEN"\n',
+            "4:1",
             "event 1: DIAGN$STATUS OF io takes one of NO$FAULT, FAULT, not 'BROKEN'",
         ),
         (
             '[[event]]\nat = 0\nrelease = "VALUE OF memo"\nline = 2\n',
+            "4:1",
             "event 1: 'during' and 'line' go together",
         ),
     ],
 )
-def test_gdl_bad_scenarios_exit_3(tmp_path: Path, toml: str, message: str, cli) -> None:
+def test_gdl_bad_scenarios_exit_3(tmp_path: Path, toml: str, place: str, message: str, cli) -> None:
     path = _gdl(tmp_path, TOGGLE)
-    rc, out, _ = cli("run", path, "--scenario", _scenario(tmp_path, toml), merged=True)
+    scenario = _scenario(tmp_path, toml)
+    rc, out, _ = cli("run", path, "--scenario", scenario, merged=True)
     if not message:  # DIAGN$STATUS of IO$BOARD has access rf: forcing is allowed
         assert rc == 0
         return
     assert rc == 3
-    assert message in out
+    errors = [line for line in out.splitlines() if line.startswith(scenario)]
+    assert len(errors) == 1, out
+    assert errors[0].startswith(f"{scenario}:{place}: error: ") and message in errors[0], out
 
 
 def test_gdl_scenario_refuses_to_force_rw(tmp_path: Path, cli) -> None:

@@ -20,8 +20,9 @@ Directives are `//` comments, anywhere on a line (so `Print("x"); // expect: x` 
     (for values the manual leaves to the implementation, e.g. a firmware version).
 `// expect runtime error: TEXT`
     The run exits with code 1 and some stderr line of the form
-    `FILE:LINE: runtime error in task N: MESSAGE` contains TEXT. Write
-    `:LINE: runtime error in task N: message` to pin the line and task as well.
+    `FILE:LINE:COL: runtime error in task N at t=S.mmm s: MESSAGE` contains TEXT. Write
+    `:LINE:COL: runtime error in task N at t=S.mmm s:` to pin the place, task and time
+    as well.
 `// error: [FILE:]LINE:COL: TEXT`
     A compile error: exit code 2, nothing on stdout, and stderr has a headline
     `...FILE:LINE:COL: error: MESSAGE` whose MESSAGE contains TEXT. FILE defaults to
@@ -75,7 +76,7 @@ _LOOKS_LIKE_DIRECTIVE = re.compile(
     r"//\s*(expect|error\s*:|args\s*:|task\s+\d+\s*:|restart\s*:|pending\s*:)"
 )
 _ERROR_AT = re.compile(r"(?:(?P<file>[^:\s]+):)?(?P<line>\d+):(?P<col>\d+): (?P<text>.+)")
-_RUNTIME_LINE = re.compile(r".+:\d+: runtime error in task \d+: .*")
+_RUNTIME_LINE = re.compile(r".+:\d+:\d+: runtime error in task \d+ at t=\d+\.\d{3} s: .*")
 
 
 @dataclass

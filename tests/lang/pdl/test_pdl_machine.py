@@ -142,7 +142,7 @@ def test_a_drive_fault_names_the_drive_and_exits_1(tmp_path: Path, capsys, monke
     m = write(tmp_path, "m.toml", 'axes = 2\n[[axis]]\n[[axis]]\npdl = "bad.pdl"\n')
     code, out, err = run(capsys, "--machine", str(m))
     assert (code, out) == (1, "")
-    assert err == f"{prog}:3: runtime error in drive 1 task 0: division by zero\n"
+    assert err == f"{prog}:3:1: runtime error in drive 1 task 0 at t=0.000000 s: division by zero\n"
 
 
 def test_compile_errors_in_a_drive_program_exit_2(tmp_path: Path, capsys, monkeypatch) -> None:
@@ -174,7 +174,7 @@ def test_bad_pdl_keys(tmp_path: Path, axis_lines: str, line: int, needle: str) -
     with pytest.raises(MachineFileError) as info:
         load_machine(m)
     msg = str(info.value)
-    assert msg.startswith(f"{m}:{line}: error: [[axis]] 0: "), msg
+    assert msg.startswith(f"{m}:{line}:1: error: [[axis]] 0: "), msg
     assert needle in msg
 
 
@@ -182,7 +182,7 @@ def test_a_machine_file_error_exits_3(tmp_path: Path, capsys) -> None:
     m = write(tmp_path, "m.toml", '[[axis]]\npdl = "missing.pdl"\n')
     code, out, err = run(capsys, "--machine", str(m))
     assert (code, out) == (3, "")
-    assert err.startswith(f"{m}:2: error: [[axis]] 0: pdl = 'missing.pdl': no such file")
+    assert err.startswith(f"{m}:2:1: error: [[axis]] 0: pdl = 'missing.pdl': no such file")
 
 
 def test_an_unknown_start_label_exits_3(tmp_path: Path, capsys, monkeypatch) -> None:
@@ -191,7 +191,7 @@ def test_an_unknown_start_label_exits_3(tmp_path: Path, capsys, monkeypatch) -> 
     m = write(tmp_path, "m.toml", '[[axis]]\npdl = "ok.pdl"\npdl_start = ["_go", "_gone"]\n')
     code, out, err = run(capsys, "--machine", str(m))
     assert (code, out) == (3, "")
-    assert err == f"{m}:3: error: [[axis]] 0: pdl_start: ok.pdl has no label '_gone'\n"
+    assert err == f"{m}:3:1: error: [[axis]] 0: pdl_start: ok.pdl has no label '_gone'\n"
 
 
 def test_machine_keeps_the_pdl_specs(machine: Path) -> None:

@@ -55,7 +55,9 @@ def test_run_reports_a_fault_and_exits_1(tmp_path: Path) -> None:
     )
     assert code == 1
     assert out == "on\n"
-    assert err == f"{tmp_path / 'prog.pdl'}:3: runtime error in task 0: division by zero\n"
+    assert err == (
+        f"{tmp_path / 'prog.pdl'}:3:1: runtime error in task 0 at t=0.000000 s: division by zero\n"
+    )
 
 
 def test_run_stops_at_until(tmp_path: Path) -> None:

@@ -205,7 +205,7 @@ class GdlApplication:
         """After the run: warn of scenario injections that never applied."""
         for _, ev in self._injections:
             self._report(
-                f"warning: scenario event {ev.number} (during {ev.during}, line "
+                f"{ev.where}: warning: scenario event {ev.number} (during {ev.during}, line "
                 f"{ev.line}) was never applied"
             )
 

@@ -58,7 +58,9 @@ MOVE, JOG, STOP = "move", "jog", "stop"
 
 
 class GdlMachineError(Exception):
-    """The machine cannot run the application (too few axes); exit code 3."""
+    """The machine cannot run the application (too few axes); exit code 3. The message
+    is the whole line: `FILE:LINE:COL: error: ...` at the machine file's `gdl` key or
+    the motor's declaration."""
 
 
 def assign_axes(
@@ -80,8 +82,8 @@ def assign_axes(
         if obj is None:
             known = ", ".join(o.name for o in motors) or "none"
             raise GdlMachineError(
-                f"{spec.where}: [[axis]] {spec.axis}: gdl = '{spec.name}' is not a motor object "
-                f"of the application (its motors: {known})"
+                f"{spec.where}: error: [[axis]] {spec.axis}: gdl = '{spec.name}' is not a motor "
+                f"object of the application (its motors: {known})"
             )
         out[obj.key] = axes[spec.axis]
     taken = {id(a) for a in out.values()}
@@ -94,7 +96,7 @@ def assign_axes(
             owned = sum(1 for a in axes if a.controlled_by is not None)
             needed = owned + len(motors)
             raise GdlMachineError(
-                f"{obj.pos.file}:{obj.pos.line}: motor {obj.name} has no machine axis: the "
+                f"{obj.pos}: error: motor {obj.name} has no machine axis: the "
                 f"machine's {len(axes)} axes are all taken (by PDL drives or other motors); "
                 f"the application declares {len(motors)} motors (give a machine file with "
                 f"{needed} [[axis]] tables)"

@@ -21,7 +21,8 @@ Output, one line each, in order: `t=S input REF = V` (scenario), `t=S run PROC`,
 `t=S set REF = V` (a procedure changed it), `t=S update REF = V` (the RTS changed a
 digital or set variable: a motor stopping, a home switch), `t=S force REF = V`,
 `t=S release REF = V` (the value underneath). Run-time errors are reported as
-`FILE:LINE: runtime error in procedure P: MSG`. Both go to callbacks taking one line.
+`FILE:LINE:COL: runtime error in procedure P at t=S s: MSG`. Both go to callbacks
+taking one line.
 """
 
 from __future__ import annotations
@@ -38,6 +39,7 @@ from motionvm.lang.gdl.app import App, ObjectInfo, ProcInfo
 from motionvm.lang.gdl.devices import Device, GdlFault, create_device
 from motionvm.lang.gdl.objects import format_value
 from motionvm.runtime.clock import Clock
+from motionvm.runtime.fault_position import user_frames
 
 if TYPE_CHECKING:
     from motionvm.motion.axis import Axis
@@ -74,14 +76,10 @@ def format_time(cycle: int, cycle_time: float = 0.001) -> str:
     return time_formatter(cycle_time)(cycle)
 
 
-def _user_line(tb: TracebackType | None, file: str) -> int | None:
-    """The line of the deepest frame of the user's generated code in a traceback."""
-    line = None
-    while tb is not None:
-        if tb.tb_frame.f_code.co_filename == file:
-            line = tb.tb_lineno
-        tb = tb.tb_next
-    return line
+def _user_place(tb: TracebackType | None, file: str) -> tuple[int, int] | None:
+    """(line, column) of the deepest frame of the user's generated code in a traceback."""
+    frames = user_frames(tb, file.__eq__)
+    return (frames[-1].line, frames[-1].col) if frames else None
 
 
 class Rts:
@@ -240,11 +238,10 @@ class Rts:
                 self.ready.clear()
                 self.report(
                     proc.node.pos.file,
-                    proc.node.pos.line,
+                    (proc.node.pos.line, proc.node.pos.col),
                     proc.name,
-                    f"more than {MAX_RUNS_PER_CYCLE} procedure runs at t="
-                    f"{self.stamp()}: procedures keep triggering each "
-                    "other (ready queue cleared)",
+                    f"more than {MAX_RUNS_PER_CYCLE} procedure runs in one cycle: procedures "
+                    "keep triggering each other (ready queue cleared)",
                 )
                 return
             self._run(proc)
@@ -255,8 +252,10 @@ class Rts:
         try:
             self.app.functions[proc.name.lower()](ProcedureApi(self, proc))
         except GdlFault as fault:
-            line = _user_line(fault.__traceback__, proc.file) or proc.node.pos.line
-            self.report(proc.file, line, proc.name, str(fault))
+            place = _user_place(fault.__traceback__, proc.file)
+            if place is None:
+                place = (proc.node.pos.line, proc.node.pos.col)
+            self.report(proc.file, place, proc.name, str(fault))
         finally:
             self.current = None
 
@@ -294,6 +293,11 @@ class Rts:
     def emit(self, text: str) -> None:
         self._emit(f"t={self.stamp()} {text}")
 
-    def report(self, file: str, line: int, proc: str, message: str) -> None:
+    def report(self, file: str, place: tuple[int, int], proc: str, message: str) -> None:
+        """A procedure's run-time error at (line, column) of `file`, now."""
         self.error_count += 1
-        self._report(f"{file}:{line}: runtime error in procedure {proc}: {message}")
+        line, col = place
+        self._report(
+            f"{file}:{line}:{col}: runtime error in procedure {proc} at t={self.stamp()} s: "
+            f"{message}"
+        )

@@ -16,8 +16,9 @@ line = 41                            #   just before its instruction on this lin
 
 `set` accepts any state variable except an INTEGER$CONSTANT: it is how the machine
 changes an object. A reference without subscript on an array means every element.
-Events of one cycle are applied in file order. Every problem is a `ScenarioError`
-naming the file and the event.
+Events of one cycle are applied in file order. A bad file is one `ScenarioError` that
+lists every problem of it, each as `FILE:LINE:COL: error: event N: MESSAGE` pointing at
+the key (an event's header for a key that is missing).
 """
 
 from __future__ import annotations
@@ -25,18 +26,30 @@ from __future__ import annotations
 import math
 import tomllib
 from dataclasses import dataclass
+from pathlib import Path
 
 from motionvm.lang.gdl.app import App, ObjectInfo
 from motionvm.lang.gdl.lexer import tokenize
 from motionvm.lang.gdl.objects import INT_LIMIT, StateSpec
 from motionvm.source.diagnostics import DiagnosticSink, TooManyErrors
 from motionvm.source.suggest import did_you_mean
+from motionvm.source.toml_places import TomlProblems, syntax_error_place, undecodable_place
 
 EVENT_KEYS = {"at", "set", "force", "release", "value", "during", "line"}
 
 
 class ScenarioError(Exception):
-    """A bad scenario file (exit code 3)."""
+    """A bad scenario (exit code 3).
+
+    `messages`: one complete line per problem; `located`: they read
+    `FILE:LINE:COL: error: MESSAGE` (a scenario file, every problem of it at once), else
+    they are errors of the command line (a `--force` text, an unreadable file).
+    """
+
+    def __init__(self, *messages: str, located: bool = False) -> None:
+        super().__init__("\n".join(messages))
+        self.messages = list(messages)
+        self.located = located
 
 
 @dataclass(frozen=True, slots=True)
@@ -60,6 +73,8 @@ class Event:
     value: object
     during: str | None
     line: int | None
+    where: str = ""
+    """`FILE:LINE:COL` of the event's `[[event]]` header ("": not from a file)."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -129,85 +144,130 @@ def parse_value(target: Target, raw: object) -> object:
     raise ValueError(f"{ref} takes one of {', '.join(spec.values)}, not {raw!r}")
 
 
-def _seconds(at: object, where: str) -> float:
+class _Problems(TomlProblems):
+    """The problems of one scenario file."""
+
+    def raise_any(self) -> None:
+        if self.items:
+            raise ScenarioError(*self.headlines(), located=True)
+
+
+def _seconds(at: object) -> float:
+    """`at` as seconds; raises ValueError."""
     if not isinstance(at, int | float) or isinstance(at, bool) or not 0 <= at < math.inf:
-        raise ScenarioError(f"{where}: 'at' must be a number of seconds >= 0, not {at!r}")
+        raise ValueError(f"'at' must be a number of seconds >= 0, not {at!r}")
     return float(at)
 
 
-def _event(app: App, number: int, raw: object, where: str) -> Event:
+def _event(app: App, index: int, raw: object, problems: _Problems) -> Event | None:
+    """The `index`-th (from 0) event; None after adding its problems (each at its key)."""
+    number = index + 1
+    found = len(problems.items)
+
+    def bad(key: str | None, message: str) -> None:
+        problems.in_array("event", index, key, f"event {number}: {message}")
+
     if not isinstance(raw, dict):
-        raise ScenarioError(f"{where}: an event is a table")
-    unknown = sorted(set(raw) - EVENT_KEYS)
-    if unknown:
-        raise ScenarioError(
-            f"{where}: unknown key '{unknown[0]}' (keys: {', '.join(sorted(EVENT_KEYS))})"
-        )
+        bad(None, "an event is a table")
+        return None
+    for key in sorted(set(raw) - EVENT_KEYS):
+        bad(key, f"unknown key '{key}' (keys: {', '.join(sorted(EVENT_KEYS))})")
     actions = [a for a in ("set", "force", "release") if a in raw]
-    if len(actions) != 1:
-        raise ScenarioError(f"{where}: give exactly one of set, force, release")
-    action = actions[0]
+    at = None
     if "at" not in raw:
-        raise ScenarioError(f"{where}: missing 'at'")
-    try:
-        target = parse_target(app, str(raw[action]))
-        if action == "set" and target.obj.type.name == "INTEGER$CONSTANT":
-            raise ValueError(f"{target.obj.name} is an INTEGER$CONSTANT: it never changes")
-        if action != "set" and not target.spec.forceable:
-            raise ValueError(
-                f"{target.spec.keyword} of {target.obj.type.name} cannot be "
-                f"forced (access {target.spec.access}, no 'f')"
-            )
-        if action == "release":
-            value = None
-        elif "value" not in raw:
-            raise ValueError("missing 'value'")
-        else:
-            value = parse_value(target, raw["value"])
-    except ValueError as exc:
-        raise ScenarioError(f"{where}: {exc}") from None
+        bad(None, "missing 'at'")
+    else:
+        try:
+            at = _seconds(raw["at"])
+        except ValueError as exc:
+            bad("at", str(exc))
+    target = value = None
+    if len(actions) != 1:
+        bad(actions[1] if actions else None, "give exactly one of set, force, release")
+    else:
+        action = actions[0]
+        key = action
+        try:
+            target = parse_target(app, str(raw[action]))
+            if action == "set" and target.obj.type.name == "INTEGER$CONSTANT":
+                raise ValueError(f"{target.obj.name} is an INTEGER$CONSTANT: it never changes")
+            if action != "set" and not target.spec.forceable:
+                raise ValueError(
+                    f"{target.spec.keyword} of {target.obj.type.name} cannot be "
+                    f"forced (access {target.spec.access}, no 'f')"
+                )
+            if action != "release":
+                if "value" not in raw:
+                    key = None
+                    raise ValueError("missing 'value'")
+                key = "value"
+                value = parse_value(target, raw["value"])
+        except ValueError as exc:
+            bad(key, str(exc))
     during, line = raw.get("during"), raw.get("line")
     if (during is None) != (line is None):
-        raise ScenarioError(f"{where}: 'during' and 'line' go together")
-    if during is not None:
+        bad("during" if during is not None else "line", "'during' and 'line' go together")
+    elif during is not None:
         proc = app.procedure(str(during))
         if proc is None:
-            raise ScenarioError(f"{where}: unknown procedure '{during}'")
+            bad("during", f"unknown procedure '{during}'")
+        else:
+            during = proc.name
         if not isinstance(line, int) or isinstance(line, bool):
-            raise ScenarioError(f"{where}: 'line' must be a line number")
-        during = proc.name
-    return Event(number, _seconds(raw["at"], where), action, target, value, during, line)
+            bad("line", "'line' must be a line number")
+    if len(problems.items) > found or target is None or at is None:
+        return None
+    where = problems.where(problems.array_place("event", index, None))
+    return Event(number, at, actions[0], target, value, during, line, where)
 
 
 def load_scenario(path: str, app: App) -> Scenario:
-    """Read and validate a scenario file against the application."""
+    """Read and validate a scenario file against the application; ScenarioError lists
+    every problem of it."""
     try:
-        with open(path, "rb") as fh:
-            data = tomllib.load(fh)
+        raw = Path(path).read_bytes()
     except OSError as exc:
-        raise ScenarioError(f"{path}: cannot read the scenario: {exc.strerror or exc}") from None
+        raise ScenarioError(f"cannot read the scenario {path}: {exc.strerror or exc}") from None
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        problems = _Problems(path, "")
+        problems.add(undecodable_place(raw, exc), "not valid TOML: the file is not UTF-8 text")
+        problems.raise_any()
+    problems = _Problems(path, text)
+    try:
+        data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
-        raise ScenarioError(f"{path}: not valid TOML: {exc}") from None
-    unknown = sorted(set(data) - {"until", "initial", "event"})
-    if unknown:
-        raise ScenarioError(f"{path}: unknown key '{unknown[0]}' (keys: event, initial, until)")
+        place, message = syntax_error_place(exc, problems.lines)
+        problems.add(place, f"not valid TOML: {message}")
+        problems.raise_any()
+    for key in sorted(set(data) - {"until", "initial", "event"}):
+        problems.at("", key, f"unknown key '{key}' (keys: event, initial, until)")
     until = data.get("until")
     if until is not None and (
         not isinstance(until, int | float) or isinstance(until, bool) or until < 0
     ):
-        raise ScenarioError(f"{path}: 'until' must be a number of seconds >= 0")
+        problems.at("", "until", "'until' must be a number of seconds >= 0")
+        until = None
     initial: list[tuple[Target, object]] = []
     table = data.get("initial", {})
     if not isinstance(table, dict):
-        raise ScenarioError(f"{path}: [initial] must be a table")
+        problems.at("", "initial", "[initial] must be a table")
+        table = {}
     for ref, raw in table.items():
         try:
             target = parse_target(app, ref)
             initial.append((target, parse_value(target, raw)))
         except ValueError as exc:
-            raise ScenarioError(f"{path}: [initial]: {exc}") from None
+            problems.at("initial", ref, f"[initial]: {exc}")
     raw_events = data.get("event", [])
     if not isinstance(raw_events, list):
-        raise ScenarioError(f"{path}: events are written [[event]]")
-    events = [_event(app, i + 1, e, f"{path}: event {i + 1}") for i, e in enumerate(raw_events)]
-    return Scenario(tuple(initial), tuple(events), float(until) if until is not None else None)
+        problems.at("", "event", "events are written [[event]]")
+        raw_events = []
+    events = [_event(app, i, e, problems) for i, e in enumerate(raw_events)]
+    problems.raise_any()
+    return Scenario(
+        tuple(initial),
+        tuple(e for e in events if e is not None),
+        float(until) if until is not None else None,
+    )

@@ -3,7 +3,8 @@
 It owns the program's memory, the namespace generated code runs in (helpers, memory
 views, built-ins bound as `b_NAME`), one memory stack per task, the 8 mutexes of
 MutexLock/MutexUnlock (released when their task stops), message output, and fault
-reports `FILE:LINE: runtime error in task N: MESSAGE`. HIMC_GPI/HIMC_GPO read and write
+reports `FILE:LINE:COL: runtime error in task N at t=S.mmm s: MESSAGE` (the place of the
+deepest frame of the user's code, the controller's simulated time). HIMC_GPI/HIMC_GPO read and write
 the controller's digital I/O (`controller.io`, io/gpio.py); the axis built-ins call the
 motion commands (`commands`, motion/commands/) on the controller's motion kernel.
 """
@@ -23,6 +24,7 @@ from motionvm.lang.hmpl.program import CompiledProgram
 from motionvm.lang.hmpl.rthelpers import make_helpers
 from motionvm.motion.commands import MotionCommands
 from motionvm.runtime.errors import RuntimeFault
+from motionvm.runtime.fault_position import user_frames
 from motionvm.runtime.kernel import Kernel, Task
 
 N_MUTEXES = 8
@@ -252,19 +254,15 @@ class HmplRuntime:
                 "  this is a bug in motionvm, not in your program; please file an issue with the program attached"
             )
             return
-        self._report(f"{where}: runtime error in task {t.id}: {msg}")
+        self._report(f"{where}: runtime error in task {t.id} at t={self.sim_time:.3f} s: {msg}")
 
     def _user_location(self, exc: BaseException) -> str:
-        tb = exc.__traceback__
-        loc = None
-        while tb is not None:
-            code = tb.tb_frame.f_code
-            if code.co_filename in self.user_files:
-                loc = (code.co_filename, tb.tb_lineno)
-            tb = tb.tb_next
-        if loc is None:
+        """`FILE:LINE:COL` of the deepest frame of the user's code (`<motionvm>`: none)."""
+        frames = user_frames(exc.__traceback__, self.user_files.__contains__)
+        if not frames:
             return "<motionvm>"
-        return f"{loc[0]}:{loc[1]}"
+        f = frames[-1]
+        return f"{f.file}:{f.line}:{f.col}"
 
     @staticmethod
     def _fault_message(exc: BaseException) -> str | None:

@@ -1,14 +1,17 @@
-"""Turn a task's exception into the one-line report `FILE:LINE: runtime error in task N: MSG`.
+"""Turn a task's exception into the one-line report
+`FILE:LINE:COL: runtime error in task N at t=S.ssssss s: MSG`.
 
-The line comes from the deepest traceback frame that runs the program's generated
-code (compiled with the user's file name and line numbers, lower.py); Python's own
-exceptions from that code get the wording of the drive's fault.
+The place comes from the deepest traceback frame that runs the program's generated
+code (compiled with the user's file name, line numbers and columns, lower.py); the time
+is the drive's phase time, as its message stamps show it; Python's own exceptions from
+that code get the wording of the drive's fault.
 """
 
 from __future__ import annotations
 
 from motionvm.lang.pdl.lower import PdlProgram
 from motionvm.runtime.errors import RuntimeFault
+from motionvm.runtime.fault_position import user_frames
 
 _PYTHON_FAULTS = {
     ZeroDivisionError: "division by zero",
@@ -18,21 +21,16 @@ _PYTHON_FAULTS = {
 }
 
 
-def fault_line(program: PdlProgram, exc: BaseException) -> tuple[str, int]:
-    """(file, line) of the PDL statement that raised `exc`."""
-    tb = exc.__traceback__
-    lines: list[tuple[int, int]] = []
-    while tb is not None:
-        code = tb.tb_frame.f_code
-        if code.co_filename == program.path:
-            lines.append((tb.tb_lineno, code.co_firstlineno))
-        tb = tb.tb_next
-    if not lines:
-        return program.path, 0
-    lineno, first = lines[-1]
-    if lineno == first and len(lines) > 1:
-        lineno = lines[-2][0]  # a procedure's entry (frame set-up) faults at its call
-    return program.where(lineno)
+def fault_place(program: PdlProgram, exc: BaseException) -> tuple[str, int, int]:
+    """(file, line, column) of the PDL statement that raised `exc` (line 0: unknown)."""
+    frames = user_frames(exc.__traceback__, program.path.__eq__)
+    if not frames:
+        return program.path, 0, 1
+    f = frames[-1]
+    if f.line == f.first_line and len(frames) > 1:
+        f = frames[-2]  # a procedure's entry (frame set-up) faults at its call
+    file, line = program.where(f.line)
+    return file, line, f.col
 
 
 def fault_message(exc: BaseException) -> str:
@@ -45,7 +43,11 @@ def fault_message(exc: BaseException) -> str:
     return f"internal error ({type(exc).__name__}: {exc}); please report it with the program"
 
 
-def describe_fault(program: PdlProgram, task: int, exc: BaseException) -> str:
-    """`FILE:LINE: runtime error in task N: MESSAGE`."""
-    file, line = fault_line(program, exc)
-    return f"{file}:{line}: runtime error in task {task}: {fault_message(exc)}"
+def describe_fault(program: PdlProgram, task: int, exc: BaseException, sim_time: float) -> str:
+    """`FILE:LINE:COL: runtime error in task N at t=S.ssssss s: MESSAGE`; `sim_time` [s]:
+    the drive's time of the faulting phase."""
+    file, line, col = fault_place(program, exc)
+    return (
+        f"{file}:{line}:{col}: runtime error in task {task} at t={sim_time:.6f} s: "
+        f"{fault_message(exc)}"
+    )

@@ -12,7 +12,8 @@ phases; `till` re-tests its condition once per phase of the task.
 
 Host side (mpi.dll's RunFuncPdlN / killTask): `start(label)` runs a `_label` on the
 lowest idle task, `kill(n)` stops task n. `#task/n` entries start at `reset()`.
-A fault stops only its task: `FILE:LINE: runtime error in task N: MESSAGE`.
+A fault stops only its task:
+`FILE:LINE:COL: runtime error in task N at t=S.ssssss s: MESSAGE` (drive_faults.py).
 """
 
 from __future__ import annotations
@@ -291,7 +292,7 @@ class Drive:
         """Report a task's fault with the user's file and line; the drive keeps running."""
         from motionvm.lang.pdl.drive_faults import describe_fault
 
-        text = describe_fault(self.program, t.id, exc)
+        text = describe_fault(self.program, t.id, exc, self.sim_time)
         self.faults.append(text)
         self.on_fault(text)
 

@@ -44,6 +44,7 @@ from motionvm.lang.pdl.lower_expr import (
 from motionvm.lang.pdl.lower_flow import SLEEP, WAIT, FlowLowering, check_budget, is_jumpy
 from motionvm.lang.pdl.rt_memory import FLOAT
 from motionvm.lang.pdl.symbols import LabelSym, ProcSym, VarSym, code_units
+from motionvm.source.files import SourcePos
 
 if TYPE_CHECKING:
     from motionvm.lang.pdl.lower import ProgramLowering
@@ -73,11 +74,12 @@ class BodyLowerer(FlowLowering):
 
     def at(self, stmts: list[ast.stmt], pos: object) -> list[ast.stmt]:
         line = self.prog.line_of(pos)
+        col = pos.col - 1 if isinstance(pos, SourcePos) else 0  # a fault names the column
         for s in stmts:
             for node in ast.walk(s):
                 if "lineno" in node._attributes and not hasattr(node, "lineno"):
                     node.lineno = line
-                    node.col_offset = 0
+                    node.col_offset = col
         return stmts
 
     def emit(self, stmts: list[ast.stmt], pos: object) -> None:

@@ -44,7 +44,8 @@ commands to it are refused (lang/hmpl/lib/axis.py), its getters read the feedbac
 
 Output. A message is one line through `emit`; with `stamp` it is prefixed
 `[t=SECONDS][drive A task N] ` (A the axis id, t the message's phase, 6 decimals). A
-task's fault is `FILE:LINE: runtime error in drive A task N: MESSAGE` through `report`.
+task's fault is `FILE:LINE:COL: runtime error in drive A task N at t=SECONDS s: MESSAGE`
+through `report`.
 The scope channels `driveN.<name>` come from `scope_sources()` (drive_scope.py).
 
 Standalone (`standalone=True`, the `motionvm run prog.pdl` of one drive): the drive
@@ -79,8 +80,8 @@ CONTROLLED_BY = "PDL drive"
 
 class PdlStartError(Exception):
     """A start label that cannot be started (exit 3); the message is the whole line to print:
-    a machine file's `pdl_start` label the program lacks (`FILE:LINE: error: ...`), or a
-    standalone `--start` the program lacks or the drive refuses (`motionvm: --start ...`)."""
+    a machine file's `pdl_start` label the program lacks (`FILE:LINE:COL: error: ...`), or a
+    standalone `--start` the program lacks or the drive refuses (`motionvm: error: --start ...`)."""
 
 
 @dataclass
@@ -115,7 +116,7 @@ def _check_starts(drives: list[CompiledDrive] | None) -> None:
             if label != "top" and label not in c.program.entries:
                 if not c.spec.where:
                     raise PdlStartError(
-                        f"motionvm: --start {label}: the program has no label '{label}'"
+                        f"motionvm: error: --start {label}: the program has no label '{label}'"
                     )
                 raise PdlStartError(
                     f"{c.spec.where}: error: [[axis]] {c.spec.axis}: pdl_start: "
@@ -219,6 +220,7 @@ class PdlDrives:
         """(axis id, drive), in axis order."""
         self._slots: list[_Slot] = []
         self._starts: dict[int, tuple[str, ...]] = {}
+        self._where: dict[int, str] = {}  # `FILE:LINE:COL` of each drive's pdl_start key
         self._settle_until = -1  # the last cycle the machine axes still follow a demand
         self._started = False
         for c in sorted(drives, key=lambda c: c.spec.axis):
@@ -240,6 +242,7 @@ class PdlDrives:
             self._slots.append(_Slot(axis_id, drive, axis, per_cycle))
             self.drives.append((axis_id, drive))
             self._starts[axis_id] = c.spec.starts
+            self._where[axis_id] = c.spec.where
 
     def _message_sink(self, axis_id: int, rate: int) -> Callable[[Message], None]:
         who = "" if self.standalone else f"drive {axis_id} "
@@ -279,13 +282,17 @@ class PdlDrives:
                         drive.start(label)
                 except ValueError as exc:
                     if self.standalone:
-                        raise PdlStartError(f"motionvm: --start {label}: {exc}") from None
-                    text = f"{drive.program.path}: error: drive {axis_id}: pdl_start {label}: {exc}"
+                        raise PdlStartError(f"motionvm: error: --start {label}: {exc}") from None
+                    where = self._where.get(axis_id)
+                    if where:  # the machine file's pdl_start key
+                        text = f"{where}: error: [[axis]] {axis_id}: pdl_start {label}: {exc}"
+                    else:
+                        text = f"motionvm: error: --start {label}: drive {axis_id}: {exc}"
                     self.faults.append(text)
                     self._report(text)
             if self.standalone and not drive.busy:
                 self._report(
-                    f"{drive.program.path}: note: no task runs: the program has no "
+                    f"{drive.program.path}:1:1: note: no task runs: the program has no "
                     "'#task/n;' and no --start label was given"
                 )
 
