@@ -28,6 +28,9 @@ def build_parser() -> argparse.ArgumentParser:
         action="store_true",
         help="step every cycle instead of jumping over idle ones (same output, slower)",
     )
+    r.add_argument(
+        "--Werror", dest="werror", action="store_true", help="treat compiler warnings as errors"
+    )
     r.add_argument("--scenario", metavar="FILE.toml", help="GDL: timed input changes")
     r.add_argument(
         "--scope",
@@ -67,10 +70,16 @@ def build_parser() -> argparse.ArgumentParser:
     c = sub.add_parser("check", help="compile only; report errors")
     c.add_argument("files", nargs="+", metavar="FILE")
     c.add_argument("--task", action="append", default=[], metavar="N=FILE")
+    c.add_argument(
+        "--Werror", dest="werror", action="store_true", help="treat compiler warnings as errors"
+    )
     k = sub.add_parser("compile", help="compile and show the generated Python")
     k.add_argument("files", nargs="+", metavar="FILE")
     k.add_argument("--emit-python", action="store_true", help="print the generated Python code")
     k.add_argument("--task", action="append", default=[], metavar="N=FILE")
+    k.add_argument(
+        "--Werror", dest="werror", action="store_true", help="treat compiler warnings as errors"
+    )
     b = sub.add_parser("builtins", help="list every HMPL built-in and whether it is implemented")
     b.add_argument("--json", action="store_true")
     d = sub.add_parser("dump", help="show a compiler stage")

@@ -46,7 +46,7 @@ def _report(line: str) -> None:
 
 
 def cmd_check(args) -> int:
-    spec = RunSpec(sources_of(args))
+    spec = RunSpec(sources_of(args), werror=args.werror)
     try:
         return EXIT_OK if check(spec, _report) else EXIT_COMPILE
     except SessionError as exc:
@@ -55,7 +55,7 @@ def cmd_check(args) -> int:
 
 def cmd_compile(args) -> int:
     from motionvm.lang.hmpl.compiler import compile_tasks
-    from motionvm.session import check_sources, place_tasks
+    from motionvm.session import WERROR_NOTE, check_sources, place_tasks
     from motionvm.source.diagnostics import DiagnosticSink, render_diagnostic
 
     sources = sources_of(args)
@@ -74,6 +74,9 @@ def cmd_compile(args) -> int:
     for d in sink.items:
         _report(render_diagnostic(d))
     if prog is None:
+        return EXIT_COMPILE
+    if args.werror and any(d.severity == "warning" for d in sink.items):
+        _report(WERROR_NOTE)
         return EXIT_COMPILE
     if args.emit_python:
         sys.stdout.write(prog.python_source())
@@ -95,6 +98,7 @@ def cmd_run(args) -> int:
         shuffle_seed=args.shuffle_order,
         skip=not args.no_skip,
         scope_title=" ".join(list(args.files) + list(args.task)),
+        werror=args.werror,
     )
     if args.until is not None and not args.until >= 0:
         raise UsageError(f"--until must be a non-negative number of seconds, got {args.until}")

@@ -21,12 +21,14 @@ from motionvm.lang.hmpl import ctypes_ as ct
 from motionvm.lang.hmpl import nodes as n
 from motionvm.lang.hmpl.analysis import FuncFacts, constant_init, scan
 from motionvm.lang.hmpl.cmemory import Memory
+from motionvm.lang.hmpl.lint import lint_function
 from motionvm.lang.hmpl.lower_expr import SemanticError
 from motionvm.lang.hmpl.lower_stmt import FunctionLowerer
 from motionvm.lang.hmpl.lower_util import at as _at
 from motionvm.lang.hmpl.lvalues import VIEW_NAMES, call, name, view_code
-from motionvm.lang.hmpl.symbols import FuncSym, Scope, VarSym
+from motionvm.lang.hmpl.symbols import FuncSym, Scope, VarSym, error_symbol
 from motionvm.source.diagnostics import DiagnosticSink, TooManyErrors
+from motionvm.source.files import SourcePos
 from motionvm.source.suggest import did_you_mean
 
 _PACK = {
@@ -91,7 +93,14 @@ class ProgramCompiler:
         self._strings: dict[bytes, int] = {}
         self.sysvars: dict[str, VarSym] = {}
         self.addr_taken: set[str] = set()
+        self._warned: set[tuple[SourcePos, str]] = set()
         self._alloc_system()
+
+    def warn(self, pos: SourcePos, message: str) -> None:
+        """A warning, once per place and text (some expressions are lowered twice)."""
+        if (pos, message) not in self._warned:
+            self._warned.add((pos, message))
+            self.sink.warning(pos, message)
 
     # ------------------------------------------------------------ symbols
 
@@ -370,9 +379,13 @@ class ProgramCompiler:
             if item.type.struct_def is not None and not item.name:
                 self.define_struct(item.type.struct_def, scope, task)
                 return
-            t = self.decl_type(item, scope, task)
-            if isinstance(t, ct.VoidT):
-                raise self._fail(item.pos, f"variable '{item.name}' declared void")
+            try:
+                t = self.decl_type(item, scope, task)
+                if isinstance(t, ct.VoidT):
+                    raise self._fail(item.pos, f"variable '{item.name}' declared void")
+            except SemanticError:
+                scope.names[item.name] = error_symbol(item.name, item.pos)
+                raise
             if (t.is_scalar and item.name not in self.addr_taken) or self.list_backed(item, t):
                 sym = VarSym(
                     item.name,
@@ -390,7 +403,12 @@ class ProgramCompiler:
             scope.names[item.name] = sym
             self._pending_inits.setdefault(task, []).append((sym, item))
         elif isinstance(item, n.FuncDef):
-            self._declare_function(item, scope, task, prefix, info)
+            try:
+                self._declare_function(item, scope, task, prefix, info)
+            except SemanticError:
+                if item.name not in scope.names:
+                    scope.names[item.name] = error_symbol(item.name, item.pos)
+                raise
 
     def _declare_function(
         self, f: n.FuncDef, scope: Scope, task: int, prefix: str, info: TaskInfo
@@ -510,6 +528,7 @@ class ProgramCompiler:
                         sym = scope.names.get(item.name)
                         if not isinstance(sym, FuncSym) or sym.node is not item:
                             continue
+                        lint_function(item, self.warn)
                         lw = FunctionLowerer(
                             self,
                             u.task,
