@@ -34,11 +34,19 @@ def lint_function(f: n.FuncDef, warn: Warn) -> None:
 
 
 def _check_parentheses(body: n.Block, warn: Warn) -> None:
+    """The condition of if, while, do, for, ?: and Till, when it is a plain `=`."""
     for x in walk(body):
-        if type(x) in (n.If, n.While, n.DoWhile, n.For, n.Cond):
+        t = type(x)
+        if t in (n.If, n.While, n.DoWhile, n.For, n.Cond):
             c = x.cond
-            if type(c) is n.Assign and c.op == "=" and not c.parenthesized:
-                warn(c.pos, "suggest parentheses around assignment used as truth value")
+        elif t is n.Call and type(x.func) is n.Name and x.func.id == "Till" and x.args:
+            c = x.args[0]
+        else:
+            continue
+        if type(c) is n.Unary and c.op == "!" and t is n.While:
+            c = c.operand  # `Till (cond) { ... }` is parsed as `while (!cond) { ... }`
+        if type(c) is n.Assign and c.op == "=" and not c.parenthesized:
+            warn(c.pos, "suggest parentheses around assignment used as truth value")
 
 
 def _check_unreachable(body: n.Block, warn: Warn) -> None:
