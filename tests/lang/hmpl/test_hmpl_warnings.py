@@ -289,6 +289,24 @@ def test_a_failed_function_declaration_still_declares_its_name():
     assert len(got) == 1 and "must be positive" in got[0], got
 
 
+def test_a_failed_struct_or_typedef_still_names_its_type():
+    src = (
+        "typedef int row_t[0];\n"
+        "struct S { int a[-1]; };\n"
+        "row_t g;\n"
+        "void main() {\n"
+        "    row_t r;\n"
+        "    struct S s;\n"
+        "    r[0] = 1;\n"
+        "    s.a[0] = g[0];\n"
+        "}\n"
+    )
+    assert diagnostics(src) == [
+        "1:19: error: size of array 'row_t' must be positive (it is 0)",
+        "2:18: error: size of array 'a' must be positive (it is -1)",
+    ]
+
+
 # ---------------------------------------------------------------- the programs of the repo
 
 

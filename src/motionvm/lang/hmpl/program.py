@@ -168,11 +168,23 @@ class ProgramCompiler:
                     raise self._fail(
                         tr.pos, f"unknown type name '{base}'{did_you_mean(base, known)}"
                     )
+            if t is ct.ERROR:  # a struct or typedef whose definition failed (reported)
+                raise SemanticError(f"'{base}' has no valid definition")
         for _ in range(tr.pointers):
             t = ct.pointer_to(t)
         return t
 
     def define_struct(self, sd: n.StructDef, scope: Scope, task: int) -> ct.StructT:
+        """The struct or union type; if it fails, its tag names the error type, so that
+        later uses of the tag add no errors."""
+        try:
+            return self._define_struct(sd, scope, task)
+        except SemanticError:
+            if sd.tag and sd.tag not in scope.tags:
+                scope.tags[sd.tag] = ct.ERROR  # type: ignore[assignment]
+            raise
+
+    def _define_struct(self, sd: n.StructDef, scope: Scope, task: int) -> ct.StructT:
         fields = []
         off = size = 0
         align = 1
@@ -363,9 +375,18 @@ class ProgramCompiler:
         if isinstance(item, n.StructDef):
             self.define_struct(item, scope, task)
         elif isinstance(item, n.Typedef):
-            t = self.resolve_typeref(item.type, scope, task)
-            for dim in reversed(item.dims):
-                t = ct.array_of(t, self._const_int(dim, scope, task) if dim is not None else None)
+            try:
+                t = self.resolve_typeref(item.type, scope, task)
+                for dim in reversed(item.dims):
+                    count = self._const_int(dim, scope, task) if dim is not None else None
+                    if count is not None and count <= 0:
+                        raise self._fail(
+                            dim.pos, f"size of array '{item.name}' must be positive (it is {count})"
+                        )
+                    t = ct.array_of(t, count)
+            except SemanticError:
+                scope.types.setdefault(item.name, ct.ERROR)
+                raise
             scope.types[item.name] = t
         elif isinstance(item, n.DeclStmt):
             for d in item.decls:
