@@ -28,9 +28,7 @@ def build_parser() -> argparse.ArgumentParser:
         action="store_true",
         help="step every cycle instead of jumping over idle ones (same output, slower)",
     )
-    r.add_argument(
-        "--Werror", dest="werror", action="store_true", help="treat compiler warnings as errors"
-    )
+    _werror(r)
     r.add_argument("--scenario", metavar="FILE.toml", help="GDL: timed input changes")
     r.add_argument(
         "--scope",
@@ -70,16 +68,12 @@ def build_parser() -> argparse.ArgumentParser:
     c = sub.add_parser("check", help="compile only; report errors")
     c.add_argument("files", nargs="+", metavar="FILE")
     c.add_argument("--task", action="append", default=[], metavar="N=FILE")
-    c.add_argument(
-        "--Werror", dest="werror", action="store_true", help="treat compiler warnings as errors"
-    )
+    _werror(c)
     k = sub.add_parser("compile", help="compile and show the generated Python")
     k.add_argument("files", nargs="+", metavar="FILE")
     k.add_argument("--emit-python", action="store_true", help="print the generated Python code")
     k.add_argument("--task", action="append", default=[], metavar="N=FILE")
-    k.add_argument(
-        "--Werror", dest="werror", action="store_true", help="treat compiler warnings as errors"
-    )
+    _werror(k)
     b = sub.add_parser("builtins", help="list every HMPL built-in and whether it is implemented")
     b.add_argument("--json", action="store_true")
     d = sub.add_parser("dump", help="show a compiler stage")
@@ -87,3 +81,9 @@ def build_parser() -> argparse.ArgumentParser:
     d.add_argument("file", metavar="FILE")
     d.add_argument("--task-id", type=int, default=0)
     return p
+
+
+def _werror(p: argparse.ArgumentParser) -> None:
+    p.add_argument(
+        "--Werror", dest="werror", action="store_true", help="treat compiler warnings as errors"
+    )

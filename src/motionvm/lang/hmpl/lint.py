@@ -26,18 +26,20 @@ def lint_function(f: n.FuncDef, warn: Warn) -> None:
     def add(pos: SourcePos, message: str) -> None:
         found.append((pos, message))
 
-    _check_parentheses(f.body, add)
+    _check_tree(f.body, add)
     _Unused(add).function(f)
-    _check_unreachable(f.body, add)
     for pos, message in sorted(found, key=lambda w: (w[0].file, w[0].line, w[0].col)):
         warn(pos, message)
 
 
-def _check_parentheses(body: n.Block, warn: Warn) -> None:
-    """The condition of if, while, do, for, ?: and Till, when it is a plain `=`."""
+def _check_tree(body: n.Block, warn: Warn) -> None:
+    """One walk over a body: -Wparentheses at each condition, unreachable code per block."""
     for x in walk(body):
         t = type(x)
-        if t in (n.If, n.While, n.DoWhile, n.For, n.Cond):
+        if t is n.Block:
+            _check_unreachable(x, warn)
+            continue
+        if t in _CONDITIONAL:
             c = x.cond
         elif t is n.Call and type(x.func) is n.Name and x.func.id == "Till" and x.args:
             c = x.args[0]
@@ -49,29 +51,29 @@ def _check_parentheses(body: n.Block, warn: Warn) -> None:
             warn(c.pos, "suggest parentheses around assignment used as truth value")
 
 
-def _check_unreachable(body: n.Block, warn: Warn) -> None:
-    """The first statement after a jump in each block, up to the next label.
+_CONDITIONAL = frozenset((n.If, n.While, n.DoWhile, n.For, n.Cond))
+
+
+def _check_unreachable(blk: n.Block, warn: Warn) -> None:
+    """The first statement after a jump in a block, up to the next label.
 
     A `break` right after a `return` or `goto` (`case 1: return 5; break;`) is a common
     defensive habit and is not reported, as clang's -Wunreachable-code does not.
     """
-    for blk in walk(body):
-        if type(blk) is not n.Block:
+    jump = None  # the jump that ended the live code (None: live)
+    for s in blk.items:
+        if isinstance(s, _LABELS):
+            jump = None
+        elif jump is None:
+            if isinstance(s, _JUMPS):
+                jump = s
+        elif jump is _REPORTED or type(s) is n.Empty:
             continue
-        jump = None  # the jump that ended the live code (None: live)
-        for s in blk.items:
-            if isinstance(s, _LABELS):
-                jump = None
-            elif jump is None:
-                if isinstance(s, _JUMPS):
-                    jump = s
-            elif jump is _REPORTED or type(s) is n.Empty:
-                continue
-            elif type(s) is n.Break and type(jump) in (n.Return, n.Goto):
-                continue
-            else:
-                warn(s.pos, "unreachable code")
-                jump = _REPORTED
+        elif type(s) is n.Break and type(jump) in (n.Return, n.Goto):
+            continue
+        else:
+            warn(s.pos, "unreachable code")
+            jump = _REPORTED
 
 
 _REPORTED = object()  # a stretch of dead code already reported
