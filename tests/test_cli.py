@@ -132,3 +132,57 @@ def test_dump_stages(tmp_path):
     for stage, needle in (("tokens", "keyword\tvoid"), ("ast", "FuncDef"), ("py", "def g_main")):
         r = run(["dump", "--stage", stage, "a.hmpl"], tmp_path)
         assert r.returncode == 0 and needle in r.stdout, (stage, r.stdout[:200])
+
+
+WARNS = 'void main() {\n    int n = 1;\n    if (n = 2) Print("%d", n);\n}\n'
+
+
+def test_check_prints_warnings_and_exits_0(tmp_path):
+    write(tmp_path, "a.hmpl", WARNS)
+    r = run(["check", "a.hmpl"], tmp_path)
+    assert r.returncode == 0
+    assert r.stderr.splitlines() == [
+        "a.hmpl:3:11: warning: suggest parentheses around assignment used as truth value",
+        '    if (n = 2) Print("%d", n);',
+        " " * 10 + "^",
+    ]
+
+
+def test_werror_makes_warnings_fail_check_run_and_compile_with_exit_2(tmp_path):
+    write(tmp_path, "a.hmpl", WARNS)
+    for cmd in ("check", "run", "compile"):
+        r = run([cmd, "--Werror", "a.hmpl"], tmp_path)
+        assert (r.returncode, r.stdout) == (2, ""), (cmd, r.stderr)
+        assert r.stderr.startswith("a.hmpl:3:11: warning: suggest parentheses"), cmd
+        assert (
+            r.stderr.splitlines()[-1] == "motionvm: all warnings being treated as errors (--Werror)"
+        )
+
+
+def test_werror_passes_a_program_without_warnings(tmp_path):
+    write(tmp_path, "a.hmpl", 'void main() { Print("%d", 42); }\n')
+    assert run(["check", "--Werror", "a.hmpl"], tmp_path).returncode == 0
+    r = run(["run", "--Werror", "a.hmpl"], tmp_path)
+    assert (r.returncode, r.stdout, r.stderr) == (0, "42\n", "")
+
+
+def test_a_run_with_warnings_runs_and_reports_them(tmp_path):
+    write(tmp_path, "a.hmpl", 'void main() {\n    int idle;\n    Print("%d", 1.5);\n}\n')
+    r = run(["run", "a.hmpl"], tmp_path)
+    assert (r.returncode, r.stdout) == (0, "1\n")
+    heads = [line for line in r.stderr.splitlines() if ": warning: " in line]
+    assert heads == [
+        "a.hmpl:2:9: warning: unused variable 'idle'",
+        "a.hmpl:3:17: warning: format '%d' expects an argument of type 'int', but argument 2 "
+        "has type 'double'",
+    ]
+
+
+def test_werror_in_process_through_main(tmp_path, capsys, monkeypatch):
+    from motionvm.cli import main
+
+    write(tmp_path, "a.hmpl", "void main() {\n    GetGPI(1);\n}\n")
+    monkeypatch.chdir(tmp_path)
+    assert main(["check", "a.hmpl"]) == 0
+    assert "GetGPI (manual 9.4.1) is not implemented" in capsys.readouterr().err
+    assert main(["check", "--Werror", "a.hmpl"]) == 2

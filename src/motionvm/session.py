@@ -118,6 +118,8 @@ class RunSpec:
     output either way). The environment variable MOTIONVM_NO_SKIP=1 also turns it off."""
     scope_title: str = ""
     """The title of scope plots (the command line's files)."""
+    werror: bool = False
+    """Compiler warnings (HMPL, GDL) fail the compile like errors (`--Werror`)."""
 
 
 def load_machine_spec(machine: MachineConfig | str | Path | None) -> MachineConfig:
@@ -236,7 +238,7 @@ def compile_run(
         sink = DiagnosticSink()
         prog, mem = compile_tasks(place_tasks(by_lang["HMPL"]), sink)
         _render(sink.items, report)
-        failed += sink.errors()
+        failed += _failures(sink, spec.werror)
         out.hmpl = (prog, mem) if prog is not None else None
     if machine.pdl_drives:
         from motionvm.lang.pdl.machine_drives import (
@@ -265,12 +267,22 @@ def compile_run(
             sorted(sink.items, key=lambda d: (order.get(d.pos.file, -1), d.pos.line, d.pos.col)),
             report,
         )
-        failed += sink.errors()
+        failed += _failures(sink, spec.werror)
         gdl_failed = app is None
         out.gdl = app
     if failed or pdl_failed or gdl_failed:
+        if spec.werror and any(d.severity == "warning" for d in failed):
+            report(WERROR_NOTE)
         raise CompileFailed(failed)
     return out, machine
+
+
+WERROR_NOTE = "motionvm: all warnings being treated as errors (--Werror)"
+
+
+def _failures(sink: DiagnosticSink, werror: bool) -> list[Diagnostic]:
+    """The diagnostics that fail a compile: its errors, and with --Werror its warnings."""
+    return [d for d in sink.items if d.severity == "error" or (werror and d.severity == "warning")]
 
 
 def _place_pdl(

@@ -38,6 +38,7 @@ def build_parser() -> argparse.ArgumentParser:
         action="store_true",
         help="step every cycle instead of jumping over idle ones (same output, slower)",
     )
+    _werror(r)
     r.add_argument("--scenario", metavar="FILE.toml", help="GDL: timed input changes")
     r.add_argument(
         "--scope",
@@ -77,10 +78,12 @@ def build_parser() -> argparse.ArgumentParser:
     c = sub.add_parser("check", help="compile only; report errors")
     c.add_argument("files", nargs="+", metavar="FILE")
     c.add_argument("--task", action="append", default=[], metavar="N=FILE")
+    _werror(c)
     k = sub.add_parser("compile", help="compile and show the generated Python")
     k.add_argument("files", nargs="+", metavar="FILE")
     k.add_argument("--emit-python", action="store_true", help="print the generated Python code")
     k.add_argument("--task", action="append", default=[], metavar="N=FILE")
+    _werror(k)
     b = sub.add_parser("builtins", help="list every HMPL built-in and whether it is implemented")
     b.add_argument("--json", action="store_true")
     d = sub.add_parser("dump", help="show a compiler stage")
@@ -113,3 +116,9 @@ def add_test_parser(sub) -> None:
     )
     t.add_argument("--junitxml", metavar="FILE", help="also write a JUnit XML report")
     t.add_argument("--dask", metavar="ADDRESS", help="run the cases on the Dask cluster at ADDRESS")
+
+
+def _werror(p: argparse.ArgumentParser) -> None:
+    p.add_argument(
+        "--Werror", dest="werror", action="store_true", help="treat compiler warnings as errors"
+    )

@@ -56,7 +56,7 @@ def _report(line: str) -> None:
 
 
 def cmd_check(args) -> int:
-    spec = RunSpec(sources_of(args))
+    spec = RunSpec(sources_of(args), werror=args.werror)
     try:
         return EXIT_OK if check(spec, _report) else EXIT_COMPILE
     except SessionError as exc:
@@ -65,7 +65,7 @@ def cmd_check(args) -> int:
 
 def cmd_compile(args) -> int:
     from motionvm.lang.hmpl.compiler import compile_tasks
-    from motionvm.session import check_sources, place_tasks
+    from motionvm.session import WERROR_NOTE, check_sources, place_tasks
     from motionvm.source.diagnostics import DiagnosticSink, render_diagnostic
 
     sources = sources_of(args)
@@ -84,6 +84,9 @@ def cmd_compile(args) -> int:
     for d in sink.items:
         _report(render_diagnostic(d))
     if prog is None:
+        return EXIT_COMPILE
+    if args.werror and any(d.severity == "warning" for d in sink.items):
+        _report(WERROR_NOTE)
         return EXIT_COMPILE
     if args.emit_python:
         sys.stdout.write(prog.python_source())
@@ -105,6 +108,7 @@ def cmd_run(args) -> int:
         shuffle_seed=args.shuffle_order,
         skip=not args.no_skip,
         scope_title=" ".join(list(args.files) + list(args.task)),
+        werror=args.werror,
     )
     out = sys.stdout
     session: Session | None = None

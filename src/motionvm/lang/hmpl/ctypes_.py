@@ -136,7 +136,16 @@ class FuncT(CType):
         return f"{self.ret}({ps})"
 
 
+@dataclass(frozen=True, slots=True)
+class ErrorT(CType):
+    """The type of a name whose declaration failed: uses of it report nothing more."""
+
+    def __str__(self) -> str:
+        return "<error>"
+
+
 VOID = VoidT(0, 1)
+ERROR = ErrorT(0, 1)
 CHAR = IntT(1, 1, "char", True, "i8")
 I8 = IntT(1, 1, "int8_t", True, "i8")
 U8 = IntT(1, 1, "uint8_t", False, "u8")

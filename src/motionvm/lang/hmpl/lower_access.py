@@ -12,7 +12,8 @@ import ast
 
 from motionvm.lang.hmpl import ctypes_ as ct
 from motionvm.lang.hmpl import nodes as n
-from motionvm.lang.hmpl.lower_expr import Val
+from motionvm.lang.hmpl.formatcheck import check_format, is_printf_like
+from motionvm.lang.hmpl.lower_expr import SemanticError, Val
 from motionvm.lang.hmpl.lvalues import (
     AggLV,
     GpoLV,
@@ -92,6 +93,8 @@ class AccessLowering:
                 ident, self.scope.visible_names() + self.prog.global_names(self.task)
             )
             raise self.fail(pos, f"'{ident}' undeclared{hint}")
+        if sym.type is ct.ERROR:  # its declaration failed and was reported
+            raise SemanticError(f"'{ident}' has no valid declaration")
         return sym
 
     def var_lvalue(self, sym: VarSym) -> LValue:
@@ -359,6 +362,8 @@ class AccessLowering:
             idx = self.convert(self.expr(e.args[0]), ct.INT, e.pos)
             return Val(call("_gpi" if fname == "HIMC_GPI" else "_gpo", idx), ct.INT)
         sym = self.scope.lookup(fname) or self.prog.global_symbol(fname, self.task)
+        if sym is not None and sym.type is ct.ERROR:
+            raise SemanticError(f"'{fname}' has no valid declaration")
         if isinstance(sym, VarSym):
             raise self.fail(e.pos, f"'{fname}' is a variable, not a function")
         if isinstance(sym, FuncSym):
@@ -379,6 +384,10 @@ class AccessLowering:
         args = self._call_args(e, fname, list(sig.params), sig.variadic)
         impl = self.prog.builtin_impl.get(fname)
         if impl is None:
+            self.prog.warn(
+                e.pos,
+                f"{fname} (manual {sig.section}) is not implemented; the task will stop here",
+            )
             node = call("_notimpl", ast.Constant(fname), *args)
         else:
             node = call("b_" + fname, *args)
@@ -400,6 +409,7 @@ class AccessLowering:
                 e.pos, f"too {few} arguments to '{fname}' (expected {expect}, got {nargs}){proto}"
             )
         out: list[ast.expr] = []
+        extra: list[tuple[ct.CType, object]] = []  # (type, pos) of each variadic argument
         for i, a in enumerate(e.args):
             v = self.expr(a)
             if i < nparams:
@@ -408,6 +418,10 @@ class AccessLowering:
                 out.append(self.assign_convert(v, ptype, a.pos, what))
             else:
                 out.append(self._vararg(v, a.pos))
+                extra.append((v.type, a.pos))
+        if is_printf_like(params, variadic) and type(e.args[nparams - 1]) is n.StrLit:
+            fmt = e.args[nparams - 1]
+            check_format(fmt.value, fmt.pos, nparams + 1, extra, self.prog.warn)
         return out
 
     def _vararg(self, v: Val, pos) -> ast.expr:

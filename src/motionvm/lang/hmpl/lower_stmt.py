@@ -19,7 +19,7 @@ from motionvm.lang.hmpl.lower_jumps import JumpLowering
 from motionvm.lang.hmpl.lower_loops import LoopLowering, _assigned_names
 from motionvm.lang.hmpl.lower_util import LoopCtx, at
 from motionvm.lang.hmpl.lvalues import call, name, view_code
-from motionvm.lang.hmpl.symbols import FuncSym, Scope, VarSym
+from motionvm.lang.hmpl.symbols import FuncSym, Scope, VarSym, error_symbol
 
 # node class -> its `_s_` method of FunctionLowerer
 _S_METHODS: dict[type, object] = {}
@@ -79,6 +79,17 @@ class FunctionLowerer(ExprLowering, AccessLowering, LoopLowering, JumpLowering):
     # ------------------------------------------------------------ declarations
 
     def declare_local(self, d: n.VarDecl, is_param: bool = False) -> list[ast.stmt]:
+        """The statements that initialize a local; a declaration that fails still declares
+        its name (with the error type if its own type failed), so that later uses of the
+        name add no errors."""
+        try:
+            return self._declare_local(d, is_param)
+        except SemanticError:
+            if d.name not in self.scope.names:
+                self.scope.names[d.name] = error_symbol(d.name, d.pos)
+            raise
+
+    def _declare_local(self, d: n.VarDecl, is_param: bool) -> list[ast.stmt]:
         t = self.prog.decl_type(d, self.scope, self.task)
         if d.name in self.scope.names:
             raise self.fail(d.pos, f"redefinition of '{d.name}'")

@@ -323,6 +323,7 @@ class Assign:
     op: str
     target: Expr
     value: Expr
+    parenthesized: bool = False  # written inside extra parentheses: `if ((n = f()))`
 
 
 @dataclass(frozen=True, slots=True)

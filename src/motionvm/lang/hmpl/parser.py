@@ -18,6 +18,7 @@ are used (an `enum` type is 'int32_t'), so no enum reaches the later stages.
 
 from __future__ import annotations
 
+import dataclasses
 import sys
 from collections.abc import Callable
 from operator import attrgetter
@@ -1122,6 +1123,8 @@ class Parser:
             e = self._parse_expression()
             self.depth -= 1
             self._expect(")")
+            if type(e) is n.Assign and not e.parenthesized:
+                e = dataclasses.replace(e, parenthesized=True)  # silences -Wparentheses
             return e
         if k == "keyword" and t.text in TYPE_START:
             raise self._fail_here(f"expected expression before '{t.text}' (a type name here?)")

@@ -21,12 +21,14 @@ from motionvm.lang.hmpl import ctypes_ as ct
 from motionvm.lang.hmpl import nodes as n
 from motionvm.lang.hmpl.analysis import FuncFacts, constant_init, scan
 from motionvm.lang.hmpl.cmemory import Memory
+from motionvm.lang.hmpl.lint import lint_function
 from motionvm.lang.hmpl.lower_expr import SemanticError
 from motionvm.lang.hmpl.lower_stmt import FunctionLowerer
 from motionvm.lang.hmpl.lower_util import at as _at
 from motionvm.lang.hmpl.lvalues import VIEW_NAMES, call, name, view_code
-from motionvm.lang.hmpl.symbols import FuncSym, Scope, VarSym
+from motionvm.lang.hmpl.symbols import FuncSym, Scope, VarSym, error_symbol
 from motionvm.source.diagnostics import DiagnosticSink, TooManyErrors
+from motionvm.source.files import SourcePos
 from motionvm.source.suggest import did_you_mean
 
 _PACK = {
@@ -91,7 +93,14 @@ class ProgramCompiler:
         self._strings: dict[bytes, int] = {}
         self.sysvars: dict[str, VarSym] = {}
         self.addr_taken: set[str] = set()
+        self._warned: set[tuple[SourcePos, str]] = set()
         self._alloc_system()
+
+    def warn(self, pos: SourcePos, message: str) -> None:
+        """A warning, once per place and text (some expressions are lowered twice)."""
+        if (pos, message) not in self._warned:
+            self._warned.add((pos, message))
+            self.sink.warning(pos, message)
 
     # ------------------------------------------------------------ symbols
 
@@ -159,11 +168,23 @@ class ProgramCompiler:
                     raise self._fail(
                         tr.pos, f"unknown type name '{base}'{did_you_mean(base, known)}"
                     )
+            if t is ct.ERROR:  # a struct or typedef whose definition failed (reported)
+                raise SemanticError(f"'{base}' has no valid definition")
         for _ in range(tr.pointers):
             t = ct.pointer_to(t)
         return t
 
     def define_struct(self, sd: n.StructDef, scope: Scope, task: int) -> ct.StructT:
+        """The struct or union type; if it fails, its tag names the error type, so that
+        later uses of the tag add no errors."""
+        try:
+            return self._define_struct(sd, scope, task)
+        except SemanticError:
+            if sd.tag and sd.tag not in scope.tags:
+                scope.tags[sd.tag] = ct.ERROR  # type: ignore[assignment]
+            raise
+
+    def _define_struct(self, sd: n.StructDef, scope: Scope, task: int) -> ct.StructT:
         fields = []
         off = size = 0
         align = 1
@@ -354,9 +375,18 @@ class ProgramCompiler:
         if isinstance(item, n.StructDef):
             self.define_struct(item, scope, task)
         elif isinstance(item, n.Typedef):
-            t = self.resolve_typeref(item.type, scope, task)
-            for dim in reversed(item.dims):
-                t = ct.array_of(t, self._const_int(dim, scope, task) if dim is not None else None)
+            try:
+                t = self.resolve_typeref(item.type, scope, task)
+                for dim in reversed(item.dims):
+                    count = self._const_int(dim, scope, task) if dim is not None else None
+                    if count is not None and count <= 0:
+                        raise self._fail(
+                            dim.pos, f"size of array '{item.name}' must be positive (it is {count})"
+                        )
+                    t = ct.array_of(t, count)
+            except SemanticError:
+                scope.types.setdefault(item.name, ct.ERROR)
+                raise
             scope.types[item.name] = t
         elif isinstance(item, n.DeclStmt):
             for d in item.decls:
@@ -370,9 +400,13 @@ class ProgramCompiler:
             if item.type.struct_def is not None and not item.name:
                 self.define_struct(item.type.struct_def, scope, task)
                 return
-            t = self.decl_type(item, scope, task)
-            if isinstance(t, ct.VoidT):
-                raise self._fail(item.pos, f"variable '{item.name}' declared void")
+            try:
+                t = self.decl_type(item, scope, task)
+                if isinstance(t, ct.VoidT):
+                    raise self._fail(item.pos, f"variable '{item.name}' declared void")
+            except SemanticError:
+                scope.names[item.name] = error_symbol(item.name, item.pos)
+                raise
             if (t.is_scalar and item.name not in self.addr_taken) or self.list_backed(item, t):
                 sym = VarSym(
                     item.name,
@@ -390,7 +424,12 @@ class ProgramCompiler:
             scope.names[item.name] = sym
             self._pending_inits.setdefault(task, []).append((sym, item))
         elif isinstance(item, n.FuncDef):
-            self._declare_function(item, scope, task, prefix, info)
+            try:
+                self._declare_function(item, scope, task, prefix, info)
+            except SemanticError:
+                if item.name not in scope.names:
+                    scope.names[item.name] = error_symbol(item.name, item.pos)
+                raise
 
     def _declare_function(
         self, f: n.FuncDef, scope: Scope, task: int, prefix: str, info: TaskInfo
@@ -510,6 +549,7 @@ class ProgramCompiler:
                         sym = scope.names.get(item.name)
                         if not isinstance(sym, FuncSym) or sym.node is not item:
                             continue
+                        lint_function(item, self.warn)
                         lw = FunctionLowerer(
                             self,
                             u.task,

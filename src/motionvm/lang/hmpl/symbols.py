@@ -28,6 +28,12 @@ class VarSym:
     const_value: int | float | None = None  # named constants
 
 
+def error_symbol(name: str, pos: SourcePos) -> VarSym:
+    """The symbol of a name whose declaration failed: declared, so that its uses add no
+    "undeclared" errors, with the error type, so that they report nothing at all."""
+    return VarSym(name, ct.ERROR, "local", pos, pyname="_error")
+
+
 @dataclass(slots=True)
 class FuncSym:
     name: str

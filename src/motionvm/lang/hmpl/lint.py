@@ -1,0 +1,157 @@
+"""gcc-like warnings that need only the syntax tree of a function: an assignment used as a
+truth value (-Wparentheses), unused local variables (-Wunused-variable) and statements
+after a return, break, continue or goto (unreachable code). Type-based warnings (formats
+of Print and friends, built-ins that are not implemented) come from the lowering."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+from motionvm.lang.hmpl import nodes as n
+from motionvm.lang.hmpl.analysis import walk
+from motionvm.source.files import SourcePos
+
+Warn = Callable[[SourcePos, str], None]
+
+_JUMPS = (n.Return, n.Break, n.Continue, n.Goto)
+_LABELS = (n.Label, n.Case, n.Default)
+
+
+def lint_function(f: n.FuncDef, warn: Warn) -> None:
+    """Every syntax-only warning of one function definition, in source order."""
+    if f.body is None:
+        return
+    found: list[tuple[SourcePos, str]] = []
+
+    def add(pos: SourcePos, message: str) -> None:
+        found.append((pos, message))
+
+    _check_tree(f.body, add)
+    _Unused(add).function(f)
+    for pos, message in sorted(found, key=lambda w: (w[0].file, w[0].line, w[0].col)):
+        warn(pos, message)
+
+
+def _check_tree(body: n.Block, warn: Warn) -> None:
+    """One walk over a body: -Wparentheses at each condition, unreachable code per block."""
+    for x in walk(body):
+        t = type(x)
+        if t is n.Block:
+            _check_unreachable(x, warn)
+            continue
+        if t in _CONDITIONAL:
+            c = x.cond
+        elif t is n.Call and type(x.func) is n.Name and x.func.id == "Till" and x.args:
+            c = x.args[0]
+        else:
+            continue
+        if type(c) is n.Unary and c.op == "!" and t is n.While:
+            c = c.operand  # `Till (cond) { ... }` is parsed as `while (!cond) { ... }`
+        if type(c) is n.Assign and c.op == "=" and not c.parenthesized:
+            warn(c.pos, "suggest parentheses around assignment used as truth value")
+
+
+_CONDITIONAL = frozenset((n.If, n.While, n.DoWhile, n.For, n.Cond))
+
+
+def _check_unreachable(blk: n.Block, warn: Warn) -> None:
+    """The first statement after a jump in a block, up to the next label.
+
+    A `break` right after a `return` or `goto` (`case 1: return 5; break;`) is a common
+    defensive habit and is not reported, as clang's -Wunreachable-code does not.
+    """
+    jump = None  # the jump that ended the live code (None: live)
+    for s in blk.items:
+        if isinstance(s, _LABELS):
+            jump = None
+        elif jump is None:
+            if isinstance(s, _JUMPS):
+                jump = s
+        elif jump is _REPORTED or type(s) is n.Empty:
+            continue
+        elif type(s) is n.Break and type(jump) in (n.Return, n.Goto):
+            continue
+        else:
+            warn(s.pos, "unreachable code")
+            jump = _REPORTED
+
+
+_REPORTED = object()  # a stretch of dead code already reported
+
+
+class _Unused:
+    """Block-scoped use tracking of one function's local variables."""
+
+    def __init__(self, warn: Warn) -> None:
+        self.warn = warn
+        self.scopes: list[dict[str, list]] = []  # name -> [pos, used]
+
+    def function(self, f: n.FuncDef) -> None:
+        self.scopes.append({p.name: [p.pos, True] for p in f.params if p.name})
+        self.block(f.body.items)  # type: ignore[union-attr]
+        self.scopes.pop()
+
+    def block(self, items) -> None:
+        self.scopes.append({})
+        for s in items:
+            self.stmt(s)
+        self.report(self.scopes.pop())
+
+    def report(self, scope: dict[str, list]) -> None:
+        for name, (pos, used) in scope.items():
+            if not used:
+                self.warn(pos, f"unused variable '{name}'")
+
+    def sub(self, s) -> None:
+        """A statement that is a scope of its own (a loop's or an if's body)."""
+        self.block(s.items if type(s) is n.Block else (s,))
+
+    def uses(self, e) -> None:
+        if e is None:
+            return
+        for x in walk(e):
+            if type(x) is n.Name:
+                for scope in reversed(self.scopes):
+                    entry = scope.get(x.id)
+                    if entry is not None:
+                        entry[1] = True
+                        break
+
+    def declare(self, d: n.VarDecl) -> None:
+        self.uses((d.dims, d.init))
+        if d.name and d.name not in self.scopes[-1]:  # a redefinition is an error already
+            self.scopes[-1][d.name] = [d.pos, False]
+
+    def stmt(self, s) -> None:
+        t = type(s)
+        if t is n.Block:
+            self.block(s.items)
+        elif t is n.DeclStmt:
+            for d in s.decls:
+                self.declare(d)
+        elif t is n.VarDecl:
+            self.declare(s)
+        elif t is n.If:
+            self.uses(s.cond)
+            self.sub(s.then)
+            if s.else_ is not None:
+                self.sub(s.else_)
+        elif t is n.While or t is n.DoWhile:
+            self.uses(s.cond)
+            self.sub(s.body)
+        elif t is n.For:
+            self.scopes.append({})
+            if s.init is not None:
+                self.stmt(s.init)
+            self.uses((s.cond, s.step))
+            self.sub(s.body)
+            self.report(self.scopes.pop())
+        elif t is n.Switch:
+            self.uses(s.expr)
+            self.sub(s.body)
+        elif t is n.ExprStmt:
+            self.uses(s.expr)
+        elif t is n.Return:
+            self.uses(s.value)
+        else:  # case labels; statements without names (break, goto, ...)
+            self.uses(s)
