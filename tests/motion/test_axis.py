@@ -85,6 +85,20 @@ def test_move_time_is_the_t_curve_time_plus_the_whole_smooth_time(smooth_ms):
     assert a.move_time_ms == pytest.approx(t_a * 1000.0 + a.smooth_time_ms)
 
 
+@pytest.mark.parametrize("smooth_ms", [0, 20])
+def test_set_smooth_time_is_accepted_in_the_cycle_the_axis_stops(smooth_ms):
+    # Manual 5.3.16: SetSMTime is refused while the axis moves, so once IsMoving is 0.
+    a = enabled()
+    a.set_smooth_time(smooth_ms)
+    a.move_abs(10.0)
+    run_until(a, lambda: not a.moving)
+    a.set_smooth_time(30)
+    assert a.smooth_time_ms == 30 and a.ref_pos == 10.0
+    a.move_abs(0.0)
+    with pytest.raises(AxisCommandError):
+        a.set_smooth_time(40)
+
+
 def test_an_accepted_move_is_moving_and_not_in_position_in_the_same_cycle():
     a = enabled()
     run_until(a, lambda: a.in_pos)
