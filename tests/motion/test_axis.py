@@ -72,6 +72,33 @@ def test_a_move_reaches_its_target_in_the_closed_form_time():
     assert a.move_time_ms == pytest.approx(t * 1000.0, abs=2.0)
 
 
+@pytest.mark.parametrize("smooth_ms", [0, 1, 2, 50, 500])
+def test_move_time_is_the_t_curve_time_plus_the_whole_smooth_time(smooth_ms):
+    # Manual 5.1: total time T = T-curve time Ta + smooth time Ts (GetMoveTime, 5.3.17),
+    # Ts as the axis has it (GetSMTime: whole cycles, 1 ms at a 1 ms cycle is none).
+    a = enabled()
+    a.set_smooth_time(smooth_ms)
+    assert a.smooth_time_ms == (0 if smooth_ms == 1 else smooth_ms)
+    a.move_abs(100.0)
+    run_until(a, lambda: a.in_pos)
+    t_a = math.ceil(rest_to_rest_time(100.0, 1000.0, 10000.0, 10000.0) / DT - 1e-9) * DT
+    assert a.move_time_ms == pytest.approx(t_a * 1000.0 + a.smooth_time_ms)
+
+
+@pytest.mark.parametrize("smooth_ms", [0, 20])
+def test_set_smooth_time_is_accepted_in_the_cycle_the_axis_stops(smooth_ms):
+    # Manual 5.3.16: SetSMTime is refused while the axis moves, so once IsMoving is 0.
+    a = enabled()
+    a.set_smooth_time(smooth_ms)
+    a.move_abs(10.0)
+    run_until(a, lambda: not a.moving)
+    a.set_smooth_time(30)
+    assert a.smooth_time_ms == 30 and a.ref_pos == 10.0
+    a.move_abs(0.0)
+    with pytest.raises(AxisCommandError):
+        a.set_smooth_time(40)
+
+
 def test_an_accepted_move_is_moving_and_not_in_position_in_the_same_cycle():
     a = enabled()
     run_until(a, lambda: a.in_pos)

@@ -282,6 +282,13 @@ class Axis(AxisSettings, AxisCycle, AxisFollow):
             )
         return pos
 
+    def _rel_target(self, base: float, dist: float) -> float:
+        """The end of a move by `dist` from `base`: with rollover the full distance,
+        however many turns (5.2.5, 5.3.40), not the shortest way to its angle."""
+        if self.rollover:
+            return base + dist
+        return self._check_target(base + dist)
+
     def move_abs(self, pos: float) -> None:
         """Move to `pos` [mm]; while moving in buffer mode 0 the target changes on the fly."""
         self._require_motion_ok()
@@ -301,7 +308,7 @@ class Axis(AxisSettings, AxisCycle, AxisFollow):
             self._buffered(MoveRelative(dist))
             return
         base = self.ref_pos if self.following is None else self.pg.output[0]
-        self._start(MoveAbsolute(self._check_target(base + dist)))
+        self._start(MoveAbsolute(self._rel_target(base, dist)))
 
     def move_vel(self, vel: float) -> None:
         """Jog at `vel` [mm/s] (sign = direction), capped at the maximum velocity."""
@@ -394,7 +401,7 @@ class Axis(AxisSettings, AxisCycle, AxisFollow):
         if type(move) is MoveAbsolute:
             self.pg.move_to(move.target)
         elif type(move) is MoveRelative:
-            self.pg.move_to(self._check_target(self.ref_pos + move.distance))
+            self.pg.move_to(self._rel_target(self.ref_pos, move.distance))
         else:
             self.pg.move_velocity(move.velocity)
 

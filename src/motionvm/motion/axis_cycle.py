@@ -352,7 +352,13 @@ class AxisCycle:
             self.moving = False
             self.stopping = False
             self._move_end_cycle = end = max(self._cycle - 1, self._move_start_cycle)
-            self.move_time_ms = (end - self._move_start_cycle) * self.dt * 1000.0
+            run = end - self._move_start_cycle
+            t_s = self.pg.t_smooth
+            if t_s > 0.0 and run > 0:
+                # Manual 5.1: total time = Ta + Ts. The N-sample moving average reaches
+                # the target N - 1 cycles after the T-curve does; count the whole N.
+                run += 1
+            self.move_time_ms = run * self.dt * 1000.0
         err = self.ref_pos - self.pos_fb
         if -self.inpos_radius <= err <= self.inpos_radius:
             self._in_pos_cycles += 1

@@ -104,7 +104,16 @@ class AxisSettings:
     # ---- position (5.3.19-5.3.32) ---------------------------------------------------
 
     def set_pos(self, pos: float) -> None:
-        """Make the current position read `pos` by changing the position offset (5.3.19)."""
+        """Make the current position read `pos` by changing the position offset (5.3.19).
+
+        Refused on an axis in the synchronous state (5.3.19; a coupled gear slave,
+        IsSync 1) with eERR_AXIS_CMD_INVALID_IN_SYNC: its position is the master's.
+        """
+        self.wake()
+        if self.extra_status & st.MS_SYNC:
+            raise AxisCommandError(
+                st.CMD_INVALID_IN_SYNC, f"axis {self.axis_id} is synchronous (a gear slave)"
+            )
         self._require_still()
         if self.error_stop:
             raise AxisCommandError(

@@ -32,6 +32,9 @@ Decisions where the manual is silent:
   from EnableGear to DisableGear.
 - A slave that leaves its gear by itself (disabled, a fault, a limit stop ramp) is
   disengaged; it stays coupled.
+- SetPos on a master (not synchronous itself: 5.3.19 refuses only a synchronous axis)
+  moves nothing: its slaves keep their commands (`master_shifted`). SetPos on a
+  coupled slave is refused (eERR_AXIS_CMD_INVALID_IN_SYNC).
 
 Order within a cycle: a slave reads the master's reference when it steps. A master
 that steps before its slave gives the command of the same cycle (`lag_cycles` 0); one
@@ -140,6 +143,12 @@ class Gear:
         if self._v == 0.0:
             self._let_go()
 
+    def master_shifted(self, shift: float) -> None:
+        """The master's position reads `shift` [mm or deg] more (SetPos): the same
+        motion, so the slave keeps its command."""
+        self.master_pos_gear += shift
+        self._m_0 += shift
+
     def _synchronised(self) -> None:
         self._r = self.ratio
         self._m_0 = self.master_pos_gear
@@ -242,6 +251,13 @@ class GearBox:
         return self.is_slave(axis_id) or self.is_master(axis_id)
 
     # ---- commands -------------------------------------------------------------------
+
+    def master_shifted(self, master, shift: float) -> None:
+        """`master`'s position reads `shift` more (SetPos): its slaves stay in step."""
+        if shift:
+            for g in self.gears.values():
+                if g.master is master:
+                    g.master_shifted(shift)
 
     def _check_pair(self, master, slave) -> None:
         mid, sid = master.axis_id, slave.axis_id

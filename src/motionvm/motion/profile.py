@@ -165,11 +165,15 @@ class ProfileGenerator:
             self._replan()
 
     def set_smooth_time(self, t_smooth: float) -> None:
-        """Set Ts [s] (manual SetSMTime, 0..0.5 s); only while no motion is in progress."""
+        """Set Ts [s] (manual SetSMTime, 0..0.5 s); only while no motion is in progress.
+
+        A move that has ended (`is_done`: the output rests on its target) counts as no
+        motion, also in the cycle before the generator turns idle (its acceleration
+        returns to 0 one cycle after its velocity)."""
         t_smooth = float(t_smooth)
         if not (0.0 <= t_smooth <= 10.0):
             raise ValueError(f"smooth time {t_smooth!r} s is outside 0..10 s")
-        if getattr(self, "_idle", True) is False or self.mode != IDLE:
+        if hasattr(self, "_out") and not self.is_done and (not self._idle or self.mode != IDLE):
             raise RuntimeError("the smooth time cannot change while the axis moves or is halted")
         self._n_avg = max(1, round(t_smooth / self.dt))
         if hasattr(self, "_out"):

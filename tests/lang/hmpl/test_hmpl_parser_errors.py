@@ -357,3 +357,23 @@ def test_missing_semicolons_after_macro_calls_point_after_the_call():
         "5:11: error: expected ';' after expression",
         "7:10: error: expected ';' after expression",
     ]
+
+
+def test_till_without_semicolon_at_the_end_of_a_line_is_a_warning():
+    # The manual prints `Till(cond)` without its ';' (19.2, 6.1.2): accepted, with a
+    # warning where the ';' belongs. Anywhere else the ';' stays required.
+    sink = DiagnosticSink()
+    text = (
+        "void main() {\n    Till(IsSystemOper())\n    // do something\n    Till(1 &&\n    2)\n}\n"
+    )
+    parse_file("t.hmpl", task_id=0, sink=sink, text=text)
+    assert [d.headline() for d in sink.items] == [
+        "t.hmpl:2:25: warning: expected ';' after Till(...); one is assumed",
+        "t.hmpl:5:7: warning: expected ';' after Till(...); one is assumed",
+    ]
+    assert errors_of('void main() {\n    Till(1) Print("x");\n}\n') == [
+        "2:12: error: expected ';' after expression"
+    ]
+    assert errors_of("void main() {\n    Sleep(1)\n}\n") == [
+        "2:13: error: expected ';' after expression"
+    ]

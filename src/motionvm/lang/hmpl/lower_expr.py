@@ -10,7 +10,6 @@ Example: `int x = a * b + c;` lowers to
 from __future__ import annotations
 
 import ast
-import math
 from dataclasses import dataclass
 
 from motionvm.lang.hmpl import ctypes_ as ct
@@ -21,6 +20,7 @@ from motionvm.lang.hmpl.lvalues import (
     const,
     name,
 )
+from motionvm.lang.hmpl.rthelpers import float_to_int
 from motionvm.lang.hmpl.symbols import FuncSym
 
 _BINOPS = {
@@ -110,10 +110,8 @@ class ExprLowering:
         if isinstance(to, ct.IntT):
             if v.const is not None and isinstance(v.const, (int, float)):
                 c = v.const
-                if isinstance(c, float):
-                    if math.isnan(c) or math.isinf(c):
-                        c = 0
-                    c = int(c)
+                if isinstance(c, float):  # as the run time converts: saturate, NaN -> 0
+                    return const(float_to_int(c, to.bits, to.signed))
                 return const(ct.wrap_int(int(c), to))
             if isinstance(src, ct.IntT):
                 if v.exact and src.min >= to.min and src.max <= to.max:

@@ -763,7 +763,7 @@ class Parser:
 
     # BNF: statement = compound_statement | if_statement | while_statement | do_statement
     # BNF:     | for_statement | switch_statement | case_label | default_label | label
-    # BNF:     | jump_statement | ";" | expression ";"
+    # BNF:     | jump_statement | ";" | expression ";" | till_with_body | till_statement
     def _parse_statement(self) -> n.Stmt:
         k = self.keys[self.i]
         method = self._STATEMENTS.get(k)
@@ -796,10 +796,25 @@ class Parser:
             and len(expr.args) == 1
         ):
             return self._parse_till_body(expr)
+        if self.keys[self.i] != ";" and self._is_till_at_line_end(expr):
+            # The manual prints `Till(cond)` without its ';' (19.2, 6.1.2): accept it.
+            prev = self.toks[self.i - 1]
+            self.sink.warning(_end_of(prev), "expected ';' after Till(...); one is assumed")
+            return n.ExprStmt(t.pos, expr)
         self._expect(";", "after expression")
         return n.ExprStmt(t.pos, expr)
 
+    def _is_till_at_line_end(self, expr: n.Expr) -> bool:
+        """True if `expr` is a call `Till(cond)` and the next token is on a later line."""
+        return (
+            isinstance(expr, n.Call)
+            and isinstance(expr.func, n.Name)
+            and expr.func.id == "Till"
+            and self.toks[self.i].pos.line != self.toks[self.i - 1].pos.line
+        )
+
     # BNF: till_with_body = "Till" "(" expression ")" compound_statement [ ";" ]
+    # BNF: till_statement = "Till" "(" expression ")" ( ";" | end of line: a warning )
     def _parse_till_body(self, till: n.Call) -> n.While:
         """`Till(cond) { body };` (manual 20.1.2): run the body each pass until cond holds,
         the same as `while (!(cond)) { body }`."""

@@ -122,15 +122,12 @@ class HmplRuntime:
     def begin_cycle(self) -> None:
         """Update the system variables of manual 22.2 for this cycle."""
         controller = self.controller
-        # time_ms and the ticks inlined (the same arithmetic; round of a float is an int)
+        # time_ms inlined (the same arithmetic; round of a float is an int)
         cycle = self.kernel.cycle
-        cycle_time = controller.cycle_time
         i32 = self.mem.i32
-        i32[self._time_addr] = round(cycle * (cycle_time * 1000.0)) & 0x7FFFFFFF
-        ticks = round(cycle * cycle_time / 250e-6)
-        if not -0x80000000 <= ticks <= 0x7FFFFFFF:
-            ticks = ((ticks + 2**31) & 0xFFFFFFFF) - 2**31
-        i32[self._fclk_addr] = ticks
+        i32[self._time_addr] = round(cycle * (controller.cycle_time * 1000.0)) & 0x7FFFFFFF
+        # system_fclk: +1 per controller cycle (22.2), wrapping as a signed 32-bit int
+        i32[self._fclk_addr] = ((cycle + 2**31) & 0xFFFFFFFF) - 2**31
 
     def end_cycle(self) -> None:
         """Nothing: the tasks ran in the kernel's part of the cycle."""

@@ -41,8 +41,11 @@ def _fdiv(a: float, b: float) -> float:
         return math.copysign(math.inf, a) * math.copysign(1.0, b)
 
 
-def _f2i(x: float, bits: int, signed: bool) -> int:
-    """Float to integer as the controller's FPU does: truncate, saturate, NaN gives 0."""
+def float_to_int(x: float, bits: int, signed: bool) -> int:
+    """Float to integer as the controller's FPU does: truncate, saturate, NaN gives 0.
+
+    Generated code calls it as `_f2i`; the compiler folds constants with it too, so a
+    conversion gives the same value at compile time and at run time."""
     if x != x:
         return 0
     lo, hi = (-(1 << (bits - 1)), (1 << (bits - 1)) - 1) if signed else (0, (1 << bits) - 1)
@@ -101,7 +104,7 @@ def make_helpers(mem: Memory) -> dict[str, object]:
         "_idiv": _idiv,
         "_imod": _imod,
         "_fdiv": _fdiv,
-        "_f2i": _f2i,
+        "_f2i": float_to_int,
         "_f32": to_f32,
         "_oob": _oob,
         "_wrapi": _wrapi,

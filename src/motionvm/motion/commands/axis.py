@@ -175,7 +175,12 @@ class AxisCommands(CommandBase):
         return self._var(axis_id, "settlingtime")
 
     def SetPos(self, axis_id: int, pos: float) -> int:
-        return self._command(axis_id, "set_pos", pos)
+        a = self._axis(axis_id)
+        before = a.ref_pos if a is not None else 0.0
+        err = self._command(axis_id, "set_pos", pos)
+        if err == 0 and a is not None:  # a gear master's slaves stay where they are
+            self.motion.gears.master_shifted(a, a.ref_pos - before)
+        return err
 
     def GetPosFb(self, axis_id: int) -> float:
         return self._var(axis_id, "pos_fb")

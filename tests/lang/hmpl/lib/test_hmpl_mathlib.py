@@ -16,6 +16,7 @@ from motionvm.lang.hmpl.lib.mathlib import MathLib
 PI = math.pi
 INF = math.inf
 NAN = math.nan
+DBL_MAX = 1.7976931348623157e308
 
 
 class _Rt:
@@ -29,6 +30,14 @@ def m() -> MathLib:
 
 def printf(fmt: str, *args) -> str:
     return format_c(fmt.encode(), list(args), _Rt.mem).decode()
+
+
+def manual(r: float, *args: float) -> float:
+    """C's result `r` as the manual's 4.12-4.14/4.19 want it: an overflow (finite
+    arguments, infinite result) gives the largest double with the result's sign."""
+    if math.isinf(r) and all(math.isfinite(a) for a in args):
+        return math.copysign(DBL_MAX, r)
+    return r
 
 
 def same(a: float, b: float) -> bool:
@@ -90,7 +99,8 @@ def test_manual_examples(m):
         ("log", (INF,), INF),
         ("log10", (0.0,), -INF),
         ("log10", (-5.0,), NAN),
-        ("exp", (1000.0,), INF),
+        ("exp", (1000.0,), DBL_MAX),
+        ("exp", (INF,), INF),
         ("exp", (-INF,), 0.0),
         ("exp", (-1000.0,), 0.0),
         ("pow", (-8.0, 1 / 3), NAN),
@@ -99,15 +109,22 @@ def test_manual_examples(m):
         ("pow", (-0.0, -2.0), INF),
         ("pow", (0.0, 0.0), 1.0),
         ("pow", (NAN, 0.0), 1.0),
-        ("pow", (10.0, 400.0), INF),
-        ("pow", (-10.0, 401.0), -INF),
-        ("pow", (-10.0, 400.0), INF),
+        ("pow", (10.0, 400.0), DBL_MAX),
+        ("pow", (-10.0, 401.0), -DBL_MAX),
+        ("pow", (-10.0, 400.0), DBL_MAX),
+        ("pow", (1e-300, -2.0), DBL_MAX),
+        ("pow", (INF, 2.0), INF),
+        ("pow", (-INF, 3.0), -INF),
         ("pow", (0.0, -INF), INF),
         ("pow", (-1.0, INF), 1.0),
-        ("ldexp", (1.0, 5000), INF),
-        ("ldexp", (-1.0, 5000), -INF),
+        ("ldexp", (1.0, 5000), DBL_MAX),
+        ("ldexp", (INF, 1), INF),
+        ("ldexp", (-1.0, 5000), -DBL_MAX),
+        ("ldexp", (-1e308, 1), -DBL_MAX),
         ("ldexp", (1.0, -5000), 0.0),
-        ("hypot", (1.5e308, 1.5e308), INF),
+        ("hypot", (1.5e308, 1.5e308), DBL_MAX),
+        ("hypot", (-1.5e308, 1.5e308), DBL_MAX),
+        ("hypot", (-INF, 1.0), INF),
         ("hypot", (INF, NAN), INF),
         ("ceil", (-0.5,), -0.0),
         ("ceil", (-0.0,), -0.0),
@@ -187,7 +204,8 @@ def test_unary_matches_libm(m, name):
     fn = getattr(_libm(), name)
     fn.restype, fn.argtypes = ctypes.c_double, [ctypes.c_double]
     for x in VALUES:
-        assert same(getattr(m, name)(x), fn(x)), f"{name}({x!r})"
+        want = manual(fn(x), x) if name == "exp" else fn(x)
+        assert same(getattr(m, name)(x), want), f"{name}({x!r})"
 
 
 @pytest.mark.parametrize("name", ["atan2", "pow", "hypot"])
@@ -196,11 +214,14 @@ def test_binary_matches_libm(m, name):
     fn.restype, fn.argtypes = ctypes.c_double, [ctypes.c_double, ctypes.c_double]
     ys = VALUES + [3.0, -3.0, 1 / 3, 400.0, -401.0]
     for x, y in itertools.product(VALUES, ys):
-        assert same(getattr(m, name)(x, y), fn(x, y)), f"{name}({x!r}, {y!r})"
+        want = fn(x, y)
+        if name == "hypot" or (name == "pow" and x != 0.0):  # pow(0, y < 0) is a pole
+            want = manual(want, x, y)
+        assert same(getattr(m, name)(x, y), want), f"{name}({x!r}, {y!r})"
 
 
 def test_ldexp_matches_libm(m):
     fn = _libm().ldexp
     fn.restype, fn.argtypes = ctypes.c_double, [ctypes.c_double, ctypes.c_int]
     for x, e in itertools.product(VALUES, [0, 1, -1, 4, 1023, 1024, -1074, -1075, 5000, -5000]):
-        assert same(m.ldexp(x, e), fn(x, e)), f"ldexp({x!r}, {e})"
+        assert same(m.ldexp(x, e), manual(fn(x, e), x)), f"ldexp({x!r}, {e})"

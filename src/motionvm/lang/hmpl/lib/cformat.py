@@ -23,8 +23,9 @@ Choices where C leaves the behaviour undefined or the controller differs from gl
   treated as unknown, because letting a message write memory is never wanted.
 - Too few arguments is a RuntimeFault "<func>: format needs N arguments, got M";
   extra arguments are ignored (manual 3.2).
-- A width or numeric precision above MAX_FIELD is a RuntimeFault (no HMPL string
-  can hold such a field: HMPL_STR_MAX_LEN is 512).
+- A width or numeric precision above MAX_FIELD is a FieldTooWide fault (no HMPL
+  string can hold such a field: HMPL_STR_MAX_LEN is 512); Print and StringPrint turn
+  it into their error return -1, as any result over 512 characters.
 
 A format is compiled once into a list of literal byte strings and `_Directive`s and
 cached by its bytes, so a Print with a literal format costs one dict lookup plus the
@@ -266,7 +267,7 @@ def _parse_number(fmt: bytes, i: int) -> tuple[int | None, int]:
         return None, i
     value = int(fmt[i:j])
     if value > MAX_FIELD:
-        raise RuntimeFault(f"format field {value} exceeds the limit {MAX_FIELD}")
+        raise FieldTooWide(f"format field {value} exceeds the limit {MAX_FIELD}")
     return value, j
 
 
@@ -324,6 +325,10 @@ def compile_format(fmt: bytes) -> tuple[list, int]:
 _cache: dict[bytes, tuple[list, int]] = {}
 
 
+class FieldTooWide(RuntimeFault):
+    """A width or precision above MAX_FIELD: the result would exceed any HMPL string."""
+
+
 def format_c(fmt: bytes, args: Sequence, mem: Memory, func: str = "Print") -> bytes:
     """Format `args` by the C format `fmt` as printf does; `func` names the caller in faults."""
     prog = _cache.get(fmt)
@@ -331,7 +336,7 @@ def format_c(fmt: bytes, args: Sequence, mem: Memory, func: str = "Print") -> by
         try:
             prog = compile_format(fmt)
         except RuntimeFault as exc:
-            raise RuntimeFault(f"{func}: {exc}") from None
+            raise type(exc)(f"{func}: {exc}") from None
         if len(_cache) >= _CACHE_LIMIT:
             _cache.clear()
         _cache[fmt] = prog
@@ -360,7 +365,7 @@ def format_c(fmt: bytes, args: Sequence, mem: Memory, func: str = "Print") -> by
             prec is not None and prec > MAX_FIELD and part.conv != "s"
         ):
             big = max(width or 0, prec or 0)
-            raise RuntimeFault(f"{func}: format field {big} exceeds the limit {MAX_FIELD}")
+            raise FieldTooWide(f"{func}: format field {big} exceeds the limit {MAX_FIELD}")
         out.append(part.render(args[k], width, prec, mem))
         k += 1
     return b"".join(out)

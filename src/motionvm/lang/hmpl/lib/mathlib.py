@@ -5,9 +5,12 @@ what C99 Annex F specifies instead:
 - domain errors (asin(2), sqrt(-1), log(-1), sin(inf), pow(-8, 1/3)) give NaN
   (always a positive NaN: the sign of such a NaN is unspecified in C);
 - pole errors (log(0), pow(0, -1)) give -inf / +-inf;
-- overflow (exp(1000), ldexp(1, 5000), pow(10, 400), hypot(1.5e308, 1.5e308)) gives
-  +-HUGE_VAL, which is +-inf. The manual's "largest representable double value" is
-  its wording for HUGE_VAL, so inf it is (Print shows "inf").
+- overflow of ldexp, exp, pow and hypot (4.12-4.14, 4.19: "if the result is too
+  large, the largest representable double is returned") gives +-DBL_MAX
+  (1.7976931348623157e308), with the sign of the true result: ldexp takes the sign
+  of x, pow(x, y) is negative for a negative x and an odd integer y, exp and hypot
+  are positive. Overflow means finite arguments with a result beyond DBL_MAX; an
+  infinite argument (exp(inf), hypot(inf, 1)) still gives inf, as does a pole.
 - ceil/floor return doubles and keep the sign of zero (ceil(-0.5) is -0.0).
 `abs` is C's int abs: the argument and result wrap to 32 bits, so abs(INT_MIN) is INT_MIN.
 The functions use the platform's libm through `math`, so results are those of C on
@@ -22,6 +25,18 @@ from motionvm.lang.hmpl.lib.base import Library, builtin
 
 _NAN = math.nan
 _INF = math.inf
+DBL_MAX = 1.7976931348623157e308
+"""The largest double, what the manual's overflowing math functions return."""
+
+
+def _clamp_overflow(r: float, *args: float) -> float:
+    """`r`, or +-DBL_MAX if finite `args` gave an infinite `r` (an overflow)."""
+    if r - r == 0.0 or r != r:  # finite or NaN
+        return r
+    for a in args:
+        if a - a != 0.0:  # an infinite or NaN argument: an exact inf, not an overflow
+            return r
+    return math.copysign(DBL_MAX, r)
 
 
 def _is_odd_integer(y: float) -> bool:
@@ -129,19 +144,22 @@ class MathLib(Library):
 
     @builtin()
     def ldexp(self, x: float, y: int) -> float:
-        """x * 2**y; overflow gives +-inf (HUGE_VAL)."""
+        """x * 2**y; overflow gives +-DBL_MAX (the sign of x)."""
         try:
             return math.ldexp(x, int(y))
         except OverflowError:
-            return math.copysign(_INF, x)
+            return math.copysign(DBL_MAX, x)
 
     @builtin()
     def exp(self, x: float) -> float:
-        return _exp(x)
+        return _clamp_overflow(_exp(x), x)
 
     @builtin()
     def pow(self, x: float, y: float) -> float:
-        return c_pow(float(x), float(y))
+        x, y = float(x), float(y)
+        if x == 0.0:  # 0 to a negative power is a pole (inf), not an overflow
+            return c_pow(x, y)
+        return _clamp_overflow(c_pow(x, y), x, y)
 
     @builtin()
     def log(self, x: float) -> float:
@@ -162,6 +180,6 @@ class MathLib(Library):
     @builtin()
     def hypot(self, x: float, y: float) -> float:
         try:
-            return math.hypot(x, y)
+            return _clamp_overflow(math.hypot(x, y), x, y)
         except OverflowError:
-            return _INF
+            return DBL_MAX

@@ -8,8 +8,10 @@ Decisions where the manual is silent:
 - Writing past the end of the destination object (StringPrint, StringCopy[Ex],
   StringCat[Ex], MemoryCopy, MemorySet) is a RuntimeFault that names the function and
   the sizes, and nothing is written. So are null or dangling pointers and unterminated
-  source strings. A formatted message (Print, StringPrint) longer than
-  HMPL_STR_MAX_LEN (512) characters is a RuntimeFault as well.
+  source strings.
+- Print and StringPrint return -1 and print or write nothing when the formatted
+  string would exceed HMPL_STR_MAX_LEN (512) characters (3.1: the longest HMPL string;
+  3.2/3.3: -1 on an error); a destination too small for a shorter result is a fault.
 - StringCopyEx/StringCatEx: `start_pos` must lie in [0, StringLen(source)] and
   `copy_len` must be -1 or >= 0, else the call returns ERR_ARG_OUT_OF_RANGE and writes
   nothing; a `copy_len` running past the end of source copies up to the end, as
@@ -40,7 +42,7 @@ from __future__ import annotations
 import re
 
 from motionvm.lang.hmpl.lib.base import Library, builtin
-from motionvm.lang.hmpl.lib.cformat import format_c
+from motionvm.lang.hmpl.lib.cformat import FieldTooWide, format_c
 from motionvm.runtime.errors import RuntimeFault
 
 HMPL_STR_MAX_LEN = 512
@@ -118,14 +120,13 @@ class StringLib(Library):
 
     # ------------------------------------------------------------ helpers
 
-    def _format(self, func: str, fmt: int, args: tuple) -> bytes:
-        text = format_c(self.mem.read_cstr(fmt, f"{func} format"), args, self.mem, func)
-        if len(text) > HMPL_STR_MAX_LEN:
-            raise RuntimeFault(
-                f"{func}: string overflow: the formatted string has {len(text)} characters,"
-                f" more than HMPL_STR_MAX_LEN ({HMPL_STR_MAX_LEN})"
-            )
-        return text
+    def _format(self, func: str, fmt: int, args: tuple) -> bytes | None:
+        """The formatted string, or None if it is longer than HMPL_STR_MAX_LEN."""
+        try:
+            text = format_c(self.mem.read_cstr(fmt, f"{func} format"), args, self.mem, func)
+        except FieldTooWide:
+            return None
+        return None if len(text) > HMPL_STR_MAX_LEN else text
 
     def _put_str(self, func: str, dest: int, text: bytes, at: int = 0) -> None:
         """Write `text` + NUL at dest+at, or fault without writing if it does not fit."""
@@ -165,15 +166,19 @@ class StringLib(Library):
 
     @builtin()
     def Print(self, format: int, *args) -> int:
-        """Write one formatted message; return its length [characters]."""
+        """Write one formatted message; return its length [characters], or -1."""
         text = self._format("Print", format, args)
+        if text is None:
+            return -1
         self.rt.emit(text.decode("latin-1"))
         return len(text)
 
     @builtin()
     def StringPrint(self, destination: int, format: int, *args) -> int:
-        """Write a formatted string into `destination`; return its length [characters]."""
+        """Write a formatted string into `destination`; return its length [characters], or -1."""
         text = self._format("StringPrint", format, args)
+        if text is None:
+            return -1
         self._put_str("StringPrint", destination, text)
         return len(text)
 

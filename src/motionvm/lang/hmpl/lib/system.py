@@ -4,8 +4,11 @@ Sleep, RunScheduler and MutexLock are blocking: generator methods that yield to 
 kernel (`None` = next cycle, int = the cycle to wake at). Decisions where the manual is
 silent: Sleep(ms) waits ceil(ms / cycle) cycles (at least one); a task started by
 StartTask gets its first slice in the next cycle. The owners of the 8 mutexes are kept
-by the run time (`rt.mutex_owner`), which frees a task's mutexes when it stops. The bus
-and system-state functions (IsSystemInit ..., GetECATSt) are in bus.py.
+by the run time (`rt.mutex_owner`), which frees a task's mutexes when it stops. A task
+function that fails returns the code of table 18.1.1.1 (a bad task id 0x107, a running
+task 0x108, an unknown function 0x109, a task without a program or main 0x10A) and
+stores it for GetSystemLastErr; StopTask of a stopped task succeeds (0). The bus and
+system-state functions (IsSystemInit ..., GetECATSt) are in bus.py.
 """
 
 from __future__ import annotations
@@ -15,6 +18,7 @@ import zlib
 
 from motionvm import __version__
 from motionvm.lang.hmpl.lib.base import Library, builtin
+from motionvm.motion import axis_status as st
 from motionvm.runtime.errors import RuntimeFault, TaskExit
 
 FIRMWARE_VERSION = f"motionvm {__version__}"
@@ -133,27 +137,42 @@ class SystemLib(Library):
 
     # ------------------------------------------------------------ tasks (chapter 16)
 
-    def _task_id(self, task_id: int, fn: str) -> int:
-        if not 0 <= task_id < len(self.rt.kernel.tasks):
-            raise RuntimeFault(
-                f"{fn}: bad task id {task_id} (tasks are 0..{len(self.rt.kernel.tasks) - 1})"
+    def _task_error(self, code: int) -> int:
+        """Store `code` (table 18.1.1.1) as the system's last error and return it."""
+        self.rt.commands.motion.system_last_error = code
+        return code
+
+    def _bad_task_id(self, task_id: int) -> bool:
+        return not 0 <= task_id < len(self.rt.kernel.tasks)
+
+    def _start(self, task_id: int, func_name: str | None) -> int:
+        if self._bad_task_id(task_id):
+            return self._task_error(st.SYS_NOT_VALID_TASKID)
+        if self.rt.kernel.tasks[task_id].running:
+            return self._task_error(st.SYS_TASK_IS_RUNNING)
+        if task_id not in self.rt.program.tasks:
+            return self._task_error(st.SYS_TASK_EMPTY)
+        result = self.rt.start_task(task_id, func_name)
+        if result:
+            # the task has no main (2), or no function of that name without parameters (3)
+            return self._task_error(
+                st.SYS_TASK_EMPTY if func_name is None else st.SYS_FUNC_NOT_IN_TASK
             )
-        return task_id
+        return 0
 
     @builtin()
     def StartTask(self, task_id: int) -> int:
-        self._task_id(task_id, "StartTask")
-        return self.rt.start_task(task_id, None)
+        return self._start(task_id, None)
 
     @builtin()
     def StartTaskFunc(self, task_id: int, func_name: int) -> int:
-        self._task_id(task_id, "StartTaskFunc")
         fname = self.mem.read_cstr(func_name, "function name").decode("latin-1")
-        return self.rt.start_task(task_id, fname)
+        return self._start(task_id, fname)
 
     @builtin()
     def StopTask(self, task_id: int) -> int:
-        self._task_id(task_id, "StopTask")
+        if self._bad_task_id(task_id):
+            return self._task_error(st.SYS_NOT_VALID_TASKID)
         k = self.rt.kernel
         if k.current is not None and k.current.id == task_id:
             k.stop(task_id)
@@ -170,5 +189,6 @@ class SystemLib(Library):
 
     @builtin()
     def IsTaskStop(self, task_id: int) -> int:
-        self._task_id(task_id, "IsTaskStop")
+        if self._bad_task_id(task_id):
+            return self._task_error(st.SYS_NOT_VALID_TASKID)
         return 0 if self.rt.kernel.tasks[task_id].running else 1
