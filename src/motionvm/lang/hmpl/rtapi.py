@@ -23,6 +23,7 @@ from motionvm.lang.hmpl.lib import library_classes
 from motionvm.lang.hmpl.program import CompiledProgram
 from motionvm.lang.hmpl.rthelpers import make_helpers
 from motionvm.motion.commands import MotionCommands
+from motionvm.runtime.clients import PassiveClient
 from motionvm.runtime.errors import RuntimeFault
 from motionvm.runtime.fault_position import user_frames
 from motionvm.runtime.kernel import Kernel, Task
@@ -39,8 +40,11 @@ def _plain_to_gen(fn: Callable[[], object]):
     yield  # pragma: no cover — makes this a generator
 
 
-class HmplRuntime:
-    """One loaded HMPL program on a controller (kernel + clock)."""
+class HmplRuntime(PassiveClient):
+    """One loaded HMPL program on a controller (kernel + clock): a cycle client whose
+    `begin_cycle` updates the system variables. Its tasks keep the run going and wake it
+    up through the controller's task kernel, so as a client it is never busy and has no
+    next event of its own (`PassiveClient`)."""
 
     def __init__(
         self,
@@ -128,17 +132,6 @@ class HmplRuntime:
         i32[self._time_addr] = round(cycle * (controller.cycle_time * 1000.0)) & 0x7FFFFFFF
         # system_fclk: +1 per controller cycle (22.2), wrapping as a signed 32-bit int
         i32[self._fclk_addr] = ((cycle + 2**31) & 0xFFFFFFFF) - 2**31
-
-    def end_cycle(self) -> None:
-        """Nothing: the tasks ran in the kernel's part of the cycle."""
-
-    def busy(self) -> bool:
-        """The tasks keep the run going through the kernel, not through this client."""
-        return False
-
-    def next_event(self) -> int | None:
-        """The tasks' wake-ups are the kernel's; the run time itself has none."""
-        return None
 
     def still_running(self) -> list:
         """Every running task and the line of the user's code where it waits."""
