@@ -30,14 +30,14 @@ from motionvm.drives.objects import (
 )
 
 settings.register_profile(
-    "drive-dev", max_examples=30, derandomize=True, deadline=None,
+    "drive-ci", max_examples=30, derandomize=True, deadline=None,
     suppress_health_check=[HealthCheck.too_slow],
 )  # fmt: skip
 settings.register_profile(
-    "drive-ci", max_examples=300, derandomize=True, deadline=None,
+    "drive-thorough", max_examples=300, derandomize=True, deadline=None,
     suppress_health_check=[HealthCheck.too_slow],
 )  # fmt: skip
-PROFILE = settings.get_profile("drive-" + os.environ.get("HYPOTHESIS_PROFILE", "dev"))
+PROFILE = settings.get_profile("drive-" + os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 
 DT = 0.001
 

@@ -18,11 +18,11 @@ from motionvm.motion.axis_status import AxisCommandError
 from motionvm.motion.tolerances import limit_slack
 
 DT = 0.001
-settings.register_profile("axis-dev", max_examples=30, derandomize=True, deadline=None,
+settings.register_profile("axis-ci", max_examples=30, derandomize=True, deadline=None,
                           suppress_health_check=[HealthCheck.too_slow])  # fmt: skip
-settings.register_profile("axis-ci", max_examples=300, derandomize=True, deadline=None,
+settings.register_profile("axis-thorough", max_examples=300, derandomize=True, deadline=None,
                           suppress_health_check=[HealthCheck.too_slow])  # fmt: skip
-PROFILE = settings.get_profile("axis-" + os.environ.get("HYPOTHESIS_PROFILE", "dev"))
+PROFILE = settings.get_profile("axis-" + os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 
 
 def enabled(**config) -> Axis:

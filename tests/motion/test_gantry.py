@@ -228,7 +228,7 @@ def test_two_runs_give_identical_traces():
 
 
 PROFILE = settings(
-    max_examples=400 if os.environ.get("HYPOTHESIS_PROFILE") == "ci" else 30,
+    max_examples=400 if os.environ.get("HYPOTHESIS_PROFILE") == "thorough" else 30,
     derandomize=True,
     deadline=None,
     suppress_health_check=[HealthCheck.too_slow],

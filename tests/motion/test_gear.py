@@ -284,7 +284,7 @@ def test_a_resting_master_engages_its_slave_at_once():
 # ---- properties (Hypothesis; profiles as in test_profile_properties.py) -------------
 
 PROFILE = settings(
-    max_examples=400 if os.environ.get("HYPOTHESIS_PROFILE") == "ci" else 30,
+    max_examples=400 if os.environ.get("HYPOTHESIS_PROFILE") == "thorough" else 30,
     derandomize=True,
     deadline=None,
     suppress_health_check=[HealthCheck.too_slow],

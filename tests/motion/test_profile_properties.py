@@ -1,7 +1,8 @@
 """Property tests of the profile generator (Hypothesis).
 
-Profiles: `dev` (few examples, the default) and `ci` (many); both derandomized so a
-run is reproducible. Select with HYPOTHESIS_PROFILE=ci. The profiles are applied per
+Profiles: `ci` (few examples, the default, bounded for CI) and `thorough` (many, for
+local runs); both derandomized so a run is reproducible. Select with
+HYPOTHESIS_PROFILE=thorough. The profiles are applied per
 test, so this module does not change Hypothesis settings for other test modules.
 """
 
@@ -17,14 +18,14 @@ from motionvm.motion.tcurve import plan_position, rest_to_rest_time
 from motionvm.motion.tolerances import EPS, P_TOL, limit_violation
 
 settings.register_profile(
-    "dev", max_examples=40, derandomize=True, deadline=None,
+    "ci", max_examples=40, derandomize=True, deadline=None,
     suppress_health_check=[HealthCheck.too_slow],
 )  # fmt: skip
 settings.register_profile(
-    "ci", max_examples=400, derandomize=True, deadline=None,
+    "thorough", max_examples=400, derandomize=True, deadline=None,
     suppress_health_check=[HealthCheck.too_slow],
 )  # fmt: skip
-PROFILE = settings.get_profile(os.environ.get("HYPOTHESIS_PROFILE", "dev"))
+PROFILE = settings.get_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 
 MAX_MOVE_TIME = 4.0  # [s] keeps one example below ~20 ms
 
