@@ -229,7 +229,8 @@ class ScopeRequest:
         span = None if window is None else ScopeWindow.parse(window)
         return cls(tuple(names), paths, every, span)
 
-    def is_stdout(self, output: Path) -> bool:
+    @staticmethod
+    def is_stdout(output: Path) -> bool:
         """True for the output `-`: the .csv table on standard output."""
         return str(output) == STDOUT
 
