@@ -150,6 +150,9 @@ def test_plot_window(loop_file, tmp_path, monkeypatch):
     argv = ["--scope", "system_dtest0,gpo3", "--scope-out", out, "--scope-window", "1ms:2ms"]
     assert run_cli(*argv, loop_file) == 0
     assert drawn == [[0.001, 0.002]]
+    vcd = tmp_path / "run.vcd"
+    assert run_cli(*argv[:3], vcd, *argv[4:], loop_file) == 0
+    assert f"$comment {loop_file}, window 0.001:0.002 s $end" in vcd.read_text()
     assert out.read_bytes().startswith(b"\x89PNG")
 
 

@@ -359,6 +359,8 @@ class ScopeRecorder:
 
         self.apply_hmi_gate()
         self.keep_window(window)
+        if window is not None:
+            title = ", ".join(filter(None, [title, f"window {window} s"]))
         scope_writers.write(Path(path), self, title=title)
 
     def csv_lines(self, window: ScopeWindow | None = None) -> Iterator[str]:
