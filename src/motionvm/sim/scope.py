@@ -7,8 +7,9 @@ theirs); a `ChannelRegistry` asks each source in turn and turns failures into on
 error with close matches. The `ScopeRecorder` is a `Controller` client: its
 `end_cycle()` runs after tasks and motion, so a sample shows the state a cycle left
 behind, stamped with that cycle's time (`system_timeInMs` reads the same cycle).
-Writers for .csv, .png/.svg and .vcd live in `scope_writers.py`; the sources for HMPL
-variables, GPIO and axes in `scope_sources.py`.
+`ScopeWindow` picks the part of a recording that is written (`--scope-window`).
+Writers for .csv, .png/.svg and .vcd live in `scope_writers.py`, the layout of plots in
+`scope_plot.py`; the sources for GPIO, axes, gears and gantries in `scope_sources.py`.
 """
 
 from __future__ import annotations

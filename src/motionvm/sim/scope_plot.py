@@ -8,7 +8,8 @@ The rules (README "Scope"):
   or `actual`; the two are counterparts when the rest of the name (the owner before
   the first `.`, the other words, an index) and the unit are the same: `axis0.ref_pos`
   and `axis0.pos_fb`, `drive1.x_ref_pos` and `drive1.x_act_pos`, `gantry0.linear_ref`
-  and `gantry0.linear_fb`, `axis0.coe_pos_cmd` and `axis0.coe_pos_fb`.
+  and `gantry0.linear_fb`, `axis0.coe_pos_cmd` and `axis0.coe_pos_fb`. A reference
+  recorded without its feedback is an ordinary solid trace.
 - Channels share a panel only when they have the same unit and comparable magnitudes:
   with all of them, the panel's y range (lowest to highest value) is at most
   `MAGNITUDE_FACTOR` (20) times the peak-to-peak of each channel in it that is not
