@@ -520,18 +520,31 @@ class Session:
         return registry_for(self.controller, self.hmpl, self.pdl, self.gdl)
 
     def save_scope(self) -> None:
-        """Write the recording to every `--scope-out` file (SessionError if one cannot
-        be written); a note when SetHMIScope gated every sample away."""
-        rec = self.recorder
-        if rec is None or self.spec.scope is None:
+        """Write the recording (the samples in `--scope-window`) to every `--scope-out`
+        file, and `-` as lines through `emit`, after the run's messages (SessionError if
+        a file cannot be written); a note when SetHMIScope or the window left no sample."""
+        rec, request = self.recorder, self.spec.scope
+        if rec is None or request is None:
             return
         if rec.hmi_gated and not any(rec.hmi_on):
             self._report(
                 "motionvm: note: the program called SetHMIScope but the HMI scope was never on "
                 "at the end of a recorded cycle: the scope recording is empty"
             )
-        for path in self.spec.scope.outputs:
+        elif request.window is not None and rec.cycles:
+            rec.apply_hmi_gate()
+            times = rec.times
+            if not any(t in request.window for t in times):
+                self._report(
+                    f"motionvm: note: --scope-window {request.window} holds no sample (the "
+                    f"recording spans {times[0]:g} to {times[-1]:g} s): the scope files are empty"
+                )
+        for path in request.outputs:
+            if request.is_stdout(path):
+                for line in rec.csv_lines(request.window):
+                    self._emit(line)
+                continue
             try:
-                rec.save(path, title=self.spec.scope_title)
+                rec.save(path, title=self.spec.scope_title, window=request.window)
             except ScopeError as exc:
                 raise SessionError(str(exc)) from None

@@ -52,9 +52,15 @@ def build_parser() -> argparse.ArgumentParser:
         action="append",
         default=[],
         metavar="FILE",
-        help="write the recording to FILE: .csv, .png, .svg or .vcd (repeatable)",
+        help="write the recording to FILE: .csv, .png, .svg or .vcd, or - for a .csv table on "
+        "stdout after the run's messages (repeatable)",
     )
     r.add_argument("--scope-every", type=int, metavar="N", help="record every N cycles (default 1)")
+    r.add_argument(
+        "--scope-window",
+        metavar="START:END",
+        help="write only the samples from START to END seconds (either may be empty; 150ms)",
+    )
     r.add_argument(
         "--start",
         action="append",

@@ -34,7 +34,7 @@ def sources_of(args) -> list[Source]:
 
 
 def _scope_request(args):
-    """The checked --scope/--scope-out/--scope-every request (None if none)."""
+    """The checked --scope/--scope-out/--scope-every/--scope-window request (None if none)."""
     from motionvm.sim.scope import ScopeError, ScopeRequest
 
     try:
@@ -42,6 +42,7 @@ def _scope_request(args):
             getattr(args, "scope", []),
             getattr(args, "scope_out", []),
             getattr(args, "scope_every", None),
+            getattr(args, "scope_window", None),
         )
     except ScopeError as exc:
         raise UsageError(str(exc)) from None

@@ -7,14 +7,17 @@ theirs); a `ChannelRegistry` asks each source in turn and turns failures into on
 error with close matches. The `ScopeRecorder` is a `Controller` client: its
 `end_cycle()` runs after tasks and motion, so a sample shows the state a cycle left
 behind, stamped with that cycle's time (`system_timeInMs` reads the same cycle).
-Writers for .csv, .png/.svg and .vcd live in `scope_writers.py`; the sources for HMPL
-variables, GPIO and axes in `scope_sources.py`.
+`ScopeWindow` picks the part of a recording that is written (`--scope-window`).
+Writers for .csv, .png/.svg and .vcd live in `scope_writers.py`, the layout of plots in
+`scope_plot.py`; the sources for GPIO, axes, gears and gantries in `scope_sources.py`.
 """
 
 from __future__ import annotations
 
 import difflib
-from collections.abc import Callable, Iterable, Sequence
+import math
+import re
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -29,11 +32,16 @@ __all__ = [  # the units and the error are the scope protocol's (runtime/scope.p
     "ScopeError",
     "ScopeRecorder",
     "ScopeRequest",
+    "ScopeWindow",
 ]
 
 OUTPUT_SUFFIXES = (".csv", ".png", ".svg", ".vcd")
 PLOT_SUFFIXES = (".png", ".svg")
 PLOT_INSTALL_HINT = "pip install 'motionvm[plot]'"
+STDOUT = "-"
+"""`--scope-out -`: the .csv table on standard output, after the run's messages."""
+_TIME = re.compile(r"\s*([-+]?[0-9.]+(?:[eE][-+]?\d+)?)\s*(s|ms|us)?\s*")
+_TIME_SCALE = {None: 1.0, "s": 1.0, "ms": 1e-3, "us": 1e-6}
 
 
 @dataclass(frozen=True, slots=True)
@@ -121,16 +129,80 @@ def plotting_available() -> bool:
 
 
 @dataclass(frozen=True, slots=True)
+class ScopeWindow:
+    """The part of a recording that is written: samples with `start <= sim_time <= end`.
+
+    Either end may be None (open). Text form `START:END` in seconds, `ms` or `us`
+    suffixes allowed: `0.1:0.25`, `150ms:`, `:2`.
+    """
+
+    start: float | None = None
+    """First simulated time kept [s]; None: from the first sample."""
+    end: float | None = None
+    """Last simulated time kept [s]; None: to the last sample."""
+
+    @classmethod
+    def parse(cls, text: str) -> ScopeWindow:
+        """The window `START:END`; ScopeError naming what is wrong."""
+        left, colon, right = text.partition(":")
+        if not colon:
+            raise ScopeError(
+                f"--scope-window '{text}': expected START:END in seconds "
+                "(either may be empty; e.g. 0.1:0.25, 150ms:, :2)"
+            )
+        start, end = _parse_time(left, text), _parse_time(right, text)
+        if start is not None and end is not None and start > end:
+            raise ScopeError(f"--scope-window '{text}': start {start:g} s is after end {end:g} s")
+        return cls(start, end)
+
+    def __contains__(self, sim_time: float) -> bool:
+        return (self.start is None or sim_time >= self.start) and (
+            self.end is None or sim_time <= self.end
+        )
+
+    def __str__(self) -> str:
+        def side(t: float | None) -> str:
+            return "" if t is None else f"{t:g}"
+
+        return f"{side(self.start)}:{side(self.end)}"
+
+
+def _parse_time(side: str, text: str) -> float | None:
+    """One side of a window in seconds (None if empty)."""
+    if not side.strip():
+        return None
+    m = _TIME.fullmatch(side)
+    try:
+        value = float(m.group(1)) * _TIME_SCALE[m.group(2)] if m else math.nan
+    except ValueError:
+        value = math.nan
+    if not math.isfinite(value):
+        raise ScopeError(
+            f"--scope-window '{text}': '{side.strip()}' is not a time "
+            "(seconds, or with a suffix: 150ms, 200us, 1.5s)"
+        )
+    if value < 0:
+        raise ScopeError(f"--scope-window '{text}': time {value:g} s is before the start (0 s)")
+    return value
+
+
+@dataclass(frozen=True, slots=True)
 class ScopeRequest:
-    """What `--scope/--scope-out/--scope-every` asked for, checked before anything runs."""
+    """What `--scope/--scope-out/--scope-every/--scope-window` asked for, checked before
+    anything runs. An output `-` (`STDOUT`) is the .csv table on standard output."""
 
     channels: tuple[str, ...]
     outputs: tuple[Path, ...]
     every: int = 1
+    window: ScopeWindow | None = None
 
     @classmethod
     def from_options(
-        cls, scope: Sequence[str], outputs: Sequence[str], every: int | None
+        cls,
+        scope: Sequence[str],
+        outputs: Sequence[str],
+        every: int | None,
+        window: str | None = None,
     ) -> ScopeRequest | None:
         """None when no scope was asked for; ScopeError for an incomplete or bad request."""
         every = 1 if every is None else every
@@ -138,6 +210,8 @@ class ScopeRequest:
         if not names and not outputs:
             if every != 1:
                 raise ScopeError("--scope-every needs --scope and --scope-out")
+            if window is not None:
+                raise ScopeError("--scope-window needs --scope and --scope-out")
             return None
         if not names:
             raise ScopeError(
@@ -147,10 +221,19 @@ class ScopeRequest:
             raise ScopeError("--scope needs --scope-out FILE (.csv, .png, .svg or .vcd)")
         if every < 1:
             raise ScopeError(f"--scope-every must be a whole number of cycles >= 1, got {every}")
+        if sum(o == STDOUT for o in outputs) > 1:
+            raise ScopeError("--scope-out -: standard output can take one table only")
         paths = tuple(Path(o) for o in outputs)
-        for p in paths:
-            check_output_path(p)
-        return cls(tuple(names), paths, every)
+        for o, p in zip(outputs, paths):
+            if o != STDOUT:
+                check_output_path(p)
+        span = None if window is None else ScopeWindow.parse(window)
+        return cls(tuple(names), paths, every, span)
+
+    @staticmethod
+    def is_stdout(output: Path) -> bool:
+        """True for the output `-`: the .csv table on standard output."""
+        return str(output) == STDOUT
 
 
 def check_output_path(path: Path) -> None:
@@ -159,7 +242,7 @@ def check_output_path(path: Path) -> None:
     if suffix not in OUTPUT_SUFFIXES:
         raise ScopeError(
             f"--scope-out {path}: unknown file type '{suffix or '(none)'}' "
-            f"(expected {', '.join(OUTPUT_SUFFIXES)})"
+            f"(expected {', '.join(OUTPUT_SUFFIXES)}, or - for a .csv table on standard output)"
         )
     folder = path.parent if str(path.parent) else Path(".")
     if not folder.is_dir():
@@ -252,15 +335,39 @@ class ScopeRecorder:
             column[:] = [column[i] for i in keep]
         self.hmi_on[:] = [True] * len(keep)
 
+    def keep_window(self, window: ScopeWindow | None) -> None:
+        """Drop the samples outside `window` (none if it is None); idempotent."""
+        if window is None:
+            return
+        keep = [i for i, t in enumerate(self.times) if t in window]
+        if len(keep) == len(self.cycles):
+            return
+        self.cycles[:] = [self.cycles[i] for i in keep]
+        self.hmi_on[:] = [self.hmi_on[i] for i in keep]
+        for column in self.columns:
+            column[:] = [column[i] for i in keep]
+
     @property
     def times(self) -> list[float]:
         """Simulated time of each sample [s], rounded to 1 ns so 3 * 0.001 prints as 0.003."""
         dt = self.cycle_time
         return [round(c * dt, 9) for c in self.cycles]
 
-    def save(self, path: str | Path, title: str = "") -> None:
-        """Write the recording; the format follows the suffix (.csv, .png, .svg, .vcd)."""
+    def save(self, path: str | Path, title: str = "", window: ScopeWindow | None = None) -> None:
+        """Write the recording (only the samples in `window`, if given); the format
+        follows the suffix (.csv, .png, .svg, .vcd)."""
         from motionvm.sim import scope_writers
 
         self.apply_hmi_gate()
+        self.keep_window(window)
+        if window is not None:
+            title = ", ".join(filter(None, [title, f"window {window} s"]))
         scope_writers.write(Path(path), self, title=title)
+
+    def csv_lines(self, window: ScopeWindow | None = None) -> Iterator[str]:
+        """The lines of the .csv table, without line ends (`--scope-out -`)."""
+        from motionvm.sim import scope_writers
+
+        self.apply_hmi_gate()
+        self.keep_window(window)
+        return scope_writers.csv_lines(self)

@@ -17,7 +17,7 @@ from collections.abc import Iterator
 from pathlib import Path
 from typing import IO
 
-from motionvm.sim.scope import BIT_UNIT, PLOT_INSTALL_HINT, RAW_UNIT, ScopeError
+from motionvm.sim.scope import PLOT_INSTALL_HINT, ScopeError
 
 VCD_FIRST_ID, VCD_LAST_ID = 33, 126  # printable ASCII, as IEEE 1364 allows for identifier codes
 
@@ -68,15 +68,19 @@ def format_number(v) -> str:
     return repr(float(v))
 
 
-def write_csv(path: Path, recorder, title: str = "") -> None:
-    """Header `time,<channel>...`; one row per sample; time [s]."""
+def csv_lines(recorder) -> Iterator[str]:
+    """Header `time,<channel>...` (bare names: units are in the plots' legends and the
+    VCD's comment), then one row per sample; time [s]; numbers in full precision."""
     columns = recorder.columns
+    yield ",".join(["time"] + [c.name for c in recorder.channels])
+    for row, t in enumerate(recorder.times):
+        yield ",".join([format_number(t)] + [format_number(col[row]) for col in columns])
+
+
+def write_csv(path: Path, recorder, title: str = "") -> None:
+    """The .csv table of `csv_lines`."""
     with atomic_open(path) as f:
-        f.write(",".join(["time"] + [c.name for c in recorder.channels]) + "\n")
-        for row, t in enumerate(recorder.times):
-            f.write(
-                ",".join([format_number(t)] + [format_number(col[row]) for col in columns]) + "\n"
-            )
+        f.writelines(line + "\n" for line in csv_lines(recorder))
 
 
 # ---------------------------------------------------------------- VCD
@@ -171,44 +175,15 @@ def write_vcd(path: Path, recorder, title: str = "") -> None:
 # ---------------------------------------------------------------- plot
 
 
-def _panel_label(unit: str) -> str:
-    if unit == BIT_UNIT:
-        return "bit (0/1)"
-    if unit == RAW_UNIT:
-        return "value"
-    return f"[{unit}]"
-
-
 def write_plot(path: Path, recorder, title: str = "") -> None:
-    """Time on x; one panel per unit, channels of that unit in it with a legend."""
+    """A .png or .svg of `scope_plot.build_figure` (panels by unit and magnitude)."""
     try:
         import matplotlib
-        from matplotlib.backends.backend_agg import FigureCanvasAgg
-        from matplotlib.figure import Figure
     except ImportError:
         raise ScopeError(f"{path}: drawing a plot needs matplotlib; {PLOT_INSTALL_HINT}") from None
-    panels: dict[str, list[int]] = {}
-    for i, ch in enumerate(recorder.channels):
-        panels.setdefault(ch.unit, []).append(i)
-    fig = Figure(figsize=(10, 1.2 + 2.4 * len(panels)), layout="constrained")
-    FigureCanvasAgg(fig)
-    axes = fig.subplots(len(panels), 1, sharex=True, squeeze=False)[:, 0]
-    times = recorder.times
-    for ax, (unit, members) in zip(axes, panels.items()):
-        for i in members:
-            style = {"drawstyle": "steps-post"} if unit == BIT_UNIT else {}
-            ax.plot(
-                times, recorder.columns[i], label=recorder.channels[i].name, linewidth=1.0, **style
-            )
-        ax.set_ylabel(_panel_label(unit))
-        if unit == BIT_UNIT:
-            ax.set_ylim(-0.1, 1.1)
-            ax.set_yticks([0, 1])
-        ax.grid(True, linewidth=0.3)
-        ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize="small")
-    axes[-1].set_xlabel("time [s]")
-    every = f", every {recorder.every} cycles" if recorder.every > 1 else ""
-    fig.suptitle(f"{title or 'motionvm scope'} ({len(times)} samples{every})")
+    from motionvm.sim.scope_plot import build_figure
+
+    fig = build_figure(recorder, title)
     fmt = path.suffix.lower()[1:]
     metadata = {"Date": None} if fmt == "svg" else {"Software": None}
     rc = {"svg.hashsalt": "motionvm", "svg.fonttype": "path"}  # same run, same bytes
