@@ -519,6 +519,12 @@ class Session:
 
         return registry_for(self.controller, self.hmpl, self.pdl, self.gdl)
 
+    def scope_channels(self) -> list[tuple[str, str]]:
+        """(name, unit) of every channel this run offers, in `scope_registry()` order
+        (`motionvm scope --list`); the run need not have started."""
+        registry = self.scope_registry()
+        return [(name, registry.resolve(name).unit) for name in registry.names()]
+
     def save_scope(self) -> None:
         """Write the recording to every `--scope-out` file (SessionError if one cannot
         be written); a note when SetHMIScope gated every sample away."""
