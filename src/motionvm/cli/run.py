@@ -8,6 +8,8 @@ import time
 from pathlib import Path
 
 from motionvm.cli.exits import EXIT_COMPILE, EXIT_OK, EXIT_RUNTIME, EXIT_TIMEOUT, UsageError
+from motionvm.cli.progress import RunProgress
+from motionvm.cli.progress import wanted as progress_wanted
 from motionvm.session import (
     TIMEOUT,
     CompileFailed,
@@ -125,11 +127,18 @@ def cmd_run(args) -> int:
         if not sources and not session.machine.pdl_drives:
             raise UsageError("no input files (and the machine file puts no PDL program on a drive)")
         wall_0 = time.perf_counter()  # for the summary line only; the run never reads it
+        ends = [t for t in (args.until, args.timeout) if t is not None]
+        bar = RunProgress(min(ends, default=None)) if progress_wanted(args.no_progress) else None
         try:
-            result = session.run(args.until, realtime=bool(args.realtime), timeout=args.timeout)
+            result = session.run(
+                args.until, realtime=bool(args.realtime), timeout=args.timeout, progress=bar
+            )
         except KeyboardInterrupt:
             session.save_scope()  # keep what was recorded up to the interrupt
             raise
+        finally:
+            if bar is not None:
+                bar.close()
         wall = time.perf_counter() - wall_0
         try:
             sys.stdout.flush()
