@@ -464,12 +464,17 @@ class Session:
             self.recorder.attach(self.controller)
 
     def run(
-        self, until: float | None = None, realtime: bool = False, timeout: float | None = None
+        self,
+        until: float | None = None,
+        realtime: bool = False,
+        timeout: float | None = None,
+        progress: Callable[[float], None] | None = None,
     ) -> RunResult:
         """Run until every part has finished, or until `until` seconds of simulated time
         (the run was meant to last that long), or until `timeout` seconds (the run should
         have finished by then). Returns why it stopped and, if it did not finish, what
-        still ran and where."""
+        still ran and where. `progress(sim_time)` is called between cycles every so often
+        (`Controller.run`); it must not change the run."""
         for value, option in ((until, "--until"), (timeout, "--timeout")):
             if value is not None and not (value >= 0 and math.isfinite(value)):
                 raise SessionError(
@@ -485,7 +490,7 @@ class Session:
                 if asked is None:
                     asked = self.gdl.scenario.until
                 end = self.gdl.run_until(end)
-        reason = self.controller.run(end, realtime=realtime)
+        reason = self.controller.run(end, realtime=realtime, progress=progress)
         if self.gdl is not None:
             self.gdl.finish()
         if reason == UNTIL and by_timeout:
@@ -518,6 +523,12 @@ class Session:
         from motionvm.sim.scope_sources import registry_for
 
         return registry_for(self.controller, self.hmpl, self.pdl, self.gdl)
+
+    def scope_channels(self) -> list[tuple[str, str]]:
+        """(name, unit) of every channel this run offers, in `scope_registry()` order
+        (`motionvm scope --list`); the run need not have started."""
+        registry = self.scope_registry()
+        return [(name, registry.resolve(name).unit) for name in registry.names()]
 
     def save_scope(self) -> None:
         """Write the recording (the samples in `--scope-window`) to every `--scope-out`

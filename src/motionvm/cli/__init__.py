@@ -1,4 +1,4 @@
-"""The `motionvm` command: run | check | compile | builtins | dump | test.
+"""The `motionvm` command: run | check | compile | builtins | errors | dump | scope | test.
 
 Parsing arguments and printing only: every run is assembled by `motionvm.session`, the
 same code the Python API uses. Exit codes: 0 ok; 1 a task stopped with a runtime
@@ -73,9 +73,17 @@ def main(argv: list[str] | None = None) -> int:
 
 def _dispatch(args) -> int:
     if args.cmd == "builtins":
-        from motionvm.cli.info import cmd_builtins
+        from motionvm.cli.reference import cmd_builtins
 
         return cmd_builtins(args)
+    if args.cmd == "errors":
+        from motionvm.cli.reference import cmd_errors
+
+        return cmd_errors(args)
+    if args.cmd == "scope":
+        from motionvm.cli.run import cmd_scope
+
+        return cmd_scope(args)
     if args.cmd == "dump":
         from motionvm.cli.info import cmd_dump
 

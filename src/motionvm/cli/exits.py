@@ -7,6 +7,17 @@ EXIT_TIMEOUT = 124
 """The run had not finished at `--timeout` (as timeout(1) exits)."""
 EXIT_INTERRUPTED = 130
 
+EXIT_CODES_HELP = f"""\
+exit codes:
+  {EXIT_OK:<3}  ok
+  {EXIT_RUNTIME:<3}  a task stopped with a runtime error
+  {EXIT_COMPILE:<3}  compile errors (nothing runs)
+  {EXIT_USAGE:<3}  bad command line, machine file, scenario or scope request
+  {EXIT_INTERNAL:<3}  an internal error of motionvm (a bug; please report it)
+  {EXIT_TIMEOUT:<3}  the run had not finished at --timeout
+  {EXIT_INTERRUPTED:<3}  interrupted (Ctrl-C)"""
+"""The exit-code table of `motionvm --help` and `motionvm run --help`."""
+
 
 class UsageError(Exception):
     """A bad command line, machine file, scenario or scope request: exit code 3.

@@ -1,42 +1,12 @@
-"""`motionvm builtins | dump`: what the built-ins are, what each compiler stage makes."""
+"""`motionvm dump`: what each compiler stage makes of a file."""
 
 from __future__ import annotations
 
-import json
 import sys
 from pathlib import Path
 
 from motionvm.cli.exits import EXIT_COMPILE, EXIT_OK, UsageError
 from motionvm.source.diagnostics import DiagnosticSink, render_diagnostic
-
-
-def cmd_builtins(args) -> int:
-    from motionvm.lang.hmpl.catalog import builtin_signatures
-    from motionvm.lang.hmpl.lib import implemented_builtins
-
-    impl = implemented_builtins()
-    special = {"_TASKID_", "_AUTORUN_", "Till", "HIMC_GPI", "HIMC_GPO"}
-    rows = []
-    for name, sig in builtin_signatures().items():
-        rows.append(
-            {
-                "name": name,
-                "prototype": sig.prototype,
-                "section": sig.section,
-                "implemented": name in impl or name in special,
-            }
-        )
-    if args.json:
-        json.dump(rows, sys.stdout, indent=1)
-        sys.stdout.write("\n")
-    else:
-        width = max(len(r["name"]) for r in rows)
-        for r in rows:
-            mark = "yes" if r["implemented"] else "no "
-            sys.stdout.write(f"{r['name']:<{width}}  {mark}  {r['section']:<7} {r['prototype']}\n")
-        done = sum(r["implemented"] for r in rows)
-        sys.stdout.write(f"{done} of {len(rows)} built-ins implemented\n")
-    return EXIT_OK
 
 
 def cmd_dump(args) -> int:

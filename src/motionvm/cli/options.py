@@ -3,43 +3,106 @@
 from __future__ import annotations
 
 import argparse
+import math
+import re
+
+from motionvm import __version__
+from motionvm.cli.exits import EXIT_CODES_HELP
+
+_NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:e[-+]?\d+)?|[-+]?(?:inf|nan)"
+_DURATION = re.compile(rf"\s*({_NUMBER})\s*([a-z]*)\s*")
+_UNITS = {"": (1, 1), "s": (1, 1), "ms": (1, 1000), "min": (60, 1), "h": (3600, 1)}
+"""Unit -> (factor, divisor) to seconds: 350ms is 350 / 1000 = 0.35, not 350 * 0.001."""
+DURATION_FORMS = "seconds (1.5), or a number with ms, s, min or h (150ms, 2s, 1min)"
+
+
+def duration(text: str) -> float:
+    """A duration option's value [s]: `1.5` (seconds), `150ms`, `2s`, `1min`, `1h`.
+
+    argparse reports the ArgumentTypeError as `argument --until: MESSAGE` (exit 3)."""
+    m = _DURATION.fullmatch(text.lower())
+    if m is None:
+        raise argparse.ArgumentTypeError(f"'{text}' is not a duration: expected {DURATION_FORMS}")
+    if m.group(2) not in _UNITS:
+        raise argparse.ArgumentTypeError(
+            f"'{text}': unknown unit '{m.group(2)}' (expected ms, s, min or h, or none for seconds)"
+        )
+    factor, divisor = _UNITS[m.group(2)]
+    seconds = float(m.group(1)) * factor / divisor
+    if not math.isfinite(seconds) or seconds < 0:
+        raise argparse.ArgumentTypeError(
+            f"'{text}' is not a duration: a time must be finite and non-negative"
+        )
+    return seconds
+
+
+class _Formatter(argparse.HelpFormatter):
+    """Help whose descriptions are wrapped but whose tables (text of several lines, as
+    the exit codes of the epilog) are kept as written."""
+
+    def __init__(self, prog: str) -> None:
+        super().__init__(prog, max_help_position=30)
+
+    def _fill_text(self, text: str, width: int, indent: str) -> str:
+        if "\n" in text:
+            return "".join(indent + line for line in text.splitlines(keepends=True))
+        return super()._fill_text(text, width, indent)
 
 
 def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(
-        prog="motionvm", description="A virtual motion controller for HMPL, PDL and GDL programs."
+        prog="motionvm",
+        description="A virtual motion controller for HMPL, PDL and GDL programs.",
+        epilog=EXIT_CODES_HELP
+        + "\n\n'motionvm COMMAND --help' describes each command's files and options.",
+        formatter_class=_Formatter,
     )
-    sub = p.add_subparsers(dest="cmd", required=True)
-    r = sub.add_parser("run", help="compile and run programs on the simulated machine")
-    r.add_argument("files", nargs="*", metavar="FILE")
-    r.add_argument(
-        "--machine", metavar="FILE.toml", help="machine file (default: the built-in machine)"
+    p.add_argument(
+        "--version",
+        action="version",
+        version=f"motionvm {__version__}",
+        help="print the version and exit",
     )
+    sub = p.add_subparsers(dest="cmd", required=True, metavar="COMMAND")
+    r = sub.add_parser(
+        "run",
+        help="compile and run programs on the simulated machine",
+        description="Compile every FILE, then run them on one simulated machine and clock. "
+        "Program messages go to stdout, diagnostics to stderr.",
+        epilog=EXIT_CODES_HELP,
+        formatter_class=_Formatter,
+    )
+    r.add_argument("files", nargs="*", metavar="FILE", help=_FILES_HELP)
+    _machine(r)
     r.add_argument(
         "--until",
-        type=float,
-        metavar="SECONDS",
-        help="run this long (simulated time); exit 0, with a note of what still ran",
+        type=duration,
+        metavar="TIME",
+        help="run this long (simulated time: 1.5, 150ms, 2s, 1min); exit 0, with a note of "
+        "what still ran",
     )
     r.add_argument(
         "--timeout",
-        type=float,
-        metavar="SECONDS",
+        type=duration,
+        metavar="TIME",
         help="a run that has not finished after this much simulated time fails (exit 124), "
         "naming where each task waits",
     )
     r.add_argument("--stamp", action="store_true", help="prefix messages with [t=SECONDS][task N]")
-    r.add_argument(
-        "--task", action="append", default=[], metavar="N=FILE", help="put FILE on task N"
-    )
+    _task(r)
     r.add_argument("--realtime", action="store_true", help="pace the simulation to the wall clock")
     r.add_argument(
         "--no-skip",
         action="store_true",
         help="step every cycle instead of jumping over idle ones (same output, slower)",
     )
+    r.add_argument(
+        "--no-progress",
+        action="store_true",
+        help="no progress bar (shown on a terminal's stderr when a run takes a while)",
+    )
     _werror(r)
-    r.add_argument("--scenario", metavar="FILE.toml", help="GDL: timed input changes")
+    _scenario(r)
     r.add_argument(
         "--scope",
         action="append",
@@ -81,28 +144,102 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="SEED",
         help="GDL: permute the order of procedures sharing an activator",
     )
-    c = sub.add_parser("check", help="compile only; report errors")
-    c.add_argument("files", nargs="+", metavar="FILE")
-    c.add_argument("--task", action="append", default=[], metavar="N=FILE")
+    c = sub.add_parser(
+        "check",
+        help="compile only; report errors (exit 0 or 2)",
+        description="Compile programs of any language without running them.",
+        formatter_class=_Formatter,
+    )
+    c.add_argument("files", nargs="+", metavar="FILE", help=_FILES_HELP)
+    _task(c)
     _werror(c)
-    k = sub.add_parser("compile", help="compile and show the generated Python")
-    k.add_argument("files", nargs="+", metavar="FILE")
+    k = sub.add_parser(
+        "compile",
+        help="compile HMPL programs and show the generated Python",
+        description="Compile HMPL tasks; with --emit-python print the Python they become.",
+        formatter_class=_Formatter,
+    )
+    k.add_argument("files", nargs="+", metavar="FILE", help="HMPL files, tasks in the order given")
     k.add_argument("--emit-python", action="store_true", help="print the generated Python code")
-    k.add_argument("--task", action="append", default=[], metavar="N=FILE")
+    _task(k)
     _werror(k)
-    b = sub.add_parser("builtins", help="list every HMPL built-in and whether it is implemented")
-    b.add_argument("--json", action="store_true")
-    d = sub.add_parser("dump", help="show a compiler stage")
-    d.add_argument("--stage", choices=["tokens", "ast", "py"], required=True)
-    d.add_argument("file", metavar="FILE")
-    d.add_argument("--task-id", type=int, default=0)
+    _add_builtins_parser(sub)
+    e = sub.add_parser(
+        "errors",
+        help="explain an HMPL error code (manual chapter 18)",
+        description="The name and meaning of an error code a built-in returned; axis "
+        "(0x83XXCCCC) and group (0x82XXCCCC) codes name their axis or group XX.",
+        formatter_class=_Formatter,
+    )
+    e.add_argument(
+        "code",
+        nargs="?",
+        metavar="CODE",
+        help="hex (0x83000136), decimal (2197815606 or the signed -2097151690) or a name "
+        "(eERR_AXIS_CMD_INVALID_STATE); none: list every code",
+    )
+    d = sub.add_parser(
+        "dump",
+        help="show a compiler stage: tokens, AST or generated Python",
+        description="Print what one compiler stage makes of a file of any language.",
+        formatter_class=_Formatter,
+    )
+    d.add_argument(
+        "--stage",
+        choices=["tokens", "ast", "py"],
+        required=True,
+        help="tokens (after preprocessing), ast (the syntax tree) or py (the generated Python)",
+    )
+    d.add_argument("file", metavar="FILE", help="a .hmpl, .pdl or .gdl file")
+    d.add_argument(
+        "--task-id",
+        type=int,
+        default=0,
+        metavar="N",
+        help="HMPL: the task id the preprocessor sees as _TASKID_ (default 0)",
+    )
+    s = sub.add_parser(
+        "scope",
+        help="list the scope channels a run of FILES offers",
+        description="Compile FILES on the machine as 'run' would, without running them, and "
+        "list every channel --scope can record, one per line with its unit.",
+        formatter_class=_Formatter,
+    )
+    s.add_argument("--list", action="store_true", help="list the channels (the only action)")
+    s.add_argument("files", nargs="*", metavar="FILE", help=_FILES_HELP)
+    _machine(s)
+    _scenario(s)
+    _task(s)
     add_test_parser(sub)
     return p
 
 
+_FILES_HELP = ".hmpl tasks (first = task 0), .pdl drive programs, .gdl application files"
+
+
+def _add_builtins_parser(sub) -> None:
+    b = sub.add_parser(
+        "builtins",
+        help="the HMPL built-ins: one described, or all listed with whether each is implemented",
+        description="Without NAME, one line per built-in: name, implemented or not, manual "
+        "section, prototype. With NAME, its purpose, parameters, return value and remarks.",
+        formatter_class=_Formatter,
+    )
+    b.add_argument("name", nargs="?", metavar="NAME", help="describe this built-in (e.g. MoveAbs)")
+    b.add_argument("--missing", action="store_true", help="only the built-ins not implemented")
+    b.add_argument(
+        "--chapter", type=int, metavar="N", help="only the built-ins of manual chapter N (2-21)"
+    )
+    b.add_argument("--json", action="store_true", help="print JSON instead of text")
+
+
 def add_test_parser(sub) -> None:
     """`motionvm test`: run programs that carry expectations (see cli/cases.py)."""
-    t = sub.add_parser("test", help="run programs that carry expectations; report like pytest")
+    t = sub.add_parser(
+        "test",
+        help="run programs that carry expectations; report like pytest",
+        formatter_class=_Formatter,
+    )
     t.add_argument(
         "files", nargs="*", metavar="PATH", help="files or folders (default: the current folder)"
     )
@@ -115,13 +252,35 @@ def add_test_parser(sub) -> None:
     )
     t.add_argument(
         "--case-timeout",
-        type=float,
+        type=duration,
         default=60.0,
-        metavar="SECONDS",
-        help="wall-clock time limit of one case (default 60)",
+        metavar="TIME",
+        help="wall-clock time limit of one case (default 60 s; 90, 500ms, 2min)",
     )
     t.add_argument("--junitxml", metavar="FILE", help="also write a JUnit XML report")
     t.add_argument("--dask", metavar="ADDRESS", help="run the cases on the Dask cluster at ADDRESS")
+
+
+def _machine(p: argparse.ArgumentParser) -> None:
+    p.add_argument(
+        "--machine", metavar="FILE.toml", help="machine file (default: the built-in machine)"
+    )
+
+
+def _scenario(p: argparse.ArgumentParser) -> None:
+    p.add_argument(
+        "--scenario", metavar="FILE.toml", help="GDL: a scenario file of timed input changes"
+    )
+
+
+def _task(p: argparse.ArgumentParser) -> None:
+    p.add_argument(
+        "--task",
+        action="append",
+        default=[],
+        metavar="N=FILE",
+        help="put the HMPL file FILE on task N (repeatable; other files fill the free ids)",
+    )
 
 
 def _werror(p: argparse.ArgumentParser) -> None:

@@ -8,6 +8,8 @@ import time
 from pathlib import Path
 
 from motionvm.cli.exits import EXIT_COMPILE, EXIT_OK, EXIT_RUNTIME, EXIT_TIMEOUT, UsageError
+from motionvm.cli.progress import RunProgress
+from motionvm.cli.progress import wanted as progress_wanted
 from motionvm.session import (
     TIMEOUT,
     CompileFailed,
@@ -111,12 +113,11 @@ def cmd_run(args) -> int:
         scope_title=" ".join(list(args.files) + list(args.task)),
         werror=args.werror,
     )
-    out = sys.stdout
     session: Session | None = None
 
     def emit(line: str) -> None:
-        try:
-            out.write(line + "\n")
+        try:  # sys.stdout as it is now: a progress bar may route it above itself
+            sys.stdout.write(line + "\n")
         except BrokenPipeError:  # the reader went away (`| head`): end the run quietly
             os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
             if session is not None:
@@ -127,14 +128,21 @@ def cmd_run(args) -> int:
         if not sources and not session.machine.pdl_drives:
             raise UsageError("no input files (and the machine file puts no PDL program on a drive)")
         wall_0 = time.perf_counter()  # for the summary line only; the run never reads it
+        ends = [t for t in (args.until, args.timeout) if t is not None]
+        bar = RunProgress(min(ends, default=None)) if progress_wanted(args.no_progress) else None
         try:
-            result = session.run(args.until, realtime=bool(args.realtime), timeout=args.timeout)
+            result = session.run(
+                args.until, realtime=bool(args.realtime), timeout=args.timeout, progress=bar
+            )
         except KeyboardInterrupt:
             session.save_scope()  # keep what was recorded up to the interrupt
             raise
+        finally:
+            if bar is not None:
+                bar.close()
         wall = time.perf_counter() - wall_0
         try:
-            out.flush()
+            sys.stdout.flush()
         except BrokenPipeError:
             pass
         session.save_scope()
@@ -148,6 +156,24 @@ def cmd_run(args) -> int:
     if result.reason == TIMEOUT:
         return EXIT_TIMEOUT
     return EXIT_RUNTIME if session.fault_count else EXIT_OK
+
+
+def cmd_scope(args) -> int:
+    """`motionvm scope --list`: the channels a run of the files would offer, not run."""
+    if not args.list:
+        raise UsageError("scope: nothing to do; 'motionvm scope --list FILE...' lists the channels")
+    spec = RunSpec(sources_of(args), machine=args.machine, scenario=args.scenario)
+    try:
+        session = Session(spec, emit=lambda line: None, report=_report)
+        channels = session.scope_channels()
+    except CompileFailed:
+        return EXIT_COMPILE
+    except SessionError as exc:
+        raise UsageError(str(exc), located=exc.located) from None
+    width = max((len(name) for name, _ in channels), default=0)
+    for name, unit in channels:
+        sys.stdout.write(f"{name:<{width}}  {unit}".rstrip() + "\n")
+    return EXIT_OK
 
 
 def _verdict(result, args) -> None:

@@ -16,6 +16,7 @@ velocity it has reached counts as settled) and no client is busy.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 
 from motionvm.io.gpio import DigitalIO
 from motionvm.motion.kernel import MotionKernel
@@ -36,6 +37,9 @@ def until_cycle(until: float, cycle_time: float) -> int:
 
 FINISHED, UNTIL, STOPPED = "finished", "until", "stopped"
 """Why `Controller.run` returned."""
+
+_NEVER = 1 << 62
+"""A cycle no run reaches (`run` without a progress callback)."""
 
 
 class Controller:
@@ -105,18 +109,33 @@ class Controller:
                 wake = e
         return wake
 
-    def run(self, until: float | None = None, realtime: bool = False) -> str:
+    def run(
+        self,
+        until: float | None = None,
+        realtime: bool = False,
+        progress: Callable[[float], None] | None = None,
+        progress_every: int = 100,
+    ) -> str:
         """Run until nothing is left to do, or until `until` seconds of simulated time;
         with `realtime`, never ahead of the wall clock (sim/pacer.py). Returns why it
         stopped: FINISHED (nothing left to do), UNTIL (the end time came first) or
-        STOPPED (`stop_requested`)."""
+        STOPPED (`stop_requested`).
+
+        `progress(sim_time)` [s], if given, is called between cycles: before the first,
+        then once `progress_every` cycles have passed since the last call (a jump ahead
+        counts its cycles). It observes the run and must not change it; deciding when to
+        redraw anything is its own business (the controller reads no wall clock)."""
         end_cycle = None if until is None else until_cycle(until, self.cycle_time)
         clock = self.clock
         pacer = RealTimePacer(self.sim_time) if realtime else None
         self.stop_requested = False
+        next_report = _NEVER if progress is None else clock.cycle
         while self.busy():
             if self.stop_requested:
                 return STOPPED
+            if clock.cycle >= next_report and progress is not None:
+                progress(self.sim_time)
+                next_report = clock.cycle + progress_every
             if pacer is not None:
                 pacer.wait(self.sim_time)
             if end_cycle is not None and clock.cycle >= end_cycle:
