@@ -43,10 +43,9 @@ def builtin_rows() -> list[dict]:
     """Every built-in in manual order, with the manual's description and whether
     motionvm implements it."""
     from motionvm.lang.hmpl.catalog import builtin_signatures
-    from motionvm.lang.hmpl.lib import implemented_builtins
+    from motionvm.lang.hmpl.lib import implemented_names
 
-    impl = implemented_builtins()
-    special = {"_TASKID_", "_AUTORUN_", "Till", "HIMC_GPI", "HIMC_GPO"}
+    impl = implemented_names()
     sigs = builtin_signatures()
     rows = []
     for e in _data("hmpl_api.json"):
@@ -59,7 +58,7 @@ def builtin_rows() -> list[dict]:
                 "section": sig.section,
                 "chapter": _chapter_of(sig.section),
                 "chapter_title": e["chapter"],
-                "implemented": name in impl or name in special,
+                "implemented": name in impl,
                 "purpose": e["purpose"],
                 "returns": e["returns"],
                 "returns_desc": e["returns_desc"],

@@ -11,12 +11,11 @@ from importlib import resources
 from pathlib import Path
 
 from motionvm.lang.hmpl.catalog import builtin_signatures
-from motionvm.lang.hmpl.lib import implemented_builtins
+from motionvm.lang.hmpl.lib import implemented_names
 
 DOC = Path("docs/lang/hmpl-builtins.md")
 
 # Names the compiler itself handles (macros, Till), so no library method implements them.
-COMPILER_HANDLED = frozenset({"_TASKID_", "_AUTORUN_", "Till", "HIMC_GPI", "HIMC_GPO"})
 
 HEADER = """# HMPL built-ins
 
@@ -43,11 +42,6 @@ function.
 def _entries() -> list[dict]:
     text = resources.files("motionvm.data").joinpath("hmpl_api.json").read_text("utf-8")
     return json.loads(text)
-
-
-def implemented_names() -> frozenset[str]:
-    """The built-ins motionvm implements: the library's and those the compiler handles."""
-    return frozenset(implemented_builtins()) | COMPILER_HANDLED
 
 
 def _md(text: str) -> str:

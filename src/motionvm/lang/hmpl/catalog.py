@@ -22,6 +22,8 @@ from motionvm.lang.hmpl import ctypes_ as ct
 MACRO_NAMES = frozenset(
     {"_TASKID_", "_AUTORUN_", "Till", "HIMC_GPI", "HIMC_GPO", "START_ASCII_AGENT"}
 )
+COMPILER_HANDLED = MACRO_NAMES - {"START_ASCII_AGENT"}
+"""The special names whose behaviour the compiler itself implements."""
 
 
 @dataclass(frozen=True, slots=True)

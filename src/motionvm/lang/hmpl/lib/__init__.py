@@ -50,3 +50,11 @@ def implemented_builtins() -> dict[str, bool]:
         for hname, (_attr, blocking) in cls.builtin_methods().items():
             out[hname] = blocking
     return out
+
+
+def implemented_names() -> frozenset[str]:
+    """Every built-in motionvm implements: the libraries' and the names the compiler itself
+    handles (`catalog.COMPILER_HANDLED`). `motionvm builtins` and the reference use this."""
+    from motionvm.lang.hmpl.catalog import COMPILER_HANDLED
+
+    return frozenset(implemented_builtins()) | COMPILER_HANDLED
