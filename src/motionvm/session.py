@@ -414,6 +414,8 @@ class Session:
                 raise SessionError(str(exc)) from None
             self.recorder = ScopeRecorder(channels, ctl.cycle_time, spec.scope.every)
         self._booted = False
+        self.closed = False
+        """`close()` was called: the run can no longer step."""
 
     def _gdl_client(self, app):
         """The GDL application on this run's controller, with its scenario and forces."""
@@ -470,6 +472,7 @@ class Session:
         (the run was meant to last that long), or until `timeout` seconds (the run should
         have finished by then). Returns why it stopped and, if it did not finish, what
         still ran and where."""
+        self._check_open()
         for value, option in ((until, "--until"), (timeout, "--timeout")):
             if value is not None and not (value >= 0 and math.isfinite(value)):
                 raise SessionError(
@@ -495,9 +498,23 @@ class Session:
 
     def step(self, cycles: int = 1) -> None:
         """Run exactly `cycles` controller cycles."""
+        self._check_open()
         self.boot()
         for _ in range(cycles):
             self.controller.step()
+
+    def _check_open(self) -> None:
+        if self.closed:
+            raise SessionError("this run was closed: it cannot run any more")
+
+    def close(self) -> None:
+        """Free the run's memory now (the HMPL program's memory and namespace); nothing
+        runs afterwards. Idempotent."""
+        if self.closed:
+            return
+        self.closed = True
+        if self.hmpl is not None:
+            self.hmpl.close()
 
     @property
     def fault_count(self) -> int:
