@@ -94,6 +94,8 @@ def test_pdl_drive_variables_through_the_drives_host_write(tmp_path):
     assert sim.faults == []
     with pytest.raises(WriteError, match="outside the _lp limits"):
         sim.write("drive1.lim", 1000)
+    with pytest.raises(WriteError, match="'x_ref_pos' is read-only"):
+        sim.write("drive1.x_ref_pos", 5)
     with pytest.raises(KeyError, match="drive1.n"):
         sim.read("drive1.nn")
 

@@ -107,9 +107,9 @@ class PdlDriveSource:
         return partial(drive.read, base, i), unit
 
     def write(self, name: str, value: float) -> bool:
-        """A host write of `driveN.<name>` (the drive's KMI write: `_ro` globals and values
-        outside `_lp` limits refused with ValueError; a state is set as an input). False
-        if `name` is not one of ours."""
+        """A host write of `driveN.<name>` (the drive's KMI write: read-only system
+        variables, `_ro` globals and values outside `_lp` limits refused with ValueError;
+        a state is set as an input). False if `name` is not one of ours."""
         if self.resolve(name) is None:  # also: a known drive, name and index
             return False
         m = _DRIVE.fullmatch(name)
@@ -117,6 +117,8 @@ class PdlDriveSource:
         drive = self.drives[n]
         base, index = _ELEMENT.fullmatch(ref).groups()  # type: ignore[union-attr]
         sv = None if base in drive.program.globals else lookup(base)
+        if sv is not None and sv.read_only:
+            raise ValueError(f"refused: system variable '{sv.name}' is read-only")
         if sv is not None and sv.kind == "state":
             drive.set_input(base, int(value))
         else:
