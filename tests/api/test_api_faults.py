@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import pickle
+
 import pytest
 from api_programs import CELL_GDL, DRIVE_PDL, write
 
@@ -66,3 +68,11 @@ def test_raise_faults_raises_from_step_in_the_faulting_cycle():
 def test_without_raise_faults_a_fault_only_stops_its_task():
     sim = Simulation.from_source(DIVIDE)
     assert sim.run().finished and sim.fault_count == 1
+
+
+def test_a_fault_survives_pickling_with_its_fields():
+    sim = Simulation.from_source(DIVIDE, name="div.hmpl")
+    sim.run()
+    (fault,) = sim.fault_records
+    copy = pickle.loads(pickle.dumps(fault))
+    assert isinstance(copy, Fault) and copy == fault and copy.fields() == fault.fields()

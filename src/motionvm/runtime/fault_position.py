@@ -113,11 +113,21 @@ class Fault(str):
         drive = f"drive {self.drive} " if self.drive is not None else ""
         return f"{drive}task {self.task}"
 
+    def fields(self) -> dict[str, object]:
+        """The parts of the report, by field name."""
+        return {k: getattr(self, k) for k in Fault.__annotations__}
+
     def with_text(self, text: str, **changes: object) -> Fault:
         """The same fault with another report line (and fields), e.g. naming its drive."""
-        fields = {k: getattr(self, k) for k in self.__annotations__}
-        fields.update(changes)
-        return Fault(text, **fields)  # type: ignore[arg-type]
+        return Fault(text, **{**self.fields(), **changes})  # type: ignore[arg-type]
+
+    def __reduce__(self) -> tuple:
+        """Pickled with its fields (a worker process hands its faults back)."""
+        return _rebuild_fault, (self.text, self.fields())
 
     def __repr__(self) -> str:
         return f"Fault({self.text!r})"
+
+
+def _rebuild_fault(text: str, fields: dict) -> Fault:
+    return Fault(text, **fields)
