@@ -449,7 +449,9 @@ class Session:
 
     def boot(self) -> None:
         """Power on: the PDL drives' start labels, HMPL globals and the tasks that start
-        by themselves (task 0, _AUTORUN_); the scope starts recording. Once."""
+        by themselves (task 0, _AUTORUN_); the scope starts recording. Once. (`run` and
+        `step` call it first: SessionError once the run was closed.)"""
+        self._check_open()
         if self._booted:
             return
         self._booted = True
@@ -472,7 +474,6 @@ class Session:
         (the run was meant to last that long), or until `timeout` seconds (the run should
         have finished by then). Returns why it stopped and, if it did not finish, what
         still ran and where."""
-        self._check_open()
         for value, option in ((until, "--until"), (timeout, "--timeout")):
             if value is not None and not (value >= 0 and math.isfinite(value)):
                 raise SessionError(
@@ -498,7 +499,6 @@ class Session:
 
     def step(self, cycles: int = 1) -> None:
         """Run exactly `cycles` controller cycles."""
-        self._check_open()
         self.boot()
         for _ in range(cycles):
             self.controller.step()
