@@ -1,35 +1,135 @@
 """The host API: run programs from Python (tests, HMIs, CI scripts) without the CLI.
 
-    sim = Simulation.from_files(["main.hmpl", "conveyor.hmpl"], machine="m.toml")
-    sim.on_event(lambda kind, payload: print(kind, payload))   # SendEvent / SendMsgEvent
-    sim.run(until=2.0)
-    print(sim.messages, sim.read("system_dtest0"))
+    with Simulation.from_files(["main.hmpl", "conveyor.hmpl"], machine="m.toml") as sim:
+        rec = sim.scope(["axis0.ref_pos", "count"])       # record from now on
+        sim.write("gpi3", 1)                              # an input, at once
+        sim.run(until=2.0)                                # -> RunResult: why it stopped
+        print(sim.read("system_dtest0"), sim.axis(0).pos_fb, rec.data())
 
 A thin face over `motionvm.session`, the assembler the command line uses too: the
 same files and machine give the same `messages` as the CLI's stdout lines (HMPL
 tasks, PDL drives and GDL applications alike). Everything runs on simulated time;
-the same inputs give the same results every run.
+the same inputs give the same results every run. Variables are named as the scope's
+channels (sim/variables.py); docs/api.md has the whole API with examples.
 """
 
 from __future__ import annotations
 
+import weakref
 from collections.abc import Callable, Sequence
 from pathlib import Path
+from types import TracebackType
+from typing import Any
 
 from motionvm.lang.hmpl.compiler import TaskFile
-from motionvm.lang.hmpl.lvalues import view_code
+from motionvm.runtime.fault_position import Fault
 from motionvm.session import CompileFailed, RunResult, RunSpec, Session, SessionError, Source
 from motionvm.sim.machine import MachineConfig
+from motionvm.sim.scope import ScopeRecorder
+from motionvm.sim.variables import AxisState, Variables, WriteError
 from motionvm.source.diagnostics import CompileError
 
-__all__ = ["CompileError", "RunResult", "SessionError", "Simulation"]
+__all__ = [
+    "AxisState",
+    "CompileError",
+    "Fault",
+    "Recording",
+    "RunResult",
+    "SessionError",
+    "Simulation",
+    "TaskFault",
+    "WriteError",
+]
+
+
+class TaskFault(Exception):
+    """A task, drive task or procedure stopped with a runtime error (`raise_faults=True`).
+
+    `fault` is the structured report (`Fault`: file, line, col, time, message, ...);
+    `str()` of the exception is the report line the CLI prints."""
+
+    def __init__(self, fault: Fault) -> None:
+        super().__init__(fault.text)
+        self.fault = fault
+
+
+class _Log:
+    """Where the session's output goes: the lists a `Simulation` shows. A separate
+    object, so that the session does not refer back to the `Simulation` (a dropped
+    simulation is then freed at once, by reference counting)."""
+
+    def __init__(self, raise_faults: bool) -> None:
+        self.messages: list[str] = []
+        self.faults: list[str] = []
+        self.diagnostics: list[str] = []
+        self.to = self.diagnostics
+        self.raise_faults = raise_faults
+        self.pending: Fault | None = None
+        self.controller = None
+
+    def report(self, line: str) -> None:
+        self.to.append(line)
+        if self.raise_faults and isinstance(line, Fault) and self.pending is None:
+            self.pending = line
+            if self.controller is not None:  # end `Controller.run` after this cycle
+                self.controller.stop_requested = True
+
+    def raise_pending(self) -> None:
+        fault, self.pending = self.pending, None
+        if fault is not None:
+            raise TaskFault(fault)
+
+
+class Recording:
+    """Channels recorded every `every`-th cycle from the moment `Simulation.scope` was
+    called until `stop()` (or the end of the simulation)."""
+
+    def __init__(self, recorder: ScopeRecorder, controller) -> None:
+        self._recorder = recorder
+        self._controller = controller
+
+    @property
+    def channels(self) -> list[str]:
+        return [c.name for c in self._recorder.channels]
+
+    @property
+    def units(self) -> dict[str, str]:
+        """Channel -> unit (`mm`, `mm/s`, `bool`, `raw`, ...)."""
+        return {c.name: c.unit for c in self._recorder.channels}
+
+    def stop(self) -> None:
+        """Stop recording (the samples so far stay)."""
+        clients = self._controller.clients
+        if self._recorder in clients:
+            clients.remove(self._recorder)
+
+    def as_dict(self) -> dict[str, list[float]]:
+        """`{"time": [s, ...], channel: [value, ...], ...}`, one entry per sample."""
+        rec = self._recorder
+        out: dict[str, list[float]] = {"time": rec.times}
+        for ch, column in zip(rec.channels, rec.columns):
+            out[ch.name] = list(column)
+        return out
+
+    def data(self) -> Any:
+        """A pandas DataFrame (index `time` [s], one column per channel) when pandas is
+        installed (`pip install 'motionvm[pandas]'`), else `as_dict()`."""
+        try:
+            import pandas as pd
+        except ImportError:
+            return self.as_dict()
+        data = self.as_dict()
+        times = data.pop("time")
+        return pd.DataFrame(data, index=pd.Index(times, name="time"))
 
 
 class Simulation:
     """One controller running a set of programs (HMPL tasks, PDL drives, a GDL application).
 
     Raises `CompileError` (with every diagnostic) if a program does not compile and
-    `SessionError` for a bad machine file, scenario or file name.
+    `SessionError` for a bad machine file, scenario or file name. Use it as a context
+    manager, or call `close()`: either frees its memory at once (so does dropping the
+    last reference to it).
     """
 
     def __init__(
@@ -44,16 +144,20 @@ class Simulation:
         skip: bool = True,
         forces: Sequence[str] = (),
         shuffle_seed: int | None = None,
+        raise_faults: bool = False,
     ) -> None:
         """`tasks` place HMPL task files explicitly; `sources` are files of any language
         (HMPL ones take the free task ids in order). GDL: `scenario` file, `forces`
         (`REF = VALUE` texts applied at t=0), `shuffle_seed`. `skip=False` steps every
-        cycle (the same results, slower)."""
-        self.messages: list[str] = []
+        cycle (the same results, slower). `raise_faults`: `run` and `step` raise
+        `TaskFault` at the end of the cycle in which the first (next) fault happened."""
+        self._log = log = _Log(raise_faults)
+        self.messages: list[str] = log.messages
         """Every message line the programs printed, as the CLI prints them."""
-        self.faults: list[str] = []
-        """Every runtime fault report, as the CLI prints them on stderr."""
-        self.diagnostics: list[str] = []
+        self.faults: list[str] = log.faults
+        """Every runtime fault report and note of the run, as the CLI prints them on
+        stderr; the fault reports are `Fault`s (see `fault_records`)."""
+        self.diagnostics: list[str] = log.diagnostics
         """Compile warnings and notes, rendered."""
         spec = RunSpec(
             [Source(t.path, t.text, t.task) for t in tasks] + list(sources),
@@ -65,75 +169,138 @@ class Simulation:
             gdl_forces=tuple(forces),
             shuffle_seed=shuffle_seed,
         )
-        self._report_to = self.diagnostics
         try:
-            self.session = Session(spec, emit=self.messages.append, report=self._report)
+            self.session = Session(spec, emit=log.messages.append, report=log.report)
         except CompileFailed as exc:
             raise CompileError(exc.diagnostics) from None
-        self._report_to = self.faults
-        self.controller = self.session.controller
+        log.to = log.faults
+        self.controller = log.controller = self.session.controller
         self.runtime = self.session.hmpl
         """The HMPL run time (None without HMPL files)."""
+        self._variables: Variables | None = None
+        self._finalizer = weakref.finalize(self, self.session.close)
         self.session.boot()
 
-    def _report(self, line: str) -> None:
-        self._report_to.append(line)
-
     @classmethod
-    def from_files(cls, paths: Sequence[str | Path], **kw) -> Simulation:
+    def from_files(cls, paths: Sequence[str | Path], **kw: Any) -> Simulation:
         """Files of any language; HMPL files become tasks 0, 1, 2, ... in the order given.
         `machine=` takes a machine file's path or a loaded `MachineConfig`."""
         return cls(sources=[Source(str(p)) for p in paths], **kw)
 
     @classmethod
-    def from_source(cls, text: str, name: str = "program.hmpl", **kw) -> Simulation:
+    def from_source(cls, text: str, name: str = "program.hmpl", **kw: Any) -> Simulation:
         """One HMPL program given as text, as task 0."""
         return cls([TaskFile(0, name, text)], **kw)
 
-    def on_event(self, callback: Callable[[str, object], None]) -> None:
-        """Call `callback(kind, payload)` for each SendEvent ('event', id) and SendMsgEvent ('msg', text)."""
-        self._hmpl().event_callbacks.append(callback)
+    # ------------------------------------------------------------ life
 
-    def run(self, until: float | None = None, timeout: float | None = None) -> RunResult:
-        """Run until every part has finished, or until `until` seconds of simulated time,
-        or until `timeout` seconds (a run that should have finished by then). Returns why
-        it stopped (`reason`: "finished", "until", "timeout") and what still ran."""
-        return self.session.run(until, timeout=timeout)
+    def __enter__(self) -> Simulation:
+        return self
 
-    def step(self, cycles: int = 1) -> None:
-        """Run exactly `cycles` controller cycles."""
-        self.session.step(cycles)
+    def __exit__(
+        self,
+        exc_type: type[BaseException] | None,
+        exc: BaseException | None,
+        tb: TracebackType | None,
+    ) -> None:
+        self.close()
+
+    def close(self) -> None:
+        """Free the simulation's memory now; it cannot run afterwards (`SessionError`).
+        What it recorded (`messages`, `faults`, recordings) stays readable."""
+        self._finalizer()
 
     @property
-    def fault_count(self) -> int:
-        """Runtime faults of tasks, drive tasks and procedures so far (the CLI exits 1
-        if any); `faults` holds their reports and the warnings of the run."""
-        return self.session.fault_count
+    def closed(self) -> bool:
+        return self.session.closed
+
+    # ------------------------------------------------------------ running
+
+    def run(self, until: float | None = None, timeout: float | None = None) -> RunResult:
+        """Run until every part has finished, or until `until` seconds of simulated time
+        (the run was meant to last that long), or until `timeout` seconds (it should have
+        finished by then). Returns why it stopped: `reason` is "finished", "until",
+        "timeout" (or "stopped"), with `sim_time` and, if it did not finish,
+        `still_running`: each task, drive task, scenario and axis and where it waits.
+        With `raise_faults`, raises `TaskFault` instead at the first fault."""
+        result = self.session.run(until, timeout=timeout)
+        self._log.raise_pending()
+        return result
+
+    def step(self, cycles: int = 1) -> None:
+        """Run exactly `cycles` controller cycles (with `raise_faults`: fewer, if a fault
+        raises `TaskFault` at the end of its cycle)."""
+        session, log = self.session, self._log
+        if not log.raise_faults:
+            session.step(cycles)
+            return
+        for _ in range(cycles):
+            session.step(1)
+            log.raise_pending()
 
     @property
     def time(self) -> float:
         """Simulated time [s]."""
         return self.controller.sim_time
 
+    @property
+    def fault_count(self) -> int:
+        """Runtime faults of tasks, drive tasks and procedures so far (the CLI exits 1
+        if any); `faults` holds their reports and the notes of the run."""
+        return self.session.fault_count
+
+    @property
+    def fault_records(self) -> list[Fault]:
+        """The runtime faults so far, structured: `task`, `file`, `line`, `col`, `time`
+        [s], `message` (`str()`: the report line)."""
+        return [f for f in self.faults if isinstance(f, Fault)]
+
+    def on_event(self, callback: Callable[[str, object], None]) -> None:
+        """Call `callback(kind, payload)` for each SendEvent ('event', id) and SendMsgEvent ('msg', text)."""
+        self._hmpl().event_callbacks.append(callback)
+
     def _hmpl(self):
         if self.runtime is None:
             raise KeyError("this simulation runs no HMPL program")
         return self.runtime
 
-    def read(self, name: str, index: int = 0):
-        """Value of an HMPL global or system variable (element `index` of an array)."""
-        rt = self._hmpl()
-        prog = rt.program
-        sym = prog.sysvars.get(name) or prog.globals_.get(name)
-        if sym is None:
-            raise KeyError(f"no global or system variable '{name}'")
-        if sym.storage == "pyglobal":
-            return rt.ns[sym.pyname]
-        if sym.storage == "pylist":
-            return rt.ns[sym.pyname][index]
-        t = sym.type
-        elem = getattr(t, "elem", t)
-        return rt.mem.load(sym.addr + index * elem.size, view_code(elem))
+    # ------------------------------------------------------------ variables
+
+    @property
+    def variables(self) -> Variables:
+        """Every variable of the run by its scope channel name (read, write, units)."""
+        if self._variables is None:
+            self._variables = Variables(self.session.scope_registry(), self.controller)
+        return self._variables
+
+    def read(self, name: str, index: int | None = None) -> Any:
+        """The value of a variable now, named as a scope channel: an HMPL global or
+        system variable (`count`, `system_dtest0`, `table[3]`), a controller input or
+        output (`gpi3`, `gpo5`), an axis variable of manual 5.1.1 (`axis0.pos_fb`, in mm
+        or deg), a PDL drive variable (`drive1.x_ref_pos`), a GDL state
+        (`cooling_fan.VALUE`). `index`: an array element (`read("table", 3)`). KeyError
+        (with the closest names) for an unknown name."""
+        if index is not None:
+            name = f"{name}[{index}]"
+        return self.variables.read(name)
+
+    def write(self, name: str, value: Any) -> None:
+        """Set a variable now; the next `read` and the programs' next instruction see it.
+        HMPL variables as an assignment stores them; `gpiN`/`gpoN`; the axis variables
+        an HMPL Set* function sets (`axis0.max_vel` by SetVel, ... `WRITABLE_AXIS`),
+        through that function; `driveN.<name>` as the drive's host write; GDL states as a
+        scenario input. KeyError for an unknown name, `WriteError` for a read-only
+        variable or a refused value (with the manual's error code)."""
+        self.variables.write(name, value)
+
+    def axis(self, n: int) -> AxisState:
+        """A snapshot of axis `n` now: every axis variable of manual 5.1.1 by its name
+        (`pos_fb`, `ref_vel`, ...; mm or deg) and its status flags (`enabled`, `moving`,
+        `in_pos`, `error_stop`, ...). IndexError if the machine has no axis `n`."""
+        axes = self.controller.axes
+        if not 0 <= n < len(axes):
+            raise IndexError(f"no axis {n} on this machine (axes 0..{len(axes) - 1})")
+        return AxisState.of(axes[n], self.controller.sim_time)
 
     def set_input(self, index: int, value: bool) -> None:
         """Set controller general-purpose input `index` (HIMC_GPI); IndexError if none."""
@@ -142,3 +309,17 @@ class Simulation:
     def output(self, index: int) -> int:
         """Controller general-purpose output `index` (HIMC_GPO); IndexError if none."""
         return self.controller.io.output(index)
+
+    # ------------------------------------------------------------ scope
+
+    def scope(self, channels: Sequence[str], every: int = 1) -> Recording:
+        """Record `channels` (scope channel names, as `read` takes them) at the end of
+        every `every`-th cycle from now on; the returned `Recording` gives the data.
+        KeyError for an unknown channel. While recording, the clock does not jump over
+        idle cycles (the results are the same)."""
+        if every < 1:
+            raise ValueError(f"every must be a whole number of cycles >= 1, got {every}")
+        found = [self.variables.channel(name) for name in channels]
+        recorder = ScopeRecorder(found, self.controller.cycle_time, every)
+        recorder.attach(self.controller)
+        return Recording(recorder, self.controller)

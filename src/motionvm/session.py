@@ -414,6 +414,8 @@ class Session:
                 raise SessionError(str(exc)) from None
             self.recorder = ScopeRecorder(channels, ctl.cycle_time, spec.scope.every)
         self._booted = False
+        self.closed = False
+        """`close()` was called: the run can no longer step."""
 
     def _gdl_client(self, app):
         """The GDL application on this run's controller, with its scenario and forces."""
@@ -447,7 +449,9 @@ class Session:
 
     def boot(self) -> None:
         """Power on: the PDL drives' start labels, HMPL globals and the tasks that start
-        by themselves (task 0, _AUTORUN_); the scope starts recording. Once."""
+        by themselves (task 0, _AUTORUN_); the scope starts recording. Once. (`run` and
+        `step` call it first: SessionError once the run was closed.)"""
+        self._check_open()
         if self._booted:
             return
         self._booted = True
@@ -503,6 +507,19 @@ class Session:
         self.boot()
         for _ in range(cycles):
             self.controller.step()
+
+    def _check_open(self) -> None:
+        if self.closed:
+            raise SessionError("this run was closed: it cannot run any more")
+
+    def close(self) -> None:
+        """Free the run's memory now (the HMPL program's memory and namespace); nothing
+        runs afterwards. Idempotent."""
+        if self.closed:
+            return
+        self.closed = True
+        if self.hmpl is not None:
+            self.hmpl.close()
 
     @property
     def fault_count(self) -> int:

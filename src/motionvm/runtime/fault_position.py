@@ -49,3 +49,85 @@ def user_frames(tb: TracebackType | None, is_user: Callable[[str], bool]) -> lis
             )
         tb = tb.tb_next
     return out
+
+
+class Fault(str):
+    """A runtime fault report: the one line the CLI prints, carrying its parts.
+
+    It is a `str` (its text, `FILE:LINE:COL: runtime error in task N at t=S s: MESSAGE`),
+    so every receiver of report lines takes it as one; the run side that produced it fills
+    the fields, nothing parses the text back. `who` is what faulted as the text names it
+    (`task 3`, `drive 1 task 0`, `procedure fan_control`).
+    """
+
+    file: str
+    line: int
+    """1-based line of the user's file (0: unknown)."""
+    col: int
+    time: float
+    """Simulated time of the fault [s]."""
+    message: str
+    language: str
+    """"HMPL", "PDL" or "GDL"."""
+    task: int | None
+    """The HMPL task id or the PDL drive's task number (None: a GDL procedure)."""
+    drive: int | None
+    """The PDL drive (the axis id it sits on; None: not a drive, or a standalone one)."""
+    procedure: str | None
+    """The GDL procedure (None: not GDL)."""
+
+    def __new__(
+        cls,
+        text: str,
+        *,
+        file: str,
+        line: int,
+        col: int,
+        time: float,
+        message: str,
+        language: str,
+        task: int | None = None,
+        drive: int | None = None,
+        procedure: str | None = None,
+    ) -> Fault:
+        self = super().__new__(cls, text)
+        fields = {"file": file, "line": line, "col": col, "time": time, "message": message,
+                  "language": language, "task": task, "drive": drive, "procedure": procedure}  # fmt: skip
+        for key, value in fields.items():
+            object.__setattr__(self, key, value)
+        return self
+
+    def __setattr__(self, key: str, value: object) -> None:
+        raise AttributeError("a Fault is read-only")
+
+    @property
+    def text(self) -> str:
+        """The report line, as a plain `str`."""
+        return str.__str__(self)
+
+    @property
+    def who(self) -> str:
+        """`task 3`, `drive 1 task 0` or `procedure P`."""
+        if self.procedure is not None:
+            return f"procedure {self.procedure}"
+        drive = f"drive {self.drive} " if self.drive is not None else ""
+        return f"{drive}task {self.task}"
+
+    def fields(self) -> dict[str, object]:
+        """The parts of the report, by field name."""
+        return {k: getattr(self, k) for k in Fault.__annotations__}
+
+    def with_text(self, text: str, **changes: object) -> Fault:
+        """The same fault with another report line (and fields), e.g. naming its drive."""
+        return Fault(text, **{**self.fields(), **changes})  # type: ignore[arg-type]
+
+    def __reduce__(self) -> tuple:
+        """Pickled with its fields (a worker process hands its faults back)."""
+        return _rebuild_fault, (self.text, self.fields())
+
+    def __repr__(self) -> str:
+        return f"Fault({self.text!r})"
+
+
+def _rebuild_fault(text: str, fields: dict) -> Fault:
+    return Fault(text, **fields)

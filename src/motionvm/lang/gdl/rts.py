@@ -39,7 +39,7 @@ from motionvm.lang.gdl.app import App, ObjectInfo, ProcInfo
 from motionvm.lang.gdl.devices import Device, GdlFault, create_device
 from motionvm.lang.gdl.objects import format_value
 from motionvm.runtime.clock import Clock
-from motionvm.runtime.fault_position import user_frames
+from motionvm.runtime.fault_position import Fault, user_frames
 
 if TYPE_CHECKING:
     from motionvm.motion.axis import Axis
@@ -298,6 +298,15 @@ class Rts:
         self.error_count += 1
         line, col = place
         self._report(
-            f"{file}:{line}:{col}: runtime error in procedure {proc} at t={self.stamp()} s: "
-            f"{message}"
+            Fault(
+                f"{file}:{line}:{col}: runtime error in procedure {proc} at t={self.stamp()} s: "
+                f"{message}",
+                file=file,
+                line=line,
+                col=col,
+                time=self.clock.cycle * self.clock.cycle_time,
+                message=message,
+                language="GDL",
+                procedure=proc,
+            )  # fmt: skip
         )

@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING
 
 from motionvm.lang.gdl.app import ObjectInfo
 from motionvm.lang.gdl.objects import StateSpec
+from motionvm.lang.gdl.scenario import Target, parse_value
 from motionvm.runtime.scope import BIT_UNIT, RAW_UNIT, ScopeError
 from motionvm.source.suggest import did_you_mean
 
@@ -76,6 +77,32 @@ class GdlScopeSource:
                 f"scope channel '{name}': index {i} of {obj.name} is outside 1..{obj.size}"
             )
         return i
+
+    def write(self, name: str, value: object) -> bool:
+        """Change `OBJECT.STATE` as a scenario input does (printed, triggers procedures);
+        `value`: ON/OFF or a bool for a digital state, a value name or its index for a set,
+        an integer. False if `name` is not one of ours; ValueError for a bad value."""
+        if self.resolve(name) is None:
+            return False
+        m = _NAME.fullmatch(name)
+        obj = self.rts.app.objects[m.group(1).lower()]  # type: ignore[union-attr]
+        spec = obj.type.state(m.group(3).upper())  # type: ignore[union-attr]
+        assert spec is not None
+        element = self._element(name, obj, m.group(2), spec)  # type: ignore[union-attr]
+        if spec.kind == "set" and isinstance(value, int) and not isinstance(value, bool):
+            if not 0 <= value < len(spec.values):
+                raise ValueError(
+                    f"{name} takes one of {', '.join(spec.values)} (0..{len(spec.values) - 1})"
+                )
+            value = spec.values[value]
+        elif spec.kind == "digital" and isinstance(value, (int, float)):
+            value = bool(value)
+        elif spec.kind == "int" and isinstance(value, float) and value.is_integer():
+            value = int(value)
+        self.rts.input(
+            obj, spec.keyword, element, parse_value(Target(obj, spec, (element,)), value)
+        )
+        return True
 
     def _getter(self, obj: ObjectInfo, spec: StateSpec, element: int) -> Callable[[], float]:
         read, keyword = self.rts.read, spec.keyword

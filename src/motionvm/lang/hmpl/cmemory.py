@@ -73,6 +73,19 @@ class Memory:
         self._static_limit = size
         self.names: dict[int, str] = {}
 
+    def release(self) -> None:
+        """Free both buffers now (the program will not run again): every typed view is
+        released and the buffers emptied in place, whoever still refers to them. A view
+        taken elsewhere and still held keeps the buffer until it goes."""
+        for kind in SCALAR_FORMATS:
+            getattr(self, kind).release()
+        self.shadow.clear()
+        try:
+            self.buf.clear()
+        except BufferError:
+            pass
+        self.size = 0
+
     # ------------------------------------------------------------ allocation
 
     def reserve_static(self, limit: int) -> None:

@@ -41,6 +41,9 @@ def _gc_held() -> Iterator[None]:
     would walk every node that survives (the program keeps its modules and symbols) in
     its young generation, then again in the middle one. They go straight to the oldest
     generation instead: `freeze` then `unfreeze` splices the generation lists in O(1).
+    That generation is collected rarely, so a run does not leave its large memory to the
+    collector: `HmplRuntime.close()` frees it at once (the host API calls it when a
+    simulation is closed or dropped).
     """
     was_enabled = gc.isenabled()
     gc.disable()

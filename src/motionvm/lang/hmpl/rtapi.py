@@ -25,7 +25,7 @@ from motionvm.lang.hmpl.rthelpers import make_helpers
 from motionvm.motion.commands import MotionCommands
 from motionvm.runtime.clients import PassiveClient
 from motionvm.runtime.errors import RuntimeFault
-from motionvm.runtime.fault_position import user_frames
+from motionvm.runtime.fault_position import Fault, user_frames
 from motionvm.runtime.kernel import Kernel, Task
 
 N_MUTEXES = 8
@@ -97,6 +97,12 @@ class HmplRuntime(PassiveClient):
         self.kernel.on_stop = self._on_stop
         if sys.getrecursionlimit() < RECURSION_LIMIT:
             sys.setrecursionlimit(RECURSION_LIMIT)
+
+    def close(self) -> None:
+        """The run is over: free the program's memory and namespace now, without waiting
+        for a full garbage collection (the generated code and its namespace form a cycle)."""
+        self.ns.clear()
+        self.mem.release()
 
     # ------------------------------------------------------------ clock
 
@@ -240,19 +246,38 @@ class HmplRuntime(PassiveClient):
         if msg is None:
             detail = "".join(traceback.format_exception_only(type(exc), exc)).strip()
             self._report(
-                f"{where}: internal error in task {t.id}: {detail}\n"
+                f"{self._place(where)}: internal error in task {t.id}: {detail}\n"
                 "  this is a bug in motionvm, not in your program; please file an issue with the program attached"
             )
             return
-        self._report(f"{where}: runtime error in task {t.id} at t={self.sim_time:.3f} s: {msg}")
+        file, line, col = where
+        self._report(
+            Fault(
+                f"{self._place(where)}: runtime error in task {t.id} at t={self.sim_time:.3f} s: {msg}",
+                file=file,
+                line=line,
+                col=col,
+                time=self.sim_time,
+                message=msg,
+                language="HMPL",
+                task=t.id,
+            )  # fmt: skip
+        )
 
-    def _user_location(self, exc: BaseException) -> str:
-        """`FILE:LINE:COL` of the deepest frame of the user's code (`<motionvm>`: none)."""
+    def _user_location(self, exc: BaseException) -> tuple[str, int, int]:
+        """(file, line, column) of the deepest frame of the user's code (`<motionvm>`, 0,
+        0: none)."""
         frames = user_frames(exc.__traceback__, self.user_files.__contains__)
         if not frames:
-            return "<motionvm>"
+            return "<motionvm>", 0, 0
         f = frames[-1]
-        return f"{f.file}:{f.line}:{f.col}"
+        return f.file, f.line, f.col
+
+    @staticmethod
+    def _place(where: tuple[str, int, int]) -> str:
+        """`FILE:LINE:COL`, or the file alone when the place is unknown."""
+        file, line, col = where
+        return f"{file}:{line}:{col}" if line else file
 
     @staticmethod
     def _fault_message(exc: BaseException) -> str | None:

@@ -12,6 +12,7 @@ import re
 from collections.abc import Callable, Iterable
 from functools import partial
 
+from motionvm.lang.hmpl.cmemory import wrap_scalar
 from motionvm.runtime.scope import RAW_UNIT, ScopeError
 
 _ELEMENT = re.compile(r"([A-Za-z_]\w*)(?:\[(\d+)\])?")
@@ -74,6 +75,29 @@ class HmplSource:
         if addr % size == 0:
             return partial(getattr(self.runtime.mem, kind).__getitem__, addr // size)
         return partial(self.runtime.mem.load, addr, kind)
+
+    def write(self, name: str, value: float) -> bool:
+        """Store `value` in the global, system variable or array element `name` now, as
+        an assignment of the program would (integers wrap to the variable's width);
+        False if `name` is not one of ours, ValueError for a constant or a non-number."""
+        m = _ELEMENT.fullmatch(name)
+        sym = None if m is None else self._symbol(m.group(1))
+        if sym is None:
+            return False
+        self.resolve(name)  # the same checks (an element of an array, in range, a number)
+        if sym.storage == "const":
+            raise ValueError(f"'{name}' is a constant")
+        t, index = sym.type, m.group(2)  # type: ignore[union-attr]
+        elem_t = t if index is None else t.elem
+        kind = "i64" if elem_t.is_pointer else elem_t.code
+        if sym.storage == "pyglobal":
+            self.runtime.ns[sym.pyname] = wrap_scalar(kind, value)
+        elif sym.storage == "pylist":
+            self.runtime.ns[sym.pyname][int(index)] = wrap_scalar(kind, value)
+        else:
+            addr = sym.addr + int(index or 0) * elem_t.size
+            self.runtime.mem.store(addr, kind, value)
+        return True
 
     @staticmethod
     def _unit(base: str) -> str:

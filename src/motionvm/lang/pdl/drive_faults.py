@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from motionvm.lang.pdl.lower import PdlProgram
 from motionvm.runtime.errors import RuntimeFault
-from motionvm.runtime.fault_position import user_frames
+from motionvm.runtime.fault_position import Fault, user_frames
 
 _PYTHON_FAULTS = {
     ZeroDivisionError: "division by zero",
@@ -43,11 +43,13 @@ def fault_message(exc: BaseException) -> str:
     return f"internal error ({type(exc).__name__}: {exc}); please report it with the program"
 
 
-def describe_fault(program: PdlProgram, task: int, exc: BaseException, sim_time: float) -> str:
-    """`FILE:LINE:COL: runtime error in task N at t=S.ssssss s: MESSAGE`; `sim_time` [s]:
-    the drive's time of the faulting phase."""
+def describe_fault(program: PdlProgram, task: int, exc: BaseException, sim_time: float) -> Fault:
+    """`FILE:LINE:COL: runtime error in task N at t=S.ssssss s: MESSAGE` (a `Fault`, its
+    parts filled in); `sim_time` [s]: the drive's time of the faulting phase."""
     file, line, col = fault_place(program, exc)
-    return (
-        f"{file}:{line}:{col}: runtime error in task {task} at t={sim_time:.6f} s: "
-        f"{fault_message(exc)}"
-    )
+    message = fault_message(exc)
+    return Fault(
+        f"{file}:{line}:{col}: runtime error in task {task} at t={sim_time:.6f} s: {message}",
+        file=file, line=line, col=col, time=sim_time, message=message, language="PDL",
+        task=task,
+    )  # fmt: skip

@@ -106,6 +106,25 @@ class PdlDriveSource:
             return partial(drive.sysvars.S.__getitem__, drive.sysvars.slot(base, i)), unit
         return partial(drive.read, base, i), unit
 
+    def write(self, name: str, value: float) -> bool:
+        """A host write of `driveN.<name>` (the drive's KMI write: read-only system
+        variables, `_ro` globals and values outside `_lp` limits refused with ValueError;
+        a state is set as an input). False if `name` is not one of ours."""
+        if self.resolve(name) is None:  # also: a known drive, name and index
+            return False
+        m = _DRIVE.fullmatch(name)
+        n, ref = (int(m.group(1)), m.group(2)) if m is not None else (self.bare, name)
+        drive = self.drives[n]
+        base, index = _ELEMENT.fullmatch(ref).groups()  # type: ignore[union-attr]
+        sv = None if base in drive.program.globals else lookup(base)
+        if sv is not None and sv.read_only:
+            raise ValueError(f"refused: system variable '{sv.name}' is read-only")
+        if sv is not None and sv.kind == "state":
+            drive.set_input(base, int(value))
+        else:
+            drive.write(base if sv is None else sv.name, value, int(index or 0))
+        return True
+
     @staticmethod
     def _names(n: int, drive) -> Iterable[str]:
         for sv in SYSVARS.values():

@@ -70,6 +70,7 @@ from motionvm.lang.pdl.drive_scope import PdlDriveSource
 from motionvm.lang.pdl.lower import PdlProgram
 from motionvm.lang.pdl.program import compile_pdl
 from motionvm.motion.axis_config import AxisConfig
+from motionvm.runtime.fault_position import Fault
 from motionvm.runtime.waits import Waiting, suspended_at
 from motionvm.sim.machine import MachineConfig, PdlDriveSpec
 from motionvm.source.diagnostics import DiagnosticSink, render_diagnostic
@@ -258,9 +259,10 @@ class PdlDrives:
     def _fault_sink(self, axis_id: int) -> Callable[[str], None]:
         def fault(text: str) -> None:
             if not self.standalone:
-                text = text.replace(
+                named = text.replace(
                     ": runtime error in task ", f": runtime error in drive {axis_id} task ", 1
                 )
+                text = text.with_text(named, drive=axis_id) if isinstance(text, Fault) else named
             self.faults.append(text)
             self._report(text)
 

@@ -1,0 +1,242 @@
+"""Named variables of a run, read and written by the host: the scope's channel names.
+
+`Variables(registry, controller)` reads any channel of the run's `ChannelRegistry`
+(sim/scope.py: HMPL globals and system variables, `gpi3`/`gpo5`, `axisN.<variable>`,
+`gearN.*`, `gantryN.*`, `driveN.<name>`, `OBJECT.STATE`) and writes those that can be
+written, at once (the next read sees the value):
+- `gpiN`, `gpoN`: the controller's digital input or output bit;
+- `axisN.<variable>`: only the variables an HMPL Set* function sets (`WRITABLE_AXIS`),
+  through `MotionCommands`, so the manual's checks and error codes apply;
+- the sources of the languages that offer `write(name, value)` (True: written, False:
+  not theirs; ValueError: refused): HMPL variables as an assignment stores them, PDL
+  drive variables as the drive's host (KMI) write, GDL states as a scenario input.
+Unknown names are a KeyError with the closest names; refused and read-only writes a
+`WriteError`.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+from collections.abc import Callable
+from dataclasses import dataclass
+from importlib import resources
+
+from motionvm.motion import axis_status as st
+from motionvm.motion.axis_status import VARIABLES
+from motionvm.motion.commands import MotionCommands
+from motionvm.runtime.scope import ScopeError
+from motionvm.sim.scope import Channel, ChannelRegistry
+
+WRITABLE_AXIS = {
+    "max_vel": "SetVel",
+    "max_acc": "SetAcc",
+    "max_dec": "SetDec",
+    "sm_factor": "SetSMTime",
+    "pos_fb": "SetPos",
+}
+"""Axis variable -> the HMPL function that sets it (manual 5.3); the others are read-only."""
+
+_GPIO = re.compile(r"(gpi|gpo)(\d+)")
+_AXIS = re.compile(r"axis(\d+)\.(\w+)")
+
+
+class WriteError(ValueError):
+    """A write that cannot be done: a read-only variable, or a value the controller
+    refuses (`code`: the manual's error code, e.g. 0x83000168; None if there is none)."""
+
+    def __init__(self, message: str, code: int | None = None) -> None:
+        super().__init__(message)
+        self.code = code
+
+
+def error_name(code: int) -> str:
+    """`eERR_AXIS_CMD_INVALID_SM_TIME (0x83000168): the axis smoothing-time ...` for an
+    error code of manual chapter 18 (a C int or its 32-bit value)."""
+    value = code & 0xFFFFFFFF
+    key = f"0x{value:08X}"
+    axis_key = f"0x{value >> 24:02X}XX{value & 0xFFFF:04X}"
+    for row in _error_table():
+        if row["code"].upper() in (key.upper(), axis_key.upper()):
+            return f"{row['name']} ({key}): {row['desc']}"
+    return key
+
+
+_ERRORS: list[dict] = []
+
+
+def _error_table() -> list[dict]:
+    if not _ERRORS:
+        text = resources.files("motionvm.data").joinpath("hmpl_errors.json").read_text("utf-8")
+        _ERRORS.extend(json.loads(text))
+    return _ERRORS
+
+
+class Variables:
+    """Read and write the variables of one run by name (see the module docstring)."""
+
+    def __init__(self, registry: ChannelRegistry, controller) -> None:
+        self.registry = registry
+        self.controller = controller
+        self.commands = MotionCommands(controller.motion)
+        self._channels: dict[str, Channel] = {}
+        self._writers: list[Callable[[str, object], bool]] = [self._write_gpio, self._write_axis]
+        for source in registry.sources:
+            write = getattr(source, "write", None)
+            if write is not None:
+                self._writers.append(write)
+
+    def channel(self, name: str) -> Channel:
+        """The channel `name` (KeyError with the closest names if there is none)."""
+        ch = self._channels.get(name)
+        if ch is None:
+            try:
+                ch = self.registry.resolve(name)
+            except ScopeError as exc:
+                raise KeyError(str(exc).replace("scope channel", "variable")) from None
+            self._channels[name] = ch
+        return ch
+
+    def read(self, name: str) -> float:
+        """The value of `name` now, in the unit of its channel."""
+        return self.channel(name).getter()
+
+    def write(self, name: str, value: object) -> None:
+        """Set `name` to `value` now (see the module docstring for what can be written)."""
+        self.channel(name)
+        for write in self._writers:
+            try:
+                if write(name, value):
+                    return
+            except WriteError:
+                raise
+            except (ValueError, TypeError, ScopeError) as exc:
+                raise WriteError(f"cannot write {name} = {value!r}: {exc}") from None
+        raise WriteError(f"'{name}' is read-only")
+
+    def _write_gpio(self, name: str, value: object) -> bool:
+        m = _GPIO.fullmatch(name)
+        if m is None:
+            return False
+        io = self.controller.io
+        setter = io.set_input if m.group(1) == "gpi" else io.set_output
+        setter(int(m.group(2)), value)
+        return True
+
+    def _write_axis(self, name: str, value: object) -> bool:
+        m = _AXIS.fullmatch(name)
+        if m is None:
+            return False
+        n, variable = int(m.group(1)), m.group(2)
+        function = WRITABLE_AXIS.get(variable)
+        if function is None:
+            settable = ", ".join(f"{v} ({f})" for v, f in WRITABLE_AXIS.items())
+            raise WriteError(
+                f"axis variable '{name}' is read-only; the writable ones are those an HMPL "
+                f"Set* function sets: {settable}"
+            )
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise WriteError(f"{name} takes a number, not {value!r}")
+        status = getattr(self.commands, function)(n, float(value))
+        if status:
+            raise WriteError(f"{function}({n}, {value!r}) refused: {error_name(status)}", status)
+        return True
+
+
+@dataclass(frozen=True, slots=True)
+class AxisState:
+    """One axis at one instant: every axis variable of manual 5.1.1 by its manual name,
+    in the manual's unit (positions in mm or deg, the axis' unit), and the axis' status
+    flags. `AxisState.of(axis)` takes the snapshot."""
+
+    axis_id: int
+    sim_time: float  # [s]
+    # status flags (manual 5.4: IsEnabled, IsMoving, IsInPos, IsErrorStop, ...)
+    enabled: bool
+    moving: bool
+    in_pos: bool
+    error_stop: bool
+    stopping: bool
+    halted: bool
+    accelerating: bool
+    homing: bool
+    homed: bool
+    drive_fault: bool
+    position_error: bool
+    hw_left: bool  # at the left hardware limit
+    hw_right: bool
+    sw_left: bool  # beyond the left software limit
+    sw_right: bool
+    # the axis variables of manual 5.1.1 (tables 5.1.1.1 to 5.1.1.6)
+    sync_pos_set: float  # [mm or deg]
+    pg_pos_cmd: float  # [mm or deg]
+    ref_pos: float  # [mm or deg]
+    ref_vel: float  # [mm/s or deg/s]
+    ref_acc: float  # [mm/s² or deg/s²]
+    comp_pos_set: float  # [mm or deg]
+    pos_comp: float  # [mm or deg]
+    pos_offset: float  # [mm or deg]
+    pos_out: float  # [mm or deg]
+    vel_out: float  # [mm/s or deg/s]
+    acc_out: float  # [mm/s² or deg/s²]
+    offset_pos_out: float  # [mm or deg]
+    pos_fb_raw: float  # [mm or deg]
+    offset_pos_fb: float  # [mm or deg]
+    pos_fb: float  # [mm or deg]
+    vel_fb: float  # [mm/s or deg/s]
+    pos_err: float  # [mm or deg]
+    vel_err: float  # [mm/s or deg/s]
+    movetime: float  # [ms]
+    settlingtime: float  # [ms]
+    max_vel: float  # [mm/s or deg/s]
+    max_acc: float  # [mm/s² or deg/s²]
+    max_dec: float  # [mm/s² or deg/s²]
+    sm_factor: float  # [ms]
+    fault_status: int
+    motion_status: int
+    power_drive_st: int
+    coe_controlword: int
+    coe_statusword: int
+    servo_type: int
+    coe_op_modes_display: int
+    coe_pos_cmd: int  # [count]
+    coe_vel_cmd: int  # [count/s]
+    coe_trq_cmd: int
+    coe_pos_fb: int  # [count]
+    coe_vel_fb: int  # [count/s]
+    coe_trq_fb: int
+    tp_function: int
+    tp_status: int
+    tp1_positive_edge: int  # [count]
+    tp1_negative_edge: int  # [count]
+    tp2_positive_edge: int  # [count]
+    tp2_negative_edge: int  # [count]
+    di_bit_HWLL: int
+    di_bit_HWRL: int
+    di_bit_HOME: int
+
+    @classmethod
+    def of(cls, axis, sim_time: float) -> AxisState:
+        """The snapshot of `axis` (a `motion.axis.Axis`) at `sim_time` [s]."""
+        fs, ms = axis.fault_status, axis.motion_status
+        values = {name: axis.variable(name) for name in VARIABLES}
+        return cls(
+            axis_id=axis.axis_id,
+            sim_time=sim_time,
+            enabled=bool(axis.enabled),
+            moving=bool(axis.moving),
+            in_pos=bool(axis.in_pos),
+            error_stop=bool(axis.error_stop),
+            stopping=bool(axis.stopping),
+            halted=bool(axis.halted),
+            accelerating=bool(ms & st.MS_ACCELERATING),
+            homing=bool(ms & st.MS_HOMING),
+            homed=bool(ms & st.MS_HOMED),
+            drive_fault=bool(fs & st.FS_DRIVE_FAULT),
+            position_error=bool(fs & st.FS_POSITION_ERROR),
+            hw_left=bool(fs & st.FS_HW_LEFT),
+            hw_right=bool(fs & st.FS_HW_RIGHT),
+            sw_left=bool(fs & st.FS_SW_LEFT),
+            sw_right=bool(fs & st.FS_SW_RIGHT),
+            **values,
+        )
