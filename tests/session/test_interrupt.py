@@ -18,7 +18,15 @@ def test_ctrl_c_exits_130_after_writing_the_scope(tmp_path):
     argv = [sys.executable, "-m", "motionvm", "run", "a.hmpl", "--realtime"]
     argv += ["--scope", "system_ltest0", "--scope-out", "s.csv"]
     proc = subprocess.Popen(
-        argv, cwd=tmp_path, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True
+        argv,
+        cwd=tmp_path,
+        env=env,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        # a test run started in the background inherits SIGINT ignored; Ctrl-C reaches a
+        # program started at a terminal
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
     )
     try:
         assert proc.stdout.readline() == "started\n"  # the run is under way
