@@ -138,8 +138,16 @@ class ProgramLowering:
         return self._addresses.get(id(label.block[label.index]), 0)
 
     def add_format(self, s: n.Print) -> int:
-        self.formats.append(compile_format(s.format.value, s.mode1, s.mode2, s.command))
+        pointers = tuple(self._is_pointer(a) for a in s.args)
+        self.formats.append(compile_format(s.format.value, s.mode1, s.mode2, s.command, pointers))
         return len(self.formats) - 1
+
+    def _is_pointer(self, op: n.Operand) -> bool:
+        """`&var`, or a pointer variable read as such (not `*p`): a word address."""
+        if isinstance(op, n.AddressOf):
+            return True
+        sym = self.syms.symbol_of(op) if isinstance(op, n.VarRef) else None
+        return isinstance(sym, VarSym) and sym.pointer
 
     def table_name(self, body: BodyLowerer, label: str) -> str:
         name = f"_lt{len(self.tables)}_{label}"
