@@ -18,8 +18,10 @@ File format (little-endian), 4,096,016 bytes:
 Saving is crash-safe: the new image is written to a temporary file in the same
 folder, flushed and fsync'ed, then `os.replace`d over the old file (atomic on POSIX
 and Windows) and the folder is fsync'ed. A crash at any point leaves either the old
-or the new file, never a mix; a crash may leave a stale `user_table.bin.*.tmp`,
-which is ignored.
+or the new file, never a mix. A killed save may leave a stale temporary
+`user_table.bin.XXXXXXXX.tmp` (4 MB); the next SaveUserTable or LoadUserTable removes
+those of earlier runs: files of exactly that pattern in the data folder, last modified
+more than STALE_AFTER seconds ago (a younger one may be another run's save in progress).
 
 Return codes (the manual only says non-zero on failure):
 - ERR_ARG_OUT_OF_RANGE (0x138F, eERR_HMPL_ARG_OUT_OF_RANGE): an index outside
@@ -43,8 +45,10 @@ from __future__ import annotations
 
 import contextlib
 import os
+import re
 import struct
 import tempfile
+import time
 import zlib
 from pathlib import Path
 from typing import BinaryIO
@@ -62,6 +66,11 @@ _IMAGE_BYTES = TABLE_LEN * 8
 
 ERR_ARG_OUT_OF_RANGE = 0x138F  # eERR_HMPL_ARG_OUT_OF_RANGE
 ERR_STORAGE = 0x1770  # eERR_HMPL_EXEC_FAILED
+
+STALE_AFTER = 60.0
+"""[s] A temporary file untouched this long is a killed save's leftover."""
+_TEMP_NAME = re.compile(re.escape(FILE_NAME) + r"\.[a-z0-9_]{8}\.tmp")
+"""The names `write_atomic` gives its temporaries (tempfile.mkstemp, 8 random characters)."""
 
 
 def encode_image(image: bytes) -> bytes:
@@ -105,6 +114,27 @@ def write_atomic(path: Path, data: bytes) -> None:
             os.unlink(tmp)
         raise
     _fsync_folder(folder)
+
+
+def remove_stale_temps(folder: Path, now: float | None = None) -> None:
+    """Delete the leftover temporaries of killed saves in `folder` (see the module doc);
+    anything else, and any error (no folder, no permission), is left alone."""
+    now = time.time() if now is None else now
+    try:
+        entries = list(os.scandir(folder))
+    except OSError:
+        return
+    for entry in entries:
+        if not _TEMP_NAME.fullmatch(entry.name):
+            continue
+        try:
+            if not entry.is_file(follow_symlinks=False):
+                continue
+            if now - entry.stat(follow_symlinks=False).st_mtime < STALE_AFTER:
+                continue
+            os.unlink(entry.path)
+        except OSError:
+            continue
 
 
 def _fsync_folder(folder: Path) -> None:
@@ -205,6 +235,7 @@ class UserTableLib(Library):
             return ERR_ARG_OUT_OF_RANGE
         if num_data == 0:
             return 0
+        remove_stale_temps(self._path().parent)
         image = self._saved_image() or bytearray(_IMAGE_BYTES)
         lo, hi = 8 * start_idx, 8 * (start_idx + num_data)
         base = self.rt.user_table_addr
@@ -220,6 +251,7 @@ class UserTableLib(Library):
         """Copy saved elements [start_idx, start_idx+num_data) to the table; 0 or an error code."""
         if not self._range_ok(start_idx, num_data):
             return ERR_ARG_OUT_OF_RANGE
+        remove_stale_temps(self._path().parent)
         image = self._saved_image()
         if image is None:
             return ERR_STORAGE
