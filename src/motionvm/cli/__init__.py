@@ -9,7 +9,6 @@ finished at `--timeout`; 130 interrupted.
 
 from __future__ import annotations
 
-import os
 import sys
 import traceback
 
@@ -39,6 +38,17 @@ __all__ = [
 
 
 def main(argv: list[str] | None = None) -> int:
+    code = _main(argv)
+    try:  # flushed here, not at exit: a reader gone by now (`| head`) is no error
+        sys.stdout.flush()
+    except BrokenPipeError:
+        from motionvm.cli.run import stdout_gone
+
+        stdout_gone()
+    return code
+
+
+def _main(argv: list[str] | None) -> int:
     parser = build_parser()
     try:
         args, rest = parser.parse_known_args(argv)
@@ -56,7 +66,9 @@ def main(argv: list[str] | None = None) -> int:
         print(exc.rendered(), file=sys.stderr)
         return EXIT_USAGE
     except BrokenPipeError:  # output piped into e.g. `head`: stop quietly
-        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        from motionvm.cli.run import stdout_gone
+
+        stdout_gone()
         return EXIT_OK
     except KeyboardInterrupt:
         print("motionvm: interrupted", file=sys.stderr)

@@ -50,11 +50,33 @@ def _scope_request(args):
         raise UsageError(str(exc)) from None
 
 
-def _report(line: str) -> None:
+def stdout_gone() -> None:
+    """The reader of stdout went away (`| head`): point stdout at the null device, so the
+    rest of the output, and the interpreter's last flush of what is still buffered,
+    cannot fail again (Python would print 'Exception ignored ... BrokenPipeError' and
+    exit with 120)."""
+    try:
+        fd = os.open(os.devnull, os.O_WRONLY)
+    except OSError:
+        return
+    try:
+        os.dup2(fd, sys.stdout.fileno())
+    except (OSError, ValueError, AttributeError):  # a replaced or closed sys.stdout
+        pass
+    finally:
+        os.close(fd)
+
+
+def flush_stdout() -> None:
+    """Flush stdout; a reader that went away is no error (see `stdout_gone`)."""
     try:
         sys.stdout.flush()
     except BrokenPipeError:
-        pass
+        stdout_gone()
+
+
+def _report(line: str) -> None:
+    flush_stdout()
     print(line, file=sys.stderr)
 
 
@@ -114,14 +136,21 @@ def cmd_run(args) -> int:
         werror=args.werror,
     )
     session: Session | None = None
+    gone = False  # stdout's reader went away
 
     def emit(line: str) -> None:
-        try:  # sys.stdout as it is now: a progress bar may route it above itself
-            sys.stdout.write(line + "\n")
-        except BrokenPipeError:  # the reader went away (`| head`): end the run quietly
-            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
-            if session is not None:
-                session.controller.stop_requested = True
+        nonlocal gone
+        if not gone:
+            try:  # sys.stdout as it is now: a progress bar may route it above itself
+                sys.stdout.write(line + "\n")
+                return
+            except BrokenPipeError:  # the reader went away (`| head`): end the run quietly
+                gone = True
+                stdout_gone()
+        # asked again at every later line: a stop asked before the run started (a
+        # message printed while booting) would be forgotten when the run begins
+        if session is not None:
+            session.controller.stop_requested = True
 
     try:
         session = Session(spec, emit=emit, report=_report)
@@ -141,10 +170,7 @@ def cmd_run(args) -> int:
             if bar is not None:
                 bar.close()
         wall = time.perf_counter() - wall_0
-        try:
-            sys.stdout.flush()
-        except BrokenPipeError:
-            pass
+        flush_stdout()
         session.save_scope()
     except CompileFailed:
         return EXIT_COMPILE
