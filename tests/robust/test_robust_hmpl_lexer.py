@@ -23,3 +23,10 @@ def test_an_integer_constant_of_thousands_of_digits_is_too_large(cli, digits, sh
     assert first.startswith("a.hmpl:1:29: error: integer constant '")
     assert first.endswith("is too large (the limit is 18446744073709551615)")
     assert len(first) < 200
+
+
+def test_a_char_constant_hex_escape_without_digits_is_one_error(cli):
+    r = cli("check", "a.hmpl", a__hmpl="void main() { char c = '\\x'; Print(\"%d\", c); }\n")
+    assert r.code == 2
+    errors = [line for line in r.stderr.splitlines() if ": error: " in line]
+    assert errors == ["a.hmpl:1:24: error: \\x used with no following hex digits"]

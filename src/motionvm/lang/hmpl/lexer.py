@@ -374,6 +374,7 @@ def _decode(body: str, pos: SourcePos, errors: list) -> bytes:
         if c == "x":
             if len(e) == 1:
                 errors.append((pos, "\\x used with no following hex digits", False))
+                out.append(0)  # one byte, so that '\x' gets no second error
                 continue
             v = int(e[1:], 16)
             if v > 255:
