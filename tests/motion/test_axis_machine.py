@@ -68,7 +68,7 @@ def test_axes_zero_is_a_machine_without_axes(tmp_path):
 @pytest.mark.parametrize(
     ("text", "place", "words"),
     [
-        ("[[axis]]\nmax_vel = 0\n", "2:1", ["max_vel = 0", "positive"]),
+        ("[[axis]]\nmax_vel = 0\n", "2:1", ["max_vel = 0: must be in 0 < max_vel <= 1e+12"]),
         ('[[axis]]\n\n[[axis]]\ntype = "spiral"\n', "4:1", ["[[axis]] 1", "type"]),
         ("[[axis]]\nspeed = 3\n", "2:1", ["unknown key 'speed'"]),
         ("[[axis]]\nsw_left = 5.0\nsw_right = -5.0\n", "3:1", ["sw_right"]),
@@ -76,7 +76,11 @@ def test_axes_zero_is_a_machine_without_axes(tmp_path):
         ("axes = 65\n", "1:1", ["axes = 65"]),
         ('[[axis]]\ndrive = { mechanics = { model = "warp" } }\n', "2:25", ["model = 'warp'"]),
         ("[[axis]]\ndrive = { positive_limit = 3 }\n", "2:11", ["hw_left, hw_right"]),
-        ("[[axis]]\nsmooth_time_ms = 600\n", "2:1", ["0 to 500"]),
+        (
+            "[[axis]]\nsmooth_time_ms = 600\n",
+            "2:1",
+            ["smooth_time_ms = 600: must be in 0 <= smooth_time_ms <= 500"],
+        ),
     ],
 )
 def test_bad_axis_values_name_file_line_and_key(tmp_path, text, place, words):

@@ -165,7 +165,7 @@ class Cia402Drive:
             quick_stop_decel=cfg.integer("quick_stop_decel", 10_000_000, 1),
             quick_stop_option=option,
             following_error_window=cfg.integer("following_error_window", 0xFFFFFFFF, 0),
-            position=cfg.number("position", 0.0, low=-math.inf, strict=False),
+            position=cfg.number("position", 0.0, low=-(2.0**31), strict=False, high=2.0**31),
         )
 
     # ---- SDO-style access -----------------------------------------------------------

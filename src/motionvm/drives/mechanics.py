@@ -24,6 +24,13 @@ if TYPE_CHECKING:  # numpy is imported where the servo model's matrices are buil
     import numpy as np
 
 TWO_PI = 2.0 * math.pi
+MAX_DELAY_CYCLES = 10_000
+"""Longest delay line of the ideal model [cycles] (each cycle holds one float)."""
+MAX_BANDWIDTH = 10_000.0
+"""Highest servo bandwidth [Hz]: ten times the fastest controller cycle's Nyquist limit."""
+MIN_INERTIA = 1e-9
+"""Smallest load inertia [kg*m^2]; below it the loop's gains leave float range."""
+MAX_COUNTS_PER_REV = 2**40
 
 
 def _expm(a: np.ndarray) -> np.ndarray:
@@ -58,21 +65,32 @@ class Config:
                 f" (allowed: {', '.join(sorted(allowed))})"
             )
 
-    def number(self, key: str, default: float, low: float = 0.0, strict: bool = True) -> float:
+    def number(
+        self, key: str, default: float, low: float = 0.0, strict: bool = True, high: float = 1e6
+    ) -> float:
+        """A number in `low < x <= high` (`low <= x` unless `strict`); the default upper
+        bound keeps products of the loop's gains and inertias inside float range."""
         value = self.config.get(key, default)
         ok = isinstance(value, (int, float)) and not isinstance(value, bool)
         if ok:
             value = float(value)
             ok = math.isfinite(value) and (value > low if strict else value >= low)
+            ok = ok and value <= high
         if not ok:
             bound = f"> {low:g}" if strict else f">= {low:g}"
-            raise ValueError(f"{self.where}: {key} = {value!r} is not a finite number {bound}")
+            bound = bound if low > -math.inf else ""
+            raise ValueError(
+                f"{self.where}: {key} = {value!r} is not a finite number {bound}"
+                f"{' and ' if bound else ''}<= {high:g}"
+            )
         return value
 
-    def integer(self, key: str, default: int, low: int) -> int:
+    def integer(self, key: str, default: int, low: int, high: int = 2**32 - 1) -> int:
         value = self.config.get(key, default)
-        if not isinstance(value, int) or isinstance(value, bool) or value < low:
-            raise ValueError(f"{self.where}: {key} = {value!r} is not an integer >= {low}")
+        if not isinstance(value, int) or isinstance(value, bool) or not low <= value <= high:
+            raise ValueError(
+                f"{self.where}: {key} = {value!r} is not an integer >= {low} and <= {high}"
+            )
         return value
 
 
@@ -111,9 +129,9 @@ class IdealMechanics:
     def create(cls, config: dict) -> IdealMechanics:
         cfg = Config(config, "mechanics 'ideal'", cls.KEYS)
         return cls(
-            delay_cycles=cfg.integer("delay_cycles", 0, 0),
-            inertia=cfg.number("inertia", 1e-4),
-            counts_per_rev=cfg.integer("counts_per_rev", 1 << 17, 1),
+            delay_cycles=cfg.integer("delay_cycles", 0, 0, MAX_DELAY_CYCLES),
+            inertia=cfg.number("inertia", 1e-4, low=MIN_INERTIA, strict=False),
+            counts_per_rev=cfg.integer("counts_per_rev", 1 << 17, 1, MAX_COUNTS_PER_REV),
         )
 
     def set_position(self, position: float) -> None:
@@ -218,20 +236,20 @@ class ServoMechanics:
     @classmethod
     def create(cls, config: dict) -> ServoMechanics:
         cfg = Config(config, "mechanics 'servo'", cls.KEYS)
-        inertia = cfg.number("inertia", 1e-4)
+        inertia = cfg.number("inertia", 1e-4, low=MIN_INERTIA, strict=False)
         ff = cfg.number("velocity_feedforward", 0.0, strict=False)
         if ff > 1.0:
             raise ValueError(f"mechanics 'servo': velocity_feedforward = {ff!r} is not in 0..1")
         return cls(
-            bandwidth=cfg.number("bandwidth", 50.0),
-            damping=cfg.number("damping", 0.7),
+            bandwidth=cfg.number("bandwidth", 50.0, high=MAX_BANDWIDTH),
+            damping=cfg.number("damping", 0.7, low=0.01, strict=False, high=100.0),
             inertia=inertia,
-            tuned_inertia=cfg.number("tuned_inertia", inertia),
+            tuned_inertia=cfg.number("tuned_inertia", inertia, low=MIN_INERTIA, strict=False),
             friction=cfg.number("friction", 0.0, strict=False),
-            load_torque=cfg.number("load_torque", 0.0, low=-math.inf),
+            load_torque=cfg.number("load_torque", 0.0, low=-1e6, strict=False),
             max_torque=cfg.number("max_torque", 1.0) if "max_torque" in config else math.inf,
             velocity_feedforward=ff,
-            counts_per_rev=cfg.integer("counts_per_rev", 1 << 17, 1),
+            counts_per_rev=cfg.integer("counts_per_rev", 1 << 17, 1, MAX_COUNTS_PER_REV),
         )
 
     def set_position(self, position: float) -> None:

@@ -33,6 +33,9 @@ from motionvm.drives.objects import (
     wrap_i32,
 )
 
+MAX_COUNTS = 1e18
+"""Largest switch or index position [counts] (1e9 mm at 1e9 counts/mm)."""
+
 
 class Sensors:
     """Switch and index signals derived from the motor position; touch probe latches."""
@@ -112,15 +115,17 @@ class Sensors:
     def from_config(cls, cfg: Config) -> Sensors:
         """Read the switch and index keys of a drive's config (absent: no such signal)."""
 
-        def optional(key, low=-math.inf, strict=False):
-            return cfg.number(key, 0.0, low=low, strict=strict) if key in cfg.config else None
+        def optional(key, low=-MAX_COUNTS, strict=False):
+            if key not in cfg.config:
+                return None
+            return cfg.number(key, 0.0, low=low, strict=strict, high=MAX_COUNTS)
 
         sensors = cls(
             negative_limit=optional("negative_limit"),
             positive_limit=optional("positive_limit"),
             home_low=optional("home_low"),
             home_high=optional("home_high"),
-            index_spacing=optional("index_spacing", low=0.0, strict=True),
+            index_spacing=optional("index_spacing", low=1.0),
             index_offset=optional("index_offset") or 0.0,
         )
         low, high = sensors.home_low, sensors.home_high

@@ -25,6 +25,9 @@ Every key has a default, so `{}` is the default machine's axis: a linear axis of
 |       |       |    | `mechanics` default to ideal with delay_cycles = 1 |
 
 The continuous torque of MoveTrq is the drive's rated_torque [N*m] (default 1).
+Each number must lie in its range (`_RANGES`: positions within +-1e9 mm, speeds and
+accelerations up to 1e12, counts_per_unit 0.001 .. 1e9, index pulses at least one count
+apart); beyond them the simulation would overflow, so the file is refused at load time.
 """
 
 from __future__ import annotations
@@ -107,22 +110,55 @@ class AxisConfig:
         return cfg
 
 
-def _number(table: dict, key: str, default: float, *, positive=False, nonneg=False, optional=False):
+# The range of each number key: (low, high, low_inclusive). Beyond these the simulation
+# overflows (an encoder count beyond float range, an index every 1e-300 counts) or the
+# value is meaningless for a machine axis; every range is far wider than any real one.
+_POSITION = (-1e9, 1e9, True)  # [mm] or [deg]
+_RANGES: dict[str, tuple[float, float, bool]] = {
+    "counts_per_unit": (1e-3, 1e9, True),
+    "max_vel": (0.0, 1e12, False),
+    "max_acc": (0.0, 1e12, False),
+    "max_dec": (0.0, 1e12, False),
+    "kill_dec": (0.0, 1e12, False),
+    "vel_limit": (0.0, 1e12, False),
+    "acc_limit": (0.0, 1e12, False),
+    "max_pos_err": (0.0, 1e9, False),
+    "inpos_radius": (0.0, 1e9, False),
+    "enable_timeout_ms": (0.0, 1e9, False),
+    "torque_constant": (0.0, 1e6, False),
+    "inpos_debounce_ms": (0.0, 1e9, True),
+    "home_width": (0.0, 1e9, True),
+    "smooth_time_ms": (0.0, 500.0, True),
+    "index_spacing": (0.0, 1e9, False),
+    "sw_left": _POSITION,
+    "sw_right": _POSITION,
+    "index_offset": _POSITION,
+    "start_position": _POSITION,
+    "hw_left": _POSITION,
+    "hw_right": _POSITION,
+    "home_pos": _POSITION,
+}
+
+
+def range_text(key: str) -> str:
+    """The range `key` must be in, as `0 < max_vel <= 1e+12`."""
+    low, high, low_inclusive = _RANGES[key]
+    return f"{low:g} {'<=' if low_inclusive else '<'} {key} <= {high:g}"
+
+
+def _number(table: dict, key: str, default: float, *, optional=False):
     if key not in table:
         return default
     value = table[key]
     if optional and value is False:
         return None
+    low, high, low_inclusive = _RANGES[key]
     ok = isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
-    if ok and positive:
-        ok = value > 0
-    if ok and nonneg:
-        ok = value >= 0
     if not ok:
-        want = "a positive number" if positive else "a number >= 0" if nonneg else "a finite number"
-        if optional:
-            want += " or false"
-        raise AxisConfigError(key, f"{key} = {value!r}: must be {want}")
+        want = "a finite number" + (" or false" if optional else "")
+        raise AxisConfigError(key, f"{key} = {value!r}: must be {want}, {range_text(key)}")
+    if not ((low <= value) if low_inclusive else (low < value)) or value > high:
+        raise AxisConfigError(key, f"{key} = {value!r}: must be in {range_text(key)}")
     return float(value)
 
 
@@ -151,7 +187,7 @@ def create(table: dict) -> AxisConfig:
     c = AxisConfig(rotary=rotary, counts_per_unit=1000.0 if rotary else 10000.0)
     if rotary:  # a rotary table turns on: no limit switches unless given
         c.hw_left = c.hw_right = None
-    c.counts_per_unit = number("counts_per_unit", c.counts_per_unit, positive=True)
+    c.counts_per_unit = number("counts_per_unit", c.counts_per_unit)
     for key in (
         "max_vel",
         "max_acc",
@@ -164,18 +200,25 @@ def create(table: dict) -> AxisConfig:
         "enable_timeout_ms",
         "torque_constant",
     ):
-        setattr(c, key, number(key, getattr(c, key), positive=True))
+        setattr(c, key, number(key, getattr(c, key)))
     for key in ("inpos_debounce_ms", "home_width"):
-        setattr(c, key, number(key, getattr(c, key), nonneg=True))
+        setattr(c, key, number(key, getattr(c, key)))
     for key in ("sw_left", "sw_right", "index_offset", "start_position"):
         setattr(c, key, number(key, getattr(c, key)))
     for key in ("hw_left", "hw_right", "home_pos"):
         setattr(c, key, number(key, getattr(c, key), optional=True))
-    c.index_spacing = number("index_spacing", c.index_spacing, positive=True, optional=True)
-    c.smooth_time_ms = number("smooth_time_ms", 0.0, nonneg=True)
-    if c.smooth_time_ms > 500:
+    c.index_spacing = number("index_spacing", c.index_spacing, optional=True)
+    c.smooth_time_ms = number("smooth_time_ms", 0.0)
+    if c.index_spacing is not None and c.index_spacing * c.counts_per_unit < 1:
+        given = "index_spacing" in table
         problems.append(
-            ("smooth_time_ms", f"smooth_time_ms = {c.smooth_time_ms:g}: must be 0 to 500")
+            (
+                "index_spacing" if given else "counts_per_unit",
+                f"index_spacing = {c.index_spacing:g}{'' if given else ' (the default)'} at "
+                f"counts_per_unit = {c.counts_per_unit:g} is "
+                f"{c.index_spacing * c.counts_per_unit:g} counts: index pulses must be at "
+                "least 1 count apart",
+            )
         )
     if c.sw_left >= c.sw_right:
         problems.append(
@@ -195,6 +238,11 @@ def create(table: dict) -> AxisConfig:
     drive = table.get("drive", {})
     if not isinstance(drive, dict):
         problems.append(("drive", f"drive = {drive!r}: must be a table"))
+        drive = {}
+    if "mechanics" in drive and not isinstance(drive["mechanics"], dict):
+        problems.append(
+            ("drive.mechanics", f"drive.mechanics = {drive['mechanics']!r}: must be a table")
+        )
         drive = {}
     for key in _SENSOR_KEYS + ("position",):
         if key in drive:

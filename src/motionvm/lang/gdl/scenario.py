@@ -152,11 +152,12 @@ class _Problems(TomlProblems):
             raise ScenarioError(*self.headlines(), located=True)
 
 
-def _seconds(at: object) -> float:
-    """`at` as seconds; raises ValueError."""
-    if not isinstance(at, int | float) or isinstance(at, bool) or not 0 <= at < math.inf:
-        raise ValueError(f"'at' must be a number of seconds >= 0, not {at!r}")
-    return float(at)
+def _seconds(value: object, key: str = "at") -> float:
+    """`value` of `key` as seconds: finite and >= 0 (nan and inf too are refused);
+    raises ValueError naming key and value."""
+    if not isinstance(value, int | float) or isinstance(value, bool) or not 0 <= value < math.inf:
+        raise ValueError(f"'{key}' must be a number of seconds >= 0, not {value!r}")
+    return float(value)
 
 
 def _event(app: App, index: int, raw: object, problems: _Problems) -> Event | None:
@@ -244,11 +245,12 @@ def load_scenario(path: str, app: App) -> Scenario:
     for key in sorted(set(data) - {"until", "initial", "event"}):
         problems.at("", key, f"unknown key '{key}' (keys: event, initial, until)")
     until = data.get("until")
-    if until is not None and (
-        not isinstance(until, int | float) or isinstance(until, bool) or until < 0
-    ):
-        problems.at("", "until", "'until' must be a number of seconds >= 0")
-        until = None
+    if until is not None:
+        try:
+            until = _seconds(until, "until")
+        except ValueError as exc:
+            problems.at("", "until", str(exc))
+            until = None
     initial: list[tuple[Target, object]] = []
     table = data.get("initial", {})
     if not isinstance(table, dict):

@@ -329,6 +329,8 @@ def _number(s: str, pos: SourcePos, errors: list) -> Token:
                 value = 0
             else:
                 value = int(digits, 8)
+        elif len(digits) > 20:  # above UINT64_MAX, and int() refuses over 4300 digits
+            value = UINT64_MAX + 1
         else:
             value = int(digits)
         canon = _INT_SUFFIXES.get(suffix.lower())
@@ -336,8 +338,9 @@ def _number(s: str, pos: SourcePos, errors: list) -> Token:
             errors.append((pos, f"invalid suffix '{suffix}' on integer constant", False))
             canon = ""
         if value > UINT64_MAX:
+            shown = f"'{s}'" if len(s) <= 40 else f"'{s[:20]}...' ({len(s)} characters)"
             errors.append(
-                (pos, f"integer constant '{s}' is too large (the limit is {UINT64_MAX})", False)
+                (pos, f"integer constant {shown} is too large (the limit is {UINT64_MAX})", False)
             )
             value &= UINT64_MAX
         return Token("int", s, pos, value, canon)
@@ -369,6 +372,10 @@ def _decode(body: str, pos: SourcePos, errors: list) -> bytes:
         e = m.group(1)
         c = e[0]
         if c == "x":
+            if len(e) == 1:
+                errors.append((pos, "\\x used with no following hex digits", False))
+                out.append(0)  # one byte, so that '\x' gets no second error
+                continue
             v = int(e[1:], 16)
             if v > 255:
                 errors.append((pos, f"hex escape sequence '\\{e}' out of range", False))

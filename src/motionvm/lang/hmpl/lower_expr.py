@@ -356,22 +356,7 @@ class ExprLowering:
         if op in ("<<", ">>"):
             if not (ta.is_integer and tb.is_integer):
                 raise self.fail(pos, f"invalid operands to binary '{op}' ('{ta}' and '{tb}')")
-            t = ct.promote(ta)
-            bn = self.exact(b)
-            if op == ">>":
-                an = self.convert(a, t, pos)
-                if isinstance(a.const, int) and isinstance(b.const, int):
-                    c = ct.wrap_int(ct.wrap_int(a.const, t) >> (b.const % t.bits), t)
-                    return Val(const(c), t, True, c)
-                return Val(ast.BinOp(left=an, op=ast.RShift(), right=bn), t, True)
-            an = self.convert(a, t, pos) if a.type != t else a.node
-            if isinstance(a.const, int) and isinstance(b.const, int):
-                c = ct.wrap_int(a.const << (b.const % t.bits), t)
-                return Val(const(c), t, True, c)
-            if b.const is None:
-                # a run-time shift count: keep the count in range so Python never builds huge ints
-                bn = ast.BinOp(left=bn, op=ast.BitAnd(), right=ast.Constant(t.bits - 1))
-            return Val(ast.BinOp(left=an, op=ast.LShift(), right=bn), t, False)
+            return self._shift(op, a, b, ct.promote(ta))
         if op == "%" and not (ta.is_integer and tb.is_integer):
             raise self.fail(pos, f"invalid operands to binary '%' ('{ta}' and '{tb}')")
         if op in ("&", "|", "^") and not (ta.is_integer and tb.is_integer):
@@ -380,6 +365,30 @@ class ExprLowering:
         if t.is_float:
             return self._float_op(op, a, b, t, pos)
         return self._int_op(op, a, b, t, pos)
+
+    def _shift(self, op: str, a: Val, b: Val, t: ct.IntT) -> Val:
+        """`a << b` or `a >> b` in t. A count of t's width or more is taken modulo the width,
+        as the controller's shifter does; a negative count (undefined in C) is a run-time
+        fault, also when both operands are constants, so folding never changes the outcome.
+
+        before: `x << n` (int n)    after: `x << _shc(n, 32)` (the caller wraps the result)
+        before: `x >> 33`           after: `x >> 1`
+        """
+        an = self.convert(a, t) if op == ">>" or a.type != t else a.node
+        if isinstance(b.const, int) and b.const >= 0:
+            count = b.const % t.bits
+            if isinstance(a.const, int):
+                x = ct.wrap_int(a.const, t)
+                c = ct.wrap_int(x << count if op == "<<" else x >> count, t)
+                return Val(const(c), t, True, c)
+            bn = const(count)
+        elif isinstance(b.type, ct.IntT) and not b.type.signed and b.const is None:
+            bn = ast.BinOp(left=self.exact(b), op=ast.BitAnd(), right=ast.Constant(t.bits - 1))
+        else:
+            bn = call("_shc", self.exact(b), ast.Constant(t.bits))
+        if op == ">>":
+            return Val(ast.BinOp(left=an, op=ast.RShift(), right=bn), t, True)
+        return Val(ast.BinOp(left=an, op=ast.LShift(), right=bn), t, False)
 
     def _ring_operand(self, v: Val, t: ct.IntT) -> tuple[ast.expr, bool]:
         """(node, exact in t) of an operand of a ring operation computed in type t."""

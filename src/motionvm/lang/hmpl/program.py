@@ -445,6 +445,9 @@ class ProgramCompiler:
             ptypes.append(pt)
         if len(ptypes) == 1 and isinstance(ptypes[0], ct.VoidT) and not f.params[0].name:
             ptypes = []
+        if f.name == "main" and ptypes:  # a task starts main() with no arguments
+            self.sink.error(f.params[0].pos, "main takes no parameters")
+            ptypes = []
         ftype = ct.FuncT(0, 1, ret, tuple(ptypes), False)
         old = scope.names.get(f.name)
         if old is not None:

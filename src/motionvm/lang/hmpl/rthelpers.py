@@ -31,6 +31,14 @@ def _imod(a: int, b: int) -> int:
     return -r if a < 0 else r
 
 
+def _shc(count: int, bits: int) -> int:
+    """The shift count a shift by `count` of a `bits`-wide integer uses: modulo the width,
+    as the controller's shifter does; a negative count (undefined in C) is a fault."""
+    if count < 0:
+        raise RuntimeFault(f"negative shift count {count}")
+    return count % bits
+
+
 def _fdiv(a: float, b: float) -> float:
     """IEEE division: x/0 gives inf (or nan for 0/0), as on the controller's FPU."""
     try:
@@ -103,6 +111,7 @@ def make_helpers(mem: Memory) -> dict[str, object]:
     ns: dict[str, object] = {
         "_idiv": _idiv,
         "_imod": _imod,
+        "_shc": _shc,
         "_fdiv": _fdiv,
         "_f2i": float_to_int,
         "_f32": to_f32,
