@@ -29,9 +29,10 @@ def _run(path: Path, promote: bool, budget: int, chunk: bool = True) -> tuple[ob
     result = front_end(str(path), sink=sink)
     assert result is not None, "\n".join(render_diagnostic(d) for d in sink.items)
     program = lower_program(str(path), result.symbols, promote=promote, chunk=chunk)
-    drive = Drive(program, DriveConfig(budget=budget))
+    received = []
+    drive = Drive(program, DriveConfig(budget=budget), on_message=received.append)
     drive.run(2.0)
-    messages = [(m.phase, m.task, m.text) for m in drive.messages]
+    messages = [(m.phase, m.task, m.text) for m in received]
     return messages, drive.faults, bytes(drive.mem.buf), drive.phase
 
 

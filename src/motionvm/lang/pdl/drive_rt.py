@@ -104,7 +104,6 @@ class Drive:
         self.axis = PdlAxis(config.phase_rate, config.axis)
         self.lock_owner: int | None = None
         self.phase = 0
-        self.messages: list[Message] = []
         self.faults: list[str] = []
         ns = runtime_namespace(self)
         exec(program.code, ns)  # noqa: S102 — our own generated code
@@ -255,7 +254,6 @@ class Drive:
     def print_message(self, t: Task, k: int, args: tuple) -> None:
         fmt = self.program.formats[k]
         msg = Message(self.phase, t.id, fmt.mode1, fmt.mode2, format_message(fmt, args))
-        self.messages.append(msg)
         self.on_message(msg)
 
     def _axis_write(self, slot: int, value: float) -> None:
