@@ -907,7 +907,15 @@ class Parser:
     def _parse_switch_statement(self) -> n.Switch:
         kw = self._advance()
         expr = self._condition("switch")
-        return n.Switch(kw.pos, expr, self._parse_statement())
+        body = self._parse_statement()
+        if isinstance(body, (n.Case, n.Default)):
+            # `switch (x) case 1: stmt` — a label stands before a statement, so the body
+            # is the labels and the statement after them (a block of its own, as with braces)
+            items = [body]
+            while isinstance(items[-1], (n.Case, n.Default)):
+                items.append(self._parse_statement())
+            body = n.Block(body.pos, tuple(items))
+        return n.Switch(kw.pos, expr, body)
 
     # BNF: case_label = "case" conditional_expression ":"
     def _parse_case_label(self) -> n.Case:
