@@ -58,6 +58,15 @@ class JumpLowering:
             ast.Assign(targets=[name(matched, True)], value=ast.Constant(False)),
         ]
         items = s.body.items if isinstance(s.body, n.Block) else (s.body,)
+        for it in items:
+            nested = _nested_label(it)
+            if nested is not None:
+                what = "case" if isinstance(nested, n.Case) else "default"
+                raise self.fail(
+                    nested.pos,
+                    f"'{what}' label inside a nested statement of the switch is not supported"
+                    " (a jump into a block, loop or 'if'); put it directly in the switch body",
+                )
         groups: list[tuple[list, list]] = []  # (labels, statements)
         values: dict[int, object] = {}
         for it in items:
@@ -208,6 +217,32 @@ class JumpLowering:
 
     def _s_Label(self, s: n.Label) -> list[ast.stmt]:
         raise self.fail(s.pos, f"label '{s.name}' must stand at the top level of the function body")
+
+
+def _nested_label(s) -> n.Case | n.Default | None:
+    """The first `case`/`default` label nested inside statement `s` (not in an inner switch)."""
+    t = type(s)
+    if t is n.Block:
+        for it in s.items:
+            if isinstance(it, (n.Case, n.Default)):
+                return it
+            found = _nested_label(it)
+            if found is not None:
+                return found
+        return None
+    if t is n.If:
+        for sub in (s.then, s.else_):
+            if isinstance(sub, (n.Case, n.Default)):
+                return sub
+            found = _nested_label(sub) if sub is not None else None
+            if found is not None:
+                return found
+        return None
+    if t in (n.While, n.DoWhile, n.For):
+        if isinstance(s.body, (n.Case, n.Default)):
+            return s.body
+        return _nested_label(s.body)
+    return None
 
 
 def _copy_tree(node: ast.AST) -> ast.AST:
