@@ -207,17 +207,7 @@ class ExprLowering:
 
     def _x_IntLit(self, e: n.IntLit) -> Val:
         v = e.value
-        s = e.suffix
-        if "u" in s:
-            t = ct.U32 if v <= 0xFFFFFFFF and "l" not in s else ct.U64
-        elif "ll" in s:
-            t = ct.I64
-        elif v <= 0x7FFFFFFF:
-            t = ct.INT
-        elif v <= 0x7FFFFFFFFFFFFFFF:
-            t = ct.I64  # a constant beyond INT_MAX is long long
-        else:
-            t = ct.U64
+        t = _literal_type(v, e.suffix, e.decimal)
         v = _fold_int(v, t)
         return Val(const(v), t, True, v, (v, v))
 
@@ -491,3 +481,28 @@ class ExprLowering:
                 off = ast.BinOp(left=off, op=ast.Mult(), right=ast.Constant(size))
         pyop = ast.Add() if op == "+" else ast.Sub()
         return Val(ast.BinOp(left=p.node, op=pyop, right=off), p.type)
+
+
+# C's candidate types of an integer constant, by suffix (long is 4 bytes in HMPL, so it
+# is int / uint32_t here); hexadecimal and octal constants may also take the unsigned ones
+_LITERAL_TYPES = {
+    ("", True): (ct.INT, ct.I64),
+    ("", False): (ct.INT, ct.U32, ct.I64, ct.U64),
+    ("l", True): (ct.INT, ct.I64),
+    ("l", False): (ct.INT, ct.U32, ct.I64, ct.U64),
+    ("ll", True): (ct.I64,),
+    ("ll", False): (ct.I64, ct.U64),
+    ("u", True): (ct.U32, ct.U64),
+    ("ul", True): (ct.U32, ct.U64),
+    ("ull", True): (ct.U64,),
+}
+
+
+def _literal_type(v: int, suffix: str, decimal: bool) -> ct.IntT:
+    """The type of integer constant `v`: the first candidate of its suffix that holds it
+    (C99 6.4.4.1); a decimal beyond long long is unsigned long long, as gcc makes it."""
+    cands = _LITERAL_TYPES.get((suffix, decimal)) or _LITERAL_TYPES[(suffix, True)]
+    for t in cands:
+        if v <= t.max:
+            return t
+    return ct.U64

@@ -249,11 +249,14 @@ Stmt = (
 
 @dataclass(frozen=True, slots=True)
 class IntLit:
-    """Integer constant; `suffix` is the lower-cased C suffix ('', 'u', 'l', 'ul', 'll', 'ull')."""
+    """Integer constant; `suffix` is the lower-cased C suffix ('', 'u', 'l', 'ul', 'll', 'ull');
+    `decimal` is False for a hexadecimal, octal or binary one (C gives those the unsigned
+    types too)."""
 
     pos: SourcePos
     value: int
     suffix: str = ""
+    decimal: bool = True
 
 
 @dataclass(frozen=True, slots=True)

@@ -1025,7 +1025,7 @@ class Parser:
             self.i = i + 1
         elif kind == "int" and keys[i + 1] not in POSTFIX_START:
             t = self.toks[i]
-            left = n.IntLit(t.pos, t.value, t.suffix)  # type: ignore[arg-type]
+            left = n.IntLit(t.pos, t.value, t.suffix, t.text[0] != "0" or not t.value)  # type: ignore[arg-type]
             self.i = i + 1
         else:
             left = self._parse_cast_expression()
@@ -1124,7 +1124,7 @@ class Parser:
             return n.Name(t.pos, t.text)
         if k == "int":
             self.i += 1
-            return n.IntLit(t.pos, t.value, t.suffix)  # type: ignore[arg-type]
+            return n.IntLit(t.pos, t.value, t.suffix, t.text[0] != "0" or not t.value)  # type: ignore[arg-type]
         if k == "float":
             self.i += 1
             return n.FloatLit(t.pos, t.value, t.suffix == "f")  # type: ignore[arg-type]
