@@ -196,10 +196,18 @@ class ExprLowering:
     def cond(self, e) -> ast.expr:
         """Lower an expression used as a condition (any truthy Python value)."""
         if isinstance(e, n.Binary) and e.op in ("&&", "||"):
+            left, right = self.cond(e.left), self.cond(e.right)
+            lt, rt = _truth(left), _truth(right)
+            if lt is not None and rt is not None:  # an integer constant expression
+                return ast.Constant((lt and rt) if e.op == "&&" else (lt or rt))
             op = ast.And() if e.op == "&&" else ast.Or()
-            return ast.BoolOp(op=op, values=[self.cond(e.left), self.cond(e.right)])
+            return ast.BoolOp(op=op, values=[left, right])
         if isinstance(e, n.Unary) and e.op == "!":
-            return ast.UnaryOp(op=ast.Not(), operand=self.cond(e.operand))
+            operand = self.cond(e.operand)
+            ot = _truth(operand)
+            if ot is not None:
+                return ast.Constant(not ot)
+            return ast.UnaryOp(op=ast.Not(), operand=operand)
         v = self.expr(e)
         if isinstance(v.type, (ct.StructT, ct.VoidT)):
             raise self.fail(e.pos, f"'{v.type}' used where a condition is required")
@@ -283,6 +291,11 @@ class ExprLowering:
         if a.type.is_arith and b.type.is_arith:
             t = ct.common_arith(a.type, b.type)
             an, bn = self.convert(a, t, e.pos), self.convert(b, t, e.pos)
+            ctruth = _truth(c)
+            chosen = a if ctruth else b
+            if ctruth is not None and t.is_integer and isinstance(chosen.const, int):
+                k = ct.wrap_int(chosen.const, t)  # an integer constant expression
+                return Val(const(k), t, True, k, (k, k))
         elif a.type.is_pointer or b.type.is_pointer:
             t = a.type if a.type.is_pointer else b.type
             an, bn = self.exact(a), self.exact(b)
@@ -304,7 +317,11 @@ class ExprLowering:
             lv = self.lvalue(e)
             return Val(lv.load(), lv.type)
         if op == "!":
-            return Val(ast.UnaryOp(op=ast.Not(), operand=self.cond(e.operand)), ct.INT)
+            test = self.cond(e)
+            if (truth := _truth(test)) is not None:
+                k = int(truth)
+                return Val(const(k), ct.INT, True, k, (k, k))
+            return Val(test, ct.INT)
         v = self.expr(e.operand)
         if not v.type.is_arith:
             raise self.fail(e.pos, f"invalid operand of type '{v.type}' to unary '{op}'")
@@ -331,6 +348,9 @@ class ExprLowering:
         op = e.op
         if op in ("&&", "||"):
             test = self.cond(e)
+            if (truth := _truth(test)) is not None:
+                k = int(truth)
+                return Val(const(k), ct.INT, True, k, (k, k))
             return Val(ast.IfExp(test=test, body=ast.Constant(1), orelse=ast.Constant(0)), ct.INT)
         a, b = self.expr(e.left), self.expr(e.right)
         return self.binary(op, a, b, e.pos)
@@ -448,6 +468,10 @@ class ExprLowering:
         ta, tb = a.type, b.type
         if ta.is_arith and tb.is_arith:
             t = ct.common_arith(ta, tb)
+            if t.is_integer and isinstance(a.const, int) and isinstance(b.const, int):
+                x, y = ct.wrap_int(a.const, t), ct.wrap_int(b.const, t)
+                k = int(_CMP_FOLD[op](x, y))  # an integer constant expression
+                return Val(const(k), ct.INT, True, k, (k, k))
             an, bn = self.convert(a, t, pos), self.convert(b, t, pos)
         elif ta.is_pointer or tb.is_pointer or isinstance(ta, ct.FuncT) or isinstance(tb, ct.FuncT):
             if (ta.is_integer and a.const != 0) or (tb.is_integer and b.const != 0):
@@ -506,3 +530,22 @@ def _literal_type(v: int, suffix: str, decimal: bool) -> ct.IntT:
         if v <= t.max:
             return t
     return ct.U64
+
+
+_CMP_FOLD = {
+    "<": int.__lt__,
+    ">": int.__gt__,
+    "<=": int.__le__,
+    ">=": int.__ge__,
+    "==": int.__eq__,
+    "!=": int.__ne__,
+}
+
+
+def _truth(node: ast.expr) -> bool | None:
+    """The truth of a lowered condition that is a constant (`1`, `-1`, `True`), else None."""
+    if type(node) is ast.UnaryOp and type(node.op) is ast.USub:
+        node = node.operand
+    if type(node) is ast.Constant and isinstance(node.value, (int, float)):
+        return bool(node.value)
+    return None
