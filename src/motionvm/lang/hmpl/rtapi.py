@@ -100,7 +100,12 @@ class HmplRuntime(PassiveClient):
 
     def close(self) -> None:
         """The run is over: free the program's memory and namespace now, without waiting
-        for a full garbage collection (the generated code and its namespace form a cycle)."""
+        for a full garbage collection (the generated code and its namespace form a cycle).
+        The tasks still suspended are closed first, while the names their `finally` and
+        `except` clauses use still exist."""
+        for t in self.kernel.tasks:
+            if t.gen is not None:
+                self.kernel.stop(t.id)
         self.ns.clear()
         self.mem.release()
 
