@@ -342,9 +342,9 @@ def test_pragma_and_null_directive_are_accepted():
 def test_macro_expansion_blowup_is_stopped():
     lines = ["#define M0 x"] + [f"#define M{k} M{k - 1} M{k - 1}" for k in range(1, 24)]
     _out, errors = pp("\n".join(lines) + "\nM23")
-    assert errors == ["pp.hmpl:25:1: error: macro expansion of 'M17' too large"] or any(
-        "too large" in e for e in errors
-    )
+    assert errors == [
+        "pp.hmpl:25:1: error: macro expansion of 'M23' needs more than 200000 macro expansions"
+    ]
 
 
 def test_crlf_line_ends():

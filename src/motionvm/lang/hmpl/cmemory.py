@@ -208,15 +208,18 @@ class TaskStack:
         self.top = base
 
     def push(self, size: int, valid: bytes) -> int:
-        """Allocate a frame of `size` bytes, zeroed, with `valid` as its shadow pattern."""
+        """Allocate a frame of `size` bytes whose first len(`valid`) bytes are zeroed with
+        `valid` as their shadow pattern; the rest is only reserved (charged to the stack,
+        never valid): the bytes of local arrays that the function keeps as Python lists."""
         fp = self.top
         end = fp + size
         if end > self.limit:
             raise RuntimeFault(
                 f"stack overflow: task stack of {self.limit - self.base} bytes exhausted"
             )
-        self.mem.buf[fp:end] = bytes(size)
-        self.mem.shadow[fp:end] = valid
+        n = len(valid)
+        self.mem.buf[fp : fp + n] = bytes(n)
+        self.mem.shadow[fp : fp + n] = valid
         self.top = end
         return fp
 

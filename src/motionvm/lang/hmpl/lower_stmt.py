@@ -41,6 +41,9 @@ class FunctionLowerer(ExprLowering, AccessLowering, LoopLowering, JumpLowering):
         self.loops: list[LoopCtx] = []
         self.frame_size = 0
         self.frame_valid = bytearray()
+        # bytes of the local arrays kept as Python lists: charged to the task's stack
+        # (reserved above the frame, never valid) so that recursion stays bounded
+        self.list_bytes = 0
         self._ntemp = 0
         self._pynames: set[str] = set()
         self.in_init = func is None
@@ -97,6 +100,8 @@ class FunctionLowerer(ExprLowering, AccessLowering, LoopLowering, JumpLowering):
             raise self.fail(d.pos, f"variable '{d.name}' declared void")
         if self.prog.list_backed(d, t):
             sym = VarSym(d.name, t, "pylist", d.pos, pyname=self.unique_local(d.name))
+            if self.func is not None:
+                self.list_bytes += (max(t.size, 1) + 7) // 8 * 8
             out = self.init_var(sym, d.init, d.pos)
             self.scope.names[d.name] = sym
             return out
@@ -339,14 +344,17 @@ class FunctionLowerer(ExprLowering, AccessLowering, LoopLowering, JumpLowering):
         if not isinstance(sym.type.ret, ct.VoidT):
             zero = ast.Constant(0.0 if sym.type.ret.is_float else 0)
             body.append(at([ast.Return(value=zero)], f.pos)[0])
-        if self.frame_size:
+        if self.frame_size or self.list_bytes:
             push = [
                 ast.Assign(targets=[name("_s", True)], value=name("_stack")),
                 ast.Assign(
                     targets=[name("_fp", True)],
                     value=ast.Call(
                         func=ast.Attribute(value=name("_s"), attr="push", ctx=ast.Load()),
-                        args=[ast.Constant(self.frame_size), ast.Constant(bytes(self.frame_valid))],
+                        args=[
+                            ast.Constant(self.frame_size + self.list_bytes),
+                            ast.Constant(bytes(self.frame_valid)),
+                        ],
                         keywords=[],
                     ),
                 ),

@@ -34,7 +34,7 @@ DIRECTIVES = (
     "pragma",
 )
 MAX_EXPANSIONS = 200_000  # macro expansions in one text region before we give up
-MAX_TOKENS = 2_000_000  # tokens made by substitutions in one text region
+MAX_TOKENS = 1_000_000  # tokens made by macro substitutions in one task file (and its includes)
 MAX_NESTING = 200  # nested macro calls in arguments
 
 _EMPTY: frozenset[str] = frozenset()
@@ -131,8 +131,9 @@ class Preprocessor:
             "_TASKID_": Macro("_TASKID_", here, [Token("int", str(task_id), here, task_id)])
         }
         self._expansions = 0
-        self._tokens_made = 0
+        self._tokens_made = 0  # for the whole run: what expansion adds stays bounded
         self._nesting = 0
+        self._use: Token | None = None  # the macro use being expanded in the file's text
 
     # ------------------------------------------------------------ files
 
@@ -147,7 +148,7 @@ class Preprocessor:
             line = toks[ds].pos.line
             self._flush_errors(st, line - 1, active)
             if active and ds > prev:
-                self._expansions = self._tokens_made = 0
+                self._expansions = 0
                 self.out.extend(self.expand(toks[prev:ds]))
             end_line = toks[de - 1].pos.line
             self._flush_errors(st, end_line, active)
@@ -155,7 +156,7 @@ class Preprocessor:
             prev = de
         self._flush_errors(st, 1 << 60, active)
         if active and prev < len(toks):
-            self._expansions = self._tokens_made = 0
+            self._expansions = 0
             self.out.extend(self.expand(toks[prev:]))
         for c in st.conds:
             self.sink.error(c.pos, "unterminated #if (no matching #endif)")
@@ -420,6 +421,9 @@ class Preprocessor:
         starts = [i for i, s in enumerate(map(_text, toks)) if s in macros]
         if not starts:
             return list(toks)
+        if self._tokens_made > MAX_TOKENS:
+            return list(toks)  # over the budget (reported): the rest stays unexpanded
+        top = hs_map is None
         if hs_map is None:
             hs_map = {}
         src = _Source(toks)
@@ -437,6 +441,7 @@ class Preprocessor:
                     return out
                 out.extend(toks[src.next : starts[k]])
                 src.next = starts[k]
+            written = not stack
             t = src.pop()
             if t is None:
                 return out
@@ -449,10 +454,17 @@ class Preprocessor:
             if t.text in hs:
                 append(t)
                 continue
+            if top and written:
+                self._use = t  # a use written in the text: errors name it
             self._expansions += 1
             if self._expansions >= MAX_EXPANSIONS:
                 if self._expansions == MAX_EXPANSIONS:
-                    self.sink.error(t.pos, f"macro expansion of '{t.text}' too large")
+                    use = self._use or t
+                    self.sink.error(
+                        use.pos,
+                        f"macro expansion of '{use.text}' needs more than "
+                        f"{MAX_EXPANSIONS} macro expansions",
+                    )
                 # give up expanding: the rest goes to the parser as it is
                 out.append(t)
                 out.extend(reversed(stack))
@@ -555,29 +567,49 @@ class Preprocessor:
                 )
                 if pasted:
                     arg = args[k]
-                    res.extend(arg if arg else [_PLACEMARKER])
+                    piece = arg if arg else [_PLACEMARKER]
                 else:
                     if k not in expanded:
                         expanded[k] = self._expand_argument(m, args[k], pos, hs_map)
-                    res.extend(expanded[k])
+                    piece = expanded[k]
+                if self._tokens_made + len(res) + len(piece) > MAX_TOKENS:
+                    return self._over_budget(m, pos)  # checked before the copy is made
+                res.extend(piece)
                 i += 1
+        if self._tokens_made + len(res) > MAX_TOKENS:
+            return self._over_budget(m, pos)
         self._tokens_made += len(res)
-        if self._tokens_made > MAX_TOKENS:
-            if self._expansions < MAX_EXPANSIONS:
-                self.sink.error(pos, f"macro expansion of '{m.name}' too large")
-            self._expansions = MAX_EXPANSIONS + 1
-            return []
         if any(t is _PASTE for t in res):
             res = self._apply_pastes(res, pos)
         out: list[Token] = []
+        # hide sets are shared: one union per distinct hide set of the argument tokens
+        unions: dict[frozenset[str], frozenset[str]] = {}
         for t in res:
             if t is _PLACEMARKER:
                 continue
             old = hs_map.get(id(t))
             nt = Token(t.kind, t.text, t.pos, t.value, t.suffix)
-            hs_map[id(nt)] = (nt, (old[1] | hs) if old is not None and old[0] is t else hs)
+            if old is not None and old[0] is t:
+                u = unions.get(old[1])
+                if u is None:
+                    u = unions[old[1]] = old[1] | hs
+                hs_map[id(nt)] = (nt, u)
+            else:
+                hs_map[id(nt)] = (nt, hs)
             out.append(nt)
         return out
+
+    def _over_budget(self, m: Macro, pos: SourcePos) -> list[Token]:
+        """Report (once) that expansion made too many tokens; stop expanding."""
+        if self._tokens_made <= MAX_TOKENS:
+            use = self._use
+            name, where = (use.text, use.pos) if use is not None else (m.name, pos)
+            self.sink.error(
+                where, f"macro expansion of '{name}' produces more than {MAX_TOKENS} tokens"
+            )
+        self._tokens_made = MAX_TOKENS + 1
+        self._expansions = MAX_EXPANSIONS + 1
+        return []
 
     def _expand_argument(
         self, m: Macro, arg: list[Token], pos: SourcePos, hs_map: dict

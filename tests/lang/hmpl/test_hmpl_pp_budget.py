@@ -1,0 +1,49 @@
+"""The preprocessor's expansion budget: memory stays bounded, the error is clear."""
+
+import tracemalloc
+
+from motionvm.lang.hmpl.preprocess import MAX_TOKENS, preprocess
+from motionvm.source.diagnostics import DiagnosticSink
+
+
+def _doubling(levels: int) -> str:
+    lines = ["#define A0(x) x x"]
+    lines += [f"#define A{i}(x) A{i - 1}(A{i - 1}(x))" for i in range(1, levels + 1)]
+    lines.append(f"void main(void) {{ int y = A{levels}(1); }}")
+    return "\n".join(lines) + "\n"
+
+
+def test_doubling_macros_stop_at_the_token_budget_with_bounded_memory():
+    sink = DiagnosticSink()
+    tracemalloc.start()
+    try:
+        preprocess("blow.hmpl", task_id=0, sink=sink, text=_doubling(39))
+        _cur, peak = tracemalloc.get_traced_memory()
+    finally:
+        tracemalloc.stop()
+    assert [d.headline() for d in sink.items] == [
+        f"blow.hmpl:41:27: error: macro expansion of 'A39' produces more than {MAX_TOKENS} tokens"
+    ]
+    assert peak < 200_000_000, peak
+
+
+def test_budget_is_per_file_not_per_region():
+    # each region stays under the budget; together they pass it
+    big = "#define T10 x x x x x x x x x x\n#define T100 T10 T10 T10 T10 T10 T10 T10 T10 T10 T10\n"
+    big += "#define T1K T100 T100 T100 T100 T100 T100 T100 T100 T100 T100\n"
+    big += "#define T10K T1K T1K T1K T1K T1K T1K T1K T1K T1K T1K\n"
+    big += "#define T100K T10K T10K T10K T10K T10K T10K T10K T10K T10K T10K\n"
+    text = big + "".join(f"T100K\n#define D{k}\n" for k in range(12))
+    sink = DiagnosticSink()
+    preprocess("many.hmpl", task_id=0, sink=sink, text=text)
+    errors = [d.headline() for d in sink.errors()]
+    assert len(errors) == 1 and errors[0].endswith(
+        f"macro expansion of 'T100K' produces more than {MAX_TOKENS} tokens"
+    )
+
+
+def test_ordinary_expansion_is_untouched():
+    sink = DiagnosticSink()
+    toks = preprocess("ok.hmpl", task_id=0, sink=sink, text=_doubling(3))
+    assert not sink.items
+    assert sum(t.text == "1" for t in toks) == 256
