@@ -3,7 +3,7 @@
 Positions are in axis units [mm or deg]; the drive works in encoder counts
 (`counts_per_unit`). Two coordinate systems differ by the position offset of SetPos:
 the slave's (raw feedback, offset output) and the axis's (reference, pos_out, pos_fb):
-    slave = axis + pos_offset.
+    slave = axis + pos_offset (+ the compensation while it is active, axis_filters.py).
 Commands are methods that raise `AxisCommandError(code, message)` when the manual's
 rules refuse them; `code` is the low half of the axis error (table 18.1.2.1). An
 accepted move makes `moving` true and `in_pos` false at once, in the calling cycle.
@@ -27,6 +27,7 @@ from motionvm.drives.objects import MODE_CSP, MODE_CST
 from motionvm.motion import axis_status as st
 from motionvm.motion.axis_config import AxisConfig, build_drive
 from motionvm.motion.axis_cycle import PG, PVT, TORQUE, AxisCycle
+from motionvm.motion.axis_filters import AxisFilters
 from motionvm.motion.axis_follow import AxisFollow
 from motionvm.motion.axis_settings import AxisSettings
 from motionvm.motion.axis_status import AxisCommandError
@@ -86,8 +87,10 @@ class Axis(AxisSettings, AxisCycle, AxisFollow):
         "buffer_mode", "config", "controlled_by", "cpu", "drive", "dt", "enabled", "extra_status",
         "fault_status", "halted", "ignore_hwl", "ignore_pe", "in_pos", "inpos_radius",
         "kill_dec", "last_error", "move_time_ms", "moving", "op_mode", "pg", "pos_fb",
-        "pos_fb_raw", "pos_offset", "ref_acc", "ref_pos", "ref_vel", "resting", "rotary",
-        "settling_time_ms", "stopping", "vel_scale", "__weakref__"
+        "pos_fb_raw", "ref_acc", "ref_pos", "ref_vel", "resting", "rotary",
+        "settling_time_ms", "stopping", "vel_scale", "__weakref__",
+        # filters and compensation (axis_filters.py)
+        "_cmd_path", "_comp_dependents", "_pos_offset", "_slave_offset", "comp_pos", "filters",
     )  # fmt: skip
 
     def __init__(self, axis_id: int, config: AxisConfig, dt: float, drive=None):
@@ -122,7 +125,13 @@ class Axis(AxisSettings, AxisCycle, AxisFollow):
         self.controlled_by: str | None = None
         """Who commands the axis instead of the controller's tasks (a PDL drive), or None."""
         """Bits that gear, group, gantry and homing set (3-9, 11, 12 of table 5.1.1.5)."""
-        self.pos_offset = 0.0
+        self._pos_offset = self._slave_offset = 0.0
+        self.comp_pos = 0.0
+        """[mm] The compensation sent to the drive this cycle (GetCompPos)."""
+        self._comp_dependents: tuple[Axis, ...] = ()  # compensated axes that read this one
+        self.filters = AxisFilters(self)
+        """VSF, InShape and compensation (motion/axis_filters.py)."""
+        self._cmd_path: AxisFilters | None = None  # `filters` while any of them is on
         self.move_time_ms = self.settling_time_ms = 0.0
         # the reference: its source (axis_cycle.PG ...) and what each source needs
         self._reference_source = PG
@@ -203,6 +212,8 @@ class Axis(AxisSettings, AxisCycle, AxisFollow):
         return False
 
     def _drop_motion(self) -> None:
+        if self._cmd_path is not None:
+            self._cmd_path.dropped()
         self._command_queue.clear()
         self._reference_source = PG
         self.pg.reset(self.pos_fb)
@@ -308,6 +319,8 @@ class Axis(AxisSettings, AxisCycle, AxisFollow):
             self._buffered(MoveRelative(dist))
             return
         base = self.ref_pos if self.following is None else self.pg.output[0]
+        if self._cmd_path is not None and self._cmd_path.pending:
+            base = self._cmd_path.unfiltered_pos  # where the plan is, not the filter
         self._start(MoveAbsolute(self._rel_target(base, dist)))
 
     def move_vel(self, vel: float) -> None:

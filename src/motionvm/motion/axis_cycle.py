@@ -65,6 +65,8 @@ class AxisCycle:
                 return
             self.resting = False
             self._still_cycles = 0
+            if self._comp_dependents:
+                self._wake_dependents()
         drive = self.drive
         self._cycle += 1
         # 1.-3. reference, software limits, outputs
@@ -73,6 +75,8 @@ class AxisCycle:
                 p, v, a = self.pg.step()
             else:
                 p, v, a = self._reference()
+            if self._cmd_path is not None:  # filters, compensation (axis_filters.py)
+                p, v, a = self._cmd_path.step(self, p, v, a)
             self.ref_pos = p
             self.ref_vel = v
             self.ref_acc = a
@@ -86,7 +90,7 @@ class AxisCycle:
             mode = self.op_mode
             if mode == MODE_CSP:
                 # x.__round__() is round(x) without the built-in's method lookup
-                counts = ((p + self.pos_offset) * self.cpu).__round__()
+                counts = ((p + self._slave_offset) * self.cpu).__round__()
                 if (counts + 0x80000000) >> 32:  # beyond int32: the target wraps
                     counts = ((counts + 0x80000000) & 0xFFFFFFFF) - 0x80000000
                 drive.target_position = counts
@@ -110,7 +114,7 @@ class AxisCycle:
             self._feedback_counts = counts = self._feedback_counts + delta
             self._position_actual = position_actual
             self.pos_fb_raw = raw = counts / self.cpu
-            self.pos_fb = raw - self.pos_offset
+            self.pos_fb = raw - self._slave_offset
         # an enabled axis needs a drive in Operation enabled following its cyclic
         # target, no fault; any other statusword is looked at closely
         enabled = self.enabled
@@ -134,7 +138,8 @@ class AxisCycle:
                 # region I lasts while the generator outputs new positions: until the
                 # first cycle that repeats the last one (the velocity is then 0)
                 moving = (self.ref_vel != 0.0 or not self.pg.is_done or bool(self._command_queue)
-                          or self._deferred_move is not None)  # fmt: skip
+                          or self._deferred_move is not None
+                          or (self._cmd_path is not None and self._cmd_path.pending))  # fmt: skip
             elif src == TORQUE:
                 moving = self._torque_per_mille != 0
             elif src == EXT:  # a provider may say when its reference rests (gear, gantry)
@@ -165,6 +170,27 @@ class AxisCycle:
     @max_pos_err.setter
     def max_pos_err(self, value: float) -> None:
         self._max_pos_err, self._min_pos_err = value, -value
+
+    @property
+    def pos_offset(self) -> float:
+        """Position offset [mm] of SetPos and homing: slave = axis + pos_offset (+ comp)."""
+        return self._pos_offset
+
+    @pos_offset.setter
+    def pos_offset(self, value: float) -> None:
+        self._pos_offset = value
+        self._slave_offset = value + self.comp_pos
+
+    @property
+    def slave_offset(self) -> float:
+        """[mm] slave - axis position: the position offset plus the compensation."""
+        return self._slave_offset
+
+    def _set_comp(self, comp: float) -> None:
+        """Send compensation `comp` [mm] from this cycle on; the feedback follows suit."""
+        self.comp_pos = comp
+        self._slave_offset = self._pos_offset + comp
+        self.pos_fb = self.pos_fb_raw - self._slave_offset
 
     # ---- 2. software limits ---------------------------------------------------------
 
@@ -427,6 +453,8 @@ class AxisCycle:
     def _idle_candidate(self) -> bool:
         if self.moving or self._enabling or self._fault_reset_cycles is not None:
             return False
+        if self._cmd_path is not None and not self._cmd_path.may_rest():
+            return False
         if self.enabled:
             return self.in_pos and self._reference_source == PG and not self._command_queue
         return True
@@ -460,6 +488,14 @@ class AxisCycle:
         self._commands_seen += 1
         self.resting = False
         self._still_cycles = 0
+        if self._comp_dependents:
+            self._wake_dependents()
+
+    def _wake_dependents(self) -> None:
+        """This axis may move: the axes whose compensation reads it must step too."""
+        for d in self._comp_dependents:
+            d.resting = False
+            d._still_cycles = 0
 
     @property
     def home_switch(self) -> bool:

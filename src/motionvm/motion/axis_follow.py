@@ -27,6 +27,8 @@ class AxisFollow:
         self._provider = provider
         self._reference_source = EXT
         self.resting = False
+        if self._comp_dependents:
+            self._wake_dependents()
 
     @property
     def following(self):

@@ -107,9 +107,16 @@ class AxisSettings:
         """Make the current position read `pos` by changing the position offset (5.3.19).
 
         Refused on an axis in the synchronous state (5.3.19; a coupled gear slave,
-        IsSync 1) with eERR_AXIS_CMD_INVALID_IN_SYNC: its position is the master's.
+        IsSync 1) with eERR_AXIS_CMD_INVALID_IN_SYNC: its position is the master's; and
+        with eERR_AXIS_CMD_INVALID_COMP_ENABLED while an active compensation fixes its
+        coordinates (14.1: it is compensated, or a reference axis of a compensation).
         """
         self.wake()
+        if self.filters.locks_origin:
+            raise AxisCommandError(
+                st.CMD_INVALID_COMP_ENABLED,
+                f"axis {self.axis_id}: dynamic error compensation fixes its origin",
+            )
         if self.extra_status & st.MS_SYNC:
             raise AxisCommandError(
                 st.CMD_INVALID_IN_SYNC, f"axis {self.axis_id} is synchronous (a gear slave)"
@@ -123,7 +130,7 @@ class AxisSettings:
             raise AxisCommandError(st.CMD_INVALID_POS, f"axis {self.axis_id}: position {pos!r}")
         shift = pos - self.pos_fb
         self.pos_offset -= shift
-        self.pos_fb = self.pos_fb_raw - self.pos_offset
+        self.pos_fb = self.pos_fb_raw - self.slave_offset
         self.ref_pos += shift
         self.pg.reset(self.ref_pos)
         self._in_pos_cycles = 0
@@ -131,8 +138,8 @@ class AxisSettings:
 
     @property
     def pos_out(self) -> float:
-        """Position command without offset [mm] (no compensation: the reference)."""
-        return self.ref_pos
+        """Position command without offset [mm]: the reference plus the compensation."""
+        return self.ref_pos + self.comp_pos
 
     def _wrapped(self, x: float) -> float:
         r = self.rollover
@@ -260,15 +267,15 @@ _GETTERS = {
     "ref_pos": _w("ref_pos"),
     "ref_vel": lambda a: a.ref_vel,
     "ref_acc": lambda a: a.ref_acc,
-    "comp_pos_set": lambda a: 0.0,
-    "pos_comp": _w("ref_pos"),
+    "comp_pos_set": lambda a: a.comp_pos,
+    "pos_comp": _w("pos_out"),
     "pos_offset": lambda a: a.pos_offset,
-    "pos_out": _w("ref_pos"),
+    "pos_out": _w("pos_out"),
     "vel_out": lambda a: a.ref_vel,
     "acc_out": lambda a: a.ref_acc,
-    "offset_pos_out": lambda a: a.ref_pos + a.pos_offset,
+    "offset_pos_out": lambda a: a.ref_pos + a.slave_offset,
     "pos_fb_raw": lambda a: a.pos_fb_raw,
-    "offset_pos_fb": lambda a: a.pos_fb + a.pos_offset,
+    "offset_pos_fb": lambda a: a.pos_fb + a.slave_offset,
     "pos_fb": _w("pos_fb"),
     "vel_fb": lambda a: a.vel_fb,
     "pos_err": lambda a: a.ref_pos - a.pos_fb,

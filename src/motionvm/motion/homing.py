@@ -171,6 +171,11 @@ class AxisHoming:
             )
         if a.moving:
             raise AxisCommandError(st.CMD_INVALID_MOVING, f"axis {a.axis_id} is moving")
+        if a.filters.locks_origin:  # homing sets the origin, which compensation fixes (14.1)
+            raise AxisCommandError(
+                st.CMD_INVALID_COMP_ENABLED,
+                f"axis {a.axis_id}: dynamic error compensation fixes its origin",
+            )
         method = METHODS[self.settings.method]
         if method.number == 37:
             self.error, self.message = 0, ""
@@ -226,7 +231,7 @@ class AxisHoming:
         a = self.axis
         offset = self.settings.offset
         a.pos_offset -= offset - home
-        a.pos_fb = a.pos_fb_raw - a.pos_offset
+        a.pos_fb = a.pos_fb_raw - a.slave_offset
         a.ref_pos = offset if a.ref_pos == home else a.ref_pos + (offset - home)
         a.pg.reset(a.ref_pos)
 

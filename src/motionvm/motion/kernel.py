@@ -29,6 +29,7 @@ from motionvm.motion.axis_config import AxisConfig
 from motionvm.motion.gantry import GantrySet
 from motionvm.motion.gear import GearBox
 from motionvm.motion.homing import AxisHoming
+from motionvm.motion.inshape import InShapeSettings
 from motionvm.motion.touchprobe import TouchProbe
 from motionvm.runtime.waits import Waiting
 
@@ -56,6 +57,8 @@ class MotionKernel:
         """Master state of the bus [1, 2, 4, 8]."""
         self.system_last_error = 0
         self.group_last_error = [0] * N_GROUPS
+        self.group_inshape = [InShapeSettings() for _ in range(N_GROUPS)]
+        """Each group's InShape settings (SetGrpInShape, EnableGrpInShape: chapter 15)."""
         self.estopped = False
         """True after EStop: IsSystemError answers 1."""
         self._bus_steps: list[int] = []

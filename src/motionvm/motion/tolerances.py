@@ -66,3 +66,8 @@ def limit_violation(
                 return f"cycle {k}: jerk {jerk!r} exceeds the limit {j_max!r}"
         a_prev = a
     return None
+
+
+FILTER_SETTLE = 1e-9
+"""[mm] A recursive command filter (VSF) whose output is this close to a resting input
+snaps onto it: its output then equals the input exactly and nothing is pending."""

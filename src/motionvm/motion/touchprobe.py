@@ -98,4 +98,4 @@ class TouchProbe:
         latched = d.read(TOUCH_PROBE_1_POS + 2 * self.source + self._latch_edge())
         # unwrap the int32 latch next to the current feedback count
         counts = round(a.pos_fb_raw * a.cpu) + wrap_i32(latched - d.position_actual)
-        return counts / a.cpu - a.pos_offset
+        return counts / a.cpu - a.slave_offset

@@ -10,6 +10,8 @@ the manual's parameters in the manual's order and units (mm or deg, mm/s, mm/s^2
 | 5 axis | `axis.py` | Enable ... GetCmdNum, IsEnabled ... IsAcc |
 | 6 gear, 7 gantry | `sync.py` | EnableGear ... IsGearSlave, EnableGantryPair ... IsGantryPair |
 | 13 touch probe | `touchprobe.py` | EnableTouchProbe ... SetTouchProbeFunc |
+| 14 compensation | `compensation.py` | EnableComp ... SetCompAlgType, GetPosFbComp, IsCompActive |
+| 15 filters | `filters.py` | EnableAxisVsf ... SetGrpInShape |
 | 18 errors | `system.py` | GetSystemLastErr ... GetDriveErr |
 | 20 homing | `homing.py` | MoveHome, SetHomeMethod ... SetHomedStatus |
 
@@ -40,6 +42,8 @@ homing, touch probes, bus, last errors), so any number of front ends may each ho
 from __future__ import annotations
 
 from motionvm.motion.commands.axis import AxisCommands
+from motionvm.motion.commands.compensation import CompensationCommands
+from motionvm.motion.commands.filters import FilterCommands
 from motionvm.motion.commands.homing import HomingCommands
 from motionvm.motion.commands.sync import GantryCommands, GearCommands
 from motionvm.motion.commands.system import BusCommands, ErrorCommands
@@ -56,5 +60,7 @@ class MotionCommands(
     TouchProbeCommands,
     ErrorCommands,
     HomingCommands,
+    CompensationCommands,
+    FilterCommands,
 ):
     """Every motion function of the manual, on one motion kernel (see the module docstring)."""

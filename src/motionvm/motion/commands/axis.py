@@ -185,9 +185,6 @@ class AxisCommands(CommandBase):
     def GetPosFb(self, axis_id: int) -> float:
         return self._var(axis_id, "pos_fb")
 
-    def GetPosFbComp(self, axis_id: int) -> float:
-        return self._var(axis_id, "pos_fb")  # no compensation tables yet: the same
-
     def GetPosOffset(self, axis_id: int) -> float:
         return self._var(axis_id, "pos_offset")
 
@@ -310,10 +307,6 @@ class AxisCommands(CommandBase):
 
     def IsPosErr(self, axis_id: int) -> int:
         return self._fault(axis_id, st.FS_POSITION_ERROR)
-
-    def IsCompActive(self, axis_id: int) -> int:
-        self._axis(axis_id)
-        return 0  # no compensation tables are simulated
 
     def IsAcc(self, axis_id: int) -> int:
         return self._flag(axis_id, "accelerating")
