@@ -13,7 +13,8 @@ Table, spline in 3-D) eERR_AXIS_CMD_INVALID_PARAMETER; a table value beyond the
 compensation limit (1 mm) eERR_AXIS_COMP_LIMIT; SetupComp* or SetCompAlgType while
 compensation is active eERR_AXIS_CMD_INVALID_COMP_ENABLED; EnableComp / DisableComp of
 an enabled axis eERR_AXIS_CMD_INVALID_ENABLED (14.2, 14.3); EnableComp without a
-map eERR_AXIS_COMP_NOT_CNFG. Each is stored as the axis's last error.
+map eERR_AXIS_COMP_NOT_CNFG; any of them on an axis a PDL program or GDL motor owns
+eERR_AXIS_CMD_INVALID_CONTROL_MODE. Each is stored as the axis's last error.
 """
 
 from __future__ import annotations
@@ -94,24 +95,24 @@ class CompensationCommands(CommandBase):
             axis_id, start_idx, base_val[:3], interval[:3], num_pt[:3], ref_axis_id[:3], user_table
         )
 
-    def SetCompAlgType(self, axis_id: int, alg_type: int) -> int:
+    def _comp_command(self, axis_id: int, method: str, *args) -> int:
         a = self._axis(axis_id)
         if a is None:
             return st.SYS_HMPL_ARG_OUT_OF_RANGE
-        return self._run(a, a.filters.set_comp_alg, alg_type)
+        if a.controlled_by is not None:  # a PDL program or a GDL motor owns the axis
+            return self._fail(a, st.CMD_INVALID_CONTROL_MODE)
+        return self._run(a, getattr(a.filters, method), *args)
+
+    def SetCompAlgType(self, axis_id: int, alg_type: int) -> int:
+        return self._comp_command(axis_id, "set_comp_alg", alg_type)
 
     def EnableComp(self, axis_id: int) -> int:
         a = self._axis(axis_id)
-        if a is None:
-            return st.SYS_HMPL_ARG_OUT_OF_RANGE
-        refs = tuple(self.motion.axes[i] for i in a.filters.comp_ref_ids)
-        return self._run(a, a.filters.enable_comp, refs)
+        refs = () if a is None else tuple(self.motion.axes[i] for i in a.filters.comp_ref_ids)
+        return self._comp_command(axis_id, "enable_comp", refs)
 
     def DisableComp(self, axis_id: int) -> int:
-        a = self._axis(axis_id)
-        if a is None:
-            return st.SYS_HMPL_ARG_OUT_OF_RANGE
-        return self._run(a, a.filters.disable_comp)
+        return self._comp_command(axis_id, "disable_comp")
 
     def GetCompPos(self, axis_id: int) -> float:
         a = self._axis(axis_id)
