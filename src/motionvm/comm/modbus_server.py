@@ -1,0 +1,85 @@
+"""The Modbus TCP server: pymodbus's framing and function codes on the register map.
+
+pymodbus decodes the frames (MBAP header, function codes 1, 2, 3, 4, 5, 6, 15, 16, 22,
+23; an unknown function code gets exception 01, a malformed frame an exception
+response or a closed connection) and asks a server context for values; our context
+(`_MapContext`) hands every read and write to the simulation thread through the hub
+(comm/hub.py) and answers from the register map (comm/modbus_map.py). Any unit id is
+served. At most `MAX_CLIENTS` connections: the next one is accepted and closed at once.
+"""
+
+from __future__ import annotations
+
+import asyncio
+from collections.abc import Sequence
+
+from pymodbus.constants import ExcCodes
+from pymodbus.datastore import ModbusServerContext
+from pymodbus.server import ModbusTcpServer
+
+from motionvm.comm import modbus_map
+from motionvm.comm.hub import CommHub
+from motionvm.comm.lineserver import MAX_CLIENTS
+
+
+class _MapContext(ModbusServerContext):
+    """A server context whose values live in the simulation (any unit id)."""
+
+    def __init__(self, hub: CommHub) -> None:  # no super().__init__: no datastore of its own
+        self.hub = hub
+        self.old_simulator = True  # pymodbus: use this context's async_*Values as they are
+        self.simdevices: list = []
+        self._devices: dict = {}
+
+    async def async_getValues(self, device_id: int, func_code: int, address: int, count: int = 1):
+        hub = self.hub
+        res = await asyncio.wrap_future(
+            hub.post(lambda: modbus_map.read(hub, func_code, address, count))
+        )
+        return ExcCodes(res) if isinstance(res, int) else res
+
+    async def async_setValues(
+        self, device_id: int, func_code: int, address: int, values: Sequence[int] | Sequence[bool]
+    ):
+        hub = self.hub
+        vals = list(values)
+        res = await asyncio.wrap_future(
+            hub.post(lambda: modbus_map.write(hub, func_code, address, vals))
+        )
+        return None if res is None else ExcCodes(res)
+
+    def device_ids(self) -> list[int]:
+        return [0]
+
+
+class _Refuse(asyncio.Protocol):
+    """A connection over the limit: closed as soon as it is made."""
+
+    def connection_made(self, transport: asyncio.BaseTransport) -> None:
+        transport.close()
+
+
+class _Server(ModbusTcpServer):
+    def handle_new_connection(self):
+        if len(self.active_connections) >= MAX_CLIENTS:
+            return _Refuse()
+        return super().handle_new_connection()
+
+
+class ModbusServer:
+    """The Modbus TCP server of one hub, on the servers' event loop."""
+
+    def __init__(self, hub: CommHub) -> None:
+        self.hub = hub
+        self._server: _Server | None = None
+
+    async def start(self, host: str, port: int) -> int:
+        """Listen on (host, port); the bound port (port 0: a free one)."""
+        self._server = _Server(_MapContext(self.hub), address=(host, port))
+        await self._server.serve_forever(background=True)
+        listener = self._server.transport
+        return listener.sockets[0].getsockname()[1]  # type: ignore[union-attr]
+
+    async def stop(self) -> None:
+        if self._server is not None:
+            await self._server.shutdown()
