@@ -116,21 +116,27 @@ def parse_request(line: str) -> Request:
         return Request("write", name, (value,))
     if toks[1] != ("punct", "("):
         raise RequestError(f"expected '(' or '=' after '{name}'")
-    if toks[-1] != ("punct", ")"):
-        raise RequestError(f"missing ')' at the end of the call of '{name}'")
+    missing = RequestError(f"missing ')' at the end of the call of '{name}'")
     args: list[object] = []
     i = 2
-    if toks[i] != ("punct", ")"):
+    if i < len(toks) and toks[i] == ("punct", ")"):
+        i += 1
+    else:
         while True:
+            if i >= len(toks):
+                raise missing
             value, i = _arg(toks, i)
             args.append(value)
+            if i >= len(toks):
+                raise missing
             if toks[i] == ("punct", ")"):
+                i += 1
                 break
             if toks[i] != ("punct", ","):
                 raise RequestError(f"expected ',' or ')' in the call of '{name}'")
             i += 1
-    if i != len(toks) - 1:
-        raise RequestError(f"unexpected '{toks[i + 1][1]}' after the call of '{name}'")
+    if i != len(toks):
+        raise RequestError(f"unexpected '{toks[i][1]}' after the call of '{name}'")
     return Request("call", name, tuple(args))
 
 
