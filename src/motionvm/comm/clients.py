@@ -4,7 +4,7 @@
 Each operation returns a `Job` (comm/hub.py) whose result is the manual's return value
 (0 or an error code) and the data; the language's built-in waits at a yield until the
 job is done (at once in an unpaced run). The socket table lives in the hub; ids count
-from 1 per kind. Decisions where the manual is silent:
+from 10 per kind (the manual's examples use socket 10). Decisions where the manual is silent:
 - at most `CLIENT_LIMIT` connections of each kind: the next connect fails
   (0x17D5 / 0x1839, "or already reach limit");
 - an unknown socket id gives eERR_HMPL_CLIENT_NOT_CONNECTED (0x1452), a length out of

@@ -65,6 +65,10 @@ class AsciiAgentPort(Protocol):
         ...
 
 
+FIRST_SOCKET_ID = 10
+"""The first client socket id of each kind (the manual's examples use socket 10)."""
+
+
 class RequestError(Exception):
     """A request that cannot run: its reply is `ERR <message>`."""
 
@@ -183,11 +187,12 @@ class CommHub(PassiveClient):
             return Job(self._pool.submit(fn))
 
     def add_socket(self, kind: str, sock: object, limit: int) -> int | None:
-        """Register a connected client socket; its id (from 1), None at `limit`."""
+        """Register a connected client socket; its id (from FIRST_SOCKET_ID), None at
+        `limit`."""
         table = self.sockets[kind]
         if len(table) >= limit:
             return None
-        sid = 1
+        sid = FIRST_SOCKET_ID
         while sid in table:
             sid += 1
         table[sid] = sock

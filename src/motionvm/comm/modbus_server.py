@@ -15,7 +15,9 @@ from collections.abc import Sequence
 
 from pymodbus.constants import ExcCodes
 from pymodbus.datastore import ModbusServerContext
+from pymodbus.pdu import ExceptionResponse
 from pymodbus.server import ModbusTcpServer
+from pymodbus.server.requesthandler import ServerRequestHandler
 
 from motionvm.comm import modbus_map
 from motionvm.comm.hub import CommHub
@@ -59,7 +61,29 @@ class _Refuse(asyncio.Protocol):
         transport.close()
 
 
+class _Handler(ServerRequestHandler):
+    """pymodbus's connection handler, answering an unknown function code with that code
+    (pymodbus says function 0: `0x80 0x01`; a client expects `fc|0x80 0x01`)."""
+
+    _frame = b""
+
+    def callback_data(self, data: bytes, addr: tuple | None = None) -> int:
+        self._frame = data
+        return super().callback_data(data, addr)
+
+    def server_send(self, pdu, addr) -> None:
+        frame = self._frame
+        if isinstance(pdu, ExceptionResponse) and pdu.function_code == 0x80 and len(frame) > 7:
+            pdu.function_code = frame[7] | 0x80
+            pdu.transaction_id = int.from_bytes(frame[0:2], "big")
+            pdu.dev_id = frame[6]
+        super().server_send(pdu, addr)
+
+
 class _Server(ModbusTcpServer):
+    def callback_new_connection(self):
+        return _Handler(self, self.trace_packet, self.trace_pdu, self.trace_connect)
+
     def handle_new_connection(self):
         if len(self.active_connections) >= MAX_CLIENTS:
             return _Refuse()
