@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import asyncio
 import concurrent.futures
+import os
 import threading
 
 from motionvm.comm import native
@@ -117,9 +118,8 @@ class CommServers:
             try:
                 ports[name] = await srv.start(cfg.bind, port)
             except OSError as exc:
-                raise OSError(
-                    f"{name} server cannot listen on {cfg.bind}:{port}: {exc.strerror or exc}"
-                ) from None
+                why = os.strerror(exc.errno) if exc.errno else str(exc)
+                raise OSError(f"{name} server cannot listen on {cfg.bind}:{port}: {why}") from None
             except RuntimeError as exc:  # pymodbus: "Could not start listen"
                 raise OSError(f"{name} server cannot listen on {cfg.bind}:{port}: {exc}") from None
             self._servers.append(srv)
