@@ -127,3 +127,24 @@ def test_a_reset_connection_leaves_the_controller_running(server):
         time.sleep(0.02)
     assert reply == "still here"
     assert srv.running and sim.fault_count == 0
+
+
+def test_a_client_that_never_reads_its_replies_is_throttled(server):
+    """A flood from a client that reads nothing: TCP flow control stops the server from
+    reading more of it; the other clients are served meanwhile; nothing piles up."""
+    port = server[1].ports["native-ascii"]
+    flood = socket.create_connection(("127.0.0.1", port), timeout=WAIT)
+    flood.setblocking(False)
+    line = b"system_ltest8 = 1\n"
+    sent = 0
+    deadline = time.monotonic() + 3.0
+    while time.monotonic() < deadline and sent < 50_000_000:  # bounded in time and bytes
+        try:
+            sent += flood.send(line * 4096)
+        except BlockingIOError:
+            time.sleep(0.01)
+    assert sent < 50_000_000  # the server stopped taking it in
+    other = LineClient(port)
+    assert other.ask("system_ltest8") == "1"
+    other.close()
+    flood.close()

@@ -70,6 +70,8 @@ class LineServer:
             await self._lines(reader, writer)
         except (ConnectionError, asyncio.IncompleteReadError):
             pass
+        except Exception as exc:  # noqa: BLE001 — a bug of ours: tell the client, close
+            await _reply(writer, f"ERR internal error of motionvm (a bug): {exc}", True)
         finally:
             self.writers.discard(writer)
             writer.close()

@@ -219,7 +219,7 @@ def execute(hub: CommHub, request: Request) -> str:
     table = hub.native
     try:
         if table is None:
-            raise RequestError("no program is loaded: built-ins and variables need one")
+            raise RequestError("this run has no HMPL program: built-ins and variables need one")
         if request.kind == "call":
             return table.native_call(request.name, list(request.args))
         if request.kind == "read":
@@ -227,6 +227,8 @@ def execute(hub: CommHub, request: Request) -> str:
         return table.native_write(request.name, request.args[0])
     except RequestError as exc:
         return f"ERR {exc}"
+    except Exception as exc:  # noqa: BLE001 — a bug of ours; the client still gets a reply
+        return f"ERR internal error of motionvm (a bug): {type(exc).__name__}: {exc}"
 
 
 def handle_line(line: str) -> Request | str:
