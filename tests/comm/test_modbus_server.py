@@ -202,6 +202,8 @@ def test_malformed_frames_get_an_exception_or_a_closed_connection(server, junk):
         reply = b""
     if reply:
         assert reply[7] & 0x80  # an exception response
+    else:  # or a closed connection
+        assert s.recv(10) == b""
     s.close()
     c = ModbusTcpClient("127.0.0.1", port=port, timeout=WAIT, retries=0)  # still serving
     assert c.connect()

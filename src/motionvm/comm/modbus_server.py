@@ -6,11 +6,14 @@ response or a closed connection) and asks a server context for values; our conte
 (`_MapContext`) hands every read and write to the simulation thread through the hub
 (comm/hub.py) and answers from the register map (comm/modbus_map.py). Any unit id is
 served. At most `MAX_CLIENTS` connections: the next one is accepted and closed at once.
+A frame whose header is not Modbus TCP's (protocol id 0, length 2..254), or more than
+260 bytes that hold no complete frame, close the connection; pymodbus's log messages are not printed (a NullHandler on its logger).
 """
 
 from __future__ import annotations
 
 import asyncio
+import logging
 from collections.abc import Sequence
 
 from pymodbus.constants import ExcCodes
@@ -22,6 +25,9 @@ from pymodbus.server.requesthandler import ServerRequestHandler
 from motionvm.comm import modbus_map
 from motionvm.comm.hub import CommHub
 from motionvm.comm.lineserver import MAX_CLIENTS
+
+# pymodbus logs every malformed frame a client sends; a server's stderr is not the place
+logging.getLogger("pymodbus").addHandler(logging.NullHandler())
 
 
 class _MapContext(ModbusServerContext):
@@ -67,7 +73,25 @@ class _Handler(ServerRequestHandler):
 
     _frame = b""
 
+    def data_received(self, data: bytes) -> None:
+        # more than one frame's worth (260 bytes) without a complete frame: pymodbus would
+        # drop it silently and wait; a client that cannot be understood is closed instead
+        if len(self.recv_buffer) + len(data) > self.max_buffer_size:
+            if self.transport is not None:
+                self.transport.close()
+            return
+        super().data_received(data)
+
     def callback_data(self, data: bytes, addr: tuple | None = None) -> int:
+        # `data` starts at a frame boundary: a header that is no Modbus TCP header (a
+        # protocol id other than 0, a length outside 2..254) means a stream that cannot
+        # be resynchronised: close the connection rather than wait for more
+        if len(data) >= 6:
+            protocol, length = int.from_bytes(data[2:4], "big"), int.from_bytes(data[4:6], "big")
+            if protocol != 0 or not 2 <= length <= 254:
+                if self.transport is not None:
+                    self.transport.close()
+                return len(data)
         self._frame = data
         return super().callback_data(data, addr)
 

@@ -25,6 +25,7 @@ import collections
 import concurrent.futures
 import inspect
 import json
+from functools import lru_cache
 from importlib import resources
 
 from motionvm.comm.hub import CommHub, RequestError
@@ -51,7 +52,9 @@ OUT_SIZE = 1024
 NO_AGENT = "ERR no ASCII agent is running (the program calls START_ASCII_AGENT)"
 
 
+@lru_cache(maxsize=1)
 def _param_dirs() -> dict[str, list[str]]:
+    """Built-in name -> the direction ("in", "out") of each parameter (manual [in]/[out])."""
     data = resources.files("motionvm.data").joinpath("hmpl_api.json").read_text("utf-8")
     return {e["name"]: [p.get("dir", "in") for p in e["params"]] for e in json.loads(data)}
 
