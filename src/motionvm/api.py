@@ -181,6 +181,7 @@ class Simulation:
         self.runtime = self.session.hmpl
         """The HMPL run time (None without HMPL files)."""
         self._variables: Variables | None = None
+        self._serving: Serving | None = None
         self._finalizer = weakref.finalize(self, self.session.close)
         self.session.boot()
 
@@ -211,6 +212,8 @@ class Simulation:
     def close(self) -> None:
         """Free the simulation's memory now; it cannot run afterwards (`SessionError`).
         What it recorded (`messages`, `faults`, recordings) stays readable."""
+        if self._serving is not None:
+            self._serving.stop()
         self._finalizer()
 
     @property
@@ -243,10 +246,13 @@ class Simulation:
         0: a free port) and run the simulation paced to the wall clock in a background
         thread, as `motionvm serve` does, until `until` seconds or `Serving.stop()`.
         Returns at once with the bound ports (`Serving.ports`); `SessionError` if a server
-        cannot listen. Do not call `run`, `step` or `write` while it serves."""
-        return Serving(
-            self, CommConfig(bind, native_ascii_port, user_ascii_port, modbus_port), until
-        )
+        cannot listen, or if it is already being served. Do not call `run`, `step` or
+        `write` while it serves; `close()` stops it first."""
+        if self._serving is not None and self._serving.running:
+            raise SessionError("this simulation is already being served")
+        comm = CommConfig(bind, native_ascii_port, user_ascii_port, modbus_port)
+        self._serving = Serving(self, comm, until)
+        return self._serving
 
     def step(self, cycles: int = 1) -> None:
         """Run exactly `cycles` controller cycles (with `raise_faults`: fewer, if a fault

@@ -6,9 +6,10 @@ from __future__ import annotations
 import time
 from pathlib import Path
 
+import pytest
 from comm_helpers import LineClient, served
 
-from motionvm.api import Simulation
+from motionvm.api import SessionError, Simulation
 
 PROGRAMS = Path(__file__).parent / "programs"
 
@@ -158,3 +159,13 @@ def test_broadcast_without_a_server_or_a_client_does_nothing():
         sim.run(until=0.01)
         assert sim.messages == ["sent"]
         assert "length 129 is out of range (0..128)" in str(sim.faults[0])
+
+
+def test_serve_twice_is_refused_and_close_stops_serving():
+    sim = Simulation.from_source("void main() { }")
+    srv = sim.serve(until=100.0)
+    with pytest.raises(SessionError, match="already being served"):
+        sim.serve()
+    sim.close()  # stops the served run first
+    assert not srv.running
+    assert srv.result is not None and srv.result.reason == "stopped"
