@@ -21,7 +21,6 @@ from 10 per kind (the manual's examples use socket 10). Decisions where the manu
 
 from __future__ import annotations
 
-import concurrent.futures
 import ipaddress
 import socket
 import struct
@@ -48,6 +47,8 @@ MODBUS_LIMITS = {1: 2000, 2: 2000, 3: 125, 4: 125, 15: 1968, 16: 123}
 
 
 def _done(value: object) -> Job:
+    import concurrent.futures
+
     fut: concurrent.futures.Future = concurrent.futures.Future()
     fut.set_result(value)
     return Job(fut)

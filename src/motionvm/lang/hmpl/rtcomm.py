@@ -22,14 +22,11 @@ the controller's communication hub (comm/hub.py) as its
 from __future__ import annotations
 
 import collections
-import concurrent.futures
-import inspect
 import json
 from functools import lru_cache
 from importlib import resources
 
 from motionvm.comm.hub import CommHub, RequestError
-from motionvm.comm.native import Ident, format_value
 from motionvm.lang.hmpl import ctypes_ as ct
 from motionvm.lang.hmpl.catalog import builtin_signatures, constants
 from motionvm.lang.hmpl.cmemory import TaskStack, wrap_scalar
@@ -49,6 +46,8 @@ RES_SIZE = 2048
 """Bytes of the `res` buffer the parser writes its answer into."""
 OUT_SIZE = 1024
 """Bytes reserved for each out-parameter."""
+_CO_GENERATOR = 0x20
+"""`co_flags` bit of a generator function (inspect.CO_GENERATOR, without importing inspect)."""
 NO_AGENT = "ERR no ASCII agent is running (the program calls START_ASCII_AGENT)"
 
 
@@ -70,10 +69,6 @@ class HmplComm(PassiveClient):
 
     def __init__(self, rt) -> None:
         self.rt = rt
-        self.sigs = builtin_signatures()
-        self.blocking = implemented_builtins()
-        self.dirs = _param_dirs()
-        self.consts = constants()
         self.vars = HmplSource(rt)
         self.scratch = _stack(rt.mem, SCRATCH_SIZE, "<native ascii>")
         self.agent_stack = _stack(rt.mem, AGENT_STACK_SIZE, "<ascii agent>")
@@ -111,6 +106,8 @@ class HmplComm(PassiveClient):
             raise RequestError(str(exc)) from None
 
     def native_read(self, name: str) -> str:
+        from motionvm.comm.native import format_value
+
         return format_value(self.read_variable(name))
 
     def native_write(self, name: str, value: object) -> str:
@@ -121,10 +118,13 @@ class HmplComm(PassiveClient):
         return "OK"
 
     def _constant(self, value: object) -> object:
+        from motionvm.comm.native import Ident
+
         if isinstance(value, Ident):
-            c = self.consts.get(value.name)
+            consts = constants()
+            c = consts.get(value.name)
             if c is None:
-                hint = did_you_mean(value.name, self.consts)
+                hint = did_you_mean(value.name, consts)
                 raise RequestError(f"unknown constant '{value.name}'{hint}")
             return c.value
         return value
@@ -132,19 +132,22 @@ class HmplComm(PassiveClient):
     # ------------------------------------------------------------ Native ASCII calls
 
     def native_call(self, name: str, args: list) -> str:
+        from motionvm.comm.native import format_value
+
         if name in ("HIMC_GPI", "HIMC_GPO"):
             return self._gpio(name, [self._constant(a) for a in args])
         if name == "Till":
             raise RequestError("Till waits inside a task; it cannot be called over Native ASCII")
-        sig = self.sigs.get(name)
+        sigs = builtin_signatures()  # the tables are read at the first request (cached)
+        sig = sigs.get(name)
         if sig is None:
-            raise RequestError(f"unknown function '{name}'{did_you_mean(name, self.sigs)}")
-        blocking = self.blocking.get(name)
+            raise RequestError(f"unknown function '{name}'{did_you_mean(name, sigs)}")
+        blocking = implemented_builtins().get(name)
         if blocking is None:
             raise RequestError(f"{name} (manual {sig.section}) is not implemented")
         if blocking or name == "START_ASCII_AGENT":
             raise RequestError(f"{name} only makes sense inside a task; it cannot be called over Native ASCII")  # fmt: skip
-        dirs = self.dirs.get(name, [])
+        dirs = _param_dirs().get(name, [])
         ins = [i for i, (_pn, pt) in enumerate(sig.params) if not self._is_out(dirs, i, pt)]
         if len(args) < len(ins) or (len(args) > len(ins) and not sig.variadic):
             want = f"at least {len(ins)}" if sig.variadic else str(len(ins))
@@ -212,6 +215,8 @@ class HmplComm(PassiveClient):
         return addr
 
     def _out_value(self, addr: int, ptype: ct.CType) -> str:
+        from motionvm.comm.native import format_value
+
         target = ptype.target if isinstance(ptype, ct.PtrT) else ct.INT
         mem = self.rt.mem
         if isinstance(target, ct.IntT) and target.size == 1 and target.signed:
@@ -221,6 +226,8 @@ class HmplComm(PassiveClient):
         return format_value(mem.load(addr, "i64"))
 
     def _gpio(self, name: str, args: list) -> str:
+        from motionvm.comm.native import format_value
+
         rt = self.rt
         if not args or len(args) > (2 if name == "HIMC_GPO" else 1):
             raise RequestError(f"{name} takes the I/O number (and, for HIMC_GPO, a value)")
@@ -247,7 +254,7 @@ class HmplComm(PassiveClient):
             )
         self.parser, self.parser_task = parser, task_id
 
-    def accept(self, line: str, reply: concurrent.futures.Future) -> None:
+    def accept(self, line: str, reply) -> None:
         if self.parser is None:
             reply.set_result(NO_AGENT)
             return
@@ -271,7 +278,7 @@ class HmplComm(PassiveClient):
         if self.rt.cycle >= self._wake:
             self._resume()
 
-    def _start_line(self, line: str, reply: concurrent.futures.Future) -> None:
+    def _start_line(self, line: str, reply) -> None:
         stack, mem = self.agent_stack, self.rt.mem
         stack.reset()
         data = line.encode("latin-1", "replace") + b"\0"
@@ -279,7 +286,7 @@ class HmplComm(PassiveClient):
         mem.write_bytes(cmd, data)
         res = stack.push(RES_SIZE, b"\x01" * RES_SIZE)
         parser = self.parser
-        if inspect.isgeneratorfunction(parser):
+        if getattr(getattr(parser, "__code__", None), "co_flags", 0) & _CO_GENERATOR:
             gen = parser(cmd, res)
         else:
             gen = _plain(parser, cmd, res)

@@ -11,7 +11,6 @@ than its end) to every connected User ASCII client; with none connected it does 
 
 from __future__ import annotations
 
-from motionvm.comm.clients import ClientCommands
 from motionvm.lang.hmpl.lib.base import Library, builtin
 from motionvm.runtime.errors import RuntimeFault
 
@@ -24,7 +23,16 @@ class CommLib(Library):
     def __init__(self, rt) -> None:
         super().__init__(rt)
         self.hub = rt.controller.comm
-        self.clients = ClientCommands(self.hub)
+        self._clients = None
+
+    @property
+    def clients(self):
+        """The client operations (`comm.clients`, imported by the first client call)."""
+        if self._clients is None:
+            from motionvm.comm.clients import ClientCommands
+
+            self._clients = ClientCommands(self.hub)
+        return self._clients
 
     def _text(self, addr: int, length: int, what: str) -> bytes:
         """Up to `length` bytes of the string at `addr`, stopping at its NUL."""
