@@ -101,6 +101,9 @@ def test_requests_that_cannot_run_get_err_with_a_reason(client):
     assert client.ask("Till(1)") == (
         "ERR Till waits inside a task; it cannot be called over Native ASCII"
     )
+    assert client.ask("system_timeInMs = 0") == (
+        "ERR system_timeInMs is read-only (the controller sets it every cycle)"
+    )
     assert client.ask("cuont") == "ERR unknown variable 'cuont' (did you mean 'count'?)"
     assert client.ask("MoveAbs(0, HMPL_ABZ)").startswith("ERR unknown constant 'HMPL_ABZ'")
     assert client.ask("StringLen(0)") == "ERR null StringLen string pointer"

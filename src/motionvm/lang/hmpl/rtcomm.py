@@ -46,6 +46,8 @@ RES_SIZE = 2048
 """Bytes of the `res` buffer the parser writes its answer into."""
 OUT_SIZE = 1024
 """Bytes reserved for each out-parameter."""
+READ_ONLY = frozenset({"system_timeInMs", "system_fclk"})
+"""System variables the controller sets every cycle: a request cannot write them."""
 _CO_GENERATOR = 0x20
 """`co_flags` bit of a generator function (inspect.CO_GENERATOR, without importing inspect)."""
 NO_AGENT = "ERR no ASCII agent is running (the program calls START_ASCII_AGENT)"
@@ -98,6 +100,8 @@ class HmplComm(PassiveClient):
         return found[0]()
 
     def write_variable(self, name: str, value: int | float) -> None:
+        if name in READ_ONLY:
+            raise RequestError(f"{name} is read-only (the controller sets it every cycle)")
         try:
             if not self.vars.write(name, value):
                 names = list(self.vars.channel_names())
