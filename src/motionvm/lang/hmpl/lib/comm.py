@@ -85,8 +85,6 @@ class CommLib(Library):
 
     @builtin(blocking=True)
     def ASCII_ClientRecv(self, socket_id: int, length: int, buffer: int):
-        if 1 <= length:
-            self.mem.check(buffer, min(length, 512) + 1, "buffer")
         code, data = yield from self._wait(self.clients.ascii_recv(socket_id, length))
         if code == 0:
             self.mem.write_bytes(buffer, data + b"\0", "buffer")
