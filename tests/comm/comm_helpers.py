@@ -10,6 +10,7 @@ import asyncio
 import contextlib
 import socket
 import threading
+import time
 from collections.abc import Iterator
 
 from motionvm.api import Simulation
@@ -103,10 +104,12 @@ def modbus_peer() -> Iterator[int]:
 
 
 @contextlib.contextmanager
-def line_peer(replies: dict[bytes, bytes] | None = None) -> Iterator[tuple[int, list[bytes]]]:
+def line_peer(
+    replies: dict[bytes, bytes] | None = None, delay: float = 0.0
+) -> Iterator[tuple[int, list[bytes]]]:
     """A raw TCP server on a free loopback port for the ASCII client functions: it
-    records what it receives and answers each received chunk found in `replies`; it
-    sends `hello` on connect. Yields (port, received chunks)."""
+    records what it receives and answers each received chunk found in `replies`, after
+    `delay` seconds [wall]; it sends `hello` on connect. Yields (port, received chunks)."""
     replies = replies or {}
     listener = socket.create_server(("127.0.0.1", 0))
     listener.settimeout(WAIT)
@@ -135,6 +138,7 @@ def line_peer(replies: dict[bytes, bytes] | None = None) -> Iterator[tuple[int, 
                     return
                 received.append(data)
                 if data in replies:
+                    time.sleep(delay)
                     conn.sendall(replies[data])
 
     thread = threading.Thread(target=main, daemon=True)

@@ -260,25 +260,49 @@ def test_a_closed_server_gives_recv_fail():
         assert sim.messages == ["17df"]
 
 
+SLOW_PROGRAM = """
+void main() {
+    char buf[64];
+    int s;
+    ASCII_ClientConnect("127.0.0.1", "PORT", &s);
+    ASCII_ClientRecv(s, 5, buf);
+    ASCII_ClientSend(s, 5, "slow\\n");
+    int t0 = system_timeInMs;
+    ASCII_ClientRecv(s, 60, buf);
+    system_ltest1 = system_timeInMs - t0;
+    Print("%s", buf);
+    system_ltest0 = 1;
+}
+"""
+
+
+def test_an_unpaced_run_does_not_advance_the_clock_while_the_network_works():
+    with line_peer({b"slow\n": b"answer"}, delay=0.3) as (port, _received):
+        with run_program(SLOW_PROGRAM.replace("PORT", str(port))) as sim:
+            assert sim.messages == ["answer"]
+            assert sim.read("system_ltest1") == 0
+
+
 def test_a_paced_run_takes_the_time_the_network_takes():
-    """Served (paced), a client call waits at a yield while task 1 goes on counting."""
-    with line_peer({b"slow\n": b"answer"}) as (port, _received):
-        program = f"""
-        void main() {{
-            char buf[64];
-            int s;
-            ASCII_ClientConnect("127.0.0.1", "{port}", &s);
-            ASCII_ClientRecv(s, 5, buf);
-            ASCII_ClientSend(s, 5, "slow\\n");
-            ASCII_ClientRecv(s, 60, buf);
-            Print("%s", buf);
-            system_ltest0 = 1;
-        }}
-        """
-        sim = Simulation.from_source(program)
+    """Served (paced), the call waits 0.3 s of wall time: 0.3 s of simulated time pass
+    while the task waits at a yield, and the other tasks go on."""
+    with line_peer({b"slow\n": b"answer"}, delay=0.3) as (port, _received):
+        sim = Simulation.from_source(SLOW_PROGRAM.replace("PORT", str(port)))
         with sim, sim.serve() as srv:
             for _ in range(250):  # bounded: 5 s
                 if sim.read("system_ltest0") == 1:
                     break
                 srv.wait(0.02)
             assert sim.messages == ["answer"]
+            assert sim.read("system_ltest1") >= 250  # [ms], the peer's 300 ms less slack
+
+
+def test_the_same_run_gives_the_same_stamped_output():
+    runs = []
+    with modbus_peer() as port:  # a deterministic peer of its own
+        for _ in range(2):
+            program = example("modbus_21_3_3_read_holdreg.hmpl", port)
+            with Simulation.from_source(program, stamp=True) as sim:
+                sim.run(until=10)
+                runs.append(list(sim.messages))
+    assert runs[0] == runs[1] == ["[t=5.000][task 0] 12", "[t=5.000][task 0] 34"]
