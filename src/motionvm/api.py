@@ -15,12 +15,14 @@ channels (sim/variables.py); docs/api.md has the whole API with examples.
 
 from __future__ import annotations
 
+import threading
 import weakref
 from collections.abc import Callable, Sequence
 from pathlib import Path
 from types import TracebackType
 from typing import Any
 
+from motionvm.comm.config import CommConfig
 from motionvm.lang.hmpl.compiler import TaskFile
 from motionvm.runtime.fault_position import Fault
 from motionvm.session import CompileFailed, RunResult, RunSpec, Session, SessionError, Source
@@ -34,6 +36,7 @@ __all__ = [
     "CompileError",
     "Fault",
     "Recording",
+    "Serving",
     "RunResult",
     "SessionError",
     "Simulation",
@@ -178,6 +181,7 @@ class Simulation:
         self.runtime = self.session.hmpl
         """The HMPL run time (None without HMPL files)."""
         self._variables: Variables | None = None
+        self._serving: Serving | None = None
         self._finalizer = weakref.finalize(self, self.session.close)
         self.session.boot()
 
@@ -208,6 +212,8 @@ class Simulation:
     def close(self) -> None:
         """Free the simulation's memory now; it cannot run afterwards (`SessionError`).
         What it recorded (`messages`, `faults`, recordings) stays readable."""
+        if self._serving is not None:
+            self._serving.stop()
         self._finalizer()
 
     @property
@@ -226,6 +232,27 @@ class Simulation:
         result = self.session.run(until, timeout=timeout)
         self._log.raise_pending()
         return result
+
+    def serve(
+        self,
+        *,
+        bind: str = "127.0.0.1",
+        native_ascii_port: int = 0,
+        user_ascii_port: int = 0,
+        modbus_port: int = 0,
+        until: float | None = None,
+    ) -> Serving:
+        """Start the controller's TCP servers (Native ASCII, User ASCII, Modbus TCP; port
+        0: a free port) and run the simulation paced to the wall clock in a background
+        thread, as `motionvm serve` does, until `until` seconds or `Serving.stop()`.
+        Returns at once with the bound ports (`Serving.ports`); `SessionError` if a server
+        cannot listen, or if it is already being served. Do not call `run`, `step` or
+        `write` while it serves; `close()` stops it first."""
+        if self._serving is not None and self._serving.running:
+            raise SessionError("this simulation is already being served")
+        comm = CommConfig(bind, native_ascii_port, user_ascii_port, modbus_port)
+        self._serving = Serving(self, comm, until)
+        return self._serving
 
     def step(self, cycles: int = 1) -> None:
         """Run exactly `cycles` controller cycles (with `raise_faults`: fewer, if a fault
@@ -323,3 +350,61 @@ class Simulation:
         recorder = ScopeRecorder(found, self.controller.cycle_time, every)
         recorder.attach(self.controller)
         return Recording(recorder, self.controller)
+
+
+class Serving:
+    """A simulation served over TCP in a background thread (`Simulation.serve`)."""
+
+    def __init__(self, sim: Simulation, comm: CommConfig, until: float | None) -> None:
+        self.sim = sim
+        self.ports: dict[str, int] = {}
+        """Bound port by server: "native-ascii", "user-ascii", "modbus"."""
+        self.result: RunResult | None = None
+        """Why the served run stopped (None while it runs)."""
+        self._error: BaseException | None = None
+        ready = threading.Event()
+
+        def on_ready(ports: dict[str, int]) -> None:
+            self.ports = dict(ports)
+            ready.set()
+
+        def main() -> None:
+            try:
+                self.result = sim.session.serve(until, ready=on_ready, comm=comm)
+            except BaseException as exc:  # noqa: BLE001 — handed to the caller
+                self._error = exc
+            finally:
+                ready.set()
+
+        self._thread = threading.Thread(target=main, name="motionvm-serve", daemon=True)
+        self._thread.start()
+        ready.wait()
+        if self._error is not None:
+            self._thread.join()
+            raise self._error
+
+    @property
+    def running(self) -> bool:
+        return self._thread.is_alive()
+
+    def wait(self, timeout: float | None = None) -> RunResult | None:
+        """Wait until the served run ends (its `until`), at most `timeout` seconds [wall]."""
+        self._thread.join(timeout)
+        return self.result
+
+    def stop(self) -> RunResult | None:
+        """Stop the run at the next cycle and close the servers; why it stopped."""
+        controller = self.sim.controller
+        while self._thread.is_alive():
+            controller.stop_requested = True
+            self._thread.join(0.05)
+        if self._error is not None:
+            error, self._error = self._error, None
+            raise error
+        return self.result
+
+    def __enter__(self) -> Serving:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.stop()

@@ -36,6 +36,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from motionvm.comm.config import CommConfig
 from motionvm.runtime.scope import ScopeError
 from motionvm.runtime.waits import Waiting
 from motionvm.sim.controller import FINISHED, UNTIL, Controller
@@ -366,6 +367,7 @@ class Session:
         self.machine = machine
         self.controller = ctl = Controller(machine.cycle_time, machine=machine)
         ctl.skip = spec.skip and os.environ.get("MOTIONVM_NO_SKIP", "") in ("", "0")
+        ctl.comm.config = machine.comm
         self.hmpl: HmplRuntime | None = None
         self.pdl = None
         self.gdl = None
@@ -390,6 +392,11 @@ class Session:
             )
             self.hmpl.stamp = spec.stamp
             ctl.add_client(self.hmpl)
+            from motionvm.lang.hmpl.rtcomm import HmplComm
+
+            self.hmpl_comm = HmplComm(self.hmpl)  # Native ASCII, variables, ASCII agent
+            self.hmpl_comm.attach(ctl.comm)
+            ctl.add_client(self.hmpl_comm)
         if compiled.pdl:
             from motionvm.lang.pdl.machine_drives import PdlDrives
 
@@ -485,6 +492,7 @@ class Session:
                     f"{option} must be a finite, non-negative number of seconds, got {value}"
                 )
         self.boot()
+        self.controller.comm.paced = realtime  # client built-ins take network time
         by_timeout = timeout is not None and (until is None or timeout <= until)
         if by_timeout:
             asked = end = timeout
@@ -502,6 +510,31 @@ class Session:
         waiting = self.controller.still_running() if reason in (UNTIL, TIMEOUT) else []
         return RunResult(reason, self.controller.sim_time, waiting, asked)
 
+    def serve(
+        self,
+        until: float | None = None,
+        ready: Callable[[dict[str, int]], None] | None = None,
+        comm: CommConfig | None = None,
+    ) -> RunResult:
+        """A run paced to the wall clock with the TCP servers listening (comm/servers.py;
+        `comm`: address and ports, default the machine file's `[comm]`), until `until`
+        seconds, or until `controller.stop_requested` is set (STOPPED) or Ctrl-C (the
+        KeyboardInterrupt goes on after the servers closed). The servers keep answering
+        after every task has ended. `ready(ports)` is called once they listen."""
+        from motionvm.comm.servers import CommError, CommServers
+
+        servers = CommServers(self.controller.comm, comm or self.machine.comm)
+        try:
+            ports = servers.start()
+        except CommError as exc:
+            raise SessionError(str(exc)) from None
+        try:
+            if ready is not None:
+                ready(ports)
+            return self.run(until, realtime=True)
+        finally:
+            servers.stop()
+
     def step(self, cycles: int = 1) -> None:
         """Run exactly `cycles` controller cycles."""
         self.boot()
@@ -518,6 +551,7 @@ class Session:
         if self.closed:
             return
         self.closed = True
+        self.controller.comm.close()
         if self.hmpl is not None:
             self.hmpl.close()
 

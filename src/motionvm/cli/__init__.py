@@ -1,4 +1,4 @@
-"""The `motionvm` command: run | check | compile | builtins | errors | dump | scope | test.
+"""The `motionvm` command: run | check | compile | builtins | errors | dump | scope | test | serve.
 
 Parsing arguments and printing only: every run is assembled by `motionvm.session`, the
 same code the Python API uses. Exit codes: 0 ok; 1 a task stopped with a runtime
@@ -104,6 +104,10 @@ def _dispatch(args) -> int:
         from motionvm.cli.test import cmd_test
 
         return cmd_test(args)
+    if args.cmd == "serve":
+        from motionvm.cli.serve import cmd_serve
+
+        return cmd_serve(args)
     from motionvm.cli import run
 
     if args.cmd == "check":

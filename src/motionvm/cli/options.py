@@ -211,6 +211,9 @@ def build_parser() -> argparse.ArgumentParser:
     _scenario(s)
     _task(s)
     add_test_parser(sub)
+    from motionvm.cli.serve import add_serve_parser  # serve.py imports this module
+
+    add_serve_parser(sub)
     return p
 
 

@@ -18,6 +18,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 
+from motionvm.comm.hub import CommHub
 from motionvm.io.gpio import DigitalIO
 from motionvm.motion.kernel import MotionKernel
 from motionvm.runtime.clients import CycleClient
@@ -57,6 +58,9 @@ class Controller:
         self.io = DigitalIO()
         self.clients: list[CycleClient] = []
         """Run sides stepped each cycle, in the order added (runtime/clients.py)."""
+        self.comm = CommHub(self.clock, self.io, self.motion)
+        """Servers' requests and client sockets (comm/hub.py): the first client of a cycle."""
+        self.add_client(self.comm)
         self.skip = True
         """Jump the clock over cycles in which nothing can change; False steps every
         cycle (`--no-skip`): the results are identical either way."""

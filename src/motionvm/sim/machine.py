@@ -8,6 +8,9 @@ cycle_time_ms = 1.0     # controller cycle [ms], 0.125 .. 100
 task_slice = 2000       # loop back-edges a task may run per cycle before it yields
 data_dir = "data"       # folder for persistent data (user table), relative to this file
 
+[comm]                  # TCP servers and clients (comm/config.py lists the keys)
+modbus_port = 1502
+
 [[axis]]                # axis 0; every key is optional (motion/axis_config.py lists them)
 type = "linear"         # or "rotary" (units deg instead of mm)
 counts_per_unit = 10000 # encoder counts per mm (or deg)
@@ -39,6 +42,7 @@ import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from motionvm.comm.config import COMM_KEYS, CommConfig, load_comm
 from motionvm.motion.axis_config import AxisConfig, AxisConfigError, build_drive
 from motionvm.motion.axis_config import create as create_axis
 from motionvm.source.toml_places import TomlProblems, syntax_error_place, undecodable_place
@@ -69,6 +73,8 @@ class MachineConfig:
     """The drives that run a PDL program, by axis id."""
     gdl_motors: tuple[GdlMotorSpec, ...] = ()
     """The axes that are a GDL motor object named in the machine file, by axis id."""
+    comm: CommConfig = field(default_factory=CommConfig)
+    """`[comm]`: the TCP servers' address and ports, the clients' timeout (comm/config.py)."""
 
 
 @dataclass(frozen=True)
@@ -107,6 +113,7 @@ def default_axes(n: int) -> tuple[AxisConfig, ...]:
 DEFAULT_MACHINE = MachineConfig()
 
 _KNOWN = {"controller": {"cycle_time_ms", "task_slice", "data_dir"}, "axis": set(), "axes": set()}
+_KNOWN["comm"] = COMM_KEYS
 
 
 class _Problems(TomlProblems):
@@ -151,9 +158,9 @@ def load_machine(path: str | Path) -> MachineConfig:
             continue
         if sec not in _KNOWN:
             if isinstance(val, dict):
-                problems.at(sec, None, f"unknown section [{sec}] (known: axis, controller)")
+                problems.at(sec, None, f"unknown section [{sec}] (known: axis, comm, controller)")
             else:
-                problems.at("", sec, f"unknown key '{sec}' (known: axes, axis, controller)")
+                problems.at("", sec, f"unknown key '{sec}' (known: axes, axis, comm, controller)")
             continue
         if not isinstance(val, dict):
             problems.at("", sec, f"'{sec}' must be a table")
@@ -192,6 +199,7 @@ def load_machine(path: str | Path) -> MachineConfig:
         )
         data_dir = None
     axes, pdl, gdl = _load_axes(data, problems)
+    comm = load_comm(data.get("comm"), problems)
     problems.raise_any()
     return MachineConfig(
         cycle_time=cycle_ms / 1000.0,
@@ -201,6 +209,7 @@ def load_machine(path: str | Path) -> MachineConfig:
         axes=axes,
         pdl_drives=pdl,
         gdl_motors=gdl,
+        comm=comm,
     )
 
 

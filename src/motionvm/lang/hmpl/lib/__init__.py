@@ -21,6 +21,7 @@ _MODULES = (
     "motionvm.lang.hmpl.lib.gantry",
     "motionvm.lang.hmpl.lib.compensation",
     "motionvm.lang.hmpl.lib.filters",
+    "motionvm.lang.hmpl.lib.comm",
 )
 
 

@@ -1,0 +1,87 @@
+"""`motionvm serve`: a run paced to the wall clock with the controller's TCP servers.
+
+The bound ports are printed on stderr as the servers start (`native-ascii listening on
+127.0.0.1:3999`, then `user-ascii ...` and `modbus ...`); program messages go to stdout,
+one flushed line each. The run goes on after every task has ended, until `--until` or
+Ctrl-C, both normal ends (exit 0; 1 if a task stopped with a runtime error).
+"""
+
+from __future__ import annotations
+
+import sys
+
+from motionvm.cli.exits import EXIT_COMPILE, EXIT_OK, EXIT_RUNTIME, UsageError
+from motionvm.cli.options import duration
+from motionvm.cli.run import flush_stdout, sources_of, stdout_gone
+from motionvm.session import CompileFailed, RunSpec, Session, SessionError
+
+
+def add_serve_parser(sub) -> None:
+    s = sub.add_parser(
+        "serve",
+        help="run programs in real time with the TCP servers listening (Native/User ASCII, Modbus)",
+        description="Compile every FILE and run them paced to the wall clock, with the "
+        "Native ASCII, User ASCII and Modbus TCP servers listening on the machine file's "
+        "[comm] address and ports (default 127.0.0.1: 3999, 4000, 502; port 0 picks a "
+        "free port). Stops at --until or Ctrl-C.",
+    )
+    s.add_argument("files", nargs="*", metavar="FILE", help="program files (.hmpl, .pdl, .gdl)")
+    s.add_argument(
+        "--machine", metavar="FILE.toml", help="machine file (default: the built-in machine)"
+    )
+    s.add_argument(
+        "--until", type=duration, metavar="TIME", help="stop after this much time (1.5, 2s, 1min)"
+    )
+    s.add_argument("--stamp", action="store_true", help="prefix messages with [t=SECONDS][task N]")
+    s.add_argument(
+        "--task",
+        action="append",
+        default=[],
+        metavar="N=FILE",
+        help="put the HMPL file FILE on task N (repeatable)",
+    )
+    s.add_argument(
+        "--Werror", dest="werror", action="store_true", help="treat compiler warnings as errors"
+    )
+
+
+def _report(line: str) -> None:
+    flush_stdout()
+    print(line, file=sys.stderr, flush=True)
+
+
+def cmd_serve(args) -> int:
+    sources = sources_of(args)
+    if not sources and not args.machine:
+        raise UsageError("no input files")
+    spec = RunSpec(sources, machine=args.machine, stamp=bool(args.stamp), werror=bool(args.werror))
+    gone = False
+
+    def emit(line: str) -> None:
+        nonlocal gone
+        if gone:
+            return
+        try:
+            sys.stdout.write(line + "\n")
+            sys.stdout.flush()
+        except BrokenPipeError:  # the reader went away; the servers go on
+            gone = True
+            stdout_gone()
+
+    def ready(ports: dict[str, int]) -> None:
+        bind = session.machine.comm.bind
+        for name, port in ports.items():
+            _report(f"{name} listening on {bind}:{port}")
+
+    try:
+        session = Session(spec, emit=emit, report=_report)
+        try:
+            session.serve(args.until, ready=ready)
+        except KeyboardInterrupt:
+            _report("motionvm: serve: stopped (Ctrl-C)")
+    except CompileFailed:
+        return EXIT_COMPILE
+    except SessionError as exc:
+        raise UsageError(str(exc), located=exc.located) from None
+    flush_stdout()
+    return EXIT_RUNTIME if session.fault_count else EXIT_OK

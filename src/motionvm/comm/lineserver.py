@@ -1,0 +1,132 @@
+"""A TCP server of text lines on asyncio: the transport of both ASCII servers.
+
+One request per line: CR, LF or CRLF ends it (an empty line is skipped, so CRLF is one
+terminator); each reply is one line sent with `\\r\\n`. A connection's lines are handled
+one at a time, in order, so a client that floods the server without reading its
+replies is slowed by TCP flow control, and the server's memory per connection stays
+bounded (one read chunk and one line of at most `MAX_LINE` bytes).
+
+Limits: at most `MAX_CLIENTS` connections per server (the next one gets
+`ERR too many clients (8)` and is closed); a line longer than `MAX_LINE` bytes gets
+`ERR line too long` and is discarded up to its terminator. A client that goes away
+loses nothing: the complete lines it sent before are still carried out (their replies
+are dropped).
+"""
+
+from __future__ import annotations
+
+import asyncio
+from collections.abc import Awaitable, Callable
+
+MAX_CLIENTS = 8
+"""Connections per server."""
+MAX_LINE = 1024
+"""Bytes per request line, terminator excluded."""
+_CHUNK = 4096
+
+Handler = Callable[[str], Awaitable[str | None]]
+"""A request line (terminator stripped, decoded as Latin-1) -> its reply (None: none)."""
+
+
+class LineServer:
+    """Accepts connections and feeds their lines to `handler`, one at a time each."""
+
+    def __init__(self, name: str, handler: Handler) -> None:
+        self.name = name
+        self.handler = handler
+        self.writers: set[asyncio.StreamWriter] = set()
+        self.server: asyncio.base_events.Server | None = None
+
+    async def start(self, host: str, port: int) -> int:
+        """Listen on (host, port); the bound port (port 0: a free one)."""
+        self.server = await asyncio.start_server(self._serve, host, port, limit=_CHUNK * 2)
+        return self.server.sockets[0].getsockname()[1]
+
+    async def stop(self) -> None:
+        if self.server is not None:
+            self.server.close()
+        for w in list(self.writers):
+            w.close()
+        if self.server is not None:
+            await self.server.wait_closed()
+
+    def send_all(self, data: bytes) -> None:
+        """Send `data` to every connected client (event loop thread)."""
+        for w in list(self.writers):
+            if not w.is_closing():
+                w.write(data)
+
+    async def _serve(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
+        if len(self.writers) >= MAX_CLIENTS:
+            writer.write(f"ERR too many clients ({MAX_CLIENTS})\r\n".encode())
+            try:
+                await writer.drain()
+            except ConnectionError:
+                pass
+            writer.close()
+            return
+        self.writers.add(writer)
+        try:
+            await self._lines(reader, writer)
+        except (ConnectionError, asyncio.IncompleteReadError):
+            pass
+        except Exception as exc:  # noqa: BLE001 — a bug of ours: tell the client, close
+            await _reply(writer, f"ERR internal error of motionvm (a bug): {exc}", True)
+        finally:
+            self.writers.discard(writer)
+            writer.close()
+
+    async def _lines(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
+        buf = bytearray()
+        discarding = False  # inside a line that was too long, until its terminator
+        alive = True  # the client can still receive replies
+        while True:
+            chunk = await reader.read(_CHUNK)
+            eof = not chunk
+            buf += chunk
+            while True:
+                cut = _terminator(buf)
+                if cut < 0:
+                    break
+                line = bytes(buf[:cut])
+                del buf[: cut + 1]
+                if discarding:
+                    discarding = False
+                    continue
+                if len(line) > MAX_LINE:
+                    alive = await _reply(writer, "ERR line too long", alive)
+                    continue
+                if not line:
+                    continue
+                reply = await self.handler(line.decode("latin-1"))
+                if reply is not None:
+                    alive = await _reply(writer, reply, alive)
+            if len(buf) > MAX_LINE:
+                if not discarding:
+                    alive = await _reply(writer, "ERR line too long", alive)
+                discarding = True
+                buf.clear()
+            if eof:
+                return  # an unterminated rest is not a request
+
+
+def _terminator(buf: bytearray) -> int:
+    """Index of the first CR or LF in `buf`, -1 if none."""
+    cr, lf = buf.find(b"\r"), buf.find(b"\n")
+    if cr < 0:
+        return lf
+    if lf < 0:
+        return cr
+    return min(cr, lf)
+
+
+async def _reply(writer: asyncio.StreamWriter, text: str, alive: bool) -> bool:
+    """Send one reply line; False once the client is gone (later replies are dropped)."""
+    if not alive or writer.is_closing():
+        return False
+    try:
+        writer.write(text.encode("latin-1", "replace") + b"\r\n")
+        await writer.drain()
+    except (ConnectionError, OSError):
+        return False
+    return True
