@@ -23,6 +23,7 @@ Group last errors live here for the group functions to come (16 groups).
 
 from __future__ import annotations
 
+from motionvm.drives.dictionary import SlaveDirectory
 from motionvm.motion import axis_status as st
 from motionvm.motion.axis import Axis
 from motionvm.motion.axis_config import AxisConfig
@@ -52,6 +53,10 @@ class MotionKernel:
         """The homing state of each axis (manual chapter 20), by axis id."""
         self.probes = [TouchProbe(a) for a in self.axes]
         """The touch probe of each axis (manual chapter 13), by axis id."""
+        self.slaves = SlaveDirectory(a.drive.objects for a in self.axes)
+        """The object dictionaries of the bus's slaves: the drives, then I/O modules."""
+        for a in self.axes:  # an SDO/PDO write wakes the axis of that drive
+            a.drive.objects.on_write = a.wake
         self.ecat_state = ECAT_OP
         """Master state of the bus [1, 2, 4, 8]."""
         self.system_last_error = 0

@@ -10,6 +10,7 @@ the manual's parameters in the manual's order and units (mm or deg, mm/s, mm/s^2
 | 5 axis | `axis.py` | Enable ... GetCmdNum, IsEnabled ... IsAcc |
 | 6 gear, 7 gantry | `sync.py` | EnableGear ... IsGearSlave, EnableGantryPair ... IsGantryPair |
 | 13 touch probe | `touchprobe.py` | EnableTouchProbe ... SetTouchProbeFunc |
+| 17.2 slave objects | `objects.py` | ReadSDO ... ReleasePDO |
 | 18 errors | `system.py` | GetSystemLastErr ... GetDriveErr |
 | 20 homing | `homing.py` | MoveHome, SetHomeMethod ... SetHomedStatus |
 
@@ -41,6 +42,7 @@ from __future__ import annotations
 
 from motionvm.motion.commands.axis import AxisCommands
 from motionvm.motion.commands.homing import HomingCommands
+from motionvm.motion.commands.objects import ObjectCommands
 from motionvm.motion.commands.sync import GantryCommands, GearCommands
 from motionvm.motion.commands.system import BusCommands, ErrorCommands
 from motionvm.motion.commands.touchprobe import TouchProbeCommands
@@ -56,5 +58,6 @@ class MotionCommands(
     TouchProbeCommands,
     ErrorCommands,
     HomingCommands,
+    ObjectCommands,
 ):
     """Every motion function of the manual, on one motion kernel (see the module docstring)."""
