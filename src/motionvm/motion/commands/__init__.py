@@ -11,6 +11,7 @@ the manual's parameters in the manual's order and units (mm or deg, mm/s, mm/s^2
 | 6 gear, 7 gantry | `sync.py` | EnableGear ... IsGearSlave, EnableGantryPair ... IsGantryPair |
 | 13 touch probe | `touchprobe.py` | EnableTouchProbe ... SetTouchProbeFunc |
 | 17.2 slave objects | `objects.py` | ReadSDO ... ReleasePDO |
+| 17.3 controller variables | `config.py` | GetConfigVar, SetConfigVar |
 | 18 errors | `system.py` | GetSystemLastErr ... GetDriveErr |
 | 20 homing | `homing.py` | MoveHome, SetHomeMethod ... SetHomedStatus |
 
@@ -41,6 +42,7 @@ homing, touch probes, bus, last errors), so any number of front ends may each ho
 from __future__ import annotations
 
 from motionvm.motion.commands.axis import AxisCommands
+from motionvm.motion.commands.config import ConfigCommands
 from motionvm.motion.commands.homing import HomingCommands
 from motionvm.motion.commands.objects import ObjectCommands
 from motionvm.motion.commands.sync import GantryCommands, GearCommands
@@ -59,5 +61,6 @@ class MotionCommands(
     ErrorCommands,
     HomingCommands,
     ObjectCommands,
+    ConfigCommands,
 ):
     """Every motion function of the manual, on one motion kernel (see the module docstring)."""

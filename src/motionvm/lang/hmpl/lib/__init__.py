@@ -20,6 +20,7 @@ _MODULES = (
     "motionvm.lang.hmpl.lib.sync",
     "motionvm.lang.hmpl.lib.gantry",
     "motionvm.lang.hmpl.lib.objects",
+    "motionvm.lang.hmpl.lib.config",
 )
 
 
