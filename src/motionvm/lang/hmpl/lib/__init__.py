@@ -21,6 +21,7 @@ _MODULES = (
     "motionvm.lang.hmpl.lib.gantry",
     "motionvm.lang.hmpl.lib.objects",
     "motionvm.lang.hmpl.lib.config",
+    "motionvm.lang.hmpl.lib.trigger",
 )
 
 
