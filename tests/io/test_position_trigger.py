@@ -291,3 +291,35 @@ def test_manual_examples_pulse_at_their_positions(program, positions, tmp_path, 
         trig = sim.controller.triggers[1]
         assert [p for _, p in trig.pulses] == [float(p) for p in positions]
         assert trig.count == len(positions)
+
+
+def test_vcd_has_each_pulse_at_its_exact_time(tmp_path):
+    from motionvm.sim.scope import ScopeRecorder
+    from motionvm.sim.scope_sources import registry_for
+
+    r = Rig()
+    r.ready()
+    reg = registry_for(r.ctl)
+    rec = ScopeRecorder(reg.resolve_all(["axis0.pt_out", "axis0.pos_fb"]), r.ctl.cycle_time)
+    rec.attach(r.ctl)
+    pt = r.pt
+    pt.SetPT_PulseWidth(0, 2000)
+    pt.SetPT_StartPos(0, 1)
+    pt.SetPT_EndPos(0, 2)
+    pt.SetPT_Interval(0, 0.5)
+    pt.EnablePT(0)
+    r.move(0, 3)
+    rec.save(tmp_path / "pt.vcd")
+    lines = (tmp_path / "pt.vcd").read_text().splitlines()
+    assert "$timescale 1 ns $end" in lines
+    ident = next(ln.split()[3] for ln in lines if ln.endswith("pt_out $end"))
+    stamps = {}
+    for ln in lines:
+        if ln.startswith("#"):
+            now = int(ln[1:])
+        elif ln in (f"1{ident}", f"0{ident}"):
+            stamps.setdefault(ln[0], []).append(now)
+    pulses = r.ctl.triggers[0].pulses
+    assert stamps["1"] == [round(t * 1e9) for t, _ in pulses]
+    offs = stamps["0"][1:]  # the first is the initial value
+    assert [off - on for on, off in zip(stamps["1"], offs)] == [2000] * 3
