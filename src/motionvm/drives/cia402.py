@@ -56,7 +56,7 @@ class Cia402Drive:
     """One servo drive: object dictionary, power state machine, modes, mechanics, sensors."""
 
     __slots__ = (  # the object dictionary and the drive's state, all set up in __init__
-        "_controlword_prev", "_demand", "_encoder", "_encoder_lost", "_fault",
+        "_controlword_prev", "_demand", "_encoder", "_encoder_lost", "_fault", "_forced",
         "_following_error", "_max_torque", "_mode_prev", "_motor_position_prev",
         "_per_mille_per_nm", "_position_demand", "_ramp_vel", "_settled", "_stopped",
         "_target_prev", "_timer", "_torque_actual", "_torque_quiet_neg_nm", "_torque_quiet_nm",
@@ -155,6 +155,7 @@ class Cia402Drive:
         self.pt_sample_rate = pt_sample_rate
         self.objects = drive_objects.build(self, pdo)
         """The object dictionary: SDO and PDO access (drives/dictionary.py)."""
+        self._forced = self.objects.forced  # the same dict: ForceWritePDO fills it
 
     @classmethod
     def create(cls, config: dict) -> Cia402Drive:
@@ -335,7 +336,7 @@ class Cia402Drive:
         int32 error, the internal limit where the torque is well below max_torque.
         Under local control (`follow_local_demand`) the motor follows the drive's own
         demand as in CSP and the master's controlword and targets are not processed."""
-        if self.objects.forced:  # ForceWritePDO: forced outputs win over the master's
+        if self._forced:  # ForceWritePDO: forced outputs win over the master's
             self.objects.apply_forced()
         state = self.state
         m = self.mechanics

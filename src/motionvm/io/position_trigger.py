@@ -52,8 +52,10 @@ INTERVAL, ARRAY = "interval", "array"
 class PositionTrigger:
     """The PT of one axis (see the module docstring)."""
 
-    def __init__(self, axis, homing, dt: float) -> None:
+    def __init__(self, axis, homing, dt: float, on_change=None) -> None:
         self.axis = axis
+        self.on_change = on_change
+        """Called when the PT is armed or disarmed (the bank keeps its armed list)."""
         self.homing = homing
         self.dt = dt
         self.mode = INTERVAL
@@ -172,12 +174,16 @@ class PositionTrigger:
         self._x, self._t = x, (cycle - 1) * self.dt
         self.enabled = True
         a.move_vel_limit = limit
+        if self.on_change is not None:
+            self.on_change()
         if skip == len(points):
             self.disable()
 
     def disable(self) -> None:
         self.enabled = False
         self.axis.move_vel_limit = math.inf
+        if self.on_change is not None:
+            self.on_change()
 
     def heading(self) -> bool:
         """True while armed and the axis moves toward its next position."""
@@ -263,8 +269,14 @@ class PositionTriggers:
     def __init__(self, motion, clock) -> None:
         self.clock = clock
         self.triggers = [
-            PositionTrigger(a, h, motion.dt) for a, h in zip(motion.axes, motion.homing)
+            PositionTrigger(a, h, motion.dt, self._armed_changed)
+            for a, h in zip(motion.axes, motion.homing)
         ]
+        self.armed: list[PositionTrigger] = []
+        """The triggers that are enabled (the cycle looks at these only)."""
+
+    def _armed_changed(self) -> None:
+        self.armed = [pt for pt in self.triggers if pt.enabled]
 
     def __getitem__(self, axis_id: int) -> PositionTrigger:
         return self.triggers[axis_id]
@@ -276,12 +288,11 @@ class PositionTriggers:
 
     def end_cycle(self) -> None:
         """After the motion step: every armed PT takes its axis's position sample."""
-        for pt in self.triggers:
-            if pt.enabled:
-                pt.step(self.clock.cycle)
+        for pt in self.armed:
+            pt.step(self.clock.cycle)
 
     def busy(self) -> bool:
-        return any(pt.heading() for pt in self.triggers)
+        return bool(self.armed) and any(pt.heading() for pt in self.armed)
 
     def next_event(self) -> int | None:
         return self.clock.cycle if self.busy() else None
@@ -289,7 +300,7 @@ class PositionTriggers:
     def still_running(self) -> list:
         return [
             Waiting(f"axis {pt.axis.axis_id} position trigger", why="armed, the axis moving to it")
-            for pt in self.triggers
+            for pt in self.armed
             if pt.heading()
         ]
 
