@@ -323,3 +323,15 @@ def test_vcd_has_each_pulse_at_its_exact_time(tmp_path):
     assert stamps["1"] == [round(t * 1e9) for t, _ in pulses]
     offs = stamps["0"][1:]  # the first is the initial value
     assert [off - on for on, off in zip(stamps["1"], offs)] == [2000] * 3
+
+
+def test_a_last_position_between_two_counts_is_reached_by_a_move_to_it():
+    r = Rig()
+    r.ready()
+    pt = r.pt
+    pt.SetPT_StartPos(0, 10)
+    pt.SetPT_EndPos(0, 20.00004)  # 0.4 counts past 20 mm: the axis stops on 20 mm
+    pt.SetPT_Interval(0, 1.000004)
+    assert pt.EnablePT(0) == 0
+    r.move(0, 20.00004)
+    assert r.ctl.triggers[0].count == 11 and pt.IsPTEnabled(0) == 0

@@ -18,8 +18,9 @@ Two modes; the one last configured is used by EnablePT:
   outputs its pulse (1, the default for every position) or passes silently (0).
 
 Decisions where the manual is silent:
-- A position fires once, when the feedback reaches it while moving in the train's
-  direction; positions the axis is already beyond when the PT is enabled are skipped.
+- A position fires once, when the feedback reaches it (within half an encoder count, as
+  the drive compares counts) while moving in the train's direction; positions the axis
+  is already beyond when the PT is enabled are skipped.
   After the last position the PT turns itself off (IsPTEnabled 0).
 - The velocity rule of 12.1.1, velocity < interval x position sampling frequency (the
   drive key `pt_sample_rate`, default 16 kHz; the smallest gap of an array): EnablePT
@@ -76,6 +77,7 @@ class PositionTrigger:
         self._direction = 0
         self._x = 0.0
         self._t = 0.0
+        self._eps = 0.0
 
     # ---- settings -------------------------------------------------------------------
 
@@ -167,8 +169,10 @@ class PositionTrigger:
             )
         x = a.pos_fb
         d = 0 if len(points) == 1 else (1 if points[-1][0] > points[0][0] else -1)
+        # the drive compares encoder counts: a position within half a count is reached
+        self._eps = eps = 0.5 / a.cpu
         skip = 0
-        while skip < len(points) and d * (x - points[skip][0]) > 0:
+        while skip < len(points) and d * (x - points[skip][0]) > eps:
             skip += 1
         self._points, self._next, self._direction = points, skip, d
         self._x, self._t = x, (cycle - 1) * self.dt
@@ -206,19 +210,21 @@ class PositionTrigger:
         if x1 == x0:
             return
         points, d, i = self._points, self._direction, self._next
+        eps = self._eps
         while i < len(points):
             p, out = points[i]
             if d > 0:
-                hit = x1 > x0 and x0 <= p <= x1
+                hit = x1 > x0 and p <= x1 + eps
             elif d < 0:
-                hit = x1 < x0 and x1 <= p <= x0
+                hit = x1 < x0 and p >= x1 - eps
             else:
-                hit = min(x0, x1) <= p <= max(x0, x1)
+                hit = min(x0, x1) - eps <= p <= max(x0, x1) + eps
             if not hit:
                 break
             if out:
                 self.count += 1
-                self.pulses.append((t0 + (t1 - t0) * (p - x0) / (x1 - x0), p))
+                frac = min(1.0, max(0.0, (p - x0) / (x1 - x0)))
+                self.pulses.append((t0 + (t1 - t0) * frac, p))
             i += 1
         self._next = i
         if i == len(points):
