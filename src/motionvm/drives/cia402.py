@@ -25,9 +25,10 @@ from __future__ import annotations
 
 import math
 
+from motionvm.drives import drive_objects
 from motionvm.drives import mechanics as mech_models
 from motionvm.drives import objects as od
-from motionvm.drives.objects import Command, SdoAbort, State, decode_command, wrap_i32
+from motionvm.drives.objects import Command, State, decode_command, wrap_i32
 from motionvm.drives.sensors import Sensors
 
 _SETTLED = (  # states left only by a new command
@@ -55,12 +56,12 @@ class Cia402Drive:
     """One servo drive: object dictionary, power state machine, modes, mechanics, sensors."""
 
     __slots__ = (  # the object dictionary and the drive's state, all set up in __init__
-        "_controlword_prev", "_demand", "_encoder", "_encoder_lost", "_fault",
+        "_controlword_prev", "_demand", "_encoder", "_encoder_lost", "_fault", "_forced",
         "_following_error", "_max_torque", "_mode_prev", "_motor_position_prev",
         "_per_mille_per_nm", "_position_demand", "_ramp_vel", "_settled", "_stopped",
         "_target_prev", "_timer", "_torque_actual", "_torque_quiet_neg_nm", "_torque_quiet_nm",
         "_velocity_actual", "boot_cycles", "controlword", "device_type", "digital_inputs",
-        "enable_cycles", "error_code", "following_error_window", "local_demand", "mechanics", "mode",
+        "digital_output_mask", "digital_outputs", "objects", "pt_sample_rate", "enable_cycles", "error_code", "following_error_window", "local_demand", "mechanics", "mode",
         "mode_display", "position_actual", "quick_stop_decel", "quick_stop_option",
         "rated_torque", "rated_torque_nm", "sensors", "state", "statusword", "supported_modes",
         "switch_on_cycles", "target_position", "target_torque", "target_velocity", "__weakref__"
@@ -70,7 +71,7 @@ class Cia402Drive:
         "mechanics", "boot_cycles", "switch_on_cycles", "enable_cycles", "rated_torque",
         "max_torque", "quick_stop_decel", "quick_stop_option", "following_error_window",
         "position", "negative_limit", "positive_limit", "home_low", "home_high",
-        "index_spacing", "index_offset",
+        "index_spacing", "index_offset", "rxpdo", "txpdo", "pt_sample_rate",
     })  # fmt: skip
 
     def __init__(
@@ -87,9 +88,13 @@ class Cia402Drive:
         quick_stop_option: int = 2,
         following_error_window: int = 0xFFFFFFFF,
         position: float = 0.0,
+        pdo: dict | None = None,
+        pt_sample_rate: float = 16000.0,
     ):
         """Delays in steps; `rated_torque` [N*m]; `max_torque` [per mille of rated];
-        `quick_stop_decel` [counts/s^2]; `position` the motor's start position [counts]."""
+        `quick_stop_decel` [counts/s^2]; `position` the motor's start position [counts];
+        `pdo` the `rxpdo`/`txpdo` mapping (drives/drive_objects.py); `pt_sample_rate`
+        [Hz] how often the position trigger samples the position (manual 12.1.1)."""
         self.mechanics = mechanics or mech_models.IdealMechanics()
         self.sensors = sensors or Sensors()
         self.boot_cycles = boot_cycles
@@ -143,6 +148,14 @@ class Cia402Drive:
             self._motor_position_prev, self._motor_position_prev
         )
         self.statusword = _SW_BASE[self.state._value_]
+        self.digital_outputs = 0
+        """0x60FE:1, the drive's physical outputs."""
+        self.digital_output_mask = 0
+        """0x60FE:2, which of them the master drives."""
+        self.pt_sample_rate = pt_sample_rate
+        self.objects = drive_objects.build(self, pdo)
+        """The object dictionary: SDO and PDO access (drives/dictionary.py)."""
+        self._forced = self.objects.forced  # the same dict: ForceWritePDO fills it
 
     @classmethod
     def create(cls, config: dict) -> Cia402Drive:
@@ -166,36 +179,19 @@ class Cia402Drive:
             quick_stop_option=option,
             following_error_window=cfg.integer("following_error_window", 0xFFFFFFFF, 0),
             position=cfg.number("position", 0.0, low=-(2.0**31), strict=False, high=2.0**31),
+            pdo={k: config[k] for k in ("rxpdo", "txpdo") if k in config},
+            pt_sample_rate=cfg.number("pt_sample_rate", 16000.0, high=1e9),
         )
 
     # ---- SDO-style access -----------------------------------------------------------
 
-    def read(self, index: int, subindex: int = 0) -> int:
-        """Value of object `index`:`subindex` (all objects here have subindex 0 only)."""
-        entry = od.DICTIONARY.get(index)
-        if entry is None:
-            raise SdoAbort(SdoAbort.NO_OBJECT, f"object 0x{index:04X} does not exist")
-        if subindex != 0:
-            raise SdoAbort(SdoAbort.NO_SUBINDEX, f"object 0x{index:04X} has no subindex {subindex}")
-        return getattr(self, entry.attr)
+    def read(self, index: int, subindex: int = 0) -> int | str:
+        """Value of object `index`:`subindex` (`objects`); SdoAbort if there is none."""
+        return self.objects.read(index, subindex)
 
     def write(self, index: int, subindex: int, value: int) -> None:
         """Write object `index`:`subindex`; refused (SdoAbort) if read-only or out of range."""
-        entry = od.DICTIONARY.get(index)
-        if entry is None:
-            raise SdoAbort(SdoAbort.NO_OBJECT, f"object 0x{index:04X} does not exist")
-        if subindex != 0:
-            raise SdoAbort(SdoAbort.NO_SUBINDEX, f"object 0x{index:04X} has no subindex {subindex}")
-        if not entry.writable:
-            raise SdoAbort(SdoAbort.READ_ONLY, f"{entry.name} (0x{index:04X}) is read-only")
-        low, high = od.RANGES[entry.dtype]
-        if not isinstance(value, int) or not low <= value <= high:
-            raise SdoAbort(
-                SdoAbort.RANGE, f"{entry.name} (0x{index:04X}) = {value!r} is not in {low}..{high}"
-            )
-        if index == od.MODES_OF_OPERATION and value not in od.MODES:
-            raise SdoAbort(SdoAbort.RANGE, f"mode of operation {value} is not supported")
-        setattr(self, entry.attr, value)
+        self.objects.write(index, subindex, value)
 
     # touch probe objects live in the sensors
     tp_function = property(lambda self: self.sensors.tp_function,
@@ -340,6 +336,8 @@ class Cia402Drive:
         int32 error, the internal limit where the torque is well below max_torque.
         Under local control (`follow_local_demand`) the motor follows the drive's own
         demand as in CSP and the master's controlword and targets are not processed."""
+        if self._forced:  # ForceWritePDO: forced outputs win over the master's
+            self.objects.apply_forced()
         state = self.state
         m = self.mechanics
         mode = self.mode

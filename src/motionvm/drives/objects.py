@@ -9,6 +9,8 @@ from __future__ import annotations
 import enum
 from typing import NamedTuple
 
+from motionvm.drives.dictionary import SdoAbort  # noqa: F401 (re-exported)
+
 # ---- indices ------------------------------------------------------------------------
 DEVICE_TYPE = 0x1000
 ERROR_CODE = 0x603F
@@ -138,19 +140,6 @@ ERR_ENCODER = 0x7305  # incremental sensor 1 fault
 ERR_FOLLOWING = 0x8611  # following error too big
 
 # ---- SDO access ---------------------------------------------------------------------
-
-
-class SdoAbort(Exception):
-    """An SDO access the drive refuses, with its CiA 301 abort code."""
-
-    NO_OBJECT = 0x06020000
-    NO_SUBINDEX = 0x06090011
-    READ_ONLY = 0x06010002
-    RANGE = 0x06090030
-
-    def __init__(self, code: int, message: str):
-        super().__init__(f"SDO abort 0x{code:08X}: {message}")
-        self.code = code
 
 
 class Entry(NamedTuple):

@@ -86,7 +86,7 @@ class Axis(AxisSettings, AxisCycle, AxisFollow):
         "_sw_stop_left", "_sw_stop_right", "_torque_per_mille", "_wake_key_at_rest", "axis_id",
         "buffer_mode", "config", "controlled_by", "cpu", "drive", "dt", "enabled", "extra_status",
         "fault_status", "halted", "ignore_hwl", "ignore_pe", "in_pos", "inpos_radius",
-        "kill_dec", "last_error", "move_time_ms", "moving", "op_mode", "pg", "pos_fb",
+        "kill_dec", "last_error", "move_time_ms", "move_vel_limit", "moving", "op_mode", "pg", "pos_fb",
         "pos_fb_raw", "ref_acc", "ref_pos", "ref_vel", "resting", "rotary",
         "settling_time_ms", "stopping", "vel_scale", "__weakref__",
         # filters and compensation (axis_filters.py)
@@ -122,6 +122,10 @@ class Axis(AxisSettings, AxisCycle, AxisFollow):
         self.moving = self.in_pos = False
         self.fault_status = self.last_error = 0
         self.extra_status = 0
+        self.move_vel_limit = math.inf
+        """A move must stay below this velocity [mm/s or deg/s], else it is refused with
+        eERR_AXIS_CMD_INVALID_VEL: a device that needs it sets it (an armed position
+        trigger, manual 12.1.1); inf: no limit."""
         self.controlled_by: str | None = None
         """Who commands the axis instead of the controller's tasks (a PDL drive), or None."""
         """Bits that gear, group, gantry and homing set (3-9, 11, 12 of table 5.1.1.5)."""
@@ -395,6 +399,8 @@ class Axis(AxisSettings, AxisCycle, AxisFollow):
     def _start(self, move: Move) -> None:
         """Start `move` now. A new move ends a Halt; at a velocity scale of 0 a move from
         rest waits (moving) until the scale is raised, as the generator would drop it."""
+        if self.move_vel_limit != math.inf:
+            self._check_move_velocity(move)
         self._accepted()
         self._deferred_move = None
         if self.halted:
@@ -417,6 +423,20 @@ class Axis(AxisSettings, AxisCycle, AxisFollow):
             self.pg.move_to(self._rel_target(self.ref_pos, move.distance))
         else:
             self.pg.move_velocity(move.velocity)
+
+    def _check_move_velocity(self, move: Move) -> None:
+        if type(move) is MovePvt:
+            v = move.trajectory.peaks()[0]
+        else:
+            v = self.pg.v_max * self.vel_scale / 100.0
+            if type(move) is MoveVelocity:
+                v = min(v, abs(move.velocity) * self.vel_scale / 100.0)
+        if v >= self.move_vel_limit:
+            raise AxisCommandError(
+                st.CMD_INVALID_VEL,
+                f"axis {self.axis_id}: velocity {v:g} is not below {self.move_vel_limit:g} "
+                "(position trigger interval x sampling frequency)",
+            )
 
     def _start_next(self) -> None:
         while self._command_queue:

@@ -226,6 +226,27 @@ class AxisSettings:
         """Commands waiting in the buffer (the one running is not counted)."""
         return len(self._command_queue)
 
+    # ---- times the controller variables set (manual 17.1.1.2) ------------------------
+
+    @property
+    def inpos_debounce_ms(self) -> float:
+        """In-position settling time [ms] (HCV_ID_pos_tr_t), a whole number of cycles."""
+        return self._in_pos_debounce_cycles * self.dt * 1000.0
+
+    @inpos_debounce_ms.setter
+    def inpos_debounce_ms(self, ms: float) -> None:
+        self.wake()
+        self._in_pos_debounce_cycles = round(ms / 1000.0 / self.dt)
+
+    @property
+    def enable_timeout_ms(self) -> float:
+        """Enable timeout [ms] (HCV_ID_en_delay), a whole number of cycles."""
+        return self._enable_timeout_cycles * self.dt * 1000.0
+
+    @enable_timeout_ms.setter
+    def enable_timeout_ms(self, ms: float) -> None:
+        self._enable_timeout_cycles = math.ceil(ms / 1000.0 / self.dt - 1e-9)
+
     # ---- status words (tables 5.1.1.4, 5.1.1.5) -------------------------------------
 
     @property

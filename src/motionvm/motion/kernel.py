@@ -23,9 +23,12 @@ Group last errors live here for the group functions to come (16 groups).
 
 from __future__ import annotations
 
+from motionvm.drives.dictionary import SlaveDirectory
 from motionvm.motion import axis_status as st
+from motionvm.motion import config_axis
 from motionvm.motion.axis import Axis
 from motionvm.motion.axis_config import AxisConfig
+from motionvm.motion.config_vars import ConfigVarTable
 from motionvm.motion.gantry import GantrySet
 from motionvm.motion.gear import GearBox
 from motionvm.motion.homing import AxisHoming
@@ -53,6 +56,13 @@ class MotionKernel:
         """The homing state of each axis (manual chapter 20), by axis id."""
         self.probes = [TouchProbe(a) for a in self.axes]
         """The touch probe of each axis (manual chapter 13), by axis id."""
+        self.slaves = SlaveDirectory(a.drive.objects for a in self.axes)
+        """The object dictionaries of the bus's slaves: the drives, then I/O modules."""
+        for a in self.axes:  # an SDO/PDO write wakes the axis of that drive
+            a.drive.objects.on_write = a.wake
+        self.config_vars = ConfigVarTable()
+        """Controller variables by HCV id (manual 17.1.1): the axes' are registered here."""
+        config_axis.register(self.config_vars, self)
         self.ecat_state = ECAT_OP
         """Master state of the bus [1, 2, 4, 8]."""
         self.system_last_error = 0

@@ -20,6 +20,7 @@ from collections.abc import Callable
 
 from motionvm.comm.hub import CommHub
 from motionvm.io.gpio import DigitalIO
+from motionvm.io.position_trigger import PositionTriggers
 from motionvm.motion.kernel import MotionKernel
 from motionvm.runtime.clients import CycleClient
 from motionvm.runtime.clock import Clock
@@ -56,11 +57,14 @@ class Controller:
         self.kernel = Kernel(self.clock)
         self.motion = MotionKernel(list((machine or DEFAULT_MACHINE).axes), cycle_time)
         self.io = DigitalIO()
+        self.triggers = PositionTriggers(self.motion, self.clock)
+        """The position trigger of each axis (manual chapter 12), a client of the cycle."""
         self.clients: list[CycleClient] = []
         """Run sides stepped each cycle, in the order added (runtime/clients.py)."""
         self.comm = CommHub(self.clock, self.io, self.motion)
         """Servers' requests and client sockets (comm/hub.py): the first client of a cycle."""
         self.add_client(self.comm)
+        self.add_client(self.triggers)
         self.skip = True
         """Jump the clock over cycles in which nothing can change; False steps every
         cycle (`--no-skip`): the results are identical either way."""

@@ -203,6 +203,9 @@ def registry_for(controller, *clients) -> ChannelRegistry:
     io = getattr(controller, "io", None)
     if isinstance(io, DigitalIO):
         reg.register(GpioSource(io))
+    triggers = getattr(controller, "triggers", None)
+    if triggers is not None:  # axisN.pt_count, .pt_out, .pt_enabled (io/position_trigger.py)
+        reg.register(triggers)
     reg.register(AxisSource(controller))
     if isinstance(getattr(controller, "motion", None), MotionKernel):
         reg.register(SyncScopeSource(controller))

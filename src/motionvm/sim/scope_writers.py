@@ -120,10 +120,18 @@ def _is_nan(v) -> bool:
 
 
 def write_vcd(path: Path, recorder, title: str = "") -> None:
-    """IEEE 1364 value-change dump: `real` channels, `wire 1` bits; `axis0.x` goes in scope axis0."""
+    """IEEE 1364 value-change dump: `real` channels, `wire 1` bits; `axis0.x` goes in scope axis0.
+
+    A channel whose getter has `edges()` (a list of (sim_time [s], value), e.g. the
+    position trigger's `axisN.pt_out`, whose pulses are shorter than a cycle) is written
+    at the exact time of each change between the first and the last sample, in a 1 ns
+    timescale, instead of at the samples."""
     chans = recorder.channels
     ids = [_vcd_id(i) for i in range(len(chans))]
+    edge_fns = [getattr(c.getter, "edges", None) for c in chans]
     timescale, ticks_per_s = _vcd_timescale(recorder.cycle_time)
+    if any(edge_fns):
+        timescale, ticks_per_s = "1 ns", 1e9
     groups: dict[str, list[int]] = {}
     for i, ch in enumerate(chans):
         scope, dot, _ = ch.name.partition(".")
@@ -153,6 +161,8 @@ def write_vcd(path: Path, recorder, title: str = "") -> None:
         last: list = [None] * len(chans)
         bits = [c.is_bit for c in chans]
         dt = recorder.cycle_time
+        later: dict[int, list[str]] = {}
+        sampled = [i for i, fn in enumerate(edge_fns) if fn is None]
         for row, cycle in enumerate(recorder.cycles):
             stamp = round(cycle * dt * ticks_per_s)
             if row == 0:
@@ -162,14 +172,23 @@ def write_vcd(path: Path, recorder, title: str = "") -> None:
                     f.write(_vcd_value(col[0], bits[i], ids[i]) + "\n")
                 f.write("$end\n")
                 continue
-            changes = []
-            for i, col in enumerate(recorder.columns):
-                v = col[row]
+            for i in sampled:
+                v = recorder.columns[i][row]
                 if not _same(v, last[i]):
                     last[i] = v
-                    changes.append(_vcd_value(v, bits[i], ids[i]))
-            if changes:
-                f.write(f"#{stamp}\n" + "\n".join(changes) + "\n")
+                    later.setdefault(stamp, []).append(_vcd_value(v, bits[i], ids[i]))
+        if recorder.cycles:
+            first, end = (
+                round(c * dt * ticks_per_s) for c in (recorder.cycles[0], recorder.cycles[-1])
+            )
+            for i, fn in enumerate(edge_fns):
+                for t, v in fn() if fn is not None else ():
+                    stamp = round(t * ticks_per_s)
+                    if first < stamp <= end and not _same(v, last[i]):
+                        last[i] = v
+                        later.setdefault(stamp, []).append(_vcd_value(v, bits[i], ids[i]))
+        for stamp in sorted(later):
+            f.write(f"#{stamp}\n" + "\n".join(later[stamp]) + "\n")
 
 
 # ---------------------------------------------------------------- plot

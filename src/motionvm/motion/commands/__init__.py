@@ -12,6 +12,8 @@ the manual's parameters in the manual's order and units (mm or deg, mm/s, mm/s^2
 | 13 touch probe | `touchprobe.py` | EnableTouchProbe ... SetTouchProbeFunc |
 | 14 compensation | `compensation.py` | EnableComp ... SetCompAlgType, GetPosFbComp, IsCompActive |
 | 15 filters | `filters.py` | EnableAxisVsf ... SetGrpInShape |
+| 17.2 slave objects | `objects.py` | ReadSDO ... ReleasePDO |
+| 17.3 controller variables | `config.py` | GetConfigVar, SetConfigVar |
 | 18 errors | `system.py` | GetSystemLastErr ... GetDriveErr |
 | 20 homing | `homing.py` | MoveHome, SetHomeMethod ... SetHomedStatus |
 
@@ -44,7 +46,9 @@ from __future__ import annotations
 from motionvm.motion.commands.axis import AxisCommands
 from motionvm.motion.commands.compensation import CompensationCommands
 from motionvm.motion.commands.filters import FilterCommands
+from motionvm.motion.commands.config import ConfigCommands
 from motionvm.motion.commands.homing import HomingCommands
+from motionvm.motion.commands.objects import ObjectCommands
 from motionvm.motion.commands.sync import GantryCommands, GearCommands
 from motionvm.motion.commands.system import BusCommands, ErrorCommands
 from motionvm.motion.commands.touchprobe import TouchProbeCommands
@@ -62,5 +66,7 @@ class MotionCommands(
     HomingCommands,
     CompensationCommands,
     FilterCommands,
+    ObjectCommands,
+    ConfigCommands,
 ):
     """Every motion function of the manual, on one motion kernel (see the module docstring)."""

@@ -18,12 +18,15 @@ from collections.abc import Sequence
 
 from motionvm.motion import axis_status as st
 from motionvm.motion.commands.base import CommandBase
+from motionvm.motion.commands.touchprobe import NO_SPECIFIC_PDO
 from motionvm.motion.gantry import from_axes
 from motionvm.motion.kernel import ECAT_OP
 from motionvm.motion.pvt import MAX_POINTS
 
 _GANTRY_VIEW = frozenset({"pos_fb", "vel_fb", "ref_pos", "ref_vel", "ref_acc", "pos_err"})
 """Axis variables that a gantry pair's axes report in linear/yaw coordinates (manual 7.1)."""
+_MODE_OBJECTS = {9: (0x60FF, 0), 10: (0x6071, 0)}
+"""The RxPDO object an op mode needs: target velocity (CSV), target torque (CST)."""
 
 
 class AxisCommands(CommandBase):
@@ -243,6 +246,12 @@ class AxisCommands(CommandBase):
         return int(self._get(axis_id, "rollover_turns", 0))
 
     def SetOpMode(self, axis_id: int, op_mode: int) -> int:
+        """CSV (9) needs 0x60FF, CST (10) 0x6071 in the drive's RxPDO, else
+        eERR_AXIS_CMD_INVALID_NO_SPECIFIC_PDO (0x83XX0258)."""
+        a = self._axis(axis_id)
+        need = _MODE_OBJECTS.get(op_mode)
+        if a is not None and need is not None and need not in a.drive.objects.rx:
+            return self._fail(a, NO_SPECIFIC_PDO)
         return self._command(axis_id, "set_op_mode", op_mode)
 
     def SetBufferMode(self, axis_id: int, buf_mode: int) -> int:

@@ -14,13 +14,21 @@ from __future__ import annotations
 from motionvm.motion import axis_status as st
 from motionvm.motion.commands.base import CommandBase
 
+NO_SPECIFIC_PDO = 0x0258
+"""eERR_AXIS_CMD_INVALID_NO_SPECIFIC_PDO, low half: the PDO lacks an object the command needs."""
+
 
 class TouchProbeCommands(CommandBase):
     """Chapter 13: EnableTouchProbe ... SetTouchProbeFunc."""
 
     def EnableTouchProbe(self, axis_id: int) -> int:
-        if self._axis(axis_id) is None:
+        """Needs 0x60B8 in the drive's RxPDO (13.2), else
+        eERR_AXIS_CMD_INVALID_NO_SPECIFIC_PDO (0x83XX0258)."""
+        a = self._axis(axis_id)
+        if a is None:
             return st.SYS_HMPL_ARG_OUT_OF_RANGE
+        if (0x60B8, 0) not in a.drive.objects.rx:
+            return self._fail(a, NO_SPECIFIC_PDO)
         self.motion.probes[axis_id].enable()
         return 0
 

@@ -22,6 +22,9 @@ _MODULES = (
     "motionvm.lang.hmpl.lib.compensation",
     "motionvm.lang.hmpl.lib.filters",
     "motionvm.lang.hmpl.lib.comm",
+    "motionvm.lang.hmpl.lib.objects",
+    "motionvm.lang.hmpl.lib.config",
+    "motionvm.lang.hmpl.lib.trigger",
 )
 
 
