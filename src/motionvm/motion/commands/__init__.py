@@ -45,8 +45,8 @@ from __future__ import annotations
 
 from motionvm.motion.commands.axis import AxisCommands
 from motionvm.motion.commands.compensation import CompensationCommands
-from motionvm.motion.commands.filters import FilterCommands
 from motionvm.motion.commands.config import ConfigCommands
+from motionvm.motion.commands.filters import FilterCommands
 from motionvm.motion.commands.homing import HomingCommands
 from motionvm.motion.commands.objects import ObjectCommands
 from motionvm.motion.commands.sync import GantryCommands, GearCommands
