@@ -390,6 +390,7 @@ class Session:
             )
             self.hmpl.stamp = spec.stamp
             ctl.add_client(self.hmpl)
+            ctl.io.on_estop(self.hmpl.estop_input)  # E-stop input: tasks stop
         if compiled.pdl:
             from motionvm.lang.pdl.machine_drives import PdlDrives
 

@@ -18,7 +18,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 
-from motionvm.io.gpio import DigitalIO
+from motionvm.io.system import IOSystem
 from motionvm.motion.kernel import MotionKernel
 from motionvm.runtime.clients import CycleClient
 from motionvm.runtime.clock import Clock
@@ -53,10 +53,14 @@ class Controller:
         self.clock = Clock(cycle_time)
         self.cycle_time = cycle_time
         self.kernel = Kernel(self.clock)
-        self.motion = MotionKernel(list((machine or DEFAULT_MACHINE).axes), cycle_time)
-        self.io = DigitalIO()
-        self.clients: list[CycleClient] = []
-        """Run sides stepped each cycle, in the order added (runtime/clients.py)."""
+        machine = machine or DEFAULT_MACHINE
+        self.motion = MotionKernel(list(machine.axes), cycle_time)
+        self.io = IOSystem(machine.io, self.motion, cycle_time)
+        """GPIO, EtherCAT slaves, wires and sensors (io/system.py), the first client."""
+        self.io.clock = self.clock
+        self.clients: list[CycleClient] = [self.io]
+        """Run sides stepped each cycle, in the order added (runtime/clients.py); the I/O
+        system comes first, so the inputs are latched before any language's cycle."""
         self.skip = True
         """Jump the clock over cycles in which nothing can change; False steps every
         cycle (`--no-skip`): the results are identical either way."""

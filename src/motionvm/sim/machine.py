@@ -39,6 +39,7 @@ import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from motionvm.io.config import DEFAULT_IO, IOConfig, create_io
 from motionvm.motion.axis_config import AxisConfig, AxisConfigError, build_drive
 from motionvm.motion.axis_config import create as create_axis
 from motionvm.source.toml_places import TomlProblems, syntax_error_place, undecodable_place
@@ -69,6 +70,9 @@ class MachineConfig:
     """The drives that run a PDL program, by axis id."""
     gdl_motors: tuple[GdlMotorSpec, ...] = ()
     """The axes that are a GDL motor object named in the machine file, by axis id."""
+    io: IOConfig = DEFAULT_IO
+    """Controller GPIO, I/O slaves, wires and sensors (`[io]`, `[[slave]]`, `[[wire]]`,
+    `[[sensor]]`: io/config.py)."""
 
 
 @dataclass(frozen=True)
@@ -107,6 +111,8 @@ def default_axes(n: int) -> tuple[AxisConfig, ...]:
 DEFAULT_MACHINE = MachineConfig()
 
 _KNOWN = {"controller": {"cycle_time_ms", "task_slice", "data_dir"}, "axis": set(), "axes": set()}
+_IO_SECTIONS = ("io", "slave", "wire", "sensor")
+"""Sections io/config.py reads and checks."""
 
 
 class _Problems(TomlProblems):
@@ -118,6 +124,13 @@ class _Problems(TomlProblems):
 
     def where_in_axis(self, index: int, key: str) -> str:
         return self.where(self.array_place("axis", index, key))
+
+    def io_problem(self, array: str, index: int, key: str | None, message: str) -> None:
+        """A problem io/config.py found: in the `index`-th [[array]] table, or in [io]."""
+        if index < 0:
+            self.at(array or "io", key, message)
+        else:
+            self.in_array(array, index, key, message)
 
     def raise_any(self) -> None:
         if self.items:
@@ -147,13 +160,14 @@ def load_machine(path: str | Path) -> MachineConfig:
         problems.add(place, f"invalid TOML: {message}")
         problems.raise_any()
     for sec, val in data.items():
-        if sec in ("axis", "axes"):
+        if sec in ("axis", "axes") or sec in _IO_SECTIONS:
             continue
         if sec not in _KNOWN:
+            known = "axis, controller, io, sensor, slave, wire"
             if isinstance(val, dict):
-                problems.at(sec, None, f"unknown section [{sec}] (known: axis, controller)")
+                problems.at(sec, None, f"unknown section [{sec}] (known: {known})")
             else:
-                problems.at("", sec, f"unknown key '{sec}' (known: axes, axis, controller)")
+                problems.at("", sec, f"unknown key '{sec}' (known: axes, {known})")
             continue
         if not isinstance(val, dict):
             problems.at("", sec, f"'{sec}' must be a table")
@@ -192,6 +206,7 @@ def load_machine(path: str | Path) -> MachineConfig:
         )
         data_dir = None
     axes, pdl, gdl = _load_axes(data, problems)
+    io = create_io(data, len(axes), problems.io_problem)
     problems.raise_any()
     return MachineConfig(
         cycle_time=cycle_ms / 1000.0,
@@ -201,6 +216,7 @@ def load_machine(path: str | Path) -> MachineConfig:
         axes=axes,
         pdl_drives=pdl,
         gdl_motors=gdl,
+        io=io,
     )
 
 

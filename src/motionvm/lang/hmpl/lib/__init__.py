@@ -19,6 +19,8 @@ _MODULES = (
     "motionvm.lang.hmpl.lib.touchprobe",
     "motionvm.lang.hmpl.lib.sync",
     "motionvm.lang.hmpl.lib.gantry",
+    "motionvm.lang.hmpl.lib.gpio",
+    "motionvm.lang.hmpl.lib.analog",
 )
 
 
