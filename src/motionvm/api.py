@@ -320,6 +320,15 @@ class Simulation:
             raise KeyError(f"no input '{name}' on this machine (inputs: gpiN, slvS.diK, slvS.aiK)")
         found[1](value)
 
+    def inject_fault(self, fault: str, **target: Any) -> None:
+        """Inject a fault now, as a scenario's fault event does: `inject_fault("drive",
+        axis=0, code=0x7500)`, `("encoder_loss", axis=1)`, `("following_error", axis=0)`,
+        `("hw_limit", axis=0, side="left")`, `("slave_lost", slave=9)`, `("estop")`
+        (motionvm.io.faults). ValueError for an unknown fault or a bad target."""
+        from motionvm.io.faults import inject_fault
+
+        inject_fault(self.controller.io, fault, **target)
+
     def output(self, name: int | str) -> int:
         """An output's state now: a controller output by number (GetGPO numbering, from 1)
         or by name (`gpo3`, `slv8.do2`, `slv9.ao1`: the raw word)."""

@@ -109,6 +109,11 @@ class IOSystem(PassiveClient):
     # ---- E-stop and faults ----------------------------------------------------------
 
     def _estop(self, n: int) -> None:
+        self.estop(n)
+
+    def estop(self, n: int = 0) -> None:
+        """The E-stop (from input `n`, 0: another source): disable every axis, then tell
+        the handlers (`on_estop`)."""
         self.motion.estop()
         call_estop_handlers(self._estop_handlers, n)
 

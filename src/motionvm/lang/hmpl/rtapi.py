@@ -156,7 +156,8 @@ class HmplRuntime(PassiveClient):
         if not self.kernel.any_running:
             return
         self._report(
-            f"motionvm: E-stop input {n} at t={self.sim_time:.3f} s: every axis disabled, "
+            f"motionvm: {f'E-stop input {n}' if n else 'E-stop'} at t={self.sim_time:.3f} s: "
+            "every axis disabled, "
             f"every task stopped (eERR_EMERGENCY_STOP 0x{SYS_EMERGENCY_STOP:08X})"
         )
         if self.kernel.stop_all():
