@@ -69,7 +69,7 @@ class Wire:
         return int(math.floor(x + 0.5))
 
     def next_due(self, cycle: int) -> int | None:
-        if self.last is not None and self.read() != self.last:
+        if self.last is None or self.read() != self.last:
             return cycle
         return self.pending[0][0] if self.pending else None
 
