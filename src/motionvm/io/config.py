@@ -103,6 +103,8 @@ class WireSpec:
     delay_ms: float = 0.0
     gain: float = 1.0
     offset: float = 0.0
+    index: int = 0
+    """Its place among the [[wire]] tables (for messages)."""
 
 
 @dataclass(frozen=True)
@@ -112,6 +114,8 @@ class SensorSpec:
     lo: float
     hi: float
     invert: bool = False
+    index: int = 0
+    """Its place among the [[sensor]] tables (for messages)."""
 
 
 @dataclass(frozen=True)
@@ -397,7 +401,7 @@ def _wires(tables, cfg: IOConfig, n_axes: int, report: Report):
                 ok = False
             vals[key] = float(value) if _number(value) else default
         if ok:
-            yield WireSpec(src, dst, float(delay), vals["gain"], vals["offset"])
+            yield WireSpec(src, dst, float(delay), vals["gain"], vals["offset"], i)
 
 
 def _sensors(tables, cfg: IOConfig, n_axes: int, report: Report):
@@ -455,20 +459,22 @@ def _sensors(tables, cfg: IOConfig, n_axes: int, report: Report):
             )
             ok = False
         if ok and dst is not None:
-            yield SensorSpec(dst, axis, float(bounds[0]), float(bounds[1]), invert)
+            yield SensorSpec(dst, axis, float(bounds[0]), float(bounds[1]), invert, i)
 
 
 def _single_driver(wires, sensors, report: Report) -> None:
-    seen: dict[Endpoint, str] = {}
+    seen: dict[tuple, str] = {}
     for array, items in (("wire", wires), ("sensor", sensors)):
-        for i, item in enumerate(items):
-            key = (item.target.kind, item.target.slave, item.target.slot, item.target.channel)
+        for item in items:
+            t = item.target
+            key = (t.kind, t.slave, t.slot, t.channel)
             if key in seen:
                 report(
                     array,
-                    i,
+                    item.index,
                     "to" if array == "wire" else "input",
-                    f"[[{array}]] {i}: {item.target.text} is already driven by {seen[key]}; an input has one driver",
+                    f"[[{array}]] {item.index}: {t.text} is already driven by {seen[key]}; "
+                    "an input has one driver",
                 )
             else:
-                seen[key] = f"[[{array}]] {i}"
+                seen[key] = f"[[{array}]] {item.index}"
