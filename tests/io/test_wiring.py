@@ -221,3 +221,13 @@ def test_a_session_error_for_the_api(tmp_path):
     m = machine(tmp_path, 'axes = 1\n[[sensor]]\ninput = "gpi1"\n')
     with pytest.raises(SessionError):
         Simulation.from_source("void main() { }", machine=m)
+
+
+def test_the_run_lasts_until_a_change_has_gone_through_its_wire(tmp_path):
+    m = machine(tmp_path, 'axes = 1\n[[wire]]\nfrom = "gpo1"\nto = "gpi2"\ndelay_ms = 50\n')
+    sim = Simulation.from_source("void main() { SetGPO(1, 1); }", machine=m)
+    result = sim.run()
+    assert result.finished and sim.read("gpi2") == 1 and result.sim_time == pytest.approx(0.052)
+    sim = Simulation.from_source("void main() { SetGPO(1, 1); }", machine=m)
+    result = sim.run(until=0.02)
+    assert [w.who for w in result.still_running] == ["wire gpo1 -> gpi2"]

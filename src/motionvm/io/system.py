@@ -12,7 +12,8 @@ Each cycle (runtime/clients.py): `begin_cycle` delivers the wires' due changes a
 updates the sensors (the inputs are latched before the tasks run); `end_cycle` updates
 the analog outputs bound to controller variables (manual 10.4) and samples the wires'
 outputs. Idle I/O costs nothing per cycle: with no wire, sensor or binding both are
-empty loops. `next_event` is the earliest pending wire change.
+empty loops. `next_event` is the earliest pending wire change; the run goes on
+(`busy`) while a change is on its way through a wire.
 
 Channels by name (`channel(name)`: the scope, a scenario, the host API):
 `gpiN`, `gpoN`, `slvS.diK`, `slvS.doK`, `slvS.aiK`, `slvS.aoK` (`slvS.sM.diK`: slot M),
@@ -86,6 +87,22 @@ class IOSystem(PassiveClient):
             cycle = self.motion_cycle()
             for w in self.wires:
                 w.sample(cycle)
+
+    def busy(self) -> bool:
+        """True while a change is on its way through a delayed wire."""
+        for w in self.wires:
+            if w.pending:
+                return True
+        return False
+
+    def still_running(self) -> list:
+        from motionvm.runtime.waits import Waiting
+
+        return [
+            Waiting(f"wire {spec.source.text} -> {spec.target.text}", why="a change on its way")
+            for w, spec in zip(self.wires, self.config.wires)
+            if w.pending
+        ]
 
     def next_event(self) -> int | None:
         cycle = self.motion_cycle()
