@@ -147,8 +147,9 @@ class Simulation:
         raise_faults: bool = False,
     ) -> None:
         """`tasks` place HMPL task files explicitly; `sources` are files of any language
-        (HMPL ones take the free task ids in order). GDL: `scenario` file, `forces`
-        (`REF = VALUE` texts applied at t=0), `shuffle_seed`. `skip=False` steps every
+        (HMPL ones take the free task ids in order). `scenario`: a scenario file (input
+        changes and faults, shared with a GDL application). GDL: `forces` (`REF = VALUE`
+        texts applied at t=0), `shuffle_seed`. `skip=False` steps every
         cycle (the same results, slower). `raise_faults`: `run` and `step` raise
         `TaskFault` at the end of the cycle in which the first (next) fault happened."""
         self._log = log = _Log(raise_faults)
