@@ -73,10 +73,11 @@ class IOSystem(PassiveClient):
     # ---- cycle ------------------------------------------------------------------------
 
     def begin_cycle(self) -> None:
-        cycle = self.motion_cycle()
-        for w in self.wires:
-            if w.pending:
-                w.deliver(cycle)
+        if self.wires:
+            cycle = self.motion_cycle()
+            for w in self.wires:
+                if w.pending:
+                    w.deliver(cycle)
         for s in self.sensors:
             s.update()
 
