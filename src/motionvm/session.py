@@ -370,7 +370,7 @@ class Session:
         if spec.scenario is not None:  # its events apply before every language's cycle
             from motionvm.sim.scenario import ScenarioClient
 
-            self.scenario = ScenarioClient(ctl)
+            self.scenario = ScenarioClient(ctl, report)
             ctl.add_client(self.scenario)
         self.hmpl: HmplRuntime | None = None
         self.pdl = None
@@ -440,6 +440,8 @@ class Session:
                 variables.channel(name)
             except KeyError:
                 return None
+            if variables.read_only(name):
+                raise ValueError(f"'{name}' is read-only")
             return lambda value: variables.write(name, value)
 
         try:
@@ -559,7 +561,8 @@ class Session:
 
     @property
     def fault_count(self) -> int:
-        """Faults of tasks, drive tasks and procedures so far (0: the run is clean)."""
+        """Faults of tasks, drive tasks and procedures, and scenario writes the run
+        refused, so far (0: the run is clean)."""
         n = 0
         if self.hmpl is not None:
             n += self.hmpl.faults
@@ -567,6 +570,8 @@ class Session:
             n += len(self.pdl.faults)
         if self.gdl is not None:
             n += self.gdl.error_count
+        if self.scenario is not None:
+            n += self.scenario.errors
         return n
 
     # ------------------------------------------------------------ scope

@@ -264,3 +264,14 @@ def test_the_cli_runs_an_hmpl_scenario(tmp_path, capsys):
     (tmp_path / "bad.toml").write_text('[[event]]\nat = 0.1\nset = "gpi0"\nvalue = 1\n')
     assert main(["run", "--machine", m, "--scenario", str(tmp_path / "bad.toml"), str(p)]) == 3
     assert "bad.toml:3:1: error: event 1: set = 'gpi0'" in capsys.readouterr().err
+
+
+def test_read_only_names_are_errors_and_refused_values_faults(tmp_path):
+    m, s = files(tmp_path, '[[event]]\nat = 0.1\nset = "himc_gpi_bits"\nvalue = 1\n')
+    with pytest.raises(SessionError, match="'himc_gpi_bits' is read-only"):
+        Simulation.from_source("void main() { }", machine=m, scenario=s)
+    m, s = files(tmp_path, '[[event]]\nat = 0.1\nset = "axis0.max_vel"\nvalue = -5\n')
+    sim = Simulation.from_source("void main() { }", machine=m, scenario=s)
+    sim.run()
+    assert sim.fault_count == 1
+    assert sim.faults[0].startswith(f"{s}:3:1: error: event 1: SetVel(0, -5) refused")

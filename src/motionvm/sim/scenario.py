@@ -67,8 +67,10 @@ class Action:
     at: float
     """[s]"""
     name: str
-    """What it sets, or `fault:KIND`."""
+    """What it sets, or `fault KIND`."""
     apply: Callable[[], None]
+    where: str = ""
+    """`FILE:LINE:COL` of its `set` key (a write refused at run time is reported there)."""
 
 
 @dataclass
@@ -136,7 +138,11 @@ def load_scenario(path: str, resolve: Resolver, io, *, with_gdl: bool) -> Scenar
         table = {}
     gdl_initial = set()
     for name, raw_value in table.items():
-        setter = resolve(name)
+        try:
+            setter = resolve(name)
+        except ValueError as exc:
+            problems.at("initial", name, f"[initial]: {name}: {exc}")
+            continue
         if setter is None:
             if with_gdl:
                 gdl_initial.add(name)
@@ -180,7 +186,7 @@ def _event(i: int, ev: object, resolve: Resolver, io, problems: TomlProblems, wi
     if "fault" not in ev and ("set" not in ev or set(ev) & GDL_KEYS):
         if with_gdl:
             return "gdl"
-    if "fault" not in ev and "set" in ev and with_gdl and resolve(str(ev["set"])) is None:
+    if "fault" not in ev and "set" in ev and with_gdl and _known(resolve, ev["set"]) is None:
         return "gdl"
     found = len(problems.items)
     for key in sorted(set(ev) - KEYS):
@@ -211,7 +217,11 @@ def _event(i: int, ev: object, resolve: Resolver, io, problems: TomlProblems, wi
     for key in ("axis", "slave", "code", "side"):
         if key in ev:
             bad(key, f"'{key}' applies to fault events")
-    setter = resolve(name) if isinstance(name, str) else None
+    try:
+        setter = resolve(name) if isinstance(name, str) else None
+    except ValueError as exc:
+        bad("set", f"set = {name!r}: {exc}")
+        return None
     if setter is None:
         bad(
             "set",
@@ -228,14 +238,28 @@ def _event(i: int, ev: object, resolve: Resolver, io, problems: TomlProblems, wi
         return None
     if len(problems.items) > found or at is None:
         return None
-    return Action(number, at, name, lambda: setter(value))
+    where = problems.where(problems.array_place("event", i, "set"))
+    return Action(number, at, name, lambda: setter(value), where)
+
+
+def _known(resolve: Resolver, name: object) -> Setter | None:
+    """`resolve(name)`, with a read-only name counting as known (its error is reported
+    where the event is checked)."""
+    try:
+        return resolve(str(name))
+    except ValueError:
+        return lambda value: None
 
 
 class ScenarioClient(PassiveClient):
     """Applies a scenario's actions at the start of their cycles (a cycle client)."""
 
-    def __init__(self, controller) -> None:
+    def __init__(self, controller, report: Callable[[str], None] = print) -> None:
         self.controller = controller
+        self.report = report
+        """Receives a line for each write the run refuses (a value out of range)."""
+        self.errors = 0
+        """Writes refused so far (each is a fault of the run: exit code 1)."""
         self.scenario = Scenario()
         self._due: list[tuple[int, Action]] = []
         self._next = 0
@@ -258,7 +282,11 @@ class ScenarioClient(PassiveClient):
         while self._next < len(due) and due[self._next][0] <= cycle:
             action = due[self._next][1]
             self._next += 1
-            action.apply()
+            try:
+                action.apply()
+            except ValueError as exc:  # a variable that refuses the value now
+                self.errors += 1
+                self.report(f"{action.where}: error: event {action.number}: {exc}")
 
     def busy(self) -> bool:
         return self._next < len(self._due)

@@ -114,6 +114,16 @@ class Variables:
                 raise WriteError(f"cannot write {name} = {value!r}: {exc}") from None
         raise WriteError(f"'{name}' is read-only")
 
+    def read_only(self, name: str) -> bool:
+        """True for a channel known to refuse every write: the controller's bit sums,
+        converted analog values and slave states; axis variables no Set* function sets."""
+        if name in ("himc_gpi_bits", "himc_gpo_bits"):
+            return True
+        if name.startswith("slv") and name.endswith((".value", ".state")):
+            return True
+        m = _AXIS.fullmatch(name)
+        return m is not None and m.group(2) not in WRITABLE_AXIS
+
     def _write_gpio(self, name: str, value: object) -> bool:
         """An I/O channel (io/system.py): an input's pin, an output's state, a word."""
         found = self.controller.io.channel(name)
