@@ -9,7 +9,8 @@ So with no delay a program that sets `gpo3` in cycle k reads the wired `gpi4` ch
 in cycle k + 1; with `delay_ms = 5` at 1 ms, in cycle k + 6. An analog wire copies the
 output word: input word = round(gain * output word + offset), clamped to the input's
 words. A sensor sets its input at the start of each cycle from the axis's feedback
-position the last motion step left (on inside [from, to], `invert` swaps on and off).
+position the last motion step left, as GetPosFb reports it (wrapped on a rollover axis):
+on inside [from, to], `invert` swaps on and off.
 
 For the controller's time skipping each `Wire` keeps its pending changes in order and
 `next_due` tells the earliest; a wire whose output changed since it was last sampled
@@ -88,7 +89,7 @@ class Sensor:
         self.level: int | None = None
 
     def value(self) -> int:
-        inside = self.lo <= self.axis.pos_fb <= self.hi
+        inside = self.lo <= self.axis.variable("pos_fb") <= self.hi
         return 1 if inside != self.invert else 0
 
     def update(self) -> None:
