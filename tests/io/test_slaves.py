@@ -3,6 +3,8 @@ slave GPIO functions and their errors, the manual's examples 2 and 3 of 9.1.2.""
 
 from __future__ import annotations
 
+import pytest
+
 from motionvm.api import Simulation
 
 MACHINE = """
@@ -159,3 +161,18 @@ def test_manual_example_1_rising_edge_disables_every_axis(tmp_path):
     sim.set_input(4, 1)
     sim.step(3)
     assert not sim.axis(0).enabled and sim.output(3) == 1
+
+
+def test_the_host_sets_inputs_and_reads_outputs_by_name(tmp_path):
+    sim = sim_of(tmp_path, "void main() { SetSlvGPO(1, 4, 1); SetGPO(2, 1); Sleep(1); }")
+    sim.run()
+    assert (sim.output("slv1.do4"), sim.output("gpo2"), sim.output(2)) == (1, 1, 1)
+    sim.set_input("slv3.ai1", 40000)
+    assert sim.read("slv3.ai1") == 40000
+    for bad in ("gpo2", "slv1.do1", "slv1.di9", "nothing"):
+        with pytest.raises(KeyError):
+            sim.set_input(bad, 1)
+    with pytest.raises(KeyError):
+        sim.output("slv7.do1")
+    with pytest.raises(IndexError):
+        sim.set_input(9, 1)
