@@ -176,3 +176,25 @@ def test_the_host_sets_inputs_and_reads_outputs_by_name(tmp_path):
         sim.output("slv7.do1")
     with pytest.raises(IndexError):
         sim.set_input(9, 1)
+
+
+def test_drives_have_the_general_purpose_channels_the_machine_gives_them(tmp_path):
+    machine = 'axes = 2\n[io]\ndrive_inputs = 4\ndrive_outputs = 2\n[[wire]]\nfrom = "slv1.do2"\nto = "slv0.di3"\n'
+    sim = sim_of(
+        tmp_path,
+        """void main() {
+            Print("%d %d", SetSlvGPO(1, 2, 1), SetSlvGPO(1, 3, 1));
+            Sleep(2);
+            Print("%d %d %d", GetSlvGPI(0, 3), GetSlvAllGPI(0), GetSlvAllGPO(1));
+        }""",
+        machine,
+    )
+    sim.run()
+    assert sim.messages == ["0 -1", "1 4 2"]
+    assert sim.read("slv0.di3") == 1
+
+
+def test_without_drive_channels_a_drive_has_none(tmp_path):
+    sim = sim_of(tmp_path, 'void main() { Print("%d %d", SetSlvGPO(0, 1, 1), GetSlvGPI(0, 1)); }')
+    sim.run()
+    assert sim.messages == ["-1 0"]

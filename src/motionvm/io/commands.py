@@ -13,8 +13,9 @@ Conventions, as for the motion commands (motion/commands/__init__.py):
   for a bad slave, slot, channel, type or variable, -1 when the channel's conversion
   type is HMPL_DAC_NONE (SetSlvAO: "only the Raw functions") or the slave is lost;
   GetSlvAIType/GetSlvAOType of a bad channel return -1, the other getters 0.
-- Digital slave functions work on I/O slaves of kind "digital" (drives have no
-  general-purpose channels in this model); analog ones on kind "analog".
+- Digital slave functions work on I/O slaves of kind "digital" and on drives, which have
+  the general-purpose channels `[io] drive_inputs/drive_outputs` gives them (none by
+  default); analog ones on kind "analog".
 Helpers that are not functions of the manual are lower-case.
 """
 
@@ -34,7 +35,7 @@ from motionvm.io.analog import (
     word_of_value,
 )
 from motionvm.io.gpio import bits_of
-from motionvm.io.slaves import ANALOG, DIGITAL, Module
+from motionvm.io.slaves import ANALOG, DIGITAL, DRIVE, Module
 from motionvm.motion.axis_status import SYS_HMPL_ARG_OUT_OF_RANGE
 
 FAIL = -1
@@ -116,8 +117,12 @@ class IOCommands:
     # ---- 9.3, 9.5 slave digital I/O --------------------------------------------------
 
     def _module(self, slv_slot_id: int, kind: str) -> tuple[object, Module] | None:
+        """The slave and module addressed, if it is of `kind` (digital functions also
+        take a drive with general-purpose channels: `[io] drive_inputs/drive_outputs`)."""
         found = self.io.bus.address(slv_slot_id)
-        if found is None or found[0].kind != kind:
+        if found is None:
+            return None
+        if found[0].kind != kind and not (kind == DIGITAL and found[0].kind == DRIVE):
             return None
         return found
 

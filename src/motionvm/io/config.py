@@ -6,6 +6,8 @@
 inputs = 8            # controller inputs gpi1..gpi8 (default 8)
 outputs = 8           # controller outputs gpo1..gpo8 (default 8)
 estop_input = 8       # the input bound to the E-stop at power-on (0: none; BindEMO)
+drive_inputs = 0      # general-purpose inputs and outputs of every drive slave
+drive_outputs = 0     #   (GetSlvGPI(0, 1), slv0.di1; default none)
 
 [[slave]]             # slave N (after the N drives), in file order
 kind = "digital"      # inputs/outputs: channel counts; or slots = [{inputs = 8}, {outputs = 8}]
@@ -53,7 +55,7 @@ from motionvm.io.gpio import ESTOP_INPUT, N_GPI, N_GPO
 from motionvm.io.slaves import ANALOG, DIGITAL
 
 MAX_CHANNELS = 1024
-IO_KEYS = {"inputs", "outputs", "estop_input"}
+IO_KEYS = {"inputs", "outputs", "estop_input", "drive_inputs", "drive_outputs"}
 SLAVE_KEYS = {
     DIGITAL: {"kind", "name", "inputs", "outputs", "slots"},
     ANALOG: {"kind", "name", "ai", "ao", "bits"},
@@ -128,6 +130,10 @@ class IOConfig:
     slaves: tuple[SlaveSpec, ...] = ()
     wires: tuple[WireSpec, ...] = ()
     sensors: tuple[SensorSpec, ...] = field(default_factory=tuple)
+    drive_inputs: int = 0
+    """General-purpose inputs of every drive slave (di1 ..)."""
+    drive_outputs: int = 0
+    """General-purpose outputs of every drive slave (do1 ..)."""
 
 
 DEFAULT_IO = IOConfig()
@@ -185,12 +191,25 @@ def create_io(data: dict, n_axes: int, report: Report) -> IOConfig:
                 f"estop_input = {estop!r}: must be an input number from 1 to {n_in}, or 0 (none)",
             )
             estop = 0
+    d_in, d_out = 0, 0
+    if isinstance(io, dict):
+        for key in ("drive_inputs", "drive_outputs"):
+            value = io.get(key, 0)
+            if not _count(value):
+                report(
+                    "", -1, key, f"{key} = {value!r}: must be an integer from 0 to {MAX_CHANNELS}"
+                )
+                value = 0
+            if key == "drive_inputs":
+                d_in = value
+            else:
+                d_out = value
     slaves = tuple(_slaves(_tables(data, "slave", report), report))
-    cfg = IOConfig(n_in, n_out, estop, slaves)
+    cfg = IOConfig(n_in, n_out, estop, slaves, drive_inputs=d_in, drive_outputs=d_out)
     wires = tuple(_wires(_tables(data, "wire", report), cfg, n_axes, report))
     sensors = tuple(_sensors(_tables(data, "sensor", report), cfg, n_axes, report))
     _single_driver(wires, sensors, report)
-    return IOConfig(n_in, n_out, estop, slaves, wires, sensors)
+    return IOConfig(n_in, n_out, estop, slaves, wires, sensors, d_in, d_out)
 
 
 def _tables(data: dict, name: str, report: Report) -> list[tuple[int, dict]]:
@@ -312,10 +331,12 @@ def endpoint_problem(ep: Endpoint, cfg: IOConfig, n_axes: int) -> str | None:
     assert ep.slave is not None
     n_slaves = n_axes + len(cfg.slaves)
     if ep.slave < n_axes:
+        count = {"di": cfg.drive_inputs, "do": cfg.drive_outputs}.get(ep.kind, 0)
+        if ep.slot == 1 and 1 <= ep.channel <= count:
+            return None
         return (
-            f"slave {ep.slave} is the drive of axis {ep.slave}; I/O slaves are {n_axes}..{n_slaves - 1}"
-            if n_slaves > n_axes
-            else f"slave {ep.slave} is the drive of axis {ep.slave}; the machine has no I/O slave"
+            f"slave {ep.slave} is the drive of axis {ep.slave} ({ep.kind}: "
+            f"[io] drive_inputs = {cfg.drive_inputs}, drive_outputs = {cfg.drive_outputs})"
         )
     if ep.slave >= n_slaves:
         return f"there is no slave {ep.slave} (slaves 0..{n_slaves - 1})"

@@ -49,7 +49,10 @@ class IOSystem(PassiveClient):
         self.gpio = DigitalIO(config.n_inputs, config.n_outputs)
         self.gpio.estop_input = config.estop_input
         self.gpio.on_estop(self._estop)
-        slaves = [Slave(i, DRIVE, axis=i) for i in range(motion.n_axes)]
+        slaves = [
+            Slave(i, DRIVE, [Module.create(config.drive_inputs, config.drive_outputs)], axis=i)
+            for i in range(motion.n_axes)
+        ]
         for spec in config.slaves:
             modules = [Module.create(*counts, bits=spec.bits) for counts in spec.modules]
             slaves.append(Slave(len(slaves), spec.kind, modules, spec.name))
