@@ -6,9 +6,9 @@ exactly the text of `NN_topic.out`. A multi-task example puts task K in
 `NN_topic.taskK.hmpl` (K = 1, 2, ...); such files are passed after the example and are
 not examples of their own. A GDL example `NN_topic.gdl` runs with its scenario
 `NN_topic.toml` when there is one; an HMPL example runs on the machine file
-`NN_topic.toml` when there is one (`--machine`); a GDL application beside it,
-`NN_topic.NAME.gdl`, is passed after the tasks (all three languages on one machine),
-with its scenario `NN_topic.scenario.toml` when there is one. These are the conventions of
+`NN_topic.toml` when there is one (`--machine`) and its scenario
+`NN_topic.scenario.toml` when there is one; a GDL application beside it,
+`NN_topic.NAME.gdl`, is passed after the tasks (all three languages on one machine). These are the conventions of
 `motionvm test` (`motionvm.cli.cases.run_arguments`), shared here. Set MOTIONVM_TEST_CMD
 to run another command instead of `python -m motionvm` (see
 tests/lang/hmpl/test_hmpl_programs.py).

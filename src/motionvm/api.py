@@ -150,8 +150,9 @@ class Simulation:
         raise_faults: bool = False,
     ) -> None:
         """`tasks` place HMPL task files explicitly; `sources` are files of any language
-        (HMPL ones take the free task ids in order). GDL: `scenario` file, `forces`
-        (`REF = VALUE` texts applied at t=0), `shuffle_seed`. `skip=False` steps every
+        (HMPL ones take the free task ids in order). `scenario`: a scenario file (input
+        changes and faults, shared with a GDL application). GDL: `forces` (`REF = VALUE`
+        texts applied at t=0), `shuffle_seed`. `skip=False` steps every
         cycle (the same results, slower). `raise_faults`: `run` and `step` raise
         `TaskFault` at the end of the cycle in which the first (next) fault happened."""
         self._log = log = _Log(raise_faults)
@@ -329,13 +330,42 @@ class Simulation:
             raise IndexError(f"no axis {n} on this machine (axes 0..{len(axes) - 1})")
         return AxisState.of(axes[n], self.controller.sim_time)
 
-    def set_input(self, index: int, value: bool) -> None:
-        """Set controller general-purpose input `index` (HIMC_GPI); IndexError if none."""
-        self.controller.io.set_input(index, value)
+    def set_input(self, name: int | str, value: Any) -> None:
+        """Drive an input now: a controller input by number (`set_input(4, True)`: GetGPI(4),
+        numbered from 1) or any input by name (`gpi4`, `slv8.di1`, `slv9.ai1` with a raw
+        word), as a scenario's `set` does; IndexError / KeyError if there is no such input."""
+        if isinstance(name, int):
+            self.controller.io.gpio.set_input(name, value)
+            return
+        found = self.controller.io.channel(name)
+        if (
+            found is None
+            or found[1] is None
+            or name.startswith("gpo")
+            or ".do" in name
+            or ".ao" in name
+        ):
+            raise KeyError(f"no input '{name}' on this machine (inputs: gpiN, slvS.diK, slvS.aiK)")
+        found[1](value)
 
-    def output(self, index: int) -> int:
-        """Controller general-purpose output `index` (HIMC_GPO); IndexError if none."""
-        return self.controller.io.output(index)
+    def inject_fault(self, fault: str, **target: Any) -> None:
+        """Inject a fault now, as a scenario's fault event does: `inject_fault("drive",
+        axis=0, code=0x7500)`, `("encoder_loss", axis=1)`, `("following_error", axis=0)`,
+        `("hw_limit", axis=0, side="left")`, `("slave_lost", slave=9)`, `("estop")`
+        (motionvm.io.faults). ValueError for an unknown fault or a bad target."""
+        from motionvm.io.faults import inject_fault
+
+        inject_fault(self.controller.io, fault, **target)
+
+    def output(self, name: int | str) -> int:
+        """An output's state now: a controller output by number (GetGPO numbering, from 1)
+        or by name (`gpo3`, `slv8.do2`, `slv9.ao1`: the raw word)."""
+        if isinstance(name, int):
+            return self.controller.io.gpio.output(name)
+        found = self.controller.io.channel(name)
+        if found is None:
+            raise KeyError(f"no output '{name}' on this machine")
+        return found[0]()
 
     # ------------------------------------------------------------ scope
 

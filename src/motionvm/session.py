@@ -102,7 +102,8 @@ class RunSpec:
     machine: MachineConfig | str | Path | None = None
     """A loaded machine, a machine file, or None for the built-in machine."""
     scenario: str | None = None
-    """GDL: a scenario file of timed input changes."""
+    """A scenario file of timed input changes and faults (sim/scenario.py), shared with
+    a GDL application."""
     scope: ScopeRequest | None = None
     stamp: bool = False
     """Prefix every message with the simulated time and its source."""
@@ -224,7 +225,6 @@ def compile_run(
         raise SessionError("--start applies to a PDL program given as a file; none was given")
     if not by_lang["GDL"]:
         for given, option in (
-            (spec.scenario, "--scenario"),
             (spec.gdl_forces, "--force"),
             (spec.shuffle_seed is not None, "--shuffle-order"),
         ):
@@ -368,6 +368,12 @@ class Session:
         self.controller = ctl = Controller(machine.cycle_time, machine=machine)
         ctl.skip = spec.skip and os.environ.get("MOTIONVM_NO_SKIP", "") in ("", "0")
         ctl.comm.config = machine.comm
+        self.scenario = None
+        if spec.scenario is not None:  # its events apply before every language's cycle
+            from motionvm.sim.scenario import ScenarioClient
+
+            self.scenario = ScenarioClient(ctl, report)
+            ctl.add_client(self.scenario)
         self.hmpl: HmplRuntime | None = None
         self.pdl = None
         self.gdl = None
@@ -397,6 +403,7 @@ class Session:
             self.hmpl_comm = HmplComm(self.hmpl)  # Native ASCII, variables, ASCII agent
             self.hmpl_comm.attach(ctl.comm)
             ctl.add_client(self.hmpl_comm)
+            ctl.io.on_estop(self.hmpl.estop_input)  # E-stop input: tasks stop
         if compiled.pdl:
             from motionvm.lang.pdl.machine_drives import PdlDrives
 
@@ -410,8 +417,9 @@ class Session:
                 standalone=self.standalone_pdl,
             )
             ctl.add_client(self.pdl)
+        shared = self._load_scenario(compiled.gdl is not None)
         if compiled.gdl is not None:
-            self.gdl = self._gdl_client(compiled.gdl)
+            self.gdl = self._gdl_client(compiled.gdl, shared)
             ctl.add_client(self.gdl)
         self.recorder: ScopeRecorder | None = None
         if spec.scope is not None:
@@ -424,7 +432,35 @@ class Session:
         self.closed = False
         """`close()` was called: the run can no longer step."""
 
-    def _gdl_client(self, app):
+    def _load_scenario(self, with_gdl: bool):
+        """The scenario file's machine and program events, loaded onto the scenario
+        client; the events left to a GDL application are named in the result."""
+        if self.scenario is None:
+            return None
+        from motionvm.sim.scenario import ScenarioError, load_scenario
+        from motionvm.sim.variables import Variables
+
+        variables = Variables(self.scope_registry(), self.controller)
+
+        def resolve(name: str):
+            try:
+                variables.channel(name)
+            except KeyError:
+                return None
+            if variables.read_only(name):
+                raise ValueError(f"'{name}' is read-only")
+            return lambda value: variables.write(name, value)
+
+        try:
+            loaded = load_scenario(
+                self.spec.scenario, resolve, self.controller.io, with_gdl=with_gdl
+            )
+        except ScenarioError as exc:
+            raise SessionError(*exc.messages, located=exc.located) from None
+        self.scenario.load(loaded)
+        return loaded
+
+    def _gdl_client(self, app, shared=None):
         """The GDL application on this run's controller, with its scenario and forces."""
         from motionvm.lang.gdl.client import GdlApplication
         from motionvm.lang.gdl.motors import GdlMachineError
@@ -433,8 +469,8 @@ class Session:
         spec = self.spec
         try:
             scenario = (
-                load_scenario(spec.scenario, app)
-                if spec.scenario is not None
+                load_scenario(spec.scenario, app, shared.gdl_events, shared.gdl_initial)
+                if shared is not None
                 else Scenario((), (), None)
             )
             return GdlApplication(
@@ -502,6 +538,8 @@ class Session:
                 if asked is None:
                     asked = self.gdl.scenario.until
                 end = self.gdl.run_until(end)
+            elif asked is None and self.scenario is not None:
+                asked = end = self.scenario.scenario.until
         reason = self.controller.run(end, realtime=realtime, progress=progress)
         if self.gdl is not None:
             self.gdl.finish()
@@ -557,7 +595,8 @@ class Session:
 
     @property
     def fault_count(self) -> int:
-        """Faults of tasks, drive tasks and procedures so far (0: the run is clean)."""
+        """Faults of tasks, drive tasks and procedures, and scenario writes the run
+        refused, so far (0: the run is clean)."""
         n = 0
         if self.hmpl is not None:
             n += self.hmpl.faults
@@ -565,6 +604,8 @@ class Session:
             n += len(self.pdl.faults)
         if self.gdl is not None:
             n += self.gdl.error_count
+        if self.scenario is not None:
+            n += self.scenario.errors
         return n
 
     # ------------------------------------------------------------ scope

@@ -50,7 +50,7 @@ def test_controller_inputs_and_outputs():
     sim.step(5)
     assert sim.read("gpo5") == 0 and sim.messages == []
     sim.write("gpi3", 1)
-    assert sim.read("gpi3") == 1 and sim.read("himc_gpi_bits") == 8
+    assert sim.read("gpi3") == 1 and sim.read("himc_gpi_bits") == 4
     sim.run()
     assert sim.read("gpo5") == 1 and sim.messages == ["on"]
     sim.write("gpo5", 0)

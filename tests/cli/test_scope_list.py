@@ -58,7 +58,7 @@ def test_every_language_of_a_machine(motionvm):
 def test_the_listed_channels_can_be_recorded(motionvm, tmp_path):
     (tmp_path / "g.hmpl").write_text(GLOBALS, "utf-8")
     found = channels(motionvm("scope", "--list", "g.hmpl", cwd=tmp_path).stdout)
-    picked = ["count", "speeds[1]", "axis1.ref_pos", "gpi0", "system_dtest0"]
+    picked = ["count", "speeds[1]", "axis1.ref_pos", "gpi1", "system_dtest0"]
     assert set(picked) <= set(found)
     r = motionvm("run", "g.hmpl", "--scope", ",".join(picked), "--scope-out", "s.csv", cwd=tmp_path)
     assert r.returncode == 0, r.stderr

@@ -59,7 +59,7 @@ def client(server):
 
 
 def test_coils_are_outputs_1_to_8(server, client):
-    io = server[0].controller.io
+    io = server[0].controller.io.gpio
     io.outputs[gpio_index(1)] = 1
     io.outputs[gpio_index(3)] = 1
     time.sleep(0.01)
@@ -73,7 +73,7 @@ def test_coils_are_outputs_1_to_8(server, client):
 
 
 def test_discrete_inputs_are_inputs_1_to_8(server, client):
-    io = server[0].controller.io
+    io = server[0].controller.io.gpio
     io.inputs[gpio_index(2)] = 1
     io.inputs[gpio_index(8)] = 1
     time.sleep(0.01)

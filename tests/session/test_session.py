@@ -37,9 +37,7 @@ def test_a_compile_error_in_any_language_and_nothing_runs(tmp_path):
     assert exc.value.diagnostics and exc.value.diagnostics[0].pos.file.endswith("bad.pdl")
 
 
-@pytest.mark.parametrize(
-    "option, value", [("--scenario", "s.toml"), ("--force", "VALUE OF x = 1"), ("--start", "_go")]
-)
+@pytest.mark.parametrize("option, value", [("--force", "VALUE OF x = 1"), ("--start", "_go")])
 def test_an_option_of_a_language_without_files_is_exit_3(tmp_path, option, value):
     prog = write(tmp_path, "a.hmpl", "void main() { }\n")
     code, _out, err = cli("run", prog, option, value)

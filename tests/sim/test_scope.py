@@ -170,9 +170,9 @@ def test_globals_arrays_and_gpio():
     )
     sim = Simulation.from_source(src)
     reg = registry_for(sim.controller, sim.runtime)
-    chans = reg.resolve_all(["n", "d[1]", "addr_taken", "system_mtest[9]", "gpi0", "himc_gpo_bits"])
+    chans = reg.resolve_all(["n", "d[1]", "addr_taken", "system_mtest[9]", "gpi1", "himc_gpo_bits"])
     assert [c.unit for c in chans] == ["raw", "raw", "raw", "raw", "bool", "raw"]
-    sim.set_input(0, True)
+    sim.set_input(1, True)
     sim.run()
     assert [c.getter() for c in chans] == [7, 2.5, -3, 0.0, 1, 0]
     assert reg.resolve("system_timeInMs").unit == "ms"
@@ -186,7 +186,7 @@ def test_globals_arrays_and_gpio():
         ("table", "is an array of 4; record one element, e.g. 'table[0]'"),
         ("table[4]", "index 4 is out of range for table[4] (0..3)"),
         ("count[1]", "'count' is not an array"),
-        ("gpo32", "the controller has gpo0..gpo31"),
+        ("gpo9", "the controller has gpo1..gpo8"),
         ("nothing_like_it", "unknown scope channel 'nothing_like_it'"),
     ],
 )

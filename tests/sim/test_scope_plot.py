@@ -152,7 +152,7 @@ def test_figure_structure(figure_of):
             "axis0.pos_fb": ("mm", ramp(-499, 499)),
             "axis0.pos_err": ("mm", ramp(-0.01, 0.01)),
             "gpo3": (BIT_UNIT, [k % 2 for k in range(50)]),
-            "gpi0": (BIT_UNIT, [k > 10 for k in range(50)]),
+            "gpi1": (BIT_UNIT, [k > 10 for k in range(50)]),
         }
     )
     fig = figure_of(rec, "move.hmpl")
@@ -171,8 +171,8 @@ def test_figure_structure(figure_of):
     # bits: thin steps, stacked, each labelled on the y axis, in a compact panel
     assert [line.get_drawstyle() for line in bits.get_lines()] == ["steps-post"] * 2
     assert all(line.get_linewidth() < 1.0 for line in bits.get_lines())
-    assert [t.get_text() for t in bits.get_yticklabels()] == ["gpo3", "gpi0"]
-    assert [t.get_text() for t in bits.get_legend().get_texts()] == ["gpo3 [bool]", "gpi0 [bool]"]
+    assert [t.get_text() for t in bits.get_yticklabels()] == ["gpo3", "gpi1"]
+    assert [t.get_text() for t in bits.get_legend().get_texts()] == ["gpo3 [bool]", "gpi1 [bool]"]
     low_gpo3 = min(bits.get_lines()[0].get_ydata())
     assert low_gpo3 > max(bits.get_lines()[1].get_ydata())  # stacked, first on top
     assert bits.get_position().height < position.get_position().height / 2

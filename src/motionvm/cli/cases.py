@@ -19,8 +19,9 @@ carries expectations, either
 Run inputs follow the file names (the program's folder is the working directory):
 `X.taskK.hmpl` (K = 1, 2, ...) are the tasks after an HMPL program; `X.toml` is the
 machine file (`--machine`) of an HMPL or PDL program and the scenario (`--scenario`) of
-a GDL program; `X.NAME.gdl` files are a GDL application linked after the program (with
-`X.scenario.toml` as its scenario when the program is HMPL); `X.NAME.pdl` files are
+a GDL program; `X.NAME.gdl` files are a GDL application linked after the program;
+`X.scenario.toml` is the scenario of an HMPL program (shared with that application, if
+any); `X.NAME.pdl` files are
 programs the machine file puts on drives. Files whose stem has a dot are never cases of
 their own.
 """
@@ -133,7 +134,7 @@ def run_arguments(program: Path) -> list[str]:
     more = gdl_companions(program)
     argv += more
     scenario = program.with_name(f"{program.stem}.scenario.toml")
-    if more and program.suffix == ".hmpl" and scenario.is_file():
+    if program.suffix == ".hmpl" and scenario.is_file():
         argv += ["--scenario", scenario.name]
     return argv
 

@@ -272,7 +272,7 @@ def _machine(p: argparse.ArgumentParser) -> None:
 
 def _scenario(p: argparse.ArgumentParser) -> None:
     p.add_argument(
-        "--scenario", metavar="FILE.toml", help="GDL: a scenario file of timed input changes"
+        "--scenario", metavar="FILE.toml", help="a scenario file: timed input changes and faults"
     )
 
 

@@ -439,6 +439,19 @@ class AxisCycle:
         self.enabled = self._enabling = False
         self.drive.controlword = CW_DISABLE
 
+    # ---- injected faults (a scenario's fault events, the host API) ------------------
+
+    def drive_lost(self) -> None:
+        """The drive left the bus: the axis disables as on a drive fault (table 5.1.1.4)."""
+        self.wake()
+        self.fault_status |= st.FS_DRIVE_FAULT
+        self._fault_disable(st.DRIVE_FAULT, 0)
+
+    def position_error_fault(self) -> None:
+        """The position error exceeded its limit: disable, error stop (table 5.1.1.4)."""
+        self.wake()
+        self._fault_disable(st.PERR, st.FS_POSITION_ERROR)
+
     def _start_ramp(self, v_0: float, decel: float) -> None:
         """Brake the reference from velocity v_0 to rest at `decel` (PVT and torque stops)."""
         if self.op_mode not in (MODE_CSP, MODE_CSV):

@@ -72,6 +72,16 @@ class MotionKernel:
         self.estopped = False
         """True after EStop: IsSystemError answers 1."""
         self._bus_steps: list[int] = []
+        # I/O slaves: the I/O layer (io/system.py) puts them on the bus after the drives
+        self.extra_slaves = 0
+        """I/O slaves on the bus after the drives: slaves n_axes .. n_slaves - 1."""
+        self.lost_slaves: set[int] = set()
+        """Slaves that left the bus (a fault): they report Init (1) for good."""
+
+    @property
+    def n_slaves(self) -> int:
+        """Every slave of the bus: the drives, then the I/O slaves."""
+        return len(self.axes) + self.extra_slaves
 
     @property
     def n_axes(self) -> int:
@@ -136,8 +146,10 @@ class MotionKernel:
 
     def slave_state(self, slave_id: int) -> int:
         """State of slave `slave_id` (0 if there is no such slave)."""
-        if not 0 <= slave_id < len(self.axes):
+        if not 0 <= slave_id < self.n_slaves:
             return 0
+        if slave_id in self.lost_slaves:
+            return ECAT_INIT
         return self.ecat_state
 
     def scan_network(self) -> int:
@@ -152,6 +164,12 @@ class MotionKernel:
         self.ecat_state = ECAT_INIT
         self._bus_steps = [ECAT_PREOP, ECAT_SAFEOP, ECAT_OP]
         return 0
+
+    def lose_drive(self, axis_id: int) -> None:
+        """The drive of `axis_id` left the bus: the axis faults as on a drive fault
+        (disabled, error stop), with eERR_AXIS_DRIVE_FAULT as its last error."""
+        a = self.axes[axis_id]
+        a.drive_lost()
 
     def disable_all(self) -> None:
         for a in self.axes:

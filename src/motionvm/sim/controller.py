@@ -19,8 +19,8 @@ import math
 from collections.abc import Callable
 
 from motionvm.comm.hub import CommHub
-from motionvm.io.gpio import DigitalIO
 from motionvm.io.position_trigger import PositionTriggers
+from motionvm.io.system import IOSystem
 from motionvm.motion.kernel import MotionKernel
 from motionvm.runtime.clients import CycleClient
 from motionvm.runtime.clock import Clock
@@ -55,14 +55,18 @@ class Controller:
         self.clock = Clock(cycle_time)
         self.cycle_time = cycle_time
         self.kernel = Kernel(self.clock)
-        self.motion = MotionKernel(list((machine or DEFAULT_MACHINE).axes), cycle_time)
-        self.io = DigitalIO()
+        machine = machine or DEFAULT_MACHINE
+        self.motion = MotionKernel(list(machine.axes), cycle_time)
+        self.io = IOSystem(machine.io, self.motion, cycle_time)
+        """GPIO, EtherCAT slaves, wires and sensors (io/system.py), the first client."""
+        self.io.clock = self.clock
         self.triggers = PositionTriggers(self.motion, self.clock)
         """The position trigger of each axis (manual chapter 12), a client of the cycle."""
-        self.clients: list[CycleClient] = []
-        """Run sides stepped each cycle, in the order added (runtime/clients.py)."""
-        self.comm = CommHub(self.clock, self.io, self.motion)
-        """Servers' requests and client sockets (comm/hub.py): the first client of a cycle."""
+        self.clients: list[CycleClient] = [self.io]
+        """Run sides stepped each cycle, in the order added (runtime/clients.py); the I/O
+        system comes first, so the inputs are latched before any language's cycle."""
+        self.comm = CommHub(self.clock, self.io.gpio, self.motion)
+        """Servers' requests and client sockets (comm/hub.py), right after the inputs."""
         self.add_client(self.comm)
         self.add_client(self.triggers)
         self.skip = True

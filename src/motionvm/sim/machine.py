@@ -43,6 +43,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from motionvm.comm.config import COMM_KEYS, CommConfig, load_comm
+from motionvm.io.config import DEFAULT_IO, IOConfig, create_io
 from motionvm.motion.axis_config import AxisConfig, AxisConfigError, build_drive
 from motionvm.motion.axis_config import create as create_axis
 from motionvm.source.toml_places import TomlProblems, syntax_error_place, undecodable_place
@@ -75,6 +76,9 @@ class MachineConfig:
     """The axes that are a GDL motor object named in the machine file, by axis id."""
     comm: CommConfig = field(default_factory=CommConfig)
     """`[comm]`: the TCP servers' address and ports, the clients' timeout (comm/config.py)."""
+    io: IOConfig = DEFAULT_IO
+    """Controller GPIO, I/O slaves, wires and sensors (`[io]`, `[[slave]]`, `[[wire]]`,
+    `[[sensor]]`: io/config.py)."""
 
 
 @dataclass(frozen=True)
@@ -114,6 +118,8 @@ DEFAULT_MACHINE = MachineConfig()
 
 _KNOWN = {"controller": {"cycle_time_ms", "task_slice", "data_dir"}, "axis": set(), "axes": set()}
 _KNOWN["comm"] = COMM_KEYS
+_IO_SECTIONS = ("io", "slave", "wire", "sensor")
+"""Sections io/config.py reads and checks."""
 
 
 class _Problems(TomlProblems):
@@ -125,6 +131,13 @@ class _Problems(TomlProblems):
 
     def where_in_axis(self, index: int, key: str) -> str:
         return self.where(self.array_place("axis", index, key))
+
+    def io_problem(self, array: str, index: int, key: str | None, message: str) -> None:
+        """A problem io/config.py found: in the `index`-th [[array]] table, or in [io]."""
+        if index < 0:
+            self.at(array or "io", key, message)
+        else:
+            self.in_array(array, index, key, message)
 
     def raise_any(self) -> None:
         if self.items:
@@ -154,13 +167,14 @@ def load_machine(path: str | Path) -> MachineConfig:
         problems.add(place, f"invalid TOML: {message}")
         problems.raise_any()
     for sec, val in data.items():
-        if sec in ("axis", "axes"):
+        if sec in ("axis", "axes") or sec in _IO_SECTIONS:
             continue
         if sec not in _KNOWN:
+            known = "axis, comm, controller, io, sensor, slave, wire"
             if isinstance(val, dict):
-                problems.at(sec, None, f"unknown section [{sec}] (known: axis, comm, controller)")
+                problems.at(sec, None, f"unknown section [{sec}] (known: {known})")
             else:
-                problems.at("", sec, f"unknown key '{sec}' (known: axes, axis, comm, controller)")
+                problems.at("", sec, f"unknown key '{sec}' (known: axes, {known})")
             continue
         if not isinstance(val, dict):
             problems.at("", sec, f"'{sec}' must be a table")
@@ -200,6 +214,7 @@ def load_machine(path: str | Path) -> MachineConfig:
         data_dir = None
     axes, pdl, gdl = _load_axes(data, problems)
     comm = load_comm(data.get("comm"), problems)
+    io = create_io(data, len(axes), problems.io_problem)
     problems.raise_any()
     return MachineConfig(
         cycle_time=cycle_ms / 1000.0,
@@ -210,6 +225,7 @@ def load_machine(path: str | Path) -> MachineConfig:
         pdl_drives=pdl,
         gdl_motors=gdl,
         comm=comm,
+        io=io,
     )
 
 

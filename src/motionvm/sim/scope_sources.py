@@ -2,8 +2,8 @@
 gantry pairs; `registry_for` adds them to the sources of a run's language clients.
 
 Channel names (README "Scope"):
-- `gpi3`, `gpo5` — one controller general-purpose input/output bit [bool];
-  `himc_gpi_bits`, `himc_gpo_bits` — all of them as one integer [raw];
+- the controller's I/O: `gpi3`, `gpo5`, `himc_gpi_bits`, slave channels `slv8.di1` ...
+  (sim/scope_io.py);
 - `axisN.<variable>` — an axis variable of manual 5.1.1 (`axis0.ref_pos`), with the
   manual's unit, read through the axis layer's `variable(name)`;
 - `gearN.master_pos_gear`, `gearN.gear_cmd_pos`, `gearN.gear_ratio` — table 6.1.1.1 of
@@ -24,45 +24,14 @@ from collections.abc import Callable, Iterable
 from functools import partial
 from importlib import resources
 
-from motionvm.io.gpio import DigitalIO
+from motionvm.io.system import IOSystem
 from motionvm.motion.kernel import MotionKernel
 from motionvm.sim.scope import BIT_UNIT, RAW_UNIT, ChannelRegistry, ScopeError
 
-_GPIO = re.compile(r"(gpi|gpo)(\d+)")
 _AXIS = re.compile(r"axis(\d+)\.(\w+)")
 _SYNC = re.compile(r"(gear|gantry)(\d+)\.(\w+)")
 GEAR_VARIABLES = ("master_pos_gear", "gear_cmd_pos", "gear_ratio")
 GANTRY_VARIABLES = ("linear_ref", "yaw_ref", "linear_fb", "yaw_fb")
-
-
-class GpioSource:
-    """The controller's general-purpose inputs and outputs (a `DigitalIO`)."""
-
-    def __init__(self, io: DigitalIO) -> None:
-        self.io = io
-
-    def resolve(self, name: str) -> tuple[Callable[[], float], str] | None:
-        io = self.io
-        if name == "himc_gpi_bits":
-            return (lambda: io.input_bits), RAW_UNIT
-        if name == "himc_gpo_bits":
-            return (lambda: io.output_bits), RAW_UNIT
-        m = _GPIO.fullmatch(name)
-        if m is None:
-            return None
-        bits = io.inputs if m.group(1) == "gpi" else io.outputs
-        i = int(m.group(2))
-        if i >= len(bits):
-            raise ScopeError(
-                f"scope channel '{name}': the controller has {m.group(1)}0..{m.group(1)}{len(bits) - 1}"
-            )
-        return partial(bits.__getitem__, i), BIT_UNIT
-
-    def channel_names(self) -> Iterable[str]:
-        yield "himc_gpi_bits"
-        yield "himc_gpo_bits"
-        yield from (f"gpi{i}" for i in range(self.io.n_inputs))
-        yield from (f"gpo{i}" for i in range(self.io.n_outputs))
 
 
 def _manual_axis_units() -> dict[str, str | None]:
@@ -201,8 +170,10 @@ def registry_for(controller, *clients) -> ChannelRegistry:
             for source in client.scope_sources():
                 reg.register(source)
     io = getattr(controller, "io", None)
-    if isinstance(io, DigitalIO):
-        reg.register(GpioSource(io))
+    if isinstance(io, IOSystem):
+        from motionvm.sim.scope_io import IoSource
+
+        reg.register(IoSource(io))
     triggers = getattr(controller, "triggers", None)
     if triggers is not None:  # axisN.pt_count, .pt_out, .pt_enabled (io/position_trigger.py)
         reg.register(triggers)

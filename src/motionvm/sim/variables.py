@@ -4,7 +4,8 @@
 (sim/scope.py: HMPL globals and system variables, `gpi3`/`gpo5`, `axisN.<variable>`,
 `gearN.*`, `gantryN.*`, `driveN.<name>`, `OBJECT.STATE`) and writes those that can be
 written, at once (the next read sees the value):
-- `gpiN`, `gpoN`: the controller's digital input or output bit;
+- `gpiN`, `gpoN`, `slvS.diK` ...: the controller's and the slaves' I/O channels (an
+  input at its pin, an output as a program sets it, an analog channel's raw word);
 - `axisN.<variable>`: only the variables an HMPL Set* function sets (`WRITABLE_AXIS`),
   through `MotionCommands`, so the manual's checks and error codes apply;
 - the sources of the languages that offer `write(name, value)` (True: written, False:
@@ -37,7 +38,6 @@ WRITABLE_AXIS = {
 }
 """Axis variable -> the HMPL function that sets it (manual 5.3); the others are read-only."""
 
-_GPIO = re.compile(r"(gpi|gpo)(\d+)")
 _AXIS = re.compile(r"axis(\d+)\.(\w+)")
 
 
@@ -114,13 +114,24 @@ class Variables:
                 raise WriteError(f"cannot write {name} = {value!r}: {exc}") from None
         raise WriteError(f"'{name}' is read-only")
 
+    def read_only(self, name: str) -> bool:
+        """True for a channel known to refuse every write: the controller's bit sums,
+        converted analog values and slave states; axis variables no Set* function sets."""
+        if name in ("himc_gpi_bits", "himc_gpo_bits"):
+            return True
+        if name.startswith("slv") and name.endswith((".value", ".state")):
+            return True
+        m = _AXIS.fullmatch(name)
+        return m is not None and m.group(2) not in WRITABLE_AXIS
+
     def _write_gpio(self, name: str, value: object) -> bool:
-        m = _GPIO.fullmatch(name)
-        if m is None:
+        """An I/O channel (io/system.py): an input's pin, an output's state, a word."""
+        found = self.controller.io.channel(name)
+        if found is None:
             return False
-        io = self.controller.io
-        setter = io.set_input if m.group(1) == "gpi" else io.set_output
-        setter(int(m.group(2)), value)
+        if found[1] is None:
+            raise WriteError(f"'{name}' is read-only")
+        found[1](value)
         return True
 
     def _write_axis(self, name: str, value: object) -> bool:

@@ -222,9 +222,16 @@ def _event(app: App, index: int, raw: object, problems: _Problems) -> Event | No
     return Event(number, at, actions[0], target, value, during, line, where)
 
 
-def load_scenario(path: str, app: App) -> Scenario:
+def load_scenario(
+    path: str,
+    app: App,
+    only_events: frozenset[int] | None = None,
+    only_initial: frozenset[str] | None = None,
+) -> Scenario:
     """Read and validate a scenario file against the application; ScenarioError lists
-    every problem of it."""
+    every problem of it. `only_events` (indexes from 0) and `only_initial` (keys): the
+    events and [initial] entries that are the application's when the file is shared with
+    the machine (sim/scenario.py takes the others); None: all of them."""
     try:
         raw = Path(path).read_bytes()
     except OSError as exc:
@@ -257,6 +264,8 @@ def load_scenario(path: str, app: App) -> Scenario:
         problems.at("", "initial", "[initial] must be a table")
         table = {}
     for ref, raw in table.items():
+        if only_initial is not None and ref not in only_initial:
+            continue
         try:
             target = parse_target(app, ref)
             initial.append((target, parse_value(target, raw)))
@@ -266,7 +275,11 @@ def load_scenario(path: str, app: App) -> Scenario:
     if not isinstance(raw_events, list):
         problems.at("", "event", "events are written [[event]]")
         raw_events = []
-    events = [_event(app, i, e, problems) for i, e in enumerate(raw_events)]
+    events = [
+        _event(app, i, e, problems)
+        for i, e in enumerate(raw_events)
+        if only_events is None or i in only_events
+    ]
     problems.raise_any()
     return Scenario(
         tuple(initial),

@@ -5,7 +5,7 @@ views, built-ins bound as `b_NAME`), one memory stack per task, the 8 mutexes of
 MutexLock/MutexUnlock (released when their task stops), message output, and fault
 reports `FILE:LINE:COL: runtime error in task N at t=S.mmm s: MESSAGE` (the place of the
 deepest frame of the user's code, the controller's simulated time). HIMC_GPI/HIMC_GPO read and write
-the controller's digital I/O (`controller.io`, io/gpio.py); the axis built-ins call the
+the controller's digital I/O (`controller.io.gpio`, io/gpio.py; numbered from 1); the axis built-ins call the
 motion commands (`commands`, motion/commands/) on the controller's motion kernel.
 """
 
@@ -17,6 +17,7 @@ import traceback
 from collections.abc import Callable
 from pathlib import Path
 
+from motionvm.io.commands import IOCommands
 from motionvm.lang.hmpl.cmemory import Memory, TaskStack
 from motionvm.lang.hmpl.compiler import N_TASKS, STACK_SIZE, STATIC_SIZE
 from motionvm.lang.hmpl.lib import library_classes
@@ -69,11 +70,13 @@ class HmplRuntime(PassiveClient):
         self.event_callbacks: list[Callable[[str, object], None]] = []
         self.faults = 0
         self.stamp = False
-        self._inputs, self._outputs = controller.io.inputs, controller.io.outputs
+        self._inputs, self._outputs = controller.io.gpio.inputs, controller.io.gpio.outputs
         self.mutex_owner: list[int | None] = [None] * N_MUTEXES
         """The task id holding each mutex (MutexLock), None while it is free."""
         self.commands = MotionCommands(controller.motion)
         """The motion commands in manual units that the axis built-ins call."""
+        self.io_commands = IOCommands(controller.io)
+        """The I/O commands (chapters 9, 10) that the GPIO and AIO built-ins call."""
         self.user_files = {fname for fname, _ in program.codes}
         self.stacks = [
             TaskStack(mem, STATIC_SIZE + i * STACK_SIZE, STACK_SIZE) for i in range(N_TASKS)
@@ -144,6 +147,22 @@ class HmplRuntime(PassiveClient):
         # system_fclk: +1 per controller cycle (22.2), wrapping as a signed 32-bit int
         i32[self._fclk_addr] = ((cycle + 2**31) & 0xFFFFFFFF) - 2**31
 
+    def estop_input(self, n: int) -> None:
+        """The E-stop input `n` rose (io/gpio.py): every task stops, the calling one
+        (a task whose SetGPIInvert made it rise) last; the report names the code."""
+        from motionvm.motion.axis_status import SYS_EMERGENCY_STOP
+        from motionvm.runtime.errors import TaskExit
+
+        if not self.kernel.any_running:
+            return
+        self._report(
+            f"motionvm: {f'E-stop input {n}' if n else 'E-stop'} at t={self.sim_time:.3f} s: "
+            "every axis disabled, "
+            f"every task stopped (eERR_EMERGENCY_STOP 0x{SYS_EMERGENCY_STOP:08X})"
+        )
+        if self.kernel.stop_all():
+            raise TaskExit()
+
     def still_running(self) -> list:
         """Every running task and the line of the user's code where it waits."""
         from motionvm.runtime.waits import Waiting, suspended_at
@@ -183,9 +202,10 @@ class HmplRuntime(PassiveClient):
 
     @staticmethod
     def _gpio_index(bits: list[int], i: int, what: str) -> int:
-        if not 0 <= i < len(bits):
-            raise RuntimeFault(f"{what}({i}): index out of range (0..{len(bits) - 1})")
-        return i
+        """Input or output number `i` (from 1, as GetGPI numbers them) as a list index."""
+        if not 1 <= i <= len(bits):
+            raise RuntimeFault(f"{what}({i}): index out of range (1..{len(bits)})")
+        return i - 1
 
     def _gpi(self, i: int) -> int:
         bits = self._inputs

@@ -48,7 +48,8 @@ class BusCommands(CommandBase):
         return state
 
     def GetSlaveNum(self) -> int:
-        return self.motion.n_axes
+        """The drives and the I/O slaves on the bus."""
+        return self.motion.n_slaves
 
     def ScanNetwork(self) -> int:
         return self.motion.scan_network()

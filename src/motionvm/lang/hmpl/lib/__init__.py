@@ -25,6 +25,8 @@ _MODULES = (
     "motionvm.lang.hmpl.lib.objects",
     "motionvm.lang.hmpl.lib.config",
     "motionvm.lang.hmpl.lib.trigger",
+    "motionvm.lang.hmpl.lib.gpio",
+    "motionvm.lang.hmpl.lib.analog",
 )
 
 

@@ -30,7 +30,10 @@ if TYPE_CHECKING:  # pragma: no cover
 
 
 class _Command:
-    """A class attribute that is the HMPL built-in and motion command of its name."""
+    """A class attribute that is the HMPL built-in and motion (or I/O) command of its name."""
+
+    def __init__(self, commands: str = "commands") -> None:
+        self.commands = commands
 
     def __set_name__(self, owner: type, name: str) -> None:
         self.name = name
@@ -39,12 +42,18 @@ class _Command:
     def __get__(self, lib: Library | None, owner: type | None = None) -> Any:
         if lib is None:
             return self
-        return getattr(lib.rt.commands, self.name)
+        return getattr(getattr(lib.rt, self.commands), self.name)
 
 
 def command() -> _Command:
     """Declare (`Name = command()`) the HMPL built-in that is motion command `Name`."""
     return _Command()
+
+
+def io_command() -> _Command:
+    """Declare (`Name = io_command()`) the HMPL built-in that is I/O command `Name`
+    (`motionvm.io.commands`, the run time's `io_commands`)."""
+    return _Command("io_commands")
 
 
 def builtin(name: str | None = None, *, blocking: bool = False) -> Callable:
