@@ -9,6 +9,7 @@ the manual's parameters in the manual's order and units (mm or deg, mm/s, mm/s^2
 | 2 system (bus) | `system.py` | IsSystemInit ... GetSlaveNum, ScanNetwork, DisableAll, StopAll, EStop |
 | 5 axis | `axis.py` | Enable ... GetCmdNum, IsEnabled ... IsAcc |
 | 6 gear, 7 gantry | `sync.py` | EnableGear ... IsGearSlave, EnableGantryPair ... IsGantryPair |
+| 8 axis groups | `group.py` | EnableGroup ... IsGrpErrorStop, LineAbs ... CircleRel |
 | 13 touch probe | `touchprobe.py` | EnableTouchProbe ... SetTouchProbeFunc |
 | 18 errors | `system.py` | GetSystemLastErr ... GetDriveErr |
 | 20 homing | `homing.py` | MoveHome, SetHomeMethod ... SetHomedStatus |
@@ -40,6 +41,7 @@ homing, touch probes, bus, last errors), so any number of front ends may each ho
 from __future__ import annotations
 
 from motionvm.motion.commands.axis import AxisCommands
+from motionvm.motion.commands.group import GroupCommands
 from motionvm.motion.commands.homing import HomingCommands
 from motionvm.motion.commands.sync import GantryCommands, GearCommands
 from motionvm.motion.commands.system import BusCommands, ErrorCommands
@@ -56,5 +58,6 @@ class MotionCommands(
     TouchProbeCommands,
     ErrorCommands,
     HomingCommands,
+    GroupCommands,
 ):
     """Every motion function of the manual, on one motion kernel (see the module docstring)."""

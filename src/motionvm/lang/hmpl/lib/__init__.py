@@ -19,6 +19,7 @@ _MODULES = (
     "motionvm.lang.hmpl.lib.touchprobe",
     "motionvm.lang.hmpl.lib.sync",
     "motionvm.lang.hmpl.lib.gantry",
+    "motionvm.lang.hmpl.lib.group",
 )
 
 
