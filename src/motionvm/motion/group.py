@@ -418,6 +418,46 @@ class AxisGroup:
         return list(self.last_end)
 
 
+_ARRAYS = {
+    "carte_pose_cmd": lambda g: g.planner.out,
+    "carte_vel_cmd": lambda g: g.planner.out_vel,
+    "carte_pose_fb": lambda g: g.pose_fb(),
+    "joint_pos_cmd": lambda g: [a.ref_pos for a in g.axes],
+    "joint_vel_cmd": lambda g: [a.ref_vel for a in g.axes],
+    "joint_acc_cmd": lambda g: [a.ref_acc for a in g.axes],
+    "joint_pos_fb": lambda g: [a.pos_fb for a in g.axes],
+    "carte_pose_err": lambda g: [c - f for c, f in zip(g.planner.out, g.pose_fb())],
+}
+_SCALARS = {
+    "grp_pg_pos": lambda g: g.planner.path_pos,
+    "grp_pg_vel": lambda g: g.planner.v,
+    "grp_pg_acc": lambda g: g.planner.acc,
+    "grp_lin_vel": lambda g: g.lin.vel,
+    "grp_lin_acc": lambda g: g.lin.acc,
+    "grp_lin_dec": lambda g: g.lin.dec,
+    "grp_lin_sf": lambda g: g.lin.sm_ms,
+    "grp_ang_vel": lambda g: g.ang.vel,
+    "grp_ang_acc": lambda g: g.ang.acc,
+    "grp_ang_dec": lambda g: g.ang.dec,
+    "grp_ang_sf": lambda g: g.ang.sm_ms,
+    "grp_fault_status": lambda g: g.fault_status,
+    "grp_motion_status": lambda g: g.motion_status,
+}
+ARRAY_VARIABLES = tuple(_ARRAYS)
+"""Group variables of 8.1.1 that are arrays: [X Y Z A B C] or one value per axis."""
+SCALAR_VARIABLES = tuple(_SCALARS)
+CARTESIAN_ARRAYS = frozenset({"carte_pose_cmd", "carte_vel_cmd", "carte_pose_fb", "carte_pose_err"})
+
+
+def group_variable(g: AxisGroup, name: str, index: int | None = None) -> float:
+    """Group variable `name` of manual 8.1.1 (element `index` of an array; 0 beyond the
+    group's axes, so a Cartesian array always has 6 elements)."""
+    if name in _SCALARS:
+        return float(_SCALARS[name](g))
+    values = _ARRAYS[name](g)
+    return float(values[index]) if index is not None and index < len(values) else 0.0
+
+
 class GroupSet:
     """Every axis group of one motion kernel (`MotionKernel.groups`), by group id."""
 

@@ -124,6 +124,8 @@ class PathPlanner:
         self.mode = IDLE
         self.u = self.v = self.acc = 0.0
         """Path position in the current segment [unit], speed [unit/s], acceleration."""
+        self.s_done = 0.0
+        """Path length [unit] of the segments finished since the path last started from rest."""
         self._pieces: list[tuple] = []
         self._pi = 0
         self._t = 0.0
@@ -153,6 +155,11 @@ class PathPlanner:
     def active(self) -> bool:
         """True while the path moves or the smoothing still changes the output."""
         return self.mode != IDLE or self._flush < self._n_avg or any(self.out_vel)
+
+    @property
+    def path_pos(self) -> float:
+        """grp_pg_pos: path length [unit] from where the path last started from rest."""
+        return self.s_done + self.u
 
     @property
     def waiting(self) -> bool:
@@ -295,6 +302,7 @@ class PathPlanner:
         if not self.queue:
             return
         self.u = self.v = 0.0
+        self.s_done = 0.0
         self._stopping = False
         if self.halted or self.scale == 0.0:
             self.mode = PAUSED
@@ -356,7 +364,7 @@ class PathPlanner:
                 done = False
             while q and u > q[0].length and len(q) > 1:
                 u -= q[0].length
-                q.popleft()
+                self.s_done += q.popleft().length
             if q and u >= q[0].length:
                 u = q[0].length
             self._t, self.u, self.v, self.acc = t, u, v, acc
@@ -371,6 +379,7 @@ class PathPlanner:
             t -= self._dur
             v_in = self._v_exit
             seg = q.popleft()
+            self.s_done += seg.length
             if not q:
                 self.raw = list(seg.geom.end)
                 self.mode = IDLE
