@@ -307,7 +307,7 @@ def test_scope_channels_of_a_group():
     assert status() == grp.GMS_ENABLED | grp.GMS_IN_POSITION
     c.LineAbs2D(0, 0.0, 10.0)
     cycle(c, 200)
-    assert vel() > 0.0 and 0.0 < pos_y() < 10.0 and status() & grp.GMS_MOVING
+    assert vel() > 0.0 and 0.0 < pos_y() < 10.0 and int(status()) & grp.GMS_MOVING
     assert src.resolve("axis0.ref_pos") is None
     with pytest.raises(ScopeError):
         src.resolve("group0.carte_pose_cmd")
