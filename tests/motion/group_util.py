@@ -54,14 +54,26 @@ class Recorder:
         self.speeds: list[float] = []
         self.axis_vel: list[list[float]] = []
         self.axis_acc: list[list[float]] = []
+        self.path_speeds: list[float] = []
+        """Path speed before smoothing [mm/s] (grp_pg_vel)."""
+        self.junctions: list[float] = []
+        """Path speed [mm/s] in the cycle each segment after the first began."""
+        self._queued = 0
 
     def step(self) -> None:
+        if not self.poses:
+            self._queued = len(self.g.planner.queue)
         cycle(self.c)
         g = self.g
         self.poses.append(list(g.planner.out))
         self.speeds.append(math.sqrt(sum(v * v for v in g.planner.out_vel[:3])))
         self.axis_vel.append([a.ref_vel for a in g.axes])
         self.axis_acc.append([a.ref_acc for a in g.axes])
+        self.path_speeds.append(g.planner.v)
+        n = len(g.planner.queue)
+        if 0 < n < self._queued:
+            self.junctions.append(g.planner.v)
+        self._queued = n
 
     def run(self, limit: int = 500_000) -> int:
         n = 0

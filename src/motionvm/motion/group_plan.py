@@ -132,6 +132,7 @@ class PathPlanner:
         self._dur = 0.0
         self._v_exit = 0.0
         self._stopping = False
+        self._dwell = 0
         self._pending: list[Planned] = []
         self.raw = list(pose)
         """The pose at the path position (before smoothing)."""
@@ -317,6 +318,7 @@ class PathPlanner:
         self._dur = duration
 
     def _replan(self) -> None:
+        self._dwell = 0
         seg = self.queue[0]
         pieces, dur, v_1 = segment_profile(self.u, seg.length, self.v, seg.v_end, seg.v_cap,
                                            seg.a, seg.d)  # fmt: skip
@@ -325,6 +327,7 @@ class PathPlanner:
         self.mode = RUN
 
     def _brake(self) -> None:
+        self._dwell = 0
         seg = self.queue[0]
         d = seg.d
         dur = self.v / d
@@ -352,6 +355,11 @@ class PathPlanner:
 
     def _advance(self) -> None:
         """The path position of the next cycle (RUN or BRAKE)."""
+        if self._dwell:
+            self._dwell -= 1
+            if not self._dwell:
+                self._replan()
+            return
         t = self._t + self.dt
         q = self.queue
         if self.mode == BRAKE:
@@ -386,6 +394,12 @@ class PathPlanner:
                 self.u = self.v = self.acc = 0.0
                 return
             self.u, self.v = 0.0, v_in
+            if v_in == 0.0 and self._n_avg > 1:
+                # a stop between two segments: the output comes to rest on the corner
+                # (the smoothing window fills with it) before the next one starts
+                self.acc = 0.0
+                self._dwell = self._n_avg - 1
+                return
             self._replan()
         self._t = t
         self.u, self.v, self.acc = self._eval(t)
