@@ -393,7 +393,7 @@ class AxisGroup:
             return
         out = planner.step()
         vel, acc = planner.out_vel, planner.out_acc
-        self.joint_ref = [(out[i], vel[i], acc[i]) for i in range(len(out))]
+        self.joint_ref = list(zip(out, vel, acc))
         if self.state == STANDBY:
             self.state = MOVING
         if not planner.active and self.state in (MOVING, STOPPING):

@@ -91,6 +91,9 @@ def _axis_caps(group: AxisGroup, geom, rot: bool, length: float, a: float, d: fl
             d = min(d, 0.5 * am / rate)
     if not rot and math.isfinite(geom.radius):
         v_cap = min(v_cap, math.sqrt(_a_corner_phys(group) * geom.radius))
+    turn = getattr(geom, "max_turn", 0.0)  # a blend's corners, each spread over T_w
+    if not rot and turn > 0.0:
+        v_cap = min(v_cap, _a_corner_phys(group) * group.planner.window_time / turn)
     return v_cap, a, d
 
 
@@ -106,17 +109,33 @@ def junction(group: AxisGroup, prev: Planned, nxt: Planned) -> tuple[float, floa
     if bm in (BM_BUFF, BM_ABORT) or prev.rot != nxt.rot or prev.length <= 0.0:
         return 0.0, math.inf
     f_0, f_1 = prev.feed, nxt.feed
-    feed = {BM_LOW: min(f_0, f_1), BM_PREV: f_0, BM_NEXT: f_1, BM_HIGH: max(f_0, f_1),
-            BM_LOOKAHEAD: min(f_0, f_1)}[bm]  # fmt: skip
+    if bm == BM_PREV:
+        feed = f_0
+    elif bm == BM_NEXT:
+        feed = f_1
+    elif bm == BM_HIGH:
+        feed = f_0 if f_0 > f_1 else f_1
+    else:  # BM_LOW, BM_LOOKAHEAD
+        feed = f_0 if f_0 < f_1 else f_1
     t_0, t_1 = prev.geom.tangent(1.0), nxt.geom.tangent(0.0)
     dt_norm = math.sqrt(sum((x - y) ** 2 for x, y in zip(t_0, t_1)))
     corner = math.inf
     if dt_norm > 1e-12:
-        t_w = group.planner.window_time
-        corner = (_a_corner_phys(group) if not prev.rot else math.inf) * t_w / dt_norm
+        corner = _corner_speed(group, _a_corner_phys(group) if not prev.rot else math.inf,
+                               dt_norm, min(prev.length, nxt.length))  # fmt: skip
         if bm == BM_LOOKAHEAD:
-            corner = min(corner, group.lookahead[0] * t_w / dt_norm)
+            corner = min(corner, _corner_speed(group, group.lookahead[0], dt_norm,
+                                               min(prev.length, nxt.length)))  # fmt: skip
     return feed, corner
+
+
+def _corner_speed(group: AxisGroup, acc: float, dt_norm: float, spacing: float) -> float:
+    """The speed [mm/s] at which the velocity's turn |t_1 - t_0| at a corner takes `acc`:
+    spread over the smoothing window T_w (an isolated corner), or, with corners closer
+    than the path of one window, over the time to the next one (a polyline that
+    approximates a curve: then like an arc of radius spacing / turn)."""
+    t_w = group.planner.window_time
+    return min(acc * t_w / dt_norm, math.sqrt(acc * 0.5 * spacing / dt_norm))
 
 
 def _lookahead_arc(group: AxisGroup, geom) -> float:
@@ -135,9 +154,11 @@ def make_segment(group: AxisGroup, geom, profile, bm: int) -> Planned:
     group's, and the group's rotation profile."""
     vel, acc, dec = profile[0], profile[1], profile[2]
     ang = group.ang
-    t_lin = rest_to_rest_time(geom.lt, vel, acc, dec) if vel > 0.0 else math.inf
-    t_rot = rest_to_rest_time(geom.lr, ang.vel, ang.acc, ang.dec) if geom.lr > 0.0 else 0.0
-    rot = geom.lr > 0.0 and (t_rot > t_lin or geom.lt == 0.0)
+    rot = False
+    if geom.lr > 0.0:
+        t_lin = rest_to_rest_time(geom.lt, vel, acc, dec) if vel > 0.0 else math.inf
+        t_rot = rest_to_rest_time(geom.lr, ang.vel, ang.acc, ang.dec)
+        rot = t_rot > t_lin or geom.lt == 0.0
     if rot:
         vel, acc, dec = ang.vel, ang.acc, ang.dec
     length = geom.lr if rot else geom.lt

@@ -240,8 +240,28 @@ class Polyline(Segment):
         return _unit(_sub(b, a)[: min(self.n, 3)])
 
     @property
+    def max_turn(self) -> float:
+        """The largest |t_1 - t_0| of the unit directions at the polyline's corners."""
+        k = min(self.n, 3)
+        pts = self._pts
+        out = 0.0
+        for a, b, c in zip(pts, pts[1:], pts[2:]):
+            t0, t1 = _unit(_sub(b[:k], a[:k])), _unit(_sub(c[:k], b[:k]))
+            out = max(out, _norm(_sub(t1, t0)))
+        return out
+
+    @property
     def radius(self) -> float:
-        return math.inf  # the blend's own speed limit (trans_vel) applies instead
+        """The smallest discrete radius chord / turn angle at the polyline's corners."""
+        k = min(self.n, 3)
+        r = math.inf
+        pts = self._pts
+        for a, b, c in zip(pts, pts[1:], pts[2:]):
+            t0, t1 = _unit(_sub(b[:k], a[:k])), _unit(_sub(c[:k], b[:k]))
+            turn = _norm(_sub(t1, t0))
+            if turn > 1e-12:
+                r = min(r, min(_norm(_sub(b[:k], a[:k])), _norm(_sub(c[:k], b[:k]))) / turn)
+        return r
 
     def sub(self, f_0: float, f_1: float) -> Polyline:
         return Polyline([self.point(f_0), self.point(f_1)])

@@ -91,7 +91,7 @@ def segment_profile(u_0: float, length: float, v_0: float, v_1: float, v_max: fl
 class Planned:
     """One queued segment: its geometry and what the planner needs of it."""
 
-    __slots__ = ("a", "bm", "d", "feed", "geom", "j_cap", "j_phys", "length", "rot", "v_cap",
+    __slots__ = ("a", "bm", "d", "feed", "geom", "j_cap", "j_lim", "j_phys", "length", "rot", "v_cap",
                  "v_end", "v_phys", "v_arc")  # fmt: skip
 
     def __init__(self, geom, rot: bool, feed: float, a: float, d: float, bm: int,
@@ -110,6 +110,8 @@ class Planned:
         """Junction speed into the next segment from the feeds [unit/s], times the scale."""
         self.j_phys = math.inf
         """Junction speed the corner allows [unit/s] (the axes, look-ahead), not scaled."""
+        self.j_lim = 0.0
+        """min(j_cap * scale, j_phys): the junction speed limit [unit/s]."""
         self.v_end = 0.0
 
 
@@ -118,6 +120,7 @@ class PathPlanner:
 
     def __init__(self, dt: float, pose) -> None:
         self.dt = dt
+        self._inv_dt = 1.0 / dt
         self.queue: deque[Planned] = deque()
         self.scale = 1.0
         self.halted = False
@@ -203,8 +206,11 @@ class PathPlanner:
         seg.v_cap = min(seg.feed * self.scale, seg.v_phys, seg.v_arc)
         q = self.queue
         if q:
-            q[-1].j_cap = j_cap_prev
-            q[-1].j_phys = j_phys_prev
+            prev = q[-1]
+            prev.j_cap = j_cap_prev
+            # a junction never exceeds what the axes allow on either side
+            prev.j_phys = min(j_phys_prev, prev.v_phys, prev.v_arc, seg.v_phys, seg.v_arc)
+            prev.j_lim = min(j_cap_prev * self.scale, prev.j_phys)
         q.append(seg)
         seg.v_end = 0.0
         if (self._backward(len(q) - 2) or replan) and self.mode == RUN:
@@ -213,19 +219,24 @@ class PathPlanner:
             self._start()
 
     def _backward(self, i: int) -> bool:
-        """Backward pass from segment i down; True if the running segment changed."""
+        """Backward pass from segment i (the one before the last) down; True if the
+        running segment's exit speed changed. Speeds are compared squared: no sqrt
+        where the junction's own limit binds."""
         q = self.queue
-        while i >= 0:
-            nxt = q[i + 1]
-            seg = q[i]
-            v = min(seg.j_cap * self.scale, seg.j_phys,
-                    math.sqrt(nxt.v_end * nxt.v_end + 2.0 * nxt.d * nxt.length))  # fmt: skip
+        it = reversed(q)
+        nxt = next(it)
+        v2 = nxt.v_end * nxt.v_end + 2.0 * nxt.d * nxt.length
+        sqrt = math.sqrt
+        for seg in it:
+            lim = seg.j_lim
+            v = lim if lim * lim <= v2 else sqrt(v2)
             if v == seg.v_end:
                 return False
             seg.v_end = v
             if i == 0:
                 return True
             i -= 1
+            v2 = v * v + 2.0 * seg.d * seg.length
         return False
 
     def rescan(self) -> None:
@@ -237,8 +248,8 @@ class PathPlanner:
             q[-1].v_end = 0.0
             for i in range(len(q) - 2, -1, -1):
                 nxt, seg = q[i + 1], q[i]
-                cap = min(seg.j_cap * self.scale, seg.j_phys)
-                seg.v_end = min(cap, math.sqrt(nxt.v_end**2 + 2.0 * nxt.d * nxt.length))
+                seg.j_lim = min(seg.j_cap * self.scale, seg.j_phys)
+                seg.v_end = min(seg.j_lim, math.sqrt(nxt.v_end**2 + 2.0 * nxt.d * nxt.length))
         self._update_mode()
 
     def set_scale(self, scale: float) -> None:
@@ -437,7 +448,7 @@ class PathPlanner:
         else:
             window = self._window
             old = window.popleft()
-            window.append(list(raw))
+            window.append(raw)  # raw poses are never changed in place
             sums = self._sums
             for k, x in enumerate(raw):
                 sums[k] += x - old[k]
@@ -454,7 +465,7 @@ class PathPlanner:
             self._flush = 1
         if self.command_filter is not None:
             out = self.command_filter(out)
-        inv = 1.0 / self.dt
+        inv = self._inv_dt
         vel = [(x - y) * inv for x, y in zip(out, prev)]
         self.out_acc = [(x - y) * inv for x, y in zip(vel, self.out_vel)]
         self.out_vel = vel
