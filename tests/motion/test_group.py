@@ -314,3 +314,13 @@ def test_scope_channels_of_a_group():
     with pytest.raises(ScopeError):
         src.resolve("group16.grp_pg_vel")
     assert "group15.joint_pos_fb[8]" in set(src.channel_names())
+
+
+def test_stop_all_stops_a_group_along_its_path():
+    c = grouped(2)
+    c.LineAbs2D(0, 100.0, 0.0)
+    cycle(c, 300)
+    assert c.StopAll() == 0
+    until(c, lambda: not c.IsGrpMoving(0))
+    assert c.IsGrpErrorStop(0) == 0 and c.IsGrpEnabled(0) == 1
+    assert c.motion.axes[1].ref_pos == 0.0 and 0.0 < c.motion.axes[0].ref_pos < 100.0

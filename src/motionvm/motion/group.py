@@ -491,3 +491,13 @@ class GroupSet:
 
     def busy(self) -> bool:
         return any(g.moving for g in self.groups)
+
+    def stop_all(self) -> set[int]:
+        """StopGroup of every moving enabled group; the ids of the enabled groups' axes."""
+        ids: set[int] = set()
+        for g in self.groups:
+            if g.state != DISABLED:
+                if g.moving:
+                    g.stop()
+                ids.update(a.axis_id for a in g.axes)
+        return ids

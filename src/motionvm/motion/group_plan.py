@@ -427,6 +427,8 @@ class PathPlanner:
         pending, self._pending = self._pending, []
         for seg in pending:
             self.append(seg)
+        if pending and self._n_avg > 1 and self.mode == RUN:
+            self._dwell = self._n_avg - 1  # settle where the brake ended, as BM_BUFF
 
     def step(self) -> list[float]:
         """Advance one cycle; return the commanded pose."""

@@ -150,9 +150,12 @@ class MotionKernel:
             a.disable()
 
     def stop_all(self) -> None:
-        """Stop every axis at its kill deceleration; the axes stay enabled."""
+        """Stop every axis at its kill deceleration; the axes stay enabled. The axes of an
+        enabled group stop with it, along its path (StopGroup)."""
+        in_groups = self.groups.stop_all()
         for a in self.axes:
-            a.stop(a.kill_dec)
+            if a.axis_id not in in_groups:
+                a.stop(a.kill_dec)
 
     def estop(self) -> None:
         """Emergency stop: disable every axis; the system reports an error."""
