@@ -324,3 +324,34 @@ def test_stop_all_stops_a_group_along_its_path():
     until(c, lambda: not c.IsGrpMoving(0))
     assert c.IsGrpErrorStop(0) == 0 and c.IsGrpEnabled(0) == 1
     assert c.motion.axes[1].ref_pos == 0.0 and 0.0 < c.motion.axes[0].ref_pos < 100.0
+
+
+def test_command_filter_hook_sees_every_commanded_pose():
+    """The hook of a group input shaper: a two-impulse filter (half now, half 20 cycles
+    later) delays the end of the move; `busy` keeps the group moving through its tail."""
+
+    class TwoImpulses:
+        def __init__(self):
+            self.history: list[list[float]] = []
+
+        @property
+        def busy(self) -> bool:
+            return len(self.history) > 20 and self.history[-1] != self.history[-21]
+
+        def __call__(self, pose):
+            self.history.append(list(pose))
+            old = self.history[-21] if len(self.history) > 20 else self.history[0]
+            return [0.5 * (x + y) for x, y in zip(pose, old)]
+
+    plain = grouped(2)
+    plain.LineAbs2D(0, 10.0, 0.0)
+    n_plain = until(plain, lambda: not plain.IsGrpMoving(0))
+    c = grouped(2)
+    g = c.motion.groups[0]
+    shaper = TwoImpulses()
+    g.planner.command_filter = shaper
+    assert g.motion_status & grp.GMS_INPUT_SHAPE
+    c.LineAbs2D(0, 10.0, 0.0)
+    n_shaped = until(c, lambda: not c.IsGrpMoving(0))
+    assert c.motion.axes[0].ref_pos == 10.0
+    assert n_shaped == n_plain + 20

@@ -24,7 +24,8 @@ The raw pose (the geometry at the path position) is averaged over the last N cyc
 N = round(Ts / dt) (the smoothing time of 5.1: jerk = acceleration / Ts), in every
 coordinate: corners passed at speed are rounded over Ts instead of jolting the axes. The
 averaged pose then passes through `command_filter` (None, or a callable pose -> pose:
-the hook where a group input shaper plugs in) and is the group's commanded pose.
+the hook where a group input shaper plugs in; see `PathPlanner.command_filter`) and is
+the group's commanded pose.
 """
 
 from __future__ import annotations
@@ -140,7 +141,10 @@ class PathPlanner:
         self.raw = list(pose)
         """The pose at the path position (before smoothing)."""
         self.command_filter = None
-        """None or a callable pose -> pose applied to every commanded pose (a shaper)."""
+        """None or a callable pose -> pose applied to every commanded pose after the
+        smoothing, once per cycle while the group moves (the hook of a group input
+        shaper); it may have a `busy` attribute, True while its output would still change
+        with a constant input (a shaper's tail), which keeps the group moving."""
         self._n_avg = 1
         self._window: deque[list[float]] = deque()
         self._sums: list[float] = []
@@ -157,8 +161,10 @@ class PathPlanner:
 
     @property
     def active(self) -> bool:
-        """True while the path moves or the smoothing still changes the output."""
-        return self.mode != IDLE or self._flush < self._n_avg or any(self.out_vel)
+        """True while the path moves or the smoothing (or the command filter: its `busy`)
+        still changes the output."""
+        return (self.mode != IDLE or self._flush < self._n_avg or any(self.out_vel)
+                or getattr(self.command_filter, "busy", False))  # fmt: skip
 
     @property
     def path_pos(self) -> float:
