@@ -92,7 +92,7 @@ def segment_profile(u_0: float, length: float, v_0: float, v_1: float, v_max: fl
 class Planned:
     """One queued segment: its geometry and what the planner needs of it."""
 
-    __slots__ = ("a", "bm", "d", "feed", "geom", "j_cap", "j_lim", "j_phys", "length", "rot", "v_cap",
+    __slots__ = ("a", "bm", "d", "feed", "geom", "j_cap", "j_lim", "j_phys", "length", "rot", "s0", "v_cap",
                  "v_end", "v_phys", "v_arc")  # fmt: skip
 
     def __init__(self, geom, rot: bool, feed: float, a: float, d: float, bm: int,
@@ -113,6 +113,8 @@ class Planned:
         """Junction speed the corner allows [unit/s] (the axes, look-ahead), not scaled."""
         self.j_lim = 0.0
         """min(j_cap * scale, j_phys): the junction speed limit [unit/s]."""
+        self.s0 = 0.0
+        """Path position [unit] of the segment's start, counted from the first queued one."""
         self.v_end = 0.0
 
 
@@ -137,6 +139,9 @@ class PathPlanner:
         self._v_exit = 0.0
         self._stopping = False
         self._dwell = 0
+        self._stale: Planned | None = None  # where a deferred backward pass begins
+        self._v_hi = 0.0  # highest cap or junction speed queued [unit/s]
+        self._d_lo = math.inf  # lowest deceleration queued [unit/s^2]
         self._pending: list[Planned] = []
         self.raw = list(pose)
         """The pose at the path position (before smoothing)."""
@@ -208,7 +213,11 @@ class PathPlanner:
     def append(self, seg: Planned, j_cap_prev: float = 0.0, j_phys_prev: float = math.inf,
                replan: bool = False) -> None:  # fmt: skip
         """Queue `seg`; `j_cap_prev`, `j_phys_prev` are the junction speeds from the last
-        queued segment into it; `replan`: the running segment was changed (trimmed)."""
+        queued segment into it; `replan`: the running segment was changed (trimmed).
+
+        The backward pass is deferred while the new segment lies beyond the braking
+        horizon of the running one (`_horizon`): nothing there can change the running
+        segment's plan yet. `_maybe_catch_up` runs it once the path comes near."""
         seg.v_cap = min(seg.feed * self.scale, seg.v_phys, seg.v_arc)
         q = self.queue
         if q:
@@ -217,12 +226,73 @@ class PathPlanner:
             # a junction never exceeds what the axes allow on either side
             prev.j_phys = min(j_phys_prev, prev.v_phys, prev.v_arc, seg.v_phys, seg.v_arc)
             prev.j_lim = min(j_cap_prev * self.scale, prev.j_phys)
+            seg.s0 = prev.s0 + prev.length
+            if prev.j_lim > self._v_hi:
+                self._v_hi = prev.j_lim
+        else:
+            seg.s0 = 0.0
+            self._v_hi, self._d_lo, self._stale = 0.0, math.inf, None
+        if seg.v_cap > self._v_hi:
+            self._v_hi = seg.v_cap
+        if seg.d < self._d_lo:
+            self._d_lo = seg.d
         q.append(seg)
         seg.v_end = 0.0
+        if self.mode == RUN and not replan and len(q) > 1:
+            if self._stale is not None:
+                return
+            if seg.s0 - (q[0].s0 + self.u) > self._horizon():
+                self._stale = q[-2]
+                return
+        if self._stale is not None:
+            self._catch_up()
         if (self._backward(len(q) - 2) or replan) and self.mode == RUN:
             self._replan()
         if self.mode == IDLE:
             self._start()
+
+    def _horizon(self) -> float:
+        """Path length [unit] beyond which no exit speed can bind the running segment:
+        the braking distance from the highest speed queued, with a margin."""
+        return 1.5 * self._v_hi * self._v_hi / (2.0 * self._d_lo) + 1e-9
+
+    def _maybe_catch_up(self) -> bool:
+        """Run a deferred backward pass if the path has come near; True if the running
+        segment's exit speed changed."""
+        stale = self._stale
+        q = self.queue
+        if stale is None or not q:
+            return False
+        if stale.s0 + stale.length - (q[0].s0 + self.u) > self._horizon() + self._v_hi * self.dt:
+            return False
+        return self._catch_up()
+
+    def _catch_up(self) -> bool:
+        """The deferred backward pass: from the last segment down, past the segment the
+        deferral began at, until an exit speed does not change."""
+        stale, self._stale = self._stale, None
+        q = self.queue
+        it = reversed(q)
+        nxt = next(it)
+        v2 = nxt.v_end * nxt.v_end + 2.0 * nxt.d * nxt.length
+        i = len(q) - 2
+        seen = False
+        sqrt = math.sqrt
+        for seg in it:
+            lim = seg.j_lim
+            v = lim if lim * lim <= v2 else sqrt(v2)
+            if seg is stale:
+                seen = True
+            if v == seg.v_end:
+                if seen:
+                    return False
+            else:
+                seg.v_end = v
+                if i == 0:
+                    return True
+            i -= 1
+            v2 = v * v + 2.0 * seg.d * seg.length
+        return False
 
     def _backward(self, i: int) -> bool:
         """Backward pass from segment i (the one before the last) down; True if the
@@ -248,8 +318,12 @@ class PathPlanner:
     def rescan(self) -> None:
         """Recompute every cap and exit speed (a new scale); replan the running segment."""
         q = self.queue
+        self._stale = None
+        self._v_hi = 0.0
         for seg in q:
             seg.v_cap = min(seg.feed * self.scale, seg.v_phys, seg.v_arc)
+            seg.j_lim = min(seg.j_cap * self.scale, seg.j_phys)
+            self._v_hi = max(self._v_hi, seg.v_cap, seg.j_lim)
         if q:
             q[-1].v_end = 0.0
             for i in range(len(q) - 2, -1, -1):
@@ -275,6 +349,7 @@ class PathPlanner:
         returns the pose where the path will rest."""
         self.halted = False
         self._pending = []
+        self._stale = None
         q = self.queue
         if self.mode in (IDLE, PAUSED):
             self._finish_at(self.u)
@@ -336,6 +411,7 @@ class PathPlanner:
 
     def _replan(self) -> None:
         self._dwell = 0
+        self._maybe_catch_up()
         seg = self.queue[0]
         pieces, dur, v_1 = segment_profile(self.u, seg.length, self.v, seg.v_end, seg.v_cap,
                                            seg.a, seg.d)  # fmt: skip
@@ -438,6 +514,8 @@ class PathPlanner:
 
     def step(self) -> list[float]:
         """Advance one cycle; return the commanded pose."""
+        if self._stale is not None and self.mode == RUN and self._maybe_catch_up():
+            self._replan()
         if self.mode in (RUN, BRAKE):
             self._advance()
             q = self.queue

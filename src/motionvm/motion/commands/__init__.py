@@ -9,7 +9,7 @@ the manual's parameters in the manual's order and units (mm or deg, mm/s, mm/s^2
 | 2 system (bus) | `system.py` | IsSystemInit ... GetSlaveNum, ScanNetwork, DisableAll, StopAll, EStop |
 | 5 axis | `axis.py` | Enable ... GetCmdNum, IsEnabled ... IsAcc |
 | 6 gear, 7 gantry | `sync.py` | EnableGear ... IsGearSlave, EnableGantryPair ... IsGantryPair |
-| 8 axis groups | `group.py` | EnableGroup ... IsGrpErrorStop, LineAbs ... CircleRel |
+| 8 axis groups | `group.py`, `group_settings.py` | EnableGroup ... IsGrpErrorStop, LineAbs ... CircleRel |
 | 13 touch probe | `touchprobe.py` | EnableTouchProbe ... SetTouchProbeFunc |
 | 18 errors | `system.py` | GetSystemLastErr ... GetDriveErr |
 | 20 homing | `homing.py` | MoveHome, SetHomeMethod ... SetHomedStatus |
@@ -42,6 +42,7 @@ from __future__ import annotations
 
 from motionvm.motion.commands.axis import AxisCommands
 from motionvm.motion.commands.group import GroupCommands
+from motionvm.motion.commands.group_settings import GroupSettingsCommands
 from motionvm.motion.commands.homing import HomingCommands
 from motionvm.motion.commands.sync import GantryCommands, GearCommands
 from motionvm.motion.commands.system import BusCommands, ErrorCommands
@@ -59,5 +60,6 @@ class MotionCommands(
     ErrorCommands,
     HomingCommands,
     GroupCommands,
+    GroupSettingsCommands,
 ):
     """Every motion function of the manual, on one motion kernel (see the module docstring)."""
