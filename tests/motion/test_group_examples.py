@@ -187,3 +187,30 @@ def test_polyline_never_leaves_the_programmed_path_by_more_than_the_rounding():
     tol = 100 * 0.05 / 4 + 1e-6
     for p in rec.poses:
         assert min(distance_to_segment(p, a, b) for a, b in zip(pts, pts[1:])) <= tol
+
+
+def test_deferred_lookahead_pass_changes_nothing(monkeypatch):
+    """The backward pass deferred beyond the braking horizon gives the same path, cycle
+    for cycle, as a pass on every append."""
+    import random
+
+    from motionvm.motion.group_plan import PathPlanner
+
+    def run() -> list[list[float]]:
+        c = grouped(2)
+        c.SetGrpBufferMode(0, BM_LOOKAHEAD)
+        c.SetGrpQueueSize(0, 10)
+        rnd = random.Random(3)
+        x = y = 0.0
+        rec = Recorder(c)
+        for _ in range(600):
+            x += rnd.uniform(0.1, 0.5)
+            y += rnd.uniform(-0.3, 0.3)
+            assert c.LineAbs2D(0, x, y) == 0
+            rec.step()
+        rec.run()
+        return rec.poses
+
+    deferred = run()
+    monkeypatch.setattr(PathPlanner, "_horizon", lambda self: math.inf)
+    assert run() == deferred
