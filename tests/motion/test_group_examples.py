@@ -214,3 +214,38 @@ def test_deferred_lookahead_pass_changes_nothing(monkeypatch):
     deferred = run()
     monkeypatch.setattr(PathPlanner, "_horizon", lambda self: math.inf)
     assert run() == deferred
+
+
+def test_collinear_short_segments_cruise_at_the_feed():
+    """Look-ahead: 400 collinear 0.5 mm segments run at the programmed feed."""
+    c = grouped(2)
+    c.SetGrpBufferMode(0, BM_LOOKAHEAD)
+    rec = Recorder(c)
+    for i in range(1, 401):
+        c.LineAbs2D(0, 0.5 * i, 0.25 * i)
+    rec.run()
+    feed = c.GetGrpMaxVel(0)
+    assert max(rec.speeds) == pytest.approx(feed, rel=1e-9)
+    cruising = [v for v in rec.path_speeds if v == pytest.approx(feed, rel=1e-9)]
+    assert len(cruising) > 0.8 * (400 * 0.5 * math.hypot(1, 0.5) / feed) / 0.001
+
+
+def test_stepping_and_skipping_give_the_same_run(tmp_path):
+    from motionvm.api import Simulation
+
+    src = tmp_path / "g.hmpl"
+    src.write_text(
+        "void main() {\n"
+        "    Enable(0); Enable(1); Till(IsEnabled(0) && IsEnabled(1));\n"
+        "    SetupGroup(0, 0, 1);\n"
+        "    LineAbs2D(0, 10, 20); Till(IsGrpInPos(0)); Sleep(500);\n"
+        "    ArcCW2D(0, 10, 10, 10, 0); Till(IsGrpInPos(0));\n"
+        '    Print("%.6f %.6f", GetPosFb(0), GetPosFb(1));\n'
+        "}\n"
+    )
+    runs = []
+    for skip in (True, False):
+        with Simulation.from_files([str(src)], stamp=True, skip=skip) as sim:
+            sim.run(timeout=30)
+            runs.append(sim.messages)
+    assert runs[0] == runs[1] and runs[0][0].endswith("10.000000 0.000000")
