@@ -146,3 +146,76 @@ def test_no_motion_after_an_error_stop(pts, when):
         cycle(c)
         assert [a.ref_pos for a in g.axes[:2]] == rest
     assert c.LineAbs2D(0, 0, 0) != 0
+
+
+def _distance_to_helix(p, arc: Arc) -> float:
+    """Distance from p to a 3-D arc or helix: the nearest of the points at p's angle
+    about the axis, over every turn, and the two ends."""
+    r = [x - c for x, c in zip(p, arc.center)]
+    a = math.atan2(sum(x * e for x, e in zip(r, arc._e2)), sum(x * e for x, e in zip(r, arc._e1)))
+    best = min(math.dist(p, arc.start), math.dist(p, arc.end))
+    turns = int(abs(arc.phi) / (2 * math.pi)) + 2
+    for k in range(-turns, turns + 1):
+        f = (a + 2 * math.pi * k) / arc.phi
+        if 0.0 <= f <= 1.0:
+            best = min(best, math.dist(p, arc.point(f)))
+    return best
+
+
+unit = hs.floats(-1.0, 1.0)
+
+
+@PROFILE
+@given(
+    hs.lists(
+        hs.tuples(
+            hs.booleans(),
+            points,
+            coords,
+            hs.tuples(unit, unit, unit),
+            hs.sampled_from([-2, -1, 1, 3]),
+        ),
+        min_size=1,
+        max_size=3,
+    ),
+    hs.sampled_from([0, 6]),
+)
+def test_random_3d_arcs_and_helices(mvs, bm):
+    """Lines and circles about random normals, some rising (helices): the path stays on
+    the programmed geometry within the smoothing's rounding, the axes within their
+    limits, the last target exact."""
+    c = grouped(3)
+    g = c.motion.groups[0]
+    until(c, lambda: c.IsGrpInPos(0))
+    geoms, last = [], None
+    profile = [150, 3000, 3000, 20]
+    for is_arc, (x, y), z, normal, turns in mvs:
+        start = g.end_pose()
+        if is_arc:
+            if sum(v * v for v in normal) < 0.01:
+                continue
+            # a centre 20 mm from the start, off the normal's direction
+            center = [start[0] + 20.0, start[1], start[2]]
+            target = list(start)
+            target[2] += z / 4.0  # rise along the axis for a helix (0 if the normal is off Z)
+            status = c.CircleAbs(0, center, list(normal), turns, target + [0, 0, 0], profile,
+                                 CS_MCS, bm, 0, None)  # fmt: skip
+        else:
+            status = c.LineAbs(0, [x, y, z, 0, 0, 0], profile, CS_MCS, bm, 0, None)
+        if status == 0:
+            geoms.append(g.planner.queue[-1].geom)
+            last = g.end_pose()
+    if last is None:
+        return
+    rec = Recorder(c)
+    rec.run(limit=400_000)
+    p_scale = max(max(abs(x) for x in p) for p in rec.poses)
+    for v in rec.axis_vel:
+        assert max(abs(x) for x in v) <= AXIS_VEL + limit_slack(AXIS_VEL, p_scale, 0.001, 1)
+    for a in rec.axis_acc:
+        assert max(abs(x) for x in a) <= AXIS_ACC + limit_slack(AXIS_ACC, p_scale, 0.001, 2)
+    assert rec.poses[-1] == [float(x) for x in last]
+    tol = 150 * 0.02 / 4.0 + 1e-6
+    for p in rec.poses[:: max(1, len(rec.poses) // 200)]:
+        assert min(_distance_to_helix(p, gm) if isinstance(gm, Arc) else _distance_to(p, gm)
+                   for gm in geoms) <= tol  # fmt: skip

@@ -151,7 +151,10 @@ class Arc(Segment):
                     0x0280,
                     f"the circle's radius at the start ({rad0:g}) and at the end ({rad1:g}) differ",
                 )
-            self.center, self.normal, self.r, self._h = c, nn, rad0, he - hs
+            # the circle's centre in the plane of the start point (the given centre may
+            # lie anywhere on the axis)
+            self.center = [x + hs * y for x, y in zip(c, nn)]
+            self.normal, self.r, self._h = nn, rad0, he - hs
             self._e1 = [x / rad0 for x in r0]
             self._e2 = _cross(nn, self._e1)
         self.phi = phi
