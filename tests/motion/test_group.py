@@ -355,3 +355,10 @@ def test_command_filter_hook_sees_every_commanded_pose():
     n_shaped = until(c, lambda: not c.IsGrpMoving(0))
     assert c.motion.axes[0].ref_pos == 10.0
     assert n_shaped == n_plain + 20
+
+
+def test_target_beyond_a_software_limit_is_refused():
+    c = grouped(2)
+    c.SetSWRL(1, 50.0)
+    assert c.LineAbs2D(0, 10.0, 60.0) == grp_err(grp.CRD_INVALID_POS)
+    assert c.LineAbs2D(0, 10.0, 40.0) == 0

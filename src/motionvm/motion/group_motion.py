@@ -13,7 +13,9 @@ the group's planner, with:
 - the transition curve at the corner (the new segment's transition mode, 8.1.5;
   `_transition`).
 
-Decisions where the manual is silent: the buffer mode of a segment governs the hand-over
+Decisions where the manual is silent: a target outside an axis's software limits is
+refused (eERR_CRD_CMD_INVALID_POS; an arc that bulges past a limit stops there, the
+group in error stop). The buffer mode of a segment governs the hand-over
 at its end (BM_PREV: the speed of this segment, BM_NEXT: of the one after), except
 BM_ABORT, which acts when the command arrives: the path brakes to rest at the
 deceleration and the new segment starts from there. Two segments planned in different
@@ -38,6 +40,7 @@ import math
 
 from motionvm.motion.group import (
     CRD_INVALID_MOVING,
+    CRD_INVALID_POS,
     CRD_QUEUE_FULL,
     AxisGroup,
 )
@@ -224,6 +227,10 @@ def queue_geometry(group: AxisGroup, geom, profile, bm: int, tm: int, prm) -> No
     """Queue one segment of `geom` (a Line or an Arc in MCS) with buffer mode `bm` and
     transition mode `tm` (parameters `prm`)."""
     _check_queue(group)
+    for a, x in zip(group.axes, geom.end):
+        if not (a.ignore_swl or a.rollover) and not a.sw_left <= x <= a.sw_right:
+            raise group.fail(CRD_INVALID_POS, f"axis {a.axis_id}: target {x:g} is outside its "
+                             f"software limits {a.sw_left:g} .. {a.sw_right:g}")  # fmt: skip
     planner = group.planner
     if bm == BM_ABORT and planner.active:
         start = planner.stop()
