@@ -219,3 +219,31 @@ def test_random_3d_arcs_and_helices(mvs, bm):
     for p in rec.poses[:: max(1, len(rec.poses) // 200)]:
         assert min(_distance_to_helix(p, gm) if isinstance(gm, Arc) else _distance_to(p, gm)
                    for gm in geoms) <= tol  # fmt: skip
+
+
+@PROFILE
+@given(
+    hs.lists(hs.tuples(points, hs.floats(-180.0, 180.0), buffer_modes), min_size=1, max_size=4),
+    hs.floats(30.0, 720.0),
+)
+def test_random_moves_with_rotation(mvs, ang_vel):
+    """Lines that also turn axis A (deg): the feed follows the slower of the translation
+    and rotation profiles; the axes stay within their limits; targets exact."""
+    c = grouped(4)
+    c.SetGrpAngMotionProfile(0, ang_vel, 3600, 3600, 20)
+    until(c, lambda: c.IsGrpInPos(0))
+    last = None
+    for (x, y), a, bm in mvs:
+        if c.LineAbs(0, [x, y, 0, a, 0, 0], [200, 2000, 2000, 20], CS_MCS, bm, 0, None) == 0:
+            last = c.motion.groups[0].end_pose()
+    if last is None:
+        return
+    rec = Recorder(c)
+    rec.run(limit=400_000)
+    p_scale = max(max(abs(x) for x in p) for p in rec.poses)
+    for v in rec.axis_vel:
+        assert max(abs(x) for x in v) <= AXIS_VEL + limit_slack(AXIS_VEL, p_scale, 0.001, 1)
+        assert abs(v[3]) <= ang_vel * (1 + 1e-6) + 1e-6 or max(abs(x) for x in v[:2]) > 0.0
+    for acc in rec.axis_acc:
+        assert max(abs(x) for x in acc) <= AXIS_ACC + limit_slack(AXIS_ACC, p_scale, 0.001, 2)
+    assert rec.poses[-1] == [float(x) for x in last]

@@ -92,11 +92,12 @@ def _axis_caps(group: AxisGroup, geom, rot: bool, length: float, a: float, d: fl
             v_cap = min(v_cap, vm / rate)
             a = min(a, 0.5 * am / rate)
             d = min(d, 0.5 * am / rate)
-    if not rot and math.isfinite(geom.radius):
-        v_cap = min(v_cap, math.sqrt(_a_corner_phys(group) * geom.radius))
+    k = geom.lt / length if length > 0.0 else 0.0  # translation [mm] per unit of path
+    if k > 0.0 and math.isfinite(geom.radius):
+        v_cap = min(v_cap, math.sqrt(_a_corner_phys(group) * geom.radius) / k)
     turn = getattr(geom, "max_turn", 0.0)  # a blend's corners, each spread over T_w
-    if not rot and turn > 0.0:
-        v_cap = min(v_cap, _a_corner_phys(group) * group.planner.window_time / turn)
+    if k > 0.0 and turn > 0.0:
+        v_cap = min(v_cap, _a_corner_phys(group) * group.planner.window_time / (turn * k))
     return v_cap, a, d
 
 
@@ -120,16 +121,34 @@ def junction(group: AxisGroup, prev: Planned, nxt: Planned) -> tuple[float, floa
         feed = f_0 if f_0 > f_1 else f_1
     else:  # BM_LOW, BM_LOOKAHEAD
         feed = f_0 if f_0 < f_1 else f_1
-    t_0, t_1 = prev.geom.tangent(1.0), nxt.geom.tangent(0.0)
-    dt_norm = math.sqrt(sum((x - y) ** 2 for x, y in zip(t_0, t_1)))
+    spacing = min(prev.length, nxt.length)
+    # every axis: the jump of its rate d pose_i / d u, turned over the window T_w
     corner = math.inf
-    if dt_norm > 1e-12:
-        corner = _corner_speed(group, _a_corner_phys(group) if not prev.rot else math.inf,
-                               dt_norm, min(prev.length, nxt.length))  # fmt: skip
-        if bm == BM_LOOKAHEAD:
-            corner = min(corner, _corner_speed(group, group.lookahead[0], dt_norm,
-                                               min(prev.length, nxt.length)))  # fmt: skip
+    r_0, r_1 = _rate(prev, 1.0), _rate(nxt, 0.0)
+    for x, y, a in zip(r_0, r_1, group.axes):
+        jump = abs(y - x)
+        if jump > 1e-12:
+            corner = min(corner, _corner_speed(group, 0.5 * a.pg.a_max, jump, spacing))
+    if bm == BM_LOOKAHEAD and not prev.rot:
+        t_0, t_1 = prev.geom.tangent(1.0), nxt.geom.tangent(0.0)
+        dt_norm = math.sqrt(sum((x - y) ** 2 for x, y in zip(t_0, t_1)))
+        if dt_norm > 1e-12:
+            corner = min(corner, _corner_speed(group, group.lookahead[0], dt_norm, spacing))
     return feed, corner
+
+
+def _rate(seg: Planned, f: float) -> list[float]:
+    """d pose / d u [per path unit] of a segment at its start (f 0) or end (f 1)."""
+    geom, length = seg.geom, seg.length
+    if length <= 0.0:
+        return [0.0] * geom.n
+    if isinstance(geom, Line):
+        return [(e - s) / length for s, e in zip(geom.start, geom.end)]
+    eps = 1e-6
+    a, b = (
+        (geom.point(1.0 - eps), geom.point(1.0)) if f >= 1.0 else (geom.point(0.0), geom.point(eps))
+    )
+    return [(y - x) / (eps * length) for x, y in zip(a, b)]
 
 
 def _corner_speed(group: AxisGroup, acc: float, dt_norm: float, spacing: float) -> float:
