@@ -183,7 +183,8 @@ class Axis(AxisSettings, AxisCycle, AxisFollow):
             raise AxisCommandError(st.CMD_INVALID_STOPPING, f"axis {self.axis_id} is stopping")
         ext = self.following
         if ext is not None and not getattr(ext, "accepts_moves", False):
-            raise AxisCommandError(st.CMD_INVALID_IN_SYNC, f"axis {self.axis_id} follows {ext}")
+            code = getattr(ext, "refusal_code", st.CMD_INVALID_IN_SYNC)
+            raise AxisCommandError(code, f"axis {self.axis_id} follows {ext}")
         if (self.op_mode == MODE_CST) != torque:
             raise AxisCommandError(
                 st.CMD_INVALID_CONTROL_MODE,

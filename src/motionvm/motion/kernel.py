@@ -18,7 +18,8 @@ per cycle:
 The bus master's state (GetECATSt: 1 Init, 2 Pre-Operation, 4 Safe-Operation,
 8 Operation) is Operation from power-on; ScanNetwork takes it down to Init and back up
 one state per cycle, and the drives cannot be enabled until it is back in Operation. Slave i is axis i's drive.
-Group last errors live here for the group functions to come (16 groups).
+The axis groups (`groups`, motion/group.py, N_GROUPS of them) step between the bus and
+the axes; their last errors live here too (`group_last_error`).
 """
 
 from __future__ import annotations
@@ -31,6 +32,7 @@ from motionvm.motion.axis_config import AxisConfig
 from motionvm.motion.config_vars import ConfigVarTable
 from motionvm.motion.gantry import GantrySet
 from motionvm.motion.gear import GearBox
+from motionvm.motion.group import GroupSet
 from motionvm.motion.homing import AxisHoming
 from motionvm.motion.inshape import InShapeSettings
 from motionvm.motion.touchprobe import TouchProbe
@@ -69,6 +71,8 @@ class MotionKernel:
         self.group_last_error = [0] * N_GROUPS
         self.group_inshape = [InShapeSettings() for _ in range(N_GROUPS)]
         """Each group's InShape settings (SetGrpInShape, EnableGrpInShape: chapter 15)."""
+        self.groups = GroupSet(self, N_GROUPS, dt)
+        """The axis groups (manual chapter 8), stepped before the axes."""
         self.estopped = False
         """True after EStop: IsSystemError answers 1."""
         self._bus_steps: list[int] = []
@@ -103,6 +107,7 @@ class MotionKernel:
         """The motion phase of one cycle: the bus, then every axis in `step_order`."""
         if self._bus_steps:
             self.ecat_state = self._bus_steps.pop(0)
+        self.groups.step()
         for a in self.step_order:
             a.step()
 
@@ -112,7 +117,7 @@ class MotionKernel:
         An axis jogging at a constant velocity it has reached (`Axis.cruising`) counts as
         settled: nothing about it changes until it is commanded again.
         """
-        if self._bus_steps:
+        if self._bus_steps or self.groups.busy():
             return True
         for a in self.axes:
             if a._enabling:
@@ -123,7 +128,7 @@ class MotionKernel:
 
     def still_running(self) -> list[Waiting]:
         """A `Waiting` for every axis that keeps the run busy (`busy`)."""
-        out = []
+        out = [Waiting(f"axis group {g.group_id}", why="moving") for g in self.groups if g.moving]
         for a in self.axes:
             if a.moving and not a.cruising:
                 out.append(Waiting(f"axis {a.axis_id}", why="moving"))
@@ -135,7 +140,7 @@ class MotionKernel:
 
     def at_rest(self) -> bool:
         """True if no axis needs stepping: the controller may then jump ahead in time."""
-        if self._bus_steps:
+        if self._bus_steps or self.groups.busy():
             return False
         for a in self.axes:
             if not a.resting:
@@ -176,9 +181,12 @@ class MotionKernel:
             a.disable()
 
     def stop_all(self) -> None:
-        """Stop every axis at its kill deceleration; the axes stay enabled."""
+        """Stop every axis at its kill deceleration; the axes stay enabled. The axes of an
+        enabled group stop with it, along its path (StopGroup)."""
+        in_groups = self.groups.stop_all()
         for a in self.axes:
-            a.stop(a.kill_dec)
+            if a.axis_id not in in_groups:
+                a.stop(a.kill_dec)
 
     def estop(self) -> None:
         """Emergency stop: disable every axis; the system reports an error."""

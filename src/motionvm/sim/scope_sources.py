@@ -10,6 +10,8 @@ Channel names (README "Scope"):
   slave axis N (0 while it is no slave), and `gantryN.linear_ref`, `.yaw_ref`,
   `.linear_fb`, `.yaw_fb` of gantry pair N (0 while there is no such pair):
   `SyncScopeSource`.
+- `groupN.<variable>`, `groupN.<array>[i]` — the group variables of manual 8.1.1:
+  `GroupScopeSource` (sim/scope_groups.py).
 `registry_for()` wires the sources of one run: each language run side's own (its
 `scope_sources()`: an HMPL program's variables, the `driveN.<name>` channels of PDL
 drives, the `OBJECT.STATE` channels of a GDL application), then these.
@@ -27,6 +29,7 @@ from importlib import resources
 from motionvm.io.system import IOSystem
 from motionvm.motion.kernel import MotionKernel
 from motionvm.sim.scope import BIT_UNIT, RAW_UNIT, ChannelRegistry, ScopeError
+from motionvm.sim.scope_groups import GroupScopeSource
 
 _AXIS = re.compile(r"axis(\d+)\.(\w+)")
 _SYNC = re.compile(r"(gear|gantry)(\d+)\.(\w+)")
@@ -180,4 +183,5 @@ def registry_for(controller, *clients) -> ChannelRegistry:
     reg.register(AxisSource(controller))
     if isinstance(getattr(controller, "motion", None), MotionKernel):
         reg.register(SyncScopeSource(controller))
+        reg.register(GroupScopeSource(controller))  # groupN.* (sim/scope_groups.py)
     return reg

@@ -9,6 +9,7 @@ the manual's parameters in the manual's order and units (mm or deg, mm/s, mm/s^2
 | 2 system (bus) | `system.py` | IsSystemInit ... GetSlaveNum, ScanNetwork, DisableAll, StopAll, EStop |
 | 5 axis | `axis.py` | Enable ... GetCmdNum, IsEnabled ... IsAcc |
 | 6 gear, 7 gantry | `sync.py` | EnableGear ... IsGearSlave, EnableGantryPair ... IsGantryPair |
+| 8 axis groups | `group.py`, `group_settings.py` | EnableGroup ... IsGrpErrorStop, LineAbs ... CircleRel |
 | 13 touch probe | `touchprobe.py` | EnableTouchProbe ... SetTouchProbeFunc |
 | 14 compensation | `compensation.py` | EnableComp ... SetCompAlgType, GetPosFbComp, IsCompActive |
 | 15 filters | `filters.py` | EnableAxisVsf ... SetGrpInShape |
@@ -47,6 +48,8 @@ from motionvm.motion.commands.axis import AxisCommands
 from motionvm.motion.commands.compensation import CompensationCommands
 from motionvm.motion.commands.config import ConfigCommands
 from motionvm.motion.commands.filters import FilterCommands
+from motionvm.motion.commands.group import GroupCommands
+from motionvm.motion.commands.group_settings import GroupSettingsCommands
 from motionvm.motion.commands.homing import HomingCommands
 from motionvm.motion.commands.objects import ObjectCommands
 from motionvm.motion.commands.sync import GantryCommands, GearCommands
@@ -68,5 +71,7 @@ class MotionCommands(
     FilterCommands,
     ObjectCommands,
     ConfigCommands,
+    GroupCommands,
+    GroupSettingsCommands,
 ):
     """Every motion function of the manual, on one motion kernel (see the module docstring)."""

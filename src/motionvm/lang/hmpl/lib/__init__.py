@@ -27,6 +27,7 @@ _MODULES = (
     "motionvm.lang.hmpl.lib.trigger",
     "motionvm.lang.hmpl.lib.gpio",
     "motionvm.lang.hmpl.lib.analog",
+    "motionvm.lang.hmpl.lib.group",
 )
 
 
