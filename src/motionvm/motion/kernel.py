@@ -23,6 +23,7 @@ Group last errors live here for the group functions to come (16 groups).
 
 from __future__ import annotations
 
+from motionvm.motion import axis_coast
 from motionvm.motion import axis_status as st
 from motionvm.motion.axis import Axis
 from motionvm.motion.axis_config import AxisConfig
@@ -118,6 +119,34 @@ class MotionKernel:
             if not a.resting:
                 return False
         return True
+
+    # ---- time skipping (motion/axis_coast.py) ----------------------------------------
+
+    def coast_horizon(self, wanted: int) -> int:
+        """How many cycles (at most `wanted`) every axis can be advanced in closed form
+        from now: 0 if one must be stepped. Gears, gantry pairs and a starting bus are
+        stepped."""
+        if self._bus_steps or self.gantries.pairs or self.gears.gears:
+            return 0 if not self.at_rest() else wanted
+        k = wanted
+        for a in self.axes:
+            if not a.resting:
+                k = axis_coast.coast_cycles(a, k)
+                if not k:
+                    return 0
+        return k
+
+    def coast(self, k: int) -> None:
+        """Advance every axis by `k` cycles (k <= `coast_horizon(k)`), as k `step`s would."""
+        for a in self.step_order:
+            if not a.resting:
+                axis_coast.coast(a, k)
+
+    def status_signature(self) -> tuple:
+        """What a task's wait on an axis event tests (IsInPos, IsMoving, IsEnabled,
+        IsHomed, IsErrorStop ...): equal signatures, equal answers."""
+        return tuple((a.moving, a.in_pos, a.enabled, a._enabling, a.error_stop, a.extra_status,
+                      h.homed, h.homing) for a, h in zip(self.axes, self.homing))  # fmt: skip
 
     # ---- bus and system (manual 2.5-2.10, 2.15) -------------------------------------
 

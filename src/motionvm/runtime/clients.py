@@ -26,6 +26,11 @@ and between cycles asks each client
 
 A jump must give byte-identical results to stepping, so a client that cannot tell
 when it changes next returns the current cycle.
+
+A client may also declare `observes_motion = False`: none of its hooks reads the state
+of a moving axis (positions, velocities, drive objects). Only then may the controller
+jump while axes move, advancing them in closed form (motion/axis_coast.py). A client
+without the attribute counts as observing motion: axes then jump only while they rest.
 """
 
 from __future__ import annotations
@@ -50,6 +55,9 @@ class CycleClient(Protocol):
 
 class PassiveClient:
     """A client with no work of its own: a base for clients that only observe."""
+
+    observes_motion = True
+    """True if a hook reads the state of moving axes (see the module docstring)."""
 
     def begin_cycle(self) -> None:
         """Nothing before the tasks."""

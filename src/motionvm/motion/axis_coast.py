@@ -1,0 +1,263 @@
+"""Closed-form advance of a moving axis over cycles nobody observes (time skipping).
+
+While an axis runs a profile move on the common path, its cycle is a pure function of
+the cycle number: the T-curve sample of the profile generator (no smoothing), the
+rounded target counts, the drive's demand (integer counts added to an integer demand:
+exact in floating point), an ideal motor `delay_cycles` behind the demand, the encoder
+count, the feedback. Nothing of the axis's status changes (moving, not in position, no
+limit, no fault) until the T-curve reaches its end. `coast_cycles` tells how many cycles
+the axis can be advanced that way from now; `coast` advances it, leaving every field
+exactly as `k` calls of `Axis.step` would (the same float operations on the same
+operands, evaluated for the last cycles only).
+
+An axis coasts only on the common path: enabled, profile generator (no PVT, no ramp, no
+gear, gantry or homing provider, nothing buffered), CSP on a `Cia402Drive` in Operation
+enabled with a settled controlword, `IdealMechanics`, no touch probe armed, no following
+error window, no smoothing, a move whose position range over the cycles stays clear of
+the software and hardware limits and whose position error stays well inside
+max_pos_err. Any other axis answers 0 ("step me"); a resting axis answers `NEVER`
+(its step does nothing until a command wakes it).
+"""
+
+from __future__ import annotations
+
+import math
+
+from motionvm.drives.cia402 import _SW_CYCLIC, Cia402Drive
+from motionvm.drives.mechanics import TWO_PI, IdealMechanics
+from motionvm.drives.objects import MODE_CSP, SW_INTERNAL_LIMIT, State
+from motionvm.motion import axis_status as st
+
+NEVER = 1 << 62
+"""Coast horizon of an axis that rests: it never needs stepping by itself."""
+
+MIN_COAST = 4
+"""Fewest cycles worth a closed-form advance (the formulas look 3 cycles back)."""
+
+MAX_COAST = 1 << 20
+"""Most cycles one advance covers (a jog can coast on forever)."""
+
+_EXACT = 2.0**50
+"""Counts below this stay exact integers in float arithmetic, with room for sums."""
+
+_OPERATION_ENABLED = State.OPERATION_ENABLED
+_CW_ENABLE = 0x0F
+_PG = 0  # axis_cycle.PG
+_FS_HW_LIMITS = st.FS_HW_RIGHT | st.FS_HW_LEFT
+
+
+def _plain(a) -> bool:
+    """True if axis `a` is on the common path that `coast` computes in closed form."""
+    if not (a.enabled and a.moving and a._reference_source == _PG and a._provider is None):
+        return False
+    if (a._enabling or a._fault_reset_cycles is not None or a._command_queue
+            or a._deferred_move is not None or a.op_mode != MODE_CSP or a.fault_status & _FS_HW_LIMITS
+            or a.in_pos):  # fmt: skip
+        return False
+    d = a.drive
+    if type(d) is not Cia402Drive or type(d.mechanics) is not IdealMechanics:
+        return False
+    if (d.state is not _OPERATION_ENABLED or d.mode != MODE_CSP or d._mode_prev != MODE_CSP
+            or d.controlword != _CW_ENABLE or d._controlword_prev != _CW_ENABLE
+            or d._settled is not d.state or d._fault is not None or d.local_demand is not None
+            or d._encoder_lost or d.following_error_window < 0x80000000):  # fmt: skip
+        return False
+    s = d.sensors
+    if s.tp_function or s.tp_status:
+        return False
+    pg = a.pg
+    m = d.mechanics
+    if pg._idle or pg._tc_done or pg._n_avg != 1 or pg._nseg == 0 or pg._n < m.delay_cycles:
+        return False
+    demand = d._demand
+    if not (abs(demand) < _EXACT and demand == int(demand) and m._demand == demand):
+        return False
+    return all(x == int(x) and abs(x) < _EXACT for x in m._line) and m.position == int(m.position)
+
+
+def _sample(pg, n: int) -> float:
+    """The generator's position [mm] at its sample n, as `ProfileGenerator.step` computes
+    it (n lies before the end of the T-curve)."""
+    tau = n * pg.dt
+    segs = pg._segs
+    i = pg._seg_i
+    while tau >= segs[i][1]:
+        i += 1
+    t_0, _, p_0, v_0, a = segs[i]
+    x = tau - t_0
+    return p_0 + (v_0 + 0.5 * a * x) * x
+
+
+def _last_sample(pg) -> int:
+    """The last sample n that lies before the end of the T-curve (n * dt < duration)."""
+    duration = pg._plan.duration
+    if duration == math.inf:
+        return NEVER
+    dt = pg.dt
+    n = math.ceil(duration / dt) - 1
+    while (n + 1) * dt < duration:
+        n += 1
+    while n * dt >= duration:
+        n -= 1
+    return n
+
+
+def _range(pg, t_a: float, t_b: float) -> tuple[float, float, float] | None:
+    """(lowest, highest position [mm], highest |velocity| [mm/s]) of the T-curve on
+    [t_a, t_b], or None if its velocity changes sign there (not monotonic)."""
+    v_top = 0.0
+    sign = 0.0
+    for t_0, t_1, _, v_0, a in pg._segs:
+        if t_1 <= t_a or t_0 > t_b:
+            continue
+        v_1 = v_0 + a * (t_1 - t_0) if t_1 != math.inf else v_0
+        for v in (v_0, v_1):
+            if v:
+                if sign and (v > 0.0) != (sign > 0.0):
+                    return None
+                sign = v
+            v_top = max(v_top, abs(v))
+    p_a, p_b = _tcurve_at(pg, t_a), _tcurve_at(pg, t_b)
+    lo, hi = min(p_a, p_b), max(p_a, p_b)
+    return lo, hi, v_top
+
+
+def _tcurve_at(pg, t: float) -> float:
+    for t_0, t_1, p_0, v_0, a in pg._segs:
+        if t < t_1:
+            x = t - t_0 if t > t_0 else 0.0
+            return p_0 + (v_0 + 0.5 * a * x) * x
+    return pg._p_f
+
+
+def coast_cycles(a, wanted: int) -> int:
+    """How many cycles (at most `wanted`) axis `a` can be advanced in closed form from
+    now: 0 if it must be stepped, `wanted` if it rests."""
+    if a.resting:
+        return wanted
+    if not _plain(a):
+        return 0
+    pg = a.pg
+    n_0 = pg._n
+    k = min(wanted, _last_sample(pg) - n_0, MAX_COAST)
+    shortest = max(MIN_COAST, a.drive.mechanics.delay_cycles + 3)
+    while k >= shortest:
+        if _safe(a, n_0, n_0 + k):
+            return k
+        k //= 2
+    return 0
+
+
+def _safe(a, n_0: int, n_e: int) -> bool:
+    """True if samples n_0+1 .. n_e trip no limit and no position error."""
+    pg = a.pg
+    dt = pg.dt
+    d = a.drive
+    delay = d.mechanics.delay_cycles
+    r = _range(pg, (n_0 - delay) * dt, n_e * dt)
+    if r is None:
+        return False
+    lo, hi, v_top = r
+    margin = 1e-9 * max(1.0, abs(lo), abs(hi)) + 1e-12
+    lo, hi = lo - margin, hi + margin
+    if not (a._sw_stop_left < lo and hi < a._sw_stop_right):
+        return False
+    cpu, off = a.cpu, a.pos_offset
+    shift = d._demand - d._target_prev  # motor counts minus target counts
+    x_lo, x_hi = (lo + off) * cpu + shift - 2.0, (hi + off) * cpu + shift + 2.0
+    if max(abs(x_lo), abs(x_hi)) >= 2.0**31 - 2.0:
+        return False  # the int32 target and position would wrap
+    s = d.sensors
+    if s.negative_limit is not None and not s.negative_limit < min(x_lo, d.mechanics.position):
+        return False
+    if s.positive_limit is not None and not max(x_hi, d.mechanics.position) < s.positive_limit:
+        return False
+    if not a.ignore_pe:
+        # err = p(n) - p(n - delay) - c / cpu up to the rounding of the counts
+        c = shift + a._feedback_counts - a._position_actual
+        err = v_top * delay * dt + (abs(c) + 2.0) / cpu
+        if err * 1.01 + 1e-9 >= a._max_pos_err:
+            return False
+    return True
+
+
+def coast(a, k: int) -> None:
+    """Advance axis `a` by `k` cycles (k <= `coast_cycles(a, k)`), exactly as k steps."""
+    if a.resting:
+        return
+    d = a.drive
+    m = d.mechanics
+    if k < max(MIN_COAST, m.delay_cycles + 3):  # too short for the formulas: step it
+        for _ in range(k):
+            a.step()
+        return
+    pg = a.pg
+    n_0 = pg._n
+    n_e = n_0 + k
+    cpu, off = a.cpu, a.pos_offset
+    p_start = pg._out[0]
+    t_0 = d._target_prev  # == target_position: no wrap on the common path
+    demand_0 = d._demand
+
+    def p_at(n: int) -> float:
+        return p_start if n == n_0 else _sample(pg, n)
+
+    def demand_at(n: int) -> float:
+        if n == n_0:
+            return demand_0
+        counts = ((p_at(n) + off) * cpu).__round__()
+        return demand_0 + (counts - t_0)
+
+    inv_dt = pg._inv_dt
+    p_2, p_1, p = p_at(n_e - 2), p_at(n_e - 1), p_at(n_e)
+    v_1 = (p_1 - p_2) * inv_dt
+    v = (p - p_1) * inv_dt
+    acc = (v - v_1) * inv_dt
+    # the profile generator after sample n_e
+    pg._n = n_e
+    pg._segment_at(n_e * pg.dt)
+    pg._out = (p, v, acc)
+    # the axis's reference and the drive's target
+    a._cycle += k
+    a.ref_pos, a.ref_vel, a.ref_acc = p, v, acc
+    target = ((p + off) * cpu).__round__()
+    d.target_position = target
+    d._target_prev = target
+    demand = demand_0 + (target - t_0)
+    d._demand = demand
+    # the ideal motor, delay_cycles behind the demand
+    dt = a.dt
+    delay = m.delay_cycles
+    x = demand_at(n_e - delay)
+    x_1 = demand_at(n_e - delay - 1)
+    x_2 = demand_at(n_e - delay - 2)
+    m._demand_vel = (demand - demand_at(n_e - 1)) / dt
+    m._demand = demand
+    if delay != 1:
+        m._line.clear()
+        m._line.extend(demand_at(n) for n in range(n_e - delay + 1, n_e + 1))
+    v_m_1 = (x_1 - x_2) / dt
+    v_m = (x - x_1) / dt
+    m.torque = m.inertia * (v_m - v_m_1) / dt * TWO_PI / m.counts_per_rev
+    m.velocity = v_m
+    m.position = x
+    # the drive's feedback
+    d._encoder = enc = x.__round__()
+    d.position_actual = enc
+    d.digital_inputs = di = d.sensors._evaluate(x_1, x)
+    d._motor_position_prev = x
+    sw = _SW_CYCLIC
+    torque = m.torque
+    if (torque >= d._torque_quiet_nm or torque <= d._torque_quiet_neg_nm) and abs(
+        d.torque_actual
+    ) >= d._max_torque:
+        sw |= SW_INTERNAL_LIMIT
+    d.statusword = sw
+    # the axis's feedback
+    if enc != a._position_actual:
+        a._feedback_counts = counts = a._feedback_counts + (enc - a._position_actual)
+        a._position_actual = enc
+        a.pos_fb_raw = raw = counts / cpu
+        a.pos_fb = raw - off
+    if di != a._digital_inputs:
+        a._hw_inputs(di)

@@ -1,0 +1,82 @@
+"""Time skipping: where the controller may jump the clock to, and the jump itself.
+
+One rule for every part of a run: each reports the next cycle at which something of it
+can change, and the clock jumps to the earliest of them, so that the cycles in between
+are never computed. A task reports its wake cycle (Sleep), or nothing while it waits on
+an event (a Till whose condition only a computed cycle can change: `runtime/kernel.py`
+EVENT_WAIT); a client its `next_event`; the motion kernel how far its axes can be
+advanced in closed form (`MotionKernel.coast_horizon`: a resting axis forever, an axis
+on a plain profile move until its T-curve ends, any other axis not at all). Axes are
+advanced over the jumped cycles by `MotionKernel.coast`, which leaves every value as
+stepping would; a client that reads moving axes in its hooks (`observes_motion`)
+keeps the clock from jumping while an axis moves.
+
+A task waiting on an event is passed over only if the cycle before changed nothing it
+tests: every resumed task only polled (`Kernel.quiet`) and the status it tests (every
+axis's flags, the digital inputs and outputs) is the same as at the decision before.
+Otherwise that task is stepped once more, and polls again.
+"""
+
+from __future__ import annotations
+
+from motionvm.motion.axis_coast import NEVER
+
+
+class JumpPlanner:
+    """Decides, between two cycles of one controller, whether and how far to jump."""
+
+    def __init__(self, controller) -> None:
+        self.controller = controller
+        self._signature: tuple | None = None
+        self.jumps = 0
+        """Jumps made so far (the cycles they covered were not computed)."""
+
+    def _status(self) -> tuple:
+        ctl = self.controller
+        io = ctl.io
+        return ctl.motion.status_signature(), tuple(io.inputs), tuple(io.outputs)
+
+    def jump(self, end_cycle: int | None) -> bool:
+        """Jump the clock ahead if nothing can change before a later cycle (advancing the
+        moving axes to it); True if it jumped. `end_cycle` bounds the jump."""
+        ctl = self.controller
+        cycle = ctl.clock.cycle
+        limit = NEVER if end_cycle is None else end_cycle - cycle
+        if limit <= 0:
+            return False
+        motion = ctl.motion
+        clients = ctl.clients
+        resting = motion.at_rest()
+        if resting:
+            k = limit
+        elif any(getattr(c, "observes_motion", True) for c in clients):
+            k = 0
+        else:
+            k = motion.coast_horizon(limit)
+        if not k:
+            self._signature = None
+            return False
+        kernel = ctl.kernel
+        signature = self._status() if kernel.event_waits else None
+        previous, self._signature = self._signature, signature
+        if signature is not None and signature == previous:
+            wake = kernel.next_wake_past_event_waits()
+        else:
+            wake = kernel.next_wake()
+        for c in clients:
+            e = c.next_event()
+            if e is not None and (wake is None or e < wake):
+                wake = e
+        if wake is None:
+            if resting and end_cycle is None:
+                return False  # nothing will ever change: step on (a timeout ends the run)
+            target = cycle + k
+        else:
+            target = min(wake, cycle + k)
+        if target <= cycle:
+            return False
+        if not resting:
+            motion.coast(target - cycle)
+        ctl.clock.cycle = target
+        self.jumps += 1
+        return True
