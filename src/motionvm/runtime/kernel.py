@@ -6,8 +6,7 @@ a wait that polls, such as Till or MutexLock); an int is the cycle to wake at (S
 Two negative ints also mean "next cycle" and tell the controller more (`EVENT_WAIT`,
 `EVENT_POLL`): the task polls a condition that can change only in a cycle the
 controller computes, never in one it jumps over (an axis's status flag, an input),
-so the clock may jump past it once a cycle has passed in which every resumed task
-only polled (`quiet`).
+so the clock may jump past it while nothing it tests changes (`quiet`).
 A task ends when its generator returns, raises `TaskExit`, or faults; a fault stops
 only that task and is reported through `on_fault`. No wall clock, no threads: the
 same program gives the same schedule every run.
@@ -61,8 +60,11 @@ class Kernel:
         self.on_stop: Callable[[Task], None] = lambda task: None
         self._changed = False  # a task started or stopped since the last cycle's end
         self.quiet = False
-        """True if in the last cycle run every resumed task only polled (EVENT_POLL) and
-        no task started or stopped: that cycle changed nothing the tasks did."""
+        """True if in the last cycle run no task acted after a task polled an event (so
+        every poll saw what the tasks of the cycle left) and no task started or stopped
+        from outside."""
+        self.event_waits = False
+        """True if in the last cycle run a task waited on an event."""
 
     # ------------------------------------------------------------ control
 
@@ -129,15 +131,10 @@ class Kernel:
             return None
         return min(t.wake_cycle for t in self._active)
 
-    @property
-    def event_waits(self) -> bool:
-        """True if a running task waits on an event (see `next_wake_past_event_waits`)."""
-        return any(t.event_wait for t in self._active)
-
     def next_wake_past_event_waits(self) -> int | None:
-        """`next_wake`, leaving out the tasks waiting on an event (EVENT_POLL) if the last
-        cycle was `quiet`: their conditions stay false until a computed cycle changes
-        what they test. The caller checks that nothing else changed (the controller)."""
+        """`next_wake`, leaving out the tasks waiting on an event if the last cycle was
+        `quiet`: their conditions stay false until something they test changes. The
+        caller checks that nothing they test changed since they ran (the controller)."""
         if not self.quiet or self._changed:
             return self.next_wake()
         wake = None
@@ -151,7 +148,7 @@ class Kernel:
     def run_cycle(self) -> None:
         """Resume every task that is due in this cycle, once, in id order."""
         cycle = self.clock.cycle
-        quiet = True
+        polled = stale = False  # a task polled an event; a task acted after that
         for t in tuple(self._active):  # a task started in this cycle runs from the next one
             gen = t.gen
             if gen is None or t.wake_cycle > cycle:
@@ -162,31 +159,37 @@ class Kernel:
                 y = gen.send(None)
             except StopIteration:
                 self._finish(t)
+                stale = stale or polled
             except TaskExit:
                 self._finish(t)
+                stale = stale or polled
             except BaseException as exc:
                 if isinstance(exc, (KeyboardInterrupt, SystemExit)):
                     raise
                 self._finish(t)
                 self.on_fault(t, exc)
+                stale = stale or polled
             else:
-                if t.gen is gen:
-                    if y is None:
-                        t.wake_cycle = cycle + 1
-                        t.event_wait = quiet = False
-                    elif y < 0:  # EVENT_POLL or EVENT_WAIT
-                        t.wake_cycle = cycle + 1
-                        t.event_wait = True
-                        if y != EVENT_POLL:
-                            quiet = False
-                    else:
-                        t.wake_cycle = max(int(y), cycle + 1)
-                        t.event_wait = quiet = False
+                if t.gen is not gen:  # stopped or restarted itself
+                    stale = stale or polled
+                elif y is None:
+                    t.wake_cycle = cycle + 1
+                    t.event_wait = False
+                    stale = stale or polled
+                elif y < 0:  # EVENT_POLL (only polled) or EVENT_WAIT (acted, then polled)
+                    t.wake_cycle = cycle + 1
+                    t.event_wait = True
+                    if y != EVENT_POLL:
+                        stale = stale or polled
+                    polled = True
                 else:
-                    quiet = False
+                    t.wake_cycle = max(int(y), cycle + 1)
+                    t.event_wait = False
+                    stale = stale or polled
             finally:
                 self.current = None
-        self.quiet = quiet and not self._changed
+        self.event_waits = polled
+        self.quiet = not stale and not self._changed
         self._changed = False
 
     def _finish(self, t: Task) -> None:

@@ -95,6 +95,8 @@ class Controller:
             c.begin_cycle()
         self.motion.begin_cycle()
         self.kernel.run_cycle()
+        if self.skip:
+            self.jumps.after_tasks()
         self.motion.step()
         for c in clients:
             c.end_cycle()
@@ -134,6 +136,7 @@ class Controller:
         clock = self.clock
         pacer = RealTimePacer(self.sim_time) if realtime else None
         self.stop_requested = False
+        self.jumps.forget()
         next_report = _NEVER if progress is None else clock.cycle
         while self.busy():
             if self.stop_requested:
@@ -143,6 +146,7 @@ class Controller:
                 next_report = clock.cycle + progress_every
             if pacer is not None:
                 pacer.wait(self.sim_time)
+                self.jumps.forget()  # a client may have written a variable meanwhile
             if end_cycle is not None and clock.cycle >= end_cycle:
                 return UNTIL
             if self.skip and self.jumps.jump(end_cycle):

@@ -11,10 +11,12 @@ advanced over the jumped cycles by `MotionKernel.coast`, which leaves every valu
 stepping would; a client that reads moving axes in its hooks (`observes_motion`)
 keeps the clock from jumping while an axis moves.
 
-A task waiting on an event is passed over only if the cycle before changed nothing it
-tests: every resumed task only polled (`Kernel.quiet`) and the status it tests (every
-axis's flags, the digital inputs and outputs) is the same as at the decision before.
-Otherwise that task is stepped once more, and polls again.
+A task waiting on an event is passed over only if nothing it tests changed since it
+polled: no task acted after it in its cycle (`Kernel.quiet`), and the status it tests
+(every axis's flags, the digital inputs and outputs) is now what it was right after
+the tasks of the last computed cycle (`after_tasks`). Otherwise that task is stepped
+once more, and polls again. Each `Controller.run` starts without that record, as the
+host may have changed a variable between runs.
 """
 
 from __future__ import annotations
@@ -28,6 +30,7 @@ class JumpPlanner:
     def __init__(self, controller) -> None:
         self.controller = controller
         self._signature: tuple | None = None
+        """The status right after the tasks of the last computed cycle (None: unknown)."""
         self.jumps = 0
         """Jumps made so far (the cycles they covered were not computed)."""
 
@@ -35,6 +38,14 @@ class JumpPlanner:
         ctl = self.controller
         io = ctl.io
         return ctl.motion.status_signature(), tuple(io.inputs), tuple(io.outputs)
+
+    def after_tasks(self) -> None:
+        """Record what the waiting tasks saw (the controller calls it after the tasks)."""
+        self._signature = self._status() if self.controller.kernel.event_waits else None
+
+    def forget(self) -> None:
+        """Something outside the cycle may have changed what a task tests."""
+        self._signature = None
 
     def jump(self, end_cycle: int | None) -> bool:
         """Jump the clock ahead if nothing can change before a later cycle (advancing the
@@ -54,12 +65,10 @@ class JumpPlanner:
         else:
             k = motion.coast_horizon(limit)
         if not k:
-            self._signature = None
             return False
         kernel = ctl.kernel
-        signature = self._status() if kernel.event_waits else None
-        previous, self._signature = self._signature, signature
-        if signature is not None and signature == previous:
+        seen = self._signature
+        if seen is not None and kernel.quiet and seen == self._status():
             wake = kernel.next_wake_past_event_waits()
         else:
             wake = kernel.next_wake()
