@@ -131,15 +131,25 @@ def _tcurve_at(pg, t: float) -> float:
 
 
 def coast_cycles(a, wanted: int) -> int:
-    """How many cycles (at most `wanted`) axis `a` can be advanced in closed form from
-    now: 0 if it must be stepped, `wanted` if it rests."""
+    """How many cycles (at most `wanted`) axis `a` can be advanced from now without an
+    observer missing a change: 0 if it must be stepped, `wanted` if it rests.
+
+    The cycles before the end of the T-curve are computed in closed form; after them the
+    axis steps itself (`coast`) through the cycle in which its reference comes to rest
+    (region I ends: `moving` falls), the first status change, which ends the advance."""
     if a.resting:
         return wanted
     if not _plain(a):
         return 0
     pg = a.pg
     n_0 = pg._n
-    k = min(wanted, _last_sample(pg) - n_0, MAX_COAST)
+    n_last = _last_sample(pg)
+    to_end = n_last - n_0
+    if to_end < wanted and pg._plan.duration != math.inf and _safe(a, n_0, n_last + 2):
+        # sample n_last + 1 holds p_f; the velocity is 0 there (region I ends) if the
+        # last sample was on p_f already, else one sample later
+        return min(wanted, to_end + (1 if _sample(pg, n_last) == pg._p_f else 2))
+    k = min(wanted, to_end, MAX_COAST)
     shortest = max(MIN_COAST, a.drive.mechanics.delay_cycles + 3)
     while k >= shortest:
         if _safe(a, n_0, n_0 + k):
@@ -154,7 +164,7 @@ def _safe(a, n_0: int, n_e: int) -> bool:
     dt = pg.dt
     d = a.drive
     delay = d.mechanics.delay_cycles
-    r = _range(pg, (n_0 - delay) * dt, n_e * dt)
+    r = _range(pg, (n_0 - delay) * dt, n_e * dt)  # (the T-curve holds p_f past its end)
     if r is None:
         return False
     lo, hi, v_top = r
@@ -187,10 +197,21 @@ def coast(a, k: int) -> None:
         return
     d = a.drive
     m = d.mechanics
-    if k < max(MIN_COAST, m.delay_cycles + 3):  # too short for the formulas: step it
-        for _ in range(k):
-            a.step()
-        return
+    pg = a.pg
+    n_0 = pg._n
+    closed = min(k, _last_sample(pg) - n_0)
+    if closed < max(MIN_COAST, m.delay_cycles + 3):  # too short for the formulas
+        closed = 0
+    if closed:
+        _advance(a, closed)
+    for _ in range(k - closed):  # the end of the move: stepped
+        a.step()
+
+
+def _advance(a, k: int) -> None:
+    """Advance axis `a` by `k` samples of its T-curve in closed form."""
+    d = a.drive
+    m = d.mechanics
     pg = a.pg
     n_0 = pg._n
     n_e = n_0 + k
@@ -199,8 +220,13 @@ def coast(a, k: int) -> None:
     t_0 = d._target_prev  # == target_position: no wrap on the common path
     demand_0 = d._demand
 
+    samples = {n_0: p_start}
+
     def p_at(n: int) -> float:
-        return p_start if n == n_0 else _sample(pg, n)
+        p = samples.get(n)
+        if p is None:
+            samples[n] = p = _sample(pg, n)
+        return p
 
     def demand_at(n: int) -> float:
         if n == n_0:
@@ -244,7 +270,7 @@ def coast(a, k: int) -> None:
     # the drive's feedback
     d._encoder = enc = x.__round__()
     d.position_actual = enc
-    d.digital_inputs = di = d.sensors._evaluate(x_1, x)
+    d.digital_inputs = di = d.sensors.update(x_1, x)
     d._motor_position_prev = x
     sw = _SW_CYCLIC
     torque = m.torque

@@ -55,37 +55,37 @@ class JumpPlanner:
         limit = NEVER if end_cycle is None else end_cycle - cycle
         if limit <= 0:
             return False
-        motion = ctl.motion
-        clients = ctl.clients
-        resting = motion.at_rest()
-        if resting:
-            k = limit
-        elif any(getattr(c, "observes_motion", True) for c in clients):
-            k = 0
-        else:
-            k = motion.coast_horizon(limit)
-        if not k:
-            return False
         kernel = ctl.kernel
-        seen = self._signature
-        if seen is not None and kernel.quiet and seen == self._status():
+        wake = kernel.next_wake()
+        if wake is not None and wake <= cycle:
+            seen = self._signature
+            if seen is None or not kernel.quiet or seen != self._status():
+                return False
             wake = kernel.next_wake_past_event_waits()
-        else:
-            wake = kernel.next_wake()
+            if wake is not None and wake <= cycle:
+                return False
+        clients = ctl.clients
         for c in clients:
             e = c.next_event()
             if e is not None and (wake is None or e < wake):
+                if e <= cycle:
+                    return False
                 wake = e
-        if wake is None:
-            if resting and end_cycle is None:
+        motion = ctl.motion
+        resting = motion.at_rest()
+        if wake is not None:
+            limit = min(limit, wake - cycle)
+        if resting:
+            if wake is None and end_cycle is None:
                 return False  # nothing will ever change: step on (a timeout ends the run)
-            target = cycle + k
-        else:
-            target = min(wake, cycle + k)
-        if target <= cycle:
+            k = limit
+        elif any(getattr(c, "observes_motion", True) for c in clients):
             return False
-        if not resting:
-            motion.coast(target - cycle)
-        ctl.clock.cycle = target
+        else:
+            k = motion.coast_horizon(limit)
+            if not k:
+                return False
+            motion.coast(k)
+        ctl.clock.cycle = cycle + k
         self.jumps += 1
         return True
