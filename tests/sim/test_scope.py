@@ -421,7 +421,7 @@ def test_plot_without_matplotlib(loop_file, tmp_path, monkeypatch, capsys):
 
 def test_failed_write_leaves_no_partial_file(tmp_path):
     rec = recorded(LOOP, ["count"])
-    rec.columns[0][3] = "not a number"  # makes the writer fail half way
+    rec._columns[0][3] = "not a number"  # makes the writer fail half way (an unwritten sample)
     out = tmp_path / "run.csv"
     out.write_text("previous\n")
     with pytest.raises(ValueError):

@@ -71,10 +71,10 @@ def format_number(v) -> str:
 def csv_lines(recorder) -> Iterator[str]:
     """Header `time,<channel>...` (bare names: units are in the plots' legends and the
     VCD's comment), then one row per sample; time [s]; numbers in full precision."""
-    columns = recorder.columns
     yield ",".join(["time"] + [c.name for c in recorder.channels])
-    for row, t in enumerate(recorder.times):
-        yield ",".join([format_number(t)] + [format_number(col[row]) for col in columns])
+    dt = recorder.cycle_time
+    for cycle, values in recorder.rows():
+        yield ",".join([format_number(round(cycle * dt, 9))] + [format_number(v) for v in values])
 
 
 def write_csv(path: Path, recorder, title: str = "") -> None:
@@ -153,18 +153,19 @@ def write_vcd(path: Path, recorder, title: str = "") -> None:
         last: list = [None] * len(chans)
         bits = [c.is_bit for c in chans]
         dt = recorder.cycle_time
-        for row, cycle in enumerate(recorder.cycles):
+        first = True
+        for cycle, values in recorder.rows():
             stamp = round(cycle * dt * ticks_per_s)
-            if row == 0:
+            if first:
+                first = False
                 f.write(f"#{stamp}\n$dumpvars\n")
-                for i, col in enumerate(recorder.columns):
-                    last[i] = col[0]
-                    f.write(_vcd_value(col[0], bits[i], ids[i]) + "\n")
+                for i, v in enumerate(values):
+                    last[i] = v
+                    f.write(_vcd_value(v, bits[i], ids[i]) + "\n")
                 f.write("$end\n")
                 continue
             changes = []
-            for i, col in enumerate(recorder.columns):
-                v = col[row]
+            for i, v in enumerate(values):
                 if not _same(v, last[i]):
                     last[i] = v
                     changes.append(_vcd_value(v, bits[i], ids[i]))
