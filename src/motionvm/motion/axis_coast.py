@@ -216,32 +216,38 @@ def _advance(a, k: int) -> None:
     n_0 = pg._n
     n_e = n_0 + k
     cpu, off = a.cpu, a.pos_offset
-    p_start = pg._out[0]
+    delay = m.delay_cycles
     t_0 = d._target_prev  # == target_position: no wrap on the common path
     demand_0 = d._demand
-
-    samples = {n_0: p_start}
-
-    def p_at(n: int) -> float:
-        p = samples.get(n)
-        if p is None:
-            samples[n] = p = _sample(pg, n)
-        return p
-
-    def demand_at(n: int) -> float:
+    # samples n_lo .. n_e of the generator and of the drive's demand (n_lo >= n_0)
+    n_lo = n_e - delay - 2
+    segs = pg._segs
+    i = pg._seg_i
+    dt_pg = pg.dt
+    ps: list[float] = []
+    demands: list[float] = []
+    for n in range(n_lo, n_e + 1):
         if n == n_0:
-            return demand_0
-        counts = ((p_at(n) + off) * cpu).__round__()
-        return demand_0 + (counts - t_0)
-
+            ps.append(pg._out[0])
+            demands.append(demand_0)
+            continue
+        tau = n * dt_pg
+        while tau >= segs[i][1]:
+            i += 1
+        t_s, _, p_0, v_0, acc = segs[i]
+        x = tau - t_s
+        p = p_0 + (v_0 + 0.5 * acc * x) * x  # as ProfileGenerator.step: (0.5 * a) * x
+        ps.append(p)
+        demands.append(demand_0 + (((p + off) * cpu).__round__() - t_0))
     inv_dt = pg._inv_dt
-    p_2, p_1, p = p_at(n_e - 2), p_at(n_e - 1), p_at(n_e)
+    p_2, p_1, p = ps[-3], ps[-2], ps[-1]
     v_1 = (p_1 - p_2) * inv_dt
     v = (p - p_1) * inv_dt
     acc = (v - v_1) * inv_dt
     # the profile generator after sample n_e
     pg._n = n_e
-    pg._segment_at(n_e * pg.dt)
+    if i != pg._seg_i:
+        pg._enter_segment(i)
     pg._out = (p, v, acc)
     # the axis's reference and the drive's target
     a._cycle += k
@@ -249,19 +255,16 @@ def _advance(a, k: int) -> None:
     target = ((p + off) * cpu).__round__()
     d.target_position = target
     d._target_prev = target
-    demand = demand_0 + (target - t_0)
+    demand = demands[-1]
     d._demand = demand
-    # the ideal motor, delay_cycles behind the demand
+    # the ideal motor, delay_cycles behind the demand: x = demand of sample n_e - delay
     dt = a.dt
-    delay = m.delay_cycles
-    x = demand_at(n_e - delay)
-    x_1 = demand_at(n_e - delay - 1)
-    x_2 = demand_at(n_e - delay - 2)
-    m._demand_vel = (demand - demand_at(n_e - 1)) / dt
+    x_2, x_1, x = demands[0], demands[1], demands[2]
+    m._demand_vel = (demand - demands[-2]) / dt
     m._demand = demand
     if delay != 1:
         m._line.clear()
-        m._line.extend(demand_at(n) for n in range(n_e - delay + 1, n_e + 1))
+        m._line.extend(demands[3:])
     v_m_1 = (x_1 - x_2) / dt
     v_m = (x - x_1) / dt
     m.torque = m.inertia * (v_m - v_m_1) / dt * TWO_PI / m.counts_per_rev
