@@ -2,9 +2,9 @@
 
 Each program runs in-process as `motionvm run --stamp ARGV` three ways: with time
 skipping (the default), with `--no-skip` and with MOTIONVM_NO_SKIP=1. Exit code, stdout
-(with the simulated time of every message) and stderr must be equal byte for byte. The
-examples also record a scope (every axis's position and velocity) and the scope files
-must be equal too.
+(with the simulated time of every message) and stderr must be equal byte for byte. Each
+program also runs with a scope recording every cycle (axis positions and velocities,
+the HMPL time), skipping and stepping: the scope files must be equal too.
 """
 
 from __future__ import annotations
@@ -55,15 +55,17 @@ def test_skipping_and_stepping_print_the_same(case, tmp_path):
     assert jumped == stepped == by_env
 
 
-EXAMPLES = [c for c in CASES if c.id.startswith("examples/") or "/examples/" in c.id]
+def _channels(case) -> str:
+    hmpl_only = all(not a.endswith((".pdl", ".gdl")) for a in case.argv)
+    return "axis0.pos_fb,axis0.ref_vel,axis1.pos_fb" + (",system_timeInMs" if hmpl_only else "")
 
 
-@pytest.mark.parametrize("case", EXAMPLES, ids=lambda c: c.id)
+@pytest.mark.parametrize("case", [c for c in CASES if c.problem is None], ids=lambda c: c.id)
 def test_skipping_and_stepping_record_the_same_scope(case, tmp_path):
     files = []
     for skip in (True, False):
         scope = tmp_path / f"scope_{skip}.csv"
-        argv = ["run", "--scope", "axis0.pos_fb,axis0.ref_vel,axis1.pos_fb", "--scope-out",
+        argv = ["run", "--timeout", "120", "--scope", _channels(case), "--scope-out",
                 str(scope), *case.argv]  # fmt: skip
         if not skip:
             argv.insert(1, "--no-skip")

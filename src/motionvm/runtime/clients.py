@@ -31,6 +31,10 @@ A client may also declare `observes_motion = False`: none of its hooks reads the
 of a moving axis (positions, velocities, drive objects). Only then may the controller
 jump while axes move, advancing them in closed form (motion/axis_coast.py). A client
 without the attribute counts as observing motion: axes then jump only while they rest.
+Two more declarations serve recorders: `samples_skipped_cycles = True` (its `end_cycle`
+is called for every cycle a jump passes, after the axes were advanced to it) and
+`clock_driven = True` (its `begin_cycle` only writes values computed from the clock's
+cycle, so such a jump calls it too, for the recorder to see them).
 """
 
 from __future__ import annotations

@@ -9,7 +9,10 @@ advanced in closed form (`MotionKernel.coast_horizon`: a resting axis forever, a
 on a plain profile move until its T-curve ends, any other axis not at all). Axes are
 advanced over the jumped cycles by `MotionKernel.coast`, which leaves every value as
 stepping would; a client that reads moving axes in its hooks (`observes_motion`)
-keeps the clock from jumping while an axis moves.
+keeps the clock from jumping while an axis moves. A client that samples every cycle
+(`samples_skipped_cycles`: a scope) has each jumped cycle sampled: the jump then goes
+cycle by cycle, setting the clock-driven values (the HMPL system time) and advancing
+the moving axes one cycle at a time, with no task, no other client run.
 
 A task waiting on an event is passed over only if nothing it tests changed since it
 polled: no task acted after it in its cycle (`Kernel.quiet`), and the status it tests
@@ -85,7 +88,29 @@ class JumpPlanner:
             k = motion.coast_horizon(limit)
             if not k:
                 return False
+        samplers = [c for c in clients if getattr(c, "samples_skipped_cycles", False)]
+        if samplers:
+            self._sampled_jump(cycle, k, resting, samplers)
+        elif not resting:
             motion.coast(k)
         ctl.clock.cycle = cycle + k
         self.jumps += 1
         return True
+
+    def _sampled_jump(self, cycle: int, k: int, resting: bool, samplers: list) -> None:
+        """Jump over cycles `cycle` .. `cycle + k - 1` one by one for the clients that
+        sample every cycle (a scope): each cycle the clock shows it, the clients whose
+        `begin_cycle` only writes values of the clock (`clock_driven`, the HMPL system
+        time) set them, the moving axes advance one cycle, and the samplers' `end_cycle`
+        records the state that cycle left, as stepping would."""
+        ctl = self.controller
+        clock, motion = ctl.clock, ctl.motion
+        timed = [c for c in ctl.clients if getattr(c, "clock_driven", False)]
+        for c in range(cycle, cycle + k):
+            clock.cycle = c
+            for t in timed:
+                t.begin_cycle()
+            if not resting:
+                motion.coast(1)
+            for s in samplers:
+                s.end_cycle()

@@ -262,9 +262,10 @@ def check_output_path(path: Path) -> None:
 class ScopeRecorder:
     """Samples channels at the end of every `every`-th controller cycle.
 
-    Attach it after every other client, so it sees the cycle's final state. Its
-    `next_event` is always the current cycle: while it is attached the controller steps
-    every cycle (no jump-ahead), so no sample is skipped.
+    Attach it after every other client, so it sees the cycle's final state. It has no
+    event of its own and does not keep the clock from jumping: a jump samples each
+    cycle it passes (`samples_skipped_cycles`, sim/jumps.py), with the state stepping
+    would have left, so no sample is skipped.
     A loop without a controller (a standalone PDL drive) calls `sample(cycle)` itself.
 
     Memory stays flat however long the run: the samples of the last `CHUNK` cycles are
@@ -281,6 +282,8 @@ class ScopeRecorder:
 
     CHUNK = 16384
     """Samples kept in memory before they go to the temporary file."""
+    samples_skipped_cycles = True
+    observes_motion = False  # a jump advances the axes cycle by cycle for it
 
     def __init__(self, channels: Sequence[Channel], cycle_time: float, every: int = 1) -> None:
         if every < 1:
@@ -318,8 +321,8 @@ class ScopeRecorder:
         return False
 
     def next_event(self) -> int | None:
-        """Every cycle is sampled: the clock may not jump."""
-        return self._controller.cycle
+        """None: a jump samples the cycles it passes (`samples_skipped_cycles`)."""
+        return None
 
     def still_running(self) -> list:
         """Nothing: recording never keeps a run going."""

@@ -48,6 +48,7 @@ class HmplRuntime(PassiveClient):
     next event of its own (`PassiveClient`)."""
 
     observes_motion = False  # its hooks write the clock's system variables only
+    clock_driven = True  # `begin_cycle` writes values of the clock only (sim/jumps.py)
 
     def __init__(
         self,
