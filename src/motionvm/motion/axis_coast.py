@@ -11,7 +11,8 @@ exactly as `k` calls of `Axis.step` would (the same float operations on the same
 operands, evaluated for the last cycles only).
 
 An axis coasts only on the common path: enabled, profile generator (no PVT, no ramp, no
-gear, gantry or homing provider, nothing buffered), CSP on a `Cia402Drive` in Operation
+gear, gantry, group or homing provider, nothing buffered, no filter or compensation on
+its command path), CSP on a `Cia402Drive` in Operation
 enabled with a settled controlword, `IdealMechanics`, no touch probe armed, no following
 error window, no smoothing, a move whose position range over the cycles stays clear of
 the software and hardware limits and whose position error stays well inside
@@ -49,6 +50,8 @@ _FS_HW_LIMITS = st.FS_HW_RIGHT | st.FS_HW_LEFT
 def _plain(a) -> bool:
     """True if axis `a` is on the common path that `coast` computes in closed form."""
     if not (a.enabled and a.moving and a._reference_source == _PG and a._provider is None):
+        return False
+    if getattr(a, "_cmd_path", None) is not None:  # a filter or compensation on the command
         return False
     if (a._enabling or a._fault_reset_cycles is not None or a._command_queue
             or a._deferred_move is not None or a.op_mode != MODE_CSP or a.fault_status & _FS_HW_LIMITS

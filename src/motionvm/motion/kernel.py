@@ -124,9 +124,15 @@ class MotionKernel:
 
     def coast_horizon(self, wanted: int) -> int:
         """How many cycles (at most `wanted`) every axis can be advanced in closed form
-        from now: 0 if one must be stepped. Gears, gantry pairs and a starting bus are
-        stepped."""
-        if self._bus_steps or self.gantries.pairs or self.gears.gears:
+        from now: 0 if one must be stepped. Gears, gantry pairs, busy axis groups and a
+        starting bus are stepped."""
+        groups = getattr(self, "groups", None)  # axis groups plan for several axes
+        if (
+            self._bus_steps
+            or self.gantries.pairs
+            or self.gears.gears
+            or (groups is not None and groups.busy())
+        ):
             return 0 if not self.at_rest() else wanted
         k = wanted
         for a in self.axes:
