@@ -75,7 +75,8 @@ class MotionKernel:
 
     def begin_cycle(self) -> None:
         """Before the tasks of a cycle: the gantry pairs' enable sequences and engagement."""
-        self.gantries.step()
+        if self.gantries.pairs:
+            self.gantries.step()
 
     def step(self) -> None:
         """The motion phase of one cycle: the bus, then every axis in `step_order`."""
