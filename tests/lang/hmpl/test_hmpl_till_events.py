@@ -87,3 +87,49 @@ void main() {
         _run(src.replace('Print("never");', ""), True)[:2]
         == _run(src.replace('Print("never");', ""), False)[:2]
     )
+
+
+SHARED_FLAG = """
+int go;
+void main() {
+    StartTask(1);
+    Enable(0); Till(IsEnabled(0));
+    Till(IsInPos(0) && go == 1);
+    Print("%d released", system_timeInMs);
+    MoveAbs(0, 50.0);
+    Till(!IsMoving(0) || go == 2);
+    Print("%d %d moving %d", system_timeInMs, go, IsMoving(0));
+}
+"""
+SHARED_FLAG_1 = """
+void main() {
+    Sleep(30); go = 1; Sleep(1); Till(IsMoving(0)); Sleep(7); go = 2;
+}
+"""
+
+
+def test_a_variable_set_by_another_task_ends_a_wait_on_an_event_at_once(tmp_path):
+    paths = []
+    for i, text in enumerate((SHARED_FLAG, SHARED_FLAG_1)):
+        p = tmp_path / f"t{i}.hmpl"
+        p.write_text(text, encoding="utf-8")
+        paths.append(p)
+    runs = []
+    for skip in (True, False):
+        sim = Simulation.from_files(paths, skip=skip, stamp=True)
+        sim.run(timeout=10.0)
+        runs.append(sim.messages)
+    assert runs[0] == runs[1]
+    assert runs[0][0].endswith(" 32 released")  # task 1 runs from cycle 1, sets go at 31
+
+
+def test_a_variable_the_host_writes_between_runs_is_seen(tmp_path):
+    src = 'int go;\nvoid main() { Till(IsInPos(0) || go); Print("%d go", system_timeInMs); }\n'
+    outs = []
+    for skip in (True, False):
+        sim = Simulation.from_source(src, skip=skip)
+        sim.run(until=0.2)
+        sim.write("go", 1)
+        sim.run(until=0.5)
+        outs.append(sim.messages)
+    assert outs[0] == outs[1] == ["200 go"]
