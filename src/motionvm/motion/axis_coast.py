@@ -41,6 +41,10 @@ MAX_COAST = 1 << 20
 _EXACT = 2.0**50
 """Counts below this stay exact integers in float arithmetic, with room for sums."""
 
+_V_ZERO = 1e-9
+"""Velocity [mm/s] below which a segment end counts as rest in the monotony check: it
+moves the position by far less than the range margin (1e-9 * position)."""
+
 _OPERATION_ENABLED = State.OPERATION_ENABLED
 _CW_ENABLE = 0x0F
 _PG = 0  # axis_cycle.PG
@@ -115,7 +119,7 @@ def _range(pg, t_a: float, t_b: float) -> tuple[float, float, float] | None:
             continue
         v_1 = v_0 + a * (t_1 - t_0) if t_1 != math.inf else v_0
         for v in (v_0, v_1):
-            if v:
+            if abs(v) > _V_ZERO:  # (a braking segment may end a rounding below zero)
                 if sign and (v > 0.0) != (sign > 0.0):
                     return None
                 sign = v
