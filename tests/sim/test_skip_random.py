@@ -3,8 +3,10 @@
 Each example is an HMPL program of two tasks on three axes: moves (absolute, relative,
 jogs), stops, speed changes, smoothing, velocity scales, and waits of every kind
 (Till on an axis event, Till on a time, Sleep), with the axes' feedback and reference
-printed at random points. It runs with skipping and with `--no-skip`; the outputs
-(with `--stamp` times) and the final state of every axis must be identical.
+printed at random points, on a random machine (cycle time, motor delay, counts per mm,
+limit switches and software limits within reach, a tight position error limit). It
+runs with skipping and with `--no-skip`; the outputs (with `--stamp` times) and the
+final state of every axis must be identical.
 """
 
 from __future__ import annotations
@@ -79,13 +81,38 @@ def _task(body: list[str], first: bool) -> str:
     return "\n".join(lines) + "\n"
 
 
-def _outcome(tmp_path, sources: list[str], skip: bool):
+axis_table = st.fixed_dictionaries({
+    "counts_per_unit": st.sampled_from([10000.0, 1000.0, 364.0888]),
+    "hw_right": st.sampled_from([1050.0, 450.0]),
+    "sw_right": st.sampled_from([1000.0, 600.0, 300.0]),
+    "max_pos_err": st.sampled_from([10.0, 0.8]),
+    "start_position": st.sampled_from([0.0, 12.34]),
+    "delay": st.sampled_from([0, 1, 3]),
+})  # fmt: skip
+machine = st.tuples(st.sampled_from([1.0, 0.5, 2.0]), st.lists(axis_table, min_size=AXES,
+                                                             max_size=AXES))  # fmt: skip
+
+
+def _machine_file(tmp_path, spec) -> str:
+    cycle_ms, axes = spec
+    lines = [f"axes = {AXES}", "[controller]", f"cycle_time_ms = {cycle_ms}"]
+    for ax in axes:
+        lines += ["[[axis]]"] + [f"{k} = {v}" for k, v in ax.items() if k != "delay"]
+        lines.append(
+            f'drive = {{ mechanics = {{ model = "ideal", delay_cycles = {ax["delay"]} }} }}'
+        )
+    path = tmp_path / "machine.toml"
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    return str(path)
+
+
+def _outcome(tmp_path, sources: list[str], skip: bool, machine_file: str | None = None):
     paths = []
     for i, text in enumerate(sources):
         p = tmp_path / f"t{i}.hmpl"
         p.write_text(text, encoding="utf-8")
         paths.append(p)
-    sim = Simulation.from_files(paths, skip=skip, stamp=True)
+    sim = Simulation.from_files(paths, skip=skip, stamp=True, machine=machine_file)
     result = sim.run(timeout=60.0)
     axes = [(a.pos_fb, a.ref_pos, a.ref_vel, a.ref_acc, a.in_pos, a.moving, a.move_time_ms,
              a.settling_time_ms, a.last_error, a.drive.position_actual,
@@ -100,3 +127,12 @@ def test_random_moves_and_waits_give_the_same_run(tmp_path_factory, body_0, body
     tmp = tmp_path_factory.mktemp("prog")
     sources = [_task(body_0, True), _task(body_1, False)]
     assert _outcome(tmp, sources, True) == _outcome(tmp, sources, False)
+
+
+@PROFILE
+@given(machine, st.lists(statement, min_size=1, max_size=10), st.lists(statement, max_size=6))
+def test_random_machines_give_the_same_run(tmp_path_factory, spec, body_0, body_1):
+    tmp = tmp_path_factory.mktemp("machine")
+    machine_file = _machine_file(tmp, spec)
+    sources = [_task(body_0, True), _task(body_1, False)]
+    assert _outcome(tmp, sources, True, machine_file) == _outcome(tmp, sources, False, machine_file)
