@@ -9,8 +9,9 @@ One cycle (every language's run side is a client of it, runtime/clients.py):
 Between cycles the controller jumps the clock ahead when nothing can change before a
 later cycle: no task, no client has an event before it (`next_event`), and every axis
 rests or runs a move it can be advanced over in closed form (sim/jumps.py). The
-results are identical to stepping. A run ends when no task runs, no axis moves (an axis jogging at a constant
-velocity it has reached counts as settled) and no client is busy.
+results are identical to stepping. A run ends when no task runs, no axis moves (an
+axis jogging at a constant velocity it has reached counts as settled) and no client is
+busy.
 """
 
 from __future__ import annotations
