@@ -1,7 +1,8 @@
 """Closed-form advance of a moving axis over cycles nobody observes (time skipping).
 
 While an axis runs a profile move on the common path, its cycle is a pure function of
-the cycle number: the T-curve sample of the profile generator (no smoothing), the
+the cycle number: the T-curve sample of the profile generator (with smoothing, the
+moving average replayed from its last exact sum, `_outputs`), the
 rounded target counts, the drive's demand (integer counts added to an integer demand:
 exact in floating point), an ideal motor `delay_cycles` behind the demand, the encoder
 count, the feedback. Nothing of the axis's status changes (moving, not in position, no
@@ -14,7 +15,7 @@ An axis coasts only on the common path: enabled, profile generator (no PVT, no r
 gear, gantry, group or homing provider, nothing buffered, no filter or compensation on
 its command path), CSP on a `Cia402Drive` in Operation
 enabled with a settled controlword, `IdealMechanics`, no touch probe armed, no following
-error window, no smoothing, a move whose position range over the cycles stays clear of
+error window, a move whose position range over the cycles stays clear of
 the software and hardware limits and whose position error stays well inside
 max_pos_err. Any other axis answers 0 ("step me"); a resting axis answers `NEVER`
 (its step does nothing until a command wakes it).
@@ -74,7 +75,10 @@ def _plain(a) -> bool:
         return False
     pg = a.pg
     m = d.mechanics
-    if pg._idle or pg._tc_done or pg._n_avg != 1 or pg._nseg == 0 or pg._n < m.delay_cycles:
+    if pg._idle or pg._tc_done or pg._nseg == 0:
+        return False
+    # the samples the next outputs average (and the motor's delay) lie in this plan
+    if pg._n < m.delay_cycles + (pg._n_avg + 1 if pg._n_avg > 1 else 0):
         return False
     demand = d._demand
     if not (abs(demand) < _EXACT and demand == int(demand) and m._demand == demand):
@@ -152,7 +156,8 @@ def coast_cycles(a, wanted: int) -> int:
     n_0 = pg._n
     n_last = _last_sample(pg)
     to_end = n_last - n_0
-    if to_end < wanted and pg._plan.duration != math.inf and _safe(a, n_0, n_last + 2):
+    finite = pg._plan.duration != math.inf and pg._n_avg == 1  # (smoothing: stepped out)
+    if to_end < wanted and finite and _safe(a, n_0, n_last + 2):
         # sample n_last + 1 holds p_f; the velocity is 0 there (region I ends) if the
         # last sample was on p_f already, else one sample later
         return min(wanted, to_end + (1 if _sample(pg, n_last) == pg._p_f else 2))
@@ -171,7 +176,8 @@ def _safe(a, n_0: int, n_e: int) -> bool:
     dt = pg.dt
     d = a.drive
     delay = d.mechanics.delay_cycles
-    r = _range(pg, (n_0 - delay) * dt, n_e * dt)  # (the T-curve holds p_f past its end)
+    window = pg._n_avg if pg._n_avg > 1 else 0  # the moving average looks back N samples
+    r = _range(pg, (n_0 - delay - window) * dt, n_e * dt)  # (it holds p_f past its end)
     if r is None:
         return False
     lo, hi, v_top = r
@@ -215,6 +221,55 @@ def coast(a, k: int) -> None:
         a.step()
 
 
+def _outputs(pg, n_0: int, n_lo: int, n_e: int):
+    """(outputs [mm] of samples n_lo .. n_e, as `ProfileGenerator.step` computes them;
+    the T-curve segment of sample n_e; with smoothing, the filter's (buffer, index, sum)
+    after sample n_e, else None). n_0 < n_lo or n_0 == n_lo; the T-curve has not ended.
+
+    The moving average is replayed from the last sample at or before n_lo where the
+    generator recomputed its running sum exactly (`math.fsum`, every N samples): from
+    there on the running sum takes exactly the additions stepping takes."""
+    segs, dt = pg._segs, pg.dt
+    seg = pg._seg_i
+
+    def tcurve(n: int) -> float:  # samples come in increasing n
+        nonlocal seg
+        tau = n * dt
+        while tau >= segs[seg][1]:
+            seg += 1
+        t_s, _, p_0, v_0, acc = segs[seg]
+        x = tau - t_s
+        return p_0 + (v_0 + 0.5 * acc * x) * x  # as step: (0.5 * a) * x
+
+    n_avg = pg._n_avg
+    if n_avg == 1:
+        ps = [pg._out[0] if n == n_0 else tcurve(n) for n in range(n_lo, n_e + 1)]
+        return ps, seg, None
+    base = pg._base
+    buf = list(pg._buf)
+    start = n_lo - (pg._j + n_lo - n_0) % n_avg  # after it the ring index is 0: a fsum
+    if start > n_0:
+        for i in range(n_avg):  # the ring after `start`: buf[i] is sample start-N+1+i
+            n = start - n_avg + 1 + i
+            if n > n_0:
+                buf[i] = tcurve(n) - base
+        s, j = math.fsum(buf), 0
+    else:
+        start, s, j = n_0, pg._sum, pg._j
+    ps = [pg._out[0] if start == n_0 else base + s / n_avg] if start == n_lo else []
+    for n in range(start + 1, n_e + 1):
+        r = tcurve(n) - base
+        s = s + r - buf[j]
+        buf[j] = r
+        j += 1
+        if j == n_avg:
+            j = 0
+            s = math.fsum(buf)
+        if n >= n_lo:
+            ps.append(base + s / n_avg)
+    return ps, seg, (buf, j, s)
+
+
 def _advance(a, k: int) -> None:
     """Advance axis `a` by `k` samples of its T-curve in closed form."""
     d = a.drive
@@ -228,24 +283,11 @@ def _advance(a, k: int) -> None:
     demand_0 = d._demand
     # samples n_lo .. n_e of the generator and of the drive's demand (n_lo >= n_0)
     n_lo = n_e - delay - 2
-    segs = pg._segs
-    i = pg._seg_i
-    dt_pg = pg.dt
-    ps: list[float] = []
-    demands: list[float] = []
-    for n in range(n_lo, n_e + 1):
-        if n == n_0:
-            ps.append(pg._out[0])
-            demands.append(demand_0)
-            continue
-        tau = n * dt_pg
-        while tau >= segs[i][1]:
-            i += 1
-        t_s, _, p_0, v_0, acc = segs[i]
-        x = tau - t_s
-        p = p_0 + (v_0 + 0.5 * acc * x) * x  # as ProfileGenerator.step: (0.5 * a) * x
-        ps.append(p)
-        demands.append(demand_0 + (((p + off) * cpu).__round__() - t_0))
+    ps, i, smoothing = _outputs(pg, n_0, n_lo, n_e)
+    demands = [
+        demand_0 if n == n_0 else demand_0 + (((p + off) * cpu).__round__() - t_0)
+        for n, p in zip(range(n_lo, n_e + 1), ps)
+    ]
     inv_dt = pg._inv_dt
     p_2, p_1, p = ps[-3], ps[-2], ps[-1]
     v_1 = (p_1 - p_2) * inv_dt
@@ -256,6 +298,8 @@ def _advance(a, k: int) -> None:
     if i != pg._seg_i:
         pg._enter_segment(i)
     pg._out = (p, v, acc)
+    if smoothing is not None:
+        pg._buf, pg._j, pg._sum = smoothing
     # the axis's reference and the drive's target
     a._cycle += k
     a.ref_pos, a.ref_vel, a.ref_acc = p, v, acc
