@@ -2,23 +2,24 @@
 
 While an axis runs a profile move on the common path, its cycle is a pure function of
 the cycle number: the T-curve sample of the profile generator (with smoothing, the
-moving average replayed from its last exact sum, `_outputs`), the
-rounded target counts, the drive's demand (integer counts added to an integer demand:
-exact in floating point), an ideal motor `delay_cycles` behind the demand, the encoder
-count, the feedback. Nothing of the axis's status changes (moving, not in position, no
-limit, no fault) until the T-curve reaches its end. `coast_cycles` tells how many cycles
-the axis can be advanced that way from now; `coast` advances it, leaving every field
-exactly as `k` calls of `Axis.step` would (the same float operations on the same
-operands, evaluated for the last cycles only).
+moving average replayed from its last exact sum, `_outputs`), the rounded target
+counts, the drive's demand (integer counts added to an integer demand: exact in
+floating point), an ideal motor `delay_cycles` behind the demand, the encoder count,
+the feedback. Nothing of the axis's status changes (moving, not in position, no limit,
+no fault) until the T-curve reaches its end. `coast_cycles` tells how many cycles the
+axis can be advanced from now; `coast` advances it, leaving every field exactly as `k`
+calls of `Axis.step` would: the same float operations on the same operands, evaluated
+for the last cycles only, then (without smoothing) the few cycles from the end of the
+T-curve to the one in which region I ends, stepped.
 
-An axis coasts only on the common path: enabled, profile generator (no PVT, no ramp, no
-gear, gantry, group or homing provider, nothing buffered, no filter or compensation on
-its command path), CSP on a `Cia402Drive` in Operation
-enabled with a settled controlword, `IdealMechanics`, no touch probe armed, no following
-error window, a move whose position range over the cycles stays clear of
-the software and hardware limits and whose position error stays well inside
-max_pos_err. Any other axis answers 0 ("step me"); a resting axis answers `NEVER`
-(its step does nothing until a command wakes it).
+An axis coasts only on the common path: enabled, profile generator (no PVT, no ramp,
+no gear, gantry, group or homing provider, nothing buffered, no filter or compensation
+on its command path), CSP on a `Cia402Drive` in Operation enabled with a settled
+controlword, `IdealMechanics`, no touch probe armed, no following error window, a move
+whose position range over the cycles stays clear of the software and hardware limits
+and whose position error stays well inside max_pos_err. Any other axis answers 0
+("step me"); a resting axis answers as many cycles as asked (its step does nothing
+until a command wakes it).
 """
 
 from __future__ import annotations
