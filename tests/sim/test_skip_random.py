@@ -1,7 +1,8 @@
 """Random move sequences with random waits print the same, skipping or stepping.
 
 Each example is an HMPL program of two tasks on three axes: moves (absolute, relative,
-jogs), stops, speed changes, smoothing, velocity scales, and waits of every kind
+jogs, buffered moves), stops, speed changes, smoothing, velocity scales, SetPos,
+rollover, disabling and resetting, ignored software limits, and waits of every kind
 (Till on an axis event, Till on a time, Sleep), with the axes' feedback and reference
 printed at random points, on a random machine (cycle time, motor delay, counts per mm,
 limit switches and software limits within reach, a tight position error limit). It
@@ -63,6 +64,15 @@ statement = st.one_of(
         st.sampled_from([0.0, 0.0, 5.0]),
     ),
     st.builds(lambda a: f"Stop({a});", axis),
+    st.builds(lambda a, p: f"Till(!IsMoving({a})); SetPos({a}, {p});", axis, position),
+    st.builds(lambda a: f"Disable({a}); Reset({a}); Enable({a}); Till(IsEnabled({a}));", axis),
+    st.builds(
+        lambda a, r: f"Till(!IsMoving({a})); SetRollover({a}, {r});",
+        axis,
+        st.sampled_from([0.0, 360.0]),
+    ),
+    st.builds(lambda a, on: f"IgnoreSWL({a}, {on});", axis, st.sampled_from([0, 1])),
+    st.builds(lambda a, m: f"SetBufferMode({a}, {m});", axis, st.sampled_from([0, 1])),
     st.builds(_print, axis),
 )
 
