@@ -73,3 +73,25 @@ def test_skipping_and_stepping_record_the_same_scope(case, tmp_path):
         code, out, err = _run(case.folder, argv, env)
         files.append((code, out, err, scope.read_bytes() if scope.exists() else None))
     assert files[0] == files[1]
+
+
+@pytest.mark.parametrize(
+    ("argv", "channels"),
+    [
+        (["--machine", "03_pdl_drives.toml", "03_pdl_drives.hmpl"],
+         "drive1.fclk,drive1.X_trg,drive1.x_ref_pos,drive2.fclk,axis1.pos_fb,system_timeInMs"),
+        (["02_gdl_packer.gdl", "--scenario", "02_gdl_packer.toml"],
+         "start_button.STATUS,photocell{1}.STATUS,axis0.pos_fb,axis0.ref_vel"),
+    ],
+)  # fmt: skip
+def test_drive_and_gdl_channels_are_sampled_the_same(argv, channels, tmp_path):
+    files = []
+    for skip in (True, False):
+        scope = tmp_path / f"scope_{skip}.csv"
+        run = ["run", *([] if skip else ["--no-skip"]), "--scope", channels, "--scope-out",
+               str(scope), *argv]  # fmt: skip
+        env = {"MOTIONVM_DATA_DIR": str(tmp_path / str(skip)), "MOTIONVM_NO_SKIP": "0"}
+        code, out, err = _run(str(REPO / "examples"), run, env)
+        assert code == 0, err
+        files.append((out, err, scope.read_bytes()))
+    assert files[0] == files[1]
