@@ -213,7 +213,10 @@ def coast(a, k: int) -> None:
     m = d.mechanics
     pg = a.pg
     n_0 = pg._n
-    closed = min(k, _last_sample(pg) - n_0)
+    to_end = _last_sample(pg) - n_0
+    # the sample after the T-curve's end holds p_f; without smoothing it is closed form
+    # too when the axis still moves in it (region I ends one cycle later: k = to_end + 2)
+    closed = to_end + 1 if k >= to_end + 2 and pg._n_avg == 1 else min(k, to_end)
     if closed < max(MIN_COAST, m.delay_cycles + 3):  # too short for the formulas
         closed = 0
     if closed:
@@ -225,7 +228,8 @@ def coast(a, k: int) -> None:
 def _outputs(pg, n_0: int, n_lo: int, n_e: int):
     """(outputs [mm] of samples n_lo .. n_e, as `ProfileGenerator.step` computes them;
     the T-curve segment of sample n_e; with smoothing, the filter's (buffer, index, sum)
-    after sample n_e, else None). n_0 < n_lo or n_0 == n_lo; the T-curve has not ended.
+    after sample n_e, else None). n_0 < n_lo or n_0 == n_lo; without smoothing, n_e may
+    be the first sample after the T-curve's end (p_f).
 
     The moving average is replayed from the last sample at or before n_lo where the
     generator recomputed its running sum exactly (`math.fsum`, every N samples): from
@@ -233,11 +237,17 @@ def _outputs(pg, n_0: int, n_lo: int, n_e: int):
     segs, dt = pg._segs, pg.dt
     seg = pg._seg_i
 
+    n_segs = len(segs)
+
     def tcurve(n: int) -> float:  # samples come in increasing n
         nonlocal seg
+        if seg == n_segs:
+            return pg._p_f
         tau = n * dt
         while tau >= segs[seg][1]:
             seg += 1
+            if seg == n_segs:  # past the end (no smoothing): the plan holds p_f
+                return pg._p_f
         t_s, _, p_0, v_0, acc = segs[seg]
         x = tau - t_s
         return p_0 + (v_0 + 0.5 * acc * x) * x  # as step: (0.5 * a) * x
