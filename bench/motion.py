@@ -1,21 +1,32 @@
-"""Benchmark: simulated seconds per wall second with axes doing random point-to-point moves.
+"""Benchmark: simulated seconds per CPU second of the motion side, stepping and skipping.
 
-Two HMPL tasks share the axes (task 0 the first half, task 1 the rest). Each cycle a
-task gives every axis of its half that is in position a new random target in
-[-400, 400] mm (a seeded linear congruential generator in HMPL), so the axes move
-almost all the time. Default machine axes (ideal drives, 1-cycle delay), 1 ms cycle.
-Prints a table and `RESULT realtime_factor_<N>axes=<value>` for N = 1, 8, 32, 64.
-Timing: after one untimed warm-up run of the case (the interpreter specializes the hot
-code on its first runs), the median of 5 runs, in CPU seconds of this process
-(`time.process_time`: other load on a busy machine does not count).
-Run: python bench/motion.py [--seconds S]
+1. Stepping (`realtime_factor_<N>axes`, N = 1, 8, 32, 64): two HMPL tasks share the
+   axes (task 0 the first half, task 1 the rest). Each cycle a task gives every axis of
+   its half that is in position a new random target in [-400, 400] mm (a seeded linear
+   congruential generator in HMPL), so the axes move almost all the time. Default
+   machine axes (ideal drives, 1-cycle delay), 1 ms cycle, time skipping off: every
+   cycle is computed.
+2. Skipping (`wait_program_realtime_factor`, `cycles_computed_ratio`): the typical
+   program, 8 axes x 20 `MoveAbs` of 100 mm each followed by `Till(IsInPos(a))`, one
+   task per axis: the CPU time of `Simulation.run()` after `Simulation.from_files()`
+   (which compiles), against the simulated time `Simulation.time`; and the cycles the
+   controller computed against the cycles simulated. The same program also runs with
+   skipping off: both must print the same lines and leave every axis in the same state.
+
+Timing: CPU seconds of this process (`time.process_time`: other load on a busy machine
+does not count), the median of 5 repeats after one untimed warm-up run; the repeats of
+all cases are interleaved, so a slow spell of the machine hits every case alike. Every
+repeat of a case must end in the same state.
+Run: python bench/motion.py [--seconds S] [--repeat R]
 """
 
 from __future__ import annotations
 
 import argparse
 import statistics
+import tempfile
 import time
+from pathlib import Path
 
 from motionvm.api import Simulation
 from motionvm.lang.hmpl.compiler import TaskFile
@@ -40,6 +51,22 @@ void main() {
 }
 """
 
+WAIT_TASK = """
+void main() {
+    int k;
+    START
+    Enable(AXIS);
+    Till(IsEnabled(AXIS));
+    for (k = 0; k < 20; k++) {
+        MoveAbs(AXIS, k % 2 ? 0.0 : 100.0);
+        Till(IsInPos(AXIS));
+    }
+    Print("axis %d done at %d ms, at %.6f mm", AXIS, system_timeInMs, GetPosFb(AXIS));
+}
+"""
+WAIT_AXES = 8
+AXIS_COUNTS = (1, 8, 32, 64)
+
 
 def _sources(n_axes: int) -> list[str]:
     half = (n_axes + 1) // 2
@@ -50,44 +77,89 @@ def _sources(n_axes: int) -> list[str]:
 
 
 def simulation(n_axes: int) -> Simulation:
-    """The benchmark's simulation with `n_axes` default axes (not yet run)."""
+    """The stepping benchmark's simulation with `n_axes` default axes (not yet run)."""
     tasks = [TaskFile(i, f"bench{i}.hmpl", s) for i, s in enumerate(_sources(n_axes))]
-    return Simulation(tasks, machine=MachineConfig(axes=default_axes(n_axes)))
+    return Simulation(tasks, machine=MachineConfig(axes=default_axes(n_axes)), skip=False)
 
 
-def measure(n_axes: int, seconds: float, repeat: int = 5) -> float:
-    """Simulated s per CPU s over `seconds` of simulated time: the median of `repeat`
-    runs after one untimed warm-up run. Every run must end in the same state."""
-    times, states = [], set()
-    for k in range(repeat + 1):
-        sim = simulation(n_axes)
-        sim.run(until=0.05)  # enable the axes
-        t_0 = time.process_time()
-        sim.run(until=0.05 + seconds)
-        if k:
-            times.append(time.process_time() - t_0)
-        if not all(a.moving or a.in_pos for a in sim.controller.motion.axes) or sim.faults:
-            raise SystemExit(f"benchmark broken: an axis is idle or a task faulted {sim.faults}")
-        states.add(tuple(a.pos_fb for a in sim.controller.motion.axes))
-    if len(states) != 1:
-        raise SystemExit("benchmark broken: runs of one case ended in different states")
-    return seconds / statistics.median(times)
+def stepped_once(n_axes: int, seconds: float) -> tuple[float, tuple]:
+    """(CPU seconds, end state) of `seconds` of simulated time, stepping."""
+    sim = simulation(n_axes)
+    sim.run(until=0.05)  # enable the axes
+    t_0 = time.process_time()
+    sim.run(until=0.05 + seconds)
+    cpu = time.process_time() - t_0
+    axes = sim.controller.motion.axes
+    if not all(a.moving or a.in_pos for a in axes) or sim.faults:
+        raise SystemExit(f"benchmark broken: an axis is idle or a task faulted {sim.faults}")
+    return cpu, tuple(a.pos_fb for a in axes)
+
+
+def wait_program(folder: Path) -> list[Path]:
+    """The files of the wait program (task k drives axis k; task 0 starts the others)."""
+    paths = []
+    for k in range(WAIT_AXES):
+        start = "".join(f"StartTask({j}); " for j in range(1, WAIT_AXES)) if k == 0 else ""
+        p = folder / f"wait{k}.hmpl"
+        p.write_text(WAIT_TASK.replace("START", start).replace("AXIS", str(k)), encoding="utf-8")
+        paths.append(p)
+    return paths
+
+
+def wait_once(paths: list[Path], skip: bool) -> tuple[float, float, int, tuple]:
+    """(CPU seconds of run(), simulated seconds, cycles computed, outcome) of one run."""
+    sim = Simulation.from_files(paths, skip=skip)
+    t_0 = time.process_time()
+    sim.run(timeout=60.0)
+    cpu = time.process_time() - t_0
+    axes = sim.controller.motion.axes
+    state = tuple((a.pos_fb, a.ref_pos, a.in_pos, a.moving, a.move_time_ms) for a in axes)
+    outcome = (tuple(sim.messages), sim.time, state, len(sim.faults))
+    return cpu, sim.time, sim.controller.cycles_computed, outcome
 
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--seconds", type=float, default=4.0, help="simulated seconds per case")
+    ap.add_argument(
+        "--seconds", type=float, default=2.0, help="simulated seconds per stepping case"
+    )
+    ap.add_argument("--repeat", type=int, default=5, help="timed repeats per case (median)")
     args = ap.parse_args()
-    rows = []
-    for n in (1, 8, 32, 64):
-        factor = measure(n, args.seconds)
-        rows.append((n, factor))
+    times: dict[object, list[float]] = {}
+    ends: dict[object, set] = {}
+    with tempfile.TemporaryDirectory() as tmp:
+        paths = wait_program(Path(tmp))
+        cases = [*AXIS_COUNTS, "wait", "wait-stepped"]
+        for k in range(args.repeat + 1):  # the first round warms up, untimed
+            for case in cases:
+                if case in ("wait", "wait-stepped"):
+                    cpu, sim_s, computed, end = wait_once(paths, case == "wait")
+                    if case == "wait":
+                        computed_ratio = computed / round(sim_s / 0.001)
+                    end = ("wait", end)
+                else:
+                    cpu, end = stepped_once(case, args.seconds)
+                    sim_s = args.seconds
+                ends.setdefault(case, set()).add(end)
+                if k:
+                    times.setdefault(case, []).append(sim_s / cpu)
+    for case, found in ends.items():
+        if len(found) != 1:
+            raise SystemExit(f"benchmark broken: runs of case {case} ended in different states")
+    if ends["wait"] != ends["wait-stepped"]:
+        raise SystemExit("benchmark broken: skipping and stepping ended differently")
+    factor = {case: statistics.median(v) for case, v in times.items()}
     print(f"{'axes':>5} {'x real time':>12} {'us per cycle':>13} {'us per axis-cycle':>18}")
-    for n, factor in rows:
-        us = 1e3 / factor  # 1 ms of simulated time per cycle
-        print(f"{n:>5} {factor:>12.1f} {us:>13.1f} {us / n:>18.2f}")
-    for n, factor in rows:
-        print(f"RESULT realtime_factor_{n}axes={factor:.1f}")
+    for n in AXIS_COUNTS:
+        us = 1e3 / factor[n]  # 1 ms of simulated time per cycle
+        print(f"{n:>5} {factor[n]:>12.1f} {us:>13.1f} {us / n:>18.2f}")
+    print(f"wait program: {factor['wait']:.1f}x real time skipping, "
+          f"{factor['wait-stepped']:.1f}x stepping; {computed_ratio:.4f} of its cycles computed")  # fmt: skip
+    for n in AXIS_COUNTS:
+        print(f"RESULT realtime_factor_{n}axes={factor[n]:.1f}")
+    print(f"RESULT wait_program_realtime_factor={factor['wait']:.1f}")
+    print(f"RESULT wait_program_stepped_realtime_factor={factor['wait-stepped']:.1f}")
+    print(f"RESULT cycles_computed_ratio={computed_ratio:.4f}")
 
 
 if __name__ == "__main__":

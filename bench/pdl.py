@@ -1,8 +1,8 @@
-"""Benchmark: the simulated PDL drive against the wall clock, and PDL kernels against Python.
+"""Benchmark: the simulated PDL drive against real time, and PDL kernels against Python.
 
 1. Real-time factor: a drive at 15 kHz with 4 busy tasks (three arithmetic loops and
    one task moving the axis back and forth), 1 statement per task per phase; the
-   figure is simulated drive seconds per wall second, for the drive alone and for the
+   figure is simulated drive seconds per CPU second, for the drive alone and for the
    run a user makes (`motionvm run busy.pdl`: the drive on a machine axis, stepped by
    the controller, moving the axis's CiA 402 drive).
 2. Kernels: each PDL program runs to its end on one task with an unlimited budget
@@ -11,6 +11,10 @@
    operator per statement, so `s = ((s ^ x) + k) & MASK` stands for `s = s @ x;
    s = s + k;`), locals for scalars, lists for arrays, the 32-bit masking the
    algorithm needs. The ratio is PDL time / Python time; the RESULT is the median.
+
+Timing: CPU seconds of this process (`time.process_time`), the median of 5 repeats after
+one untimed warm-up, the two sides of each comparison interleaved; every run must do
+the same work, and each kernel must compute the same result in PDL as in Python.
 
 Targets: real-time factor >= 5, kernel ratio <= 2.0.
 Run: python bench/pdl.py
@@ -28,6 +32,8 @@ from motionvm.lang.pdl.program import compile_pdl
 from motionvm.source.diagnostics import DiagnosticSink, render_diagnostic
 
 REPEAT = 5
+WORK = ("c0", "c1", "acc3", "moves")
+"""Variables of the busy program that show the work a run did."""
 SIM_SECONDS = 4.0
 
 BUSY = """
@@ -198,68 +204,81 @@ def compile_text(name: str, text: str):
     return program
 
 
-def best_of(fn) -> float:
-    times = []
-    for _ in range(REPEAT):
-        t0 = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t0)
-    return min(times)
-
-
-def realtime_factor() -> tuple[float, Drive]:
-    program = compile_text("busy", BUSY)
-    drive = Drive(program, DriveConfig())
-    t0 = time.perf_counter()
-    drive.run(SIM_SECONDS)
-    wall = time.perf_counter() - t0
-    return SIM_SECONDS / wall, drive
-
-
-def machine_realtime_factor(drive: Drive) -> float:
-    """The same program as a user runs it (`motionvm run busy.pdl`): on the drive of axis
-    0 of the default machine, stepped by the controller's cycle, moving the machine's
-    axis. Median of 3 runs in CPU time; each run must do the drive-alone run's work."""
+def realtime_factors() -> tuple[float, float, Drive]:
+    """Simulated seconds per CPU second of the drive alone and of the same program as a
+    user runs it (`motionvm run busy.pdl`: on the drive of axis 0 of the default machine,
+    stepped by the controller's cycle, moving the machine's axis): medians of REPEAT
+    interleaved runs after one untimed warm-up pair. Every run must do the same work."""
     import os
     import tempfile
 
     from motionvm.api import Simulation
 
+    program = compile_text("busy", BUSY)
+    alone, machine, works = [], [], set()
     with tempfile.TemporaryDirectory() as folder:
         path = os.path.join(folder, "busy.pdl")
         with open(path, "w", encoding="utf-8") as f:
             f.write(BUSY)
-        times = []
-        for _ in range(3):
+        for k in range(REPEAT + 1):
+            drive = Drive(program, DriveConfig())
+            t0 = time.process_time()
+            drive.run(SIM_SECONDS)
+            t_alone = time.process_time() - t0
             sim = Simulation.from_files([path])
             t0 = time.process_time()
             sim.run(until=SIM_SECONDS)
-            times.append(time.process_time() - t0)
+            t_machine = time.process_time() - t0
             machine_drive = sim.session.pdl.drives[0][1]
-            for v in ("c0", "c1", "acc3", "moves"):
-                if machine_drive.read(v) != drive.read(v):
-                    raise SystemExit(f"benchmark broken: {v} differs from the drive-alone run")
-    return SIM_SECONDS / statistics.median(times)
+            work = tuple(drive.read(v) for v in WORK)
+            if tuple(machine_drive.read(v) for v in WORK) != work:
+                raise SystemExit("benchmark broken: the machine run did other work than the drive")
+            works.add(work)
+            if k:
+                alone.append(t_alone)
+                machine.append(t_machine)
+    if len(works) != 1:
+        raise SystemExit("benchmark broken: runs of the drive did different work")
+    return SIM_SECONDS / statistics.median(alone), SIM_SECONDS / statistics.median(machine), drive
+
+
+def _same(pdl_value, py_value) -> bool:
+    """The PDL kernel's result (a 32-bit integer, or a float) equals the Python one's."""
+    if isinstance(py_value, float):
+        return abs(pdl_value - py_value) <= 1e-3 * max(1.0, abs(py_value))
+    return (int(pdl_value) - py_value) % 2**32 == 0
 
 
 def kernel_times(name: str) -> tuple[float, float]:
+    """Median CPU seconds of the PDL kernel and of its Python twin, REPEAT runs each,
+    interleaved, after one untimed warm-up pair; both must compute the same result."""
     text, py = KERNELS[name]
     program = compile_text(name, text)
-
-    def run_pdl() -> None:
+    result = "ff1" if "ff1 =" in text else "ltest1"
+    t_pdl, t_py = [], []
+    for k in range(REPEAT + 1):
         d = Drive(program, DriveConfig(budget=10**9))
+        t0 = time.process_time()
         assert d.run(None)
-
-    return best_of(run_pdl), best_of(py)  # type: ignore[arg-type]
+        t_1 = time.process_time()
+        expected = py()  # type: ignore[operator]
+        t_2 = time.process_time()
+        if not _same(d.read(result), expected):
+            raise SystemExit(
+                f"benchmark broken: {name}: PDL {d.read(result)!r}, Python {expected!r}"
+            )
+        if k:
+            t_pdl.append(t_1 - t0)
+            t_py.append(t_2 - t_1)
+    return statistics.median(t_pdl), statistics.median(t_py)
 
 
 def main() -> None:
-    factor, drive = realtime_factor()
+    factor, machine, drive = realtime_factors()
     print(f"drive at 15 kHz, 4 busy tasks, {SIM_SECONDS:g} s simulated")
     print(f"  {'real-time factor':<24}{factor:8.1f} x")
-    counts = ", ".join(f"{v}={drive.read(v)}" for v in ("c0", "c1", "acc3", "moves"))
+    counts = ", ".join(f"{v}={drive.read(v)}" for v in WORK)
     print(f"  work done: {counts}")
-    machine = machine_realtime_factor(drive)
     print(f"  {'on a machine axis':<24}{machine:8.1f} x  (motionvm run busy.pdl)")
     print()
     print(f"{'kernel':<12}{'PDL [ms]':>10}{'Python [ms]':>13}{'ratio':>8}")

@@ -130,6 +130,11 @@ class CommHub(PassiveClient):
         self.busy_sockets: set[tuple[str, int]] = set()
         """(kind, id) of the client sockets with a job in flight."""
 
+    @property
+    def observes_motion(self) -> bool:
+        """While servers listen, a request may read the axes at any cycle."""
+        return self.serving
+
     # ------------------------------------------------------------ server side
 
     def post(self, fn: Callable[[], object]) -> concurrent.futures.Future:

@@ -281,6 +281,11 @@ class PositionTriggers:
         self.armed: list[PositionTrigger] = []
         """The triggers that are enabled (the cycle looks at these only)."""
 
+    @property
+    def observes_motion(self) -> bool:
+        """An armed trigger samples its axis's feedback every cycle."""
+        return bool(self.armed)
+
     def _armed_changed(self) -> None:
         self.armed = [pt for pt in self.triggers if pt.enabled]
 

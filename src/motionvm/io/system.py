@@ -75,6 +75,12 @@ class IOSystem(PassiveClient):
 
     # ---- cycle ------------------------------------------------------------------------
 
+    @property
+    def observes_motion(self) -> bool:
+        """Sensors and analog outputs bound to axis variables read the axes each cycle
+        (wires carry outputs, which only tasks change)."""
+        return bool(self.sensors or self.bound)
+
     def begin_cycle(self) -> None:
         if self.wires:
             cycle = self.motion_cycle()

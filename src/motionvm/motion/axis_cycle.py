@@ -481,9 +481,12 @@ class AxisCycle:
 
     def _wake_key(self) -> tuple:
         drive = self.drive
+        s = drive.sensors
+        # the slots behind drive.tp_function, sensors.external and drive.pending_fault:
+        # a resting axis compares this key every cycle, so no property is called
         return (drive.controlword, drive.mode, drive.target_position, drive.target_velocity,
-                drive.target_torque, drive.tp_function, drive.sensors.external,
-                drive.pending_fault, self._commands_seen)  # fmt: skip
+                drive.target_torque, s._tp_function, s._external, drive._fault,
+                self._commands_seen)  # fmt: skip
 
     def _watch_rest(self) -> None:
         snap = self._snapshot()

@@ -25,8 +25,8 @@ the axes; their last errors live here too (`group_last_error`).
 from __future__ import annotations
 
 from motionvm.drives.dictionary import SlaveDirectory
+from motionvm.motion import axis_coast, config_axis
 from motionvm.motion import axis_status as st
-from motionvm.motion import config_axis
 from motionvm.motion.axis import Axis
 from motionvm.motion.axis_config import AxisConfig
 from motionvm.motion.config_vars import ConfigVarTable
@@ -101,7 +101,8 @@ class MotionKernel:
 
     def begin_cycle(self) -> None:
         """Before the tasks of a cycle: the gantry pairs' enable sequences and engagement."""
-        self.gantries.step()
+        if self.gantries.pairs:
+            self.gantries.step()
 
     def step(self) -> None:
         """The motion phase of one cycle: the bus, then every axis in `step_order`."""
@@ -146,6 +147,40 @@ class MotionKernel:
             if not a.resting:
                 return False
         return True
+
+    # ---- time skipping (motion/axis_coast.py) ----------------------------------------
+
+    def coast_horizon(self, wanted: int) -> int:
+        """How many cycles (at most `wanted`) every axis can be advanced in closed form
+        from now: 0 if one must be stepped. Gears, gantry pairs, busy axis groups and a
+        starting bus are stepped."""
+        groups = getattr(self, "groups", None)  # axis groups plan for several axes
+        if (
+            self._bus_steps
+            or self.gantries.pairs
+            or self.gears.gears
+            or (groups is not None and groups.busy())
+        ):
+            return 0 if not self.at_rest() else wanted
+        k = wanted
+        for a in self.axes:
+            if not a.resting:
+                k = axis_coast.coast_cycles(a, k)
+                if not k:
+                    return 0
+        return k
+
+    def coast(self, k: int) -> None:
+        """Advance every axis by `k` cycles (k <= `coast_horizon(k)`), as k `step`s would."""
+        for a in self.step_order:
+            if not a.resting:
+                axis_coast.coast(a, k)
+
+    def status_signature(self) -> tuple:
+        """What a task's wait on an axis event tests (IsInPos, IsMoving, IsEnabled,
+        IsHomed, IsHoming, IsErrorStop): equal signatures, equal answers."""
+        return tuple([(a.moving, a.in_pos, a.enabled, a._enabling, a._error_stop, a.extra_status)
+                      for a in self.axes])  # fmt: skip
 
     # ---- bus and system (manual 2.5-2.10, 2.15) -------------------------------------
 

@@ -26,6 +26,15 @@ and between cycles asks each client
 
 A jump must give byte-identical results to stepping, so a client that cannot tell
 when it changes next returns the current cycle.
+
+A client may also declare `observes_motion = False`: none of its hooks reads the state
+of a moving axis (positions, velocities, drive objects). Only then may the controller
+jump while axes move, advancing them in closed form (motion/axis_coast.py). A client
+without the attribute counts as observing motion: axes then jump only while they rest.
+Two more declarations serve recorders: `samples_skipped_cycles = True` (its `end_cycle`
+is called for every cycle a jump passes, after the axes were advanced to it) and
+`clock_driven = True` (its `begin_cycle` only writes values computed from the clock's
+cycle, so such a jump calls it too, for the recorder to see them).
 """
 
 from __future__ import annotations
@@ -50,6 +59,9 @@ class CycleClient(Protocol):
 
 class PassiveClient:
     """A client with no work of its own: a base for clients that only observe."""
+
+    observes_motion = True
+    """True if a hook reads the state of moving axes (see the module docstring)."""
 
     def begin_cycle(self) -> None:
         """Nothing before the tasks."""

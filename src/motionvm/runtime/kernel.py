@@ -3,6 +3,10 @@
 Each cycle the kernel resumes every ready task once, in task-id order. A task runs
 until it yields: `None` means "resume me next cycle" (a slice used up, RunScheduler,
 a wait that polls, such as Till or MutexLock); an int is the cycle to wake at (Sleep).
+Two negative ints also mean "next cycle" and tell the controller more (`EVENT_WAIT`,
+`EVENT_POLL`): the task polls a condition that can change only in a cycle the
+controller computes, never in one it jumps over (an axis's status flag, an input),
+so the clock may jump past it while nothing it tests changes (`quiet`).
 A task ends when its generator returns, raises `TaskExit`, or faults; a fault stops
 only that task and is reported through `on_fault`. No wall clock, no threads: the
 same program gives the same schedule every run.
@@ -18,6 +22,12 @@ from motionvm.runtime.errors import TaskExit
 
 MAX_TASKS = 64
 
+EVENT_WAIT = -2
+"""Yielded on entering a wait on a condition that only a computed cycle can change."""
+EVENT_POLL = -1
+"""Yielded by such a wait after its condition was evaluated again and still is false,
+with nothing else run since the last yield (a quiet poll)."""
+
 
 @dataclass
 class Task:
@@ -29,6 +39,7 @@ class Task:
     name: str = ""
     starts: int = 0  # how many times the task was started
     context: object = None  # language run time's per-task data (e.g. the memory stack)
+    event_wait: bool = False  # the last yield was EVENT_WAIT or EVENT_POLL
 
     @property
     def running(self) -> bool:
@@ -47,6 +58,13 @@ class Kernel:
         self.on_fault: Callable[[Task, BaseException], None] = lambda task, exc: None
         self.before_resume: Callable[[Task], None] = lambda task: None
         self.on_stop: Callable[[Task], None] = lambda task: None
+        self._changed = False  # a task started or stopped since the last cycle's end
+        self.quiet = False
+        """True if in the last cycle run no task acted after a task polled an event (so
+        every poll saw what the tasks of the cycle left) and no task started or stopped
+        from outside."""
+        self.event_waits = False
+        """True if in the last cycle run a task waited on an event."""
 
     # ------------------------------------------------------------ control
 
@@ -58,6 +76,8 @@ class Kernel:
         t.wake_cycle = self.cycle + (1 if self.current is not None else 0)
         t.context = context
         t.starts += 1
+        t.event_wait = False
+        self._changed = True
         if t not in self._active:
             self._active.append(t)
             self._active.sort(key=lambda x: x.id)
@@ -91,6 +111,7 @@ class Kernel:
         return False
 
     def _release(self, t: Task) -> None:
+        self._changed = True
         if t in self._active:
             self._active.remove(t)
         self.on_stop(t)
@@ -110,11 +131,24 @@ class Kernel:
             return None
         return min(t.wake_cycle for t in self._active)
 
+    def next_wake_past_event_waits(self) -> int | None:
+        """`next_wake`, leaving out the tasks waiting on an event if the last cycle was
+        `quiet`: their conditions stay false until something they test changes. The
+        caller checks that nothing they test changed since they ran (the controller)."""
+        if not self.quiet or self._changed:
+            return self.next_wake()
+        wake = None
+        for t in self._active:
+            if not t.event_wait and (wake is None or t.wake_cycle < wake):
+                wake = t.wake_cycle
+        return wake
+
     # ------------------------------------------------------------ one cycle
 
     def run_cycle(self) -> None:
         """Resume every task that is due in this cycle, once, in id order."""
         cycle = self.clock.cycle
+        polled = stale = False  # a task polled an event; a task acted after that
         for t in tuple(self._active):  # a task started in this cycle runs from the next one
             gen = t.gen
             if gen is None or t.wake_cycle > cycle:
@@ -125,18 +159,38 @@ class Kernel:
                 y = gen.send(None)
             except StopIteration:
                 self._finish(t)
+                stale = stale or polled
             except TaskExit:
                 self._finish(t)
+                stale = stale or polled
             except BaseException as exc:
                 if isinstance(exc, (KeyboardInterrupt, SystemExit)):
                     raise
                 self._finish(t)
                 self.on_fault(t, exc)
+                stale = stale or polled
             else:
-                if t.gen is gen:
-                    t.wake_cycle = cycle + 1 if y is None else max(int(y), cycle + 1)
+                if t.gen is not gen:  # stopped or restarted itself
+                    stale = stale or polled
+                elif y is None:
+                    t.wake_cycle = cycle + 1
+                    t.event_wait = False
+                    stale = stale or polled
+                elif y < 0:  # EVENT_POLL (only polled) or EVENT_WAIT (acted, then polled)
+                    t.wake_cycle = cycle + 1
+                    t.event_wait = True
+                    if y != EVENT_POLL:
+                        stale = stale or polled
+                    polled = True
+                else:
+                    t.wake_cycle = max(int(y), cycle + 1)
+                    t.event_wait = False
+                    stale = stale or polled
             finally:
                 self.current = None
+        self.event_waits = polled
+        self.quiet = not stale and not self._changed
+        self._changed = False
 
     def _finish(self, t: Task) -> None:
         if t.gen is not None:

@@ -7,10 +7,11 @@ One cycle (every language's run side is a client of it, runtime/clients.py):
     4. every client's `end_cycle` (PDL drive phases, GDL procedures, scope samples)
     5. the clock advances one cycle
 Between cycles the controller jumps the clock ahead when nothing can change before a
-later cycle: every axis rests (a fixed point: stepping it changes nothing) and no
-task, no client has an event before it (`next_event`). The results are identical to
-stepping. A run ends when no task runs, no axis moves (an axis jogging at a constant
-velocity it has reached counts as settled) and no client is busy.
+later cycle: no task, no client has an event before it (`next_event`), and every axis
+rests or runs a move it can be advanced over in closed form (sim/jumps.py). The
+results are identical to stepping. A run ends when no task runs, no axis moves (an
+axis jogging at a constant velocity it has reached counts as settled) and no client is
+busy.
 """
 
 from __future__ import annotations
@@ -26,6 +27,7 @@ from motionvm.runtime.clients import CycleClient
 from motionvm.runtime.clock import Clock
 from motionvm.runtime.kernel import Kernel
 from motionvm.runtime.waits import Waiting
+from motionvm.sim.jumps import JumpPlanner
 from motionvm.sim.machine import DEFAULT_MACHINE, MachineConfig
 from motionvm.sim.pacer import RealTimePacer
 
@@ -72,6 +74,9 @@ class Controller:
         self.skip = True
         """Jump the clock over cycles in which nothing can change; False steps every
         cycle (`--no-skip`): the results are identical either way."""
+        self.jumps = JumpPlanner(self)
+        self.cycles_computed = 0
+        """Cycles stepped so far (the others were jumped over)."""
         self.stop_requested = False  # set to end run() at the next cycle (e.g. stdout closed)
         self.hmi_scope = False
         """SetHMIScope(1) sets it, SetHMIScope(0) clears it (a scope may follow it)."""
@@ -103,10 +108,13 @@ class Controller:
             c.begin_cycle()
         self.motion.begin_cycle()
         self.kernel.run_cycle()
+        if self.skip:
+            self.jumps.after_tasks()
         self.motion.step()
         for c in clients:
             c.end_cycle()
         self.clock.cycle += 1
+        self.cycles_computed += 1
 
     def busy(self) -> bool:
         """True while any task runs, any axis moves, enables or settles, or a client is busy."""
@@ -141,6 +149,7 @@ class Controller:
         clock = self.clock
         pacer = RealTimePacer(self.sim_time) if realtime else None
         self.stop_requested = False
+        self.jumps.forget()
         next_report = _NEVER if progress is None else clock.cycle
         while self.busy():
             if self.stop_requested:
@@ -150,13 +159,11 @@ class Controller:
                 next_report = clock.cycle + progress_every
             if pacer is not None:
                 pacer.wait(self.sim_time)
+                self.jumps.forget()  # a client may have written a variable meanwhile
             if end_cycle is not None and clock.cycle >= end_cycle:
                 return UNTIL
-            if self.skip and self.motion.at_rest():
-                wake = self.next_event()
-                if wake is not None and wake > clock.cycle:
-                    clock.cycle = wake if end_cycle is None else min(wake, end_cycle)
-                    continue
+            if self.skip and self.jumps.jump(end_cycle):
+                continue
             self.step()
         return FINISHED
 

@@ -254,6 +254,8 @@ def _known(resolve: Resolver, name: object) -> Setter | None:
 class ScenarioClient(PassiveClient):
     """Applies a scenario's actions at the start of their cycles (a cycle client)."""
 
+    observes_motion = False  # its actions come at their cycles, its next events
+
     def __init__(self, controller, report: Callable[[str], None] = print) -> None:
         self.controller = controller
         self.report = report

@@ -15,8 +15,11 @@ Writers for .csv, .png/.svg and .vcd live in `scope_writers.py`, the layout of p
 from __future__ import annotations
 
 import difflib
+import marshal
 import math
 import re
+import tempfile
+from array import array
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -259,16 +262,28 @@ def check_output_path(path: Path) -> None:
 class ScopeRecorder:
     """Samples channels at the end of every `every`-th controller cycle.
 
-    Attach it after every other client, so it sees the cycle's final state. Its
-    `next_event` is always the current cycle: while it is attached the controller steps
-    every cycle (no jump-ahead), so no sample is skipped.
+    Attach it after every other client, so it sees the cycle's final state. It has no
+    event of its own and does not keep the clock from jumping: a jump samples each
+    cycle it passes (`samples_skipped_cycles`, sim/jumps.py), with the state stepping
+    would have left, so no sample is skipped.
     A loop without a controller (a standalone PDL drive) calls `sample(cycle)` itself.
+
+    Memory stays flat however long the run: the samples of the last `CHUNK` cycles are
+    kept in memory (the cycles and the SetHMIScope flags in compact arrays), older ones
+    are written to an anonymous temporary file in chunks (`marshal`, which keeps every
+    value's type, so an integer channel prints as an integer) and read back, one chunk
+    at a time, when the recording is written (`rows`).
 
     SetHMIScope (manual 2.16): each sample notes the controller's `hmi_scope`. If the
     program called SetHMIScope at all (`controller.hmi_scope_used`), only the samples
     taken while it was on are kept (`save` drops the others), as the vendor's HMI scope
     records only between SetHMIScope(1) and SetHMIScope(0); else every sample is kept.
     """
+
+    CHUNK = 16384
+    """Samples kept in memory before they go to the temporary file."""
+    samples_skipped_cycles = True
+    observes_motion = False  # a jump advances the axes cycle by cycle for it
 
     def __init__(self, channels: Sequence[Channel], cycle_time: float, every: int = 1) -> None:
         if every < 1:
@@ -277,15 +292,17 @@ class ScopeRecorder:
         self.cycle_time = cycle_time
         """Controller cycle time [s]."""
         self.every = every
-        self.cycles: list[int] = []
-        """Controller cycle of each sample."""
-        self.columns: list[list[float]] = [[] for _ in self.channels]
-        """One list of values per channel, parallel to `cycles`."""
-        self.hmi_on: list[bool] = []
-        """The controller's `hmi_scope` at each sample (True without a controller)."""
+        self._cycles = array("q")  # the samples still in memory: cycle, HMI flag, values
+        self._hmi = array("b")
+        self._columns: list[list[float]] = [[] for _ in self.channels]
+        self._spilled: list[tuple[int, int]] = []  # (offset, size) of each chunk on file
+        self._file = None
+        self._n_spilled = 0
+        self._hmi_only = False  # apply_hmi_gate: keep the samples taken while it was on
+        self._window: ScopeWindow | None = None
         self._controller = None
         self._first_cycle = 0
-        self._pairs = list(zip(self.columns, [c.getter for c in self.channels]))
+        self._pairs = list(zip(self._columns, [c.getter for c in self.channels]))
 
     def attach(self, controller) -> None:
         """Become a client of `controller`, sampling from its current cycle on."""
@@ -304,8 +321,8 @@ class ScopeRecorder:
         return False
 
     def next_event(self) -> int | None:
-        """Every cycle is sampled: the clock may not jump."""
-        return self._controller.cycle
+        """None: a jump samples the cycles it passes (`samples_skipped_cycles`)."""
+        return None
 
     def still_running(self) -> list:
         """Nothing: recording never keeps a run going."""
@@ -315,10 +332,84 @@ class ScopeRecorder:
         """Record every channel as cycle `cycle` (if it is an `every`-th cycle)."""
         if (cycle - self._first_cycle) % self.every:
             return
-        self.cycles.append(cycle)
-        self.hmi_on.append(bool(getattr(self._controller, "hmi_scope", True)))
+        self._cycles.append(cycle)
+        self._hmi.append(1 if getattr(self._controller, "hmi_scope", True) else 0)
         for column, get in self._pairs:
             column.append(get())
+        if len(self._cycles) >= self.CHUNK:
+            self._spill()
+
+    def _spill(self) -> None:
+        chunk = (self._cycles.tobytes(), self._hmi.tobytes(), self._columns)
+        try:
+            data = marshal.dumps(chunk)
+        except ValueError:  # a value marshal cannot store: keep this chunk in memory
+            self.CHUNK *= 2
+            return
+        if self._file is None:
+            self._file = tempfile.TemporaryFile(prefix="motionvm-scope-")
+        f = self._file
+        f.seek(0, 2)
+        self._spilled.append((f.tell(), len(data)))
+        f.write(data)
+        self._n_spilled += len(self._cycles)
+        self._cycles = array("q")
+        self._hmi = array("b")
+        for column in self._columns:
+            column.clear()
+
+    def _chunks(self) -> Iterator[tuple[array, array, list[list[float]]]]:
+        """(cycles, HMI flags, columns) of every chunk, the oldest first."""
+        f = self._file
+        for offset, size in self._spilled:
+            f.seek(offset)
+            cycles, hmi, columns = marshal.loads(f.read(size))
+            yield array("q", cycles), array("b", hmi), columns
+        yield self._cycles, self._hmi, self._columns
+
+    def __len__(self) -> int:
+        """Samples recorded (before any gate or window)."""
+        return self._n_spilled + len(self._cycles)
+
+    def rows(self) -> Iterator[tuple[int, list]]:
+        """(cycle, values by channel) of every kept sample, the oldest first: the
+        samples the HMI gate (`apply_hmi_gate`) and the window (`keep_window`) keep."""
+        hmi_only, window, dt = self._hmi_only, self._window, self.cycle_time
+        for cycles, hmi, columns in self._chunks():
+            for row, cycle in enumerate(cycles):
+                if hmi_only and not hmi[row]:
+                    continue
+                if window is not None and round(cycle * dt, 9) not in window:
+                    continue
+                yield cycle, [column[row] for column in columns]
+
+    @property
+    def cycles(self) -> list[int]:
+        """Controller cycle of each kept sample."""
+        return [cycle for cycle, _ in self.rows()]
+
+    @property
+    def columns(self) -> list[list[float]]:
+        """One list of values per channel, parallel to `cycles`."""
+        out: list[list[float]] = [[] for _ in self.channels]
+        for _, values in self.rows():
+            for column, v in zip(out, values):
+                column.append(v)
+        return out
+
+    @property
+    def hmi_on(self) -> list[bool]:
+        """The controller's `hmi_scope` at each kept sample (True without a controller)."""
+        out: list[bool] = []
+        hmi_only, window, dt = self._hmi_only, self._window, self.cycle_time
+        for cycles, hmi, _ in self._chunks():
+            for row, cycle in enumerate(cycles):
+                if (hmi_only and not hmi[row]) or (
+                    window is not None and round(cycle * dt, 9) not in window
+                ):
+                    continue
+                out.append(bool(hmi[row]))
+        return out
 
     @property
     def hmi_gated(self) -> bool:
@@ -327,25 +418,13 @@ class ScopeRecorder:
 
     def apply_hmi_gate(self) -> None:
         """Drop the samples taken while SetHMIScope was off, if the program ever called it."""
-        if not self.hmi_gated or all(self.hmi_on):
-            return
-        keep = [i for i, on in enumerate(self.hmi_on) if on]
-        self.cycles[:] = [self.cycles[i] for i in keep]
-        for column in self.columns:
-            column[:] = [column[i] for i in keep]
-        self.hmi_on[:] = [True] * len(keep)
+        if self.hmi_gated:
+            self._hmi_only = True
 
     def keep_window(self, window: ScopeWindow | None) -> None:
         """Drop the samples outside `window` (none if it is None); idempotent."""
-        if window is None:
-            return
-        keep = [i for i, t in enumerate(self.times) if t in window]
-        if len(keep) == len(self.cycles):
-            return
-        self.cycles[:] = [self.cycles[i] for i in keep]
-        self.hmi_on[:] = [self.hmi_on[i] for i in keep]
-        for column in self.columns:
-            column[:] = [column[i] for i in keep]
+        if window is not None:
+            self._window = window
 
     @property
     def times(self) -> list[float]:

@@ -71,10 +71,10 @@ def format_number(v) -> str:
 def csv_lines(recorder) -> Iterator[str]:
     """Header `time,<channel>...` (bare names: units are in the plots' legends and the
     VCD's comment), then one row per sample; time [s]; numbers in full precision."""
-    columns = recorder.columns
     yield ",".join(["time"] + [c.name for c in recorder.channels])
-    for row, t in enumerate(recorder.times):
-        yield ",".join([format_number(t)] + [format_number(col[row]) for col in columns])
+    dt = recorder.cycle_time
+    for cycle, values in recorder.rows():
+        yield ",".join([format_number(round(cycle * dt, 9))] + [format_number(v) for v in values])
 
 
 def write_csv(path: Path, recorder, title: str = "") -> None:
@@ -161,34 +161,63 @@ def write_vcd(path: Path, recorder, title: str = "") -> None:
         last: list = [None] * len(chans)
         bits = [c.is_bit for c in chans]
         dt = recorder.cycle_time
-        later: dict[int, list[str]] = {}
         sampled = [i for i, fn in enumerate(edge_fns) if fn is None]
-        for row, cycle in enumerate(recorder.cycles):
+        edges = sorted(
+            (
+                (round(t * ticks_per_s), i, v)
+                for i, fn in enumerate(edge_fns)
+                if fn is not None
+                for t, v in fn()
+            ),
+            key=lambda e: e[0],
+        )  # stable: each channel's edges stay in their order
+        k = 0  # the next edge to write
+        first_stamp = None
+        stamp = None
+        for cycle, values in recorder.rows():
             stamp = round(cycle * dt * ticks_per_s)
-            if row == 0:
+            if first_stamp is None:
+                first_stamp = stamp
                 f.write(f"#{stamp}\n$dumpvars\n")
-                for i, col in enumerate(recorder.columns):
-                    last[i] = col[0]
-                    f.write(_vcd_value(col[0], bits[i], ids[i]) + "\n")
+                for i, v in enumerate(values):
+                    last[i] = v
+                    f.write(_vcd_value(v, bits[i], ids[i]) + "\n")
                 f.write("$end\n")
+                while k < len(edges) and edges[k][0] <= stamp:  # before the first sample
+                    k += 1
                 continue
+            while k < len(edges) and edges[k][0] < stamp:  # edges between two samples
+                k = _write_edges(f, edges, k, last, bits, ids)
+            changes = []
             for i in sampled:
-                v = recorder.columns[i][row]
+                v = values[i]
                 if not _same(v, last[i]):
                     last[i] = v
-                    later.setdefault(stamp, []).append(_vcd_value(v, bits[i], ids[i]))
-        if recorder.cycles:
-            first, end = (
-                round(c * dt * ticks_per_s) for c in (recorder.cycles[0], recorder.cycles[-1])
-            )
-            for i, fn in enumerate(edge_fns):
-                for t, v in fn() if fn is not None else ():
-                    stamp = round(t * ticks_per_s)
-                    if first < stamp <= end and not _same(v, last[i]):
-                        last[i] = v
-                        later.setdefault(stamp, []).append(_vcd_value(v, bits[i], ids[i]))
-        for stamp in sorted(later):
-            f.write(f"#{stamp}\n" + "\n".join(later[stamp]) + "\n")
+                    changes.append(_vcd_value(v, bits[i], ids[i]))
+            while k < len(edges) and edges[k][0] == stamp:  # edges at this sample's time
+                _, i, v = edges[k]
+                k += 1
+                if not _same(v, last[i]):
+                    last[i] = v
+                    changes.append(_vcd_value(v, bits[i], ids[i]))
+            if changes:
+                f.write(f"#{stamp}\n" + "\n".join(changes) + "\n")
+
+
+def _write_edges(f, edges: list, k: int, last: list, bits: list, ids: list) -> int:
+    """Write the edges at the time of `edges[k]` (those that change a value); the index
+    of the first edge after them."""
+    stamp = edges[k][0]
+    changes = []
+    while k < len(edges) and edges[k][0] == stamp:
+        _, i, v = edges[k]
+        k += 1
+        if not _same(v, last[i]):
+            last[i] = v
+            changes.append(_vcd_value(v, bits[i], ids[i]))
+    if changes:
+        f.write(f"#{stamp}\n" + "\n".join(changes) + "\n")
+    return k
 
 
 # ---------------------------------------------------------------- plot

@@ -9,6 +9,7 @@ arrays that never decay to a pointer are Python lists.
 from __future__ import annotations
 
 import ast
+import copy
 
 from motionvm.lang.hmpl import ctypes_ as ct
 from motionvm.lang.hmpl import nodes as n
@@ -20,6 +21,8 @@ from motionvm.lang.hmpl.lower_loops import LoopLowering, _assigned_names
 from motionvm.lang.hmpl.lower_util import LoopCtx, at
 from motionvm.lang.hmpl.lvalues import call, name, view_code
 from motionvm.lang.hmpl.symbols import FuncSym, Scope, VarSym, error_symbol
+from motionvm.lang.hmpl.till_events import time_wait, waits_on_event
+from motionvm.runtime.kernel import EVENT_POLL, EVENT_WAIT
 
 # node class -> its `_s_` method of FunctionLowerer
 _S_METHODS: dict[type, object] = {}
@@ -275,9 +278,28 @@ class FunctionLowerer(ExprLowering, AccessLowering, LoopLowering, JumpLowering):
             raise self.fail(e.pos, f"Till takes 1 argument (condition), got {len(e.args)}")
         if self.in_init:
             raise self.fail(e.pos, "Till cannot be used in a global initializer")
-        test = ast.UnaryOp(op=ast.Not(), operand=self.cond(e.args[0]))
+        cond = self.cond(e.args[0])
         self.has_yield = True
+        if waits_on_event(e.args[0], self._event_symbol):  # till_events.py
+            again = ast.UnaryOp(op=ast.Not(), operand=copy.deepcopy(cond))
+            poll = ast.While(test=again, body=[_yield(EVENT_POLL)], orelse=[])
+            test = ast.UnaryOp(op=ast.Not(), operand=cond)
+            return [ast.If(test=test, body=[_yield(EVENT_WAIT), poll], orelse=[])]
+        test = ast.UnaryOp(op=ast.Not(), operand=cond)
+        timed = time_wait(e.args[0], self._event_symbol)
+        if timed is not None:  # sleep until the first cycle whose time passes X
+            limit = self.expr(timed[0]).node
+            wake = call("_till_ms", limit, ast.Constant(timed[1]))
+            return [ast.While(test=test, body=[ast.Expr(value=ast.Yield(value=wake))], orelse=[])]
         return [ast.While(test=test, body=[ast.Expr(value=ast.Yield(value=None))], orelse=[])]
+
+    def _event_symbol(self, ident: str):
+        """The symbol of `ident` for `waits_on_event`: a variable's, or None for a
+        built-in function (a user's function of that name is a FuncSym)."""
+        sym = self.scope.lookup(ident) or self.prog.global_symbol(ident, self.task)
+        if sym is None and ident in self.prog.builtins:
+            return None
+        return sym if sym is not None else False
 
     def _s_If(self, s: n.If) -> list[ast.stmt]:
         test = self.cond(s.cond)
@@ -412,3 +434,8 @@ def _always_leaves(s) -> bool:
 
 def _contains_yield(body: list[ast.stmt]) -> bool:
     return any(isinstance(x, (ast.Yield, ast.YieldFrom)) for s in body for x in ast.walk(s))
+
+
+def _yield(value: int) -> ast.stmt:
+    """`yield value` as a statement (a task's wait, runtime/kernel.py)."""
+    return ast.Expr(value=ast.Yield(value=ast.Constant(value)))

@@ -11,6 +11,7 @@ motion commands (`commands`, motion/commands/) on the controller's motion kernel
 
 from __future__ import annotations
 
+import math
 import os
 import sys
 import traceback
@@ -46,6 +47,9 @@ class HmplRuntime(PassiveClient):
     `begin_cycle` updates the system variables. Its tasks keep the run going and wake it
     up through the controller's task kernel, so as a client it is never busy and has no
     next event of its own (`PassiveClient`)."""
+
+    observes_motion = False  # its hooks write the clock's system variables only
+    clock_driven = True  # `begin_cycle` writes values of the clock only (sim/jumps.py)
 
     def __init__(
         self,
@@ -89,6 +93,7 @@ class HmplRuntime(PassiveClient):
         self.ns["_gpi"] = self._gpi
         self.ns["_gpo"] = self._gpo
         self.ns["_gpo_set"] = self._gpo_set
+        self.ns["_till_ms"] = self._till_ms
         self.libs = [cls(self) for cls in library_classes()]
         for lib in self.libs:
             for hname, (attr, _blocking) in lib.builtin_methods().items():
@@ -162,6 +167,25 @@ class HmplRuntime(PassiveClient):
         )
         if self.kernel.stop_all():
             raise TaskExit()
+
+    def _till_ms(self, limit, strict: bool) -> int | None:
+        """The first cycle after this one whose system_timeInMs (as `begin_cycle` sets
+        it) is >= `limit` (> if `strict`): where `Till(system_timeInMs >= limit)` wakes
+        up. None (poll next cycle) if the time would wrap before it."""
+        cycle_ms = self.controller.cycle_time * 1000.0
+        x = float(limit)
+        cycle = self.kernel.cycle + 1
+        if x > 0x7FFFFFFF:
+            return None
+        if x > 0.0:
+            cycle = max(cycle, math.floor((x - 1.0) / cycle_ms) - 1)  # time there < x - 0.5
+        while True:
+            t = round(cycle * cycle_ms)
+            if t > 0x7FFFFFFF:
+                return None
+            if t > x if strict else t >= x:
+                return cycle
+            cycle += 1
 
     def still_running(self) -> list:
         """Every running task and the line of the user's code where it waits."""

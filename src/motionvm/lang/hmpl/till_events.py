@@ -1,0 +1,85 @@
+"""Which Till conditions wait on an event: they can change only in a computed cycle.
+
+`Till(cond)` polls `cond` once per cycle. If `cond` tests only what changes in a cycle
+the controller computes (never in one it jumps over), the task need not be resumed in
+the cycles between: an axis's status flags (IsInPos, IsMoving, IsEnabled, IsHomed,
+IsHoming, IsErrorStop), the controller's digital inputs and outputs (HIMC_GPI,
+HIMC_GPO), and the task's own variables, combined by operators and constants. Such a
+Till is lowered as
+
+    Till(IsInPos(a));   ->   if not b_IsInPos(g_a):
+                                 yield -2                  # EVENT_WAIT
+                                 while not b_IsInPos(g_a):
+                                     yield -1              # EVENT_POLL
+
+so the controller may jump past it (runtime/kernel.py). A comparison of the time,
+`system_timeInMs >= X` (or >, <=, < with the operands swapped) with X such an
+expression, sleeps until the first cycle whose time passes X:
+
+    Till(system_timeInMs >= t);   ->   while not _I32[16] >= g_t:
+                                           yield _till_ms(g_t, False)
+
+Any other condition (positions, velocities, an array or a pointer, a call of a user's
+function, the time combined with anything else) keeps polling every cycle.
+"""
+
+from __future__ import annotations
+
+from motionvm.lang.hmpl import nodes as n
+
+EVENT_BUILTINS = frozenset({
+    "IsInPos", "IsMoving", "IsEnabled", "IsHomed", "IsHoming", "IsErrorStop",
+    "HIMC_GPI", "HIMC_GPO",
+})  # fmt: skip
+"""Built-ins whose answer changes only in a computed cycle (given the same arguments)."""
+
+_PURE_UNARY = frozenset({"-", "+", "!", "~"})
+
+
+def waits_on_event(expr, resolve) -> bool:
+    """True if `expr` tests only what changes in computed cycles (see the module
+    docstring); `resolve(name)` gives a name's symbol, None for a built-in function,
+    False for an unknown name."""
+    if isinstance(expr, (n.IntLit, n.FloatLit, n.CharLit)):
+        return True
+    if isinstance(expr, n.Name):
+        sym = resolve(expr.id)
+        if not sym:
+            return False
+        if getattr(sym, "const_value", None) is not None:
+            return True
+        # plain scalar variables (static storage holds the system variables and arrays)
+        return getattr(sym, "storage", None) in ("local", "pyglobal", "frame")
+    if isinstance(expr, n.Unary):
+        return expr.op in _PURE_UNARY and waits_on_event(expr.operand, resolve)
+    if isinstance(expr, n.Binary):
+        return waits_on_event(expr.left, resolve) and waits_on_event(expr.right, resolve)
+    if isinstance(expr, n.Cond):
+        return all(waits_on_event(x, resolve) for x in (expr.cond, expr.then, expr.else_))
+    if isinstance(expr, n.Call):
+        f = expr.func
+        return (isinstance(f, n.Name) and f.id in EVENT_BUILTINS and resolve(f.id) is None
+                and all(waits_on_event(x, resolve) for x in expr.args))  # fmt: skip
+    return False
+
+
+_TIME = "system_timeInMs"
+_FLIPPED = {"<=": ">=", "<": ">", ">=": ">=", ">": ">"}
+
+
+def time_wait(expr, resolve):
+    """(X, strict) if `expr` is `system_timeInMs >= X` (strict: `>`), or the same with
+    the operands swapped, X an event expression; else None."""
+    if not isinstance(expr, n.Binary) or expr.op not in _FLIPPED:
+        return None
+    left, right, op = expr.left, expr.right, expr.op
+    if op in ("<=", "<"):
+        left, right = right, left
+    if not (isinstance(left, n.Name) and left.id == _TIME):
+        return None
+    sym = resolve(_TIME)
+    if not sym or getattr(sym, "storage", None) != "static" or getattr(sym, "name", "") != _TIME:
+        return None
+    if not waits_on_event(right, resolve):
+        return None
+    return right, _FLIPPED[expr.op] == ">"

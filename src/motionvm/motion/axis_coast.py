@@ -1,0 +1,354 @@
+"""Closed-form advance of a moving axis over cycles nobody observes (time skipping).
+
+While an axis runs a profile move on the common path, its cycle is a pure function of
+the cycle number: the T-curve sample of the profile generator (with smoothing, the
+moving average replayed from its last exact sum, `_outputs`), the rounded target
+counts, the drive's demand (integer counts added to an integer demand: exact in
+floating point), an ideal motor `delay_cycles` behind the demand, the encoder count,
+the feedback. Nothing of the axis's status changes (moving, not in position, no limit,
+no fault) until the T-curve reaches its end. `coast_cycles` tells how many cycles the
+axis can be advanced from now; `coast` advances it, leaving every field exactly as `k`
+calls of `Axis.step` would: the same float operations on the same operands, evaluated
+for the last cycles only, then (without smoothing) the few cycles from the end of the
+T-curve to the one in which region I ends, stepped.
+
+An axis coasts only on the common path: enabled, profile generator (no PVT, no ramp,
+no gear, gantry, group or homing provider, nothing buffered, no filter or compensation
+on its command path), CSP on a `Cia402Drive` in Operation enabled with a settled
+controlword, `IdealMechanics`, no touch probe armed, no following error window, a move
+whose position range over the cycles stays clear of the software and hardware limits
+and whose position error stays well inside max_pos_err. Any other axis answers 0
+("step me"); a resting axis answers as many cycles as asked (its step does nothing
+until a command wakes it).
+"""
+
+from __future__ import annotations
+
+import math
+
+from motionvm.drives.cia402 import _SW_CYCLIC, Cia402Drive
+from motionvm.drives.mechanics import TWO_PI, IdealMechanics
+from motionvm.drives.objects import MODE_CSP, SW_INTERNAL_LIMIT, State
+from motionvm.motion import axis_status as st
+
+NEVER = 1 << 62
+"""Coast horizon of an axis that rests: it never needs stepping by itself."""
+
+MIN_COAST = 4
+"""Fewest cycles worth a closed-form advance (the formulas look 3 cycles back)."""
+
+MAX_COAST = 1 << 20
+"""Most cycles one advance covers (a jog can coast on forever)."""
+
+_EXACT = 2.0**50
+"""Counts below this stay exact integers in float arithmetic, with room for sums."""
+
+_V_ZERO = 1e-9
+"""Velocity [mm/s] below which a segment end counts as rest in the monotony check: it
+moves the position by far less than the range margin (1e-9 * position)."""
+
+_OPERATION_ENABLED = State.OPERATION_ENABLED
+_CW_ENABLE = 0x0F
+_PG = 0  # axis_cycle.PG
+_FS_HW_LIMITS = st.FS_HW_RIGHT | st.FS_HW_LEFT
+
+
+def _plain(a) -> bool:
+    """True if axis `a` is on the common path that `coast` computes in closed form."""
+    if not (a.enabled and a.moving and a._reference_source == _PG and a._provider is None):
+        return False
+    if getattr(a, "_cmd_path", None) is not None:  # a filter or compensation on the command
+        return False
+    if (a._enabling or a._fault_reset_cycles is not None or a._command_queue
+            or a._deferred_move is not None or a.op_mode != MODE_CSP or a.fault_status & _FS_HW_LIMITS
+            or a.in_pos):  # fmt: skip
+        return False
+    d = a.drive
+    if type(d) is not Cia402Drive or type(d.mechanics) is not IdealMechanics:
+        return False
+    if (d.state is not _OPERATION_ENABLED or d.mode != MODE_CSP or d._mode_prev != MODE_CSP
+            or d.controlword != _CW_ENABLE or d._controlword_prev != _CW_ENABLE
+            or d._settled is not d.state or d._fault is not None or d.local_demand is not None
+            or d._encoder_lost or d.following_error_window < 0x80000000):  # fmt: skip
+        return False
+    s = d.sensors
+    if s.tp_function or s.tp_status:
+        return False
+    pg = a.pg
+    m = d.mechanics
+    if pg._idle or pg._tc_done or pg._nseg == 0:
+        return False
+    # the samples the next outputs average (and the motor's delay) lie in this plan
+    if pg._n < m.delay_cycles + (pg._n_avg + 1 if pg._n_avg > 1 else 0):
+        return False
+    demand = d._demand
+    if not (abs(demand) < _EXACT and demand == int(demand) and m._demand == demand):
+        return False
+    return all(x == int(x) and abs(x) < _EXACT for x in m._line) and m.position == int(m.position)
+
+
+def _sample(pg, n: int) -> float:
+    """The generator's position [mm] at its sample n, as `ProfileGenerator.step` computes
+    it (n lies before the end of the T-curve)."""
+    tau = n * pg.dt
+    segs = pg._segs
+    i = pg._seg_i
+    while tau >= segs[i][1]:
+        i += 1
+    t_0, _, p_0, v_0, a = segs[i]
+    x = tau - t_0
+    return p_0 + (v_0 + 0.5 * a * x) * x
+
+
+def _last_sample(pg) -> int:
+    """The last sample n that lies before the end of the T-curve (n * dt < duration)."""
+    duration = pg._plan.duration
+    if duration == math.inf:
+        return NEVER
+    dt = pg.dt
+    n = math.ceil(duration / dt) - 1
+    while (n + 1) * dt < duration:
+        n += 1
+    while n * dt >= duration:
+        n -= 1
+    return n
+
+
+def _range(pg, t_a: float, t_b: float) -> tuple[float, float, float] | None:
+    """(lowest, highest position [mm], highest |velocity| [mm/s]) of the T-curve on
+    [t_a, t_b], or None if its velocity changes sign there (not monotonic)."""
+    v_top = 0.0
+    sign = 0.0
+    for t_0, t_1, _, v_0, a in pg._segs:
+        if t_1 <= t_a or t_0 > t_b:
+            continue
+        v_1 = v_0 + a * (t_1 - t_0) if t_1 != math.inf else v_0
+        for v in (v_0, v_1):
+            if abs(v) > _V_ZERO:  # (a braking segment may end a rounding below zero)
+                if sign and (v > 0.0) != (sign > 0.0):
+                    return None
+                sign = v
+            v_top = max(v_top, abs(v))
+    p_a, p_b = _tcurve_at(pg, t_a), _tcurve_at(pg, t_b)
+    lo, hi = min(p_a, p_b), max(p_a, p_b)
+    return lo, hi, v_top
+
+
+def _tcurve_at(pg, t: float) -> float:
+    for t_0, t_1, p_0, v_0, a in pg._segs:
+        if t < t_1:
+            x = t - t_0 if t > t_0 else 0.0
+            return p_0 + (v_0 + 0.5 * a * x) * x
+    return pg._p_f
+
+
+def coast_cycles(a, wanted: int) -> int:
+    """How many cycles (at most `wanted`) axis `a` can be advanced from now without an
+    observer missing a change: 0 if it must be stepped, `wanted` if it rests.
+
+    The cycles before the end of the T-curve are computed in closed form; after them the
+    axis steps itself (`coast`) through the cycle in which its reference comes to rest
+    (region I ends: `moving` falls), the first status change, which ends the advance."""
+    if a.resting:
+        return wanted
+    if not _plain(a):
+        return 0
+    pg = a.pg
+    n_0 = pg._n
+    n_last = _last_sample(pg)
+    to_end = n_last - n_0
+    finite = pg._plan.duration != math.inf and pg._n_avg == 1  # (smoothing: stepped out)
+    if to_end < wanted and finite and _safe(a, n_0, n_last + 2):
+        # sample n_last + 1 holds p_f; the velocity is 0 there (region I ends) if the
+        # last sample was on p_f already, else one sample later
+        return min(wanted, to_end + (1 if _sample(pg, n_last) == pg._p_f else 2))
+    k = min(wanted, to_end, MAX_COAST)
+    shortest = max(MIN_COAST, a.drive.mechanics.delay_cycles + 3)
+    while k >= shortest:
+        if _safe(a, n_0, n_0 + k):
+            return k
+        k //= 2
+    return 0
+
+
+def _safe(a, n_0: int, n_e: int) -> bool:
+    """True if samples n_0+1 .. n_e trip no limit and no position error."""
+    pg = a.pg
+    dt = pg.dt
+    d = a.drive
+    delay = d.mechanics.delay_cycles
+    window = pg._n_avg if pg._n_avg > 1 else 0  # the moving average looks back N samples
+    r = _range(pg, (n_0 - delay - window) * dt, n_e * dt)  # (it holds p_f past its end)
+    if r is None:
+        return False
+    lo, hi, v_top = r
+    margin = 1e-9 * max(1.0, abs(lo), abs(hi)) + 1e-12
+    lo, hi = lo - margin, hi + margin
+    if not (a._sw_stop_left < lo and hi < a._sw_stop_right):
+        return False
+    cpu, off = a.cpu, a.pos_offset
+    shift = d._demand - d._target_prev  # motor counts minus target counts
+    x_lo, x_hi = (lo + off) * cpu + shift - 2.0, (hi + off) * cpu + shift + 2.0
+    if max(abs(x_lo), abs(x_hi)) >= 2.0**31 - 2.0:
+        return False  # the int32 target and position would wrap
+    s = d.sensors
+    if s.negative_limit is not None and not s.negative_limit < min(x_lo, d.mechanics.position):
+        return False
+    if s.positive_limit is not None and not max(x_hi, d.mechanics.position) < s.positive_limit:
+        return False
+    if not a.ignore_pe:
+        # err = p(n) - p(n - delay) - c / cpu up to the rounding of the counts
+        c = shift + a._feedback_counts - a._position_actual
+        err = v_top * delay * dt + (abs(c) + 2.0) / cpu
+        if err * 1.01 + 1e-9 >= a._max_pos_err:
+            return False
+    return True
+
+
+def coast(a, k: int) -> None:
+    """Advance axis `a` by `k` cycles (k <= `coast_cycles(a, k)`), exactly as k steps."""
+    if a.resting:
+        return
+    d = a.drive
+    m = d.mechanics
+    pg = a.pg
+    n_0 = pg._n
+    to_end = _last_sample(pg) - n_0
+    # the sample after the T-curve's end holds p_f; without smoothing it is closed form
+    # too when the axis still moves in it (region I ends one cycle later: k = to_end + 2)
+    closed = to_end + 1 if k >= to_end + 2 and pg._n_avg == 1 else min(k, to_end)
+    if closed < max(MIN_COAST, m.delay_cycles + 3):  # too short for the formulas
+        closed = 0
+    if closed:
+        _advance(a, closed)
+    for _ in range(k - closed):  # the end of the move: stepped
+        a.step()
+
+
+def _outputs(pg, n_0: int, n_lo: int, n_e: int):
+    """(outputs [mm] of samples n_lo .. n_e, as `ProfileGenerator.step` computes them;
+    the T-curve segment of sample n_e; with smoothing, the filter's (buffer, index, sum)
+    after sample n_e, else None). n_0 < n_lo or n_0 == n_lo; without smoothing, n_e may
+    be the first sample after the T-curve's end (p_f).
+
+    The moving average is replayed from the last sample at or before n_lo where the
+    generator recomputed its running sum exactly (`math.fsum`, every N samples): from
+    there on the running sum takes exactly the additions stepping takes."""
+    segs, dt = pg._segs, pg.dt
+    seg = pg._seg_i
+
+    n_segs = len(segs)
+
+    def tcurve(n: int) -> float:  # samples come in increasing n
+        nonlocal seg
+        if seg == n_segs:
+            return pg._p_f
+        tau = n * dt
+        while tau >= segs[seg][1]:
+            seg += 1
+            if seg == n_segs:  # past the end (no smoothing): the plan holds p_f
+                return pg._p_f
+        t_s, _, p_0, v_0, acc = segs[seg]
+        x = tau - t_s
+        return p_0 + (v_0 + 0.5 * acc * x) * x  # as step: (0.5 * a) * x
+
+    n_avg = pg._n_avg
+    if n_avg == 1:
+        ps = [pg._out[0] if n == n_0 else tcurve(n) for n in range(n_lo, n_e + 1)]
+        return ps, seg, None
+    base = pg._base
+    buf = list(pg._buf)
+    start = n_lo - (pg._j + n_lo - n_0) % n_avg  # after it the ring index is 0: a fsum
+    if start > n_0:
+        for i in range(n_avg):  # the ring after `start`: buf[i] is sample start-N+1+i
+            n = start - n_avg + 1 + i
+            if n > n_0:
+                buf[i] = tcurve(n) - base
+        s, j = math.fsum(buf), 0
+    else:
+        start, s, j = n_0, pg._sum, pg._j
+    ps = [pg._out[0] if start == n_0 else base + s / n_avg] if start == n_lo else []
+    for n in range(start + 1, n_e + 1):
+        r = tcurve(n) - base
+        s = s + r - buf[j]
+        buf[j] = r
+        j += 1
+        if j == n_avg:
+            j = 0
+            s = math.fsum(buf)
+        if n >= n_lo:
+            ps.append(base + s / n_avg)
+    return ps, seg, (buf, j, s)
+
+
+def _advance(a, k: int) -> None:
+    """Advance axis `a` by `k` samples of its T-curve in closed form."""
+    d = a.drive
+    m = d.mechanics
+    pg = a.pg
+    n_0 = pg._n
+    n_e = n_0 + k
+    cpu, off = a.cpu, a.pos_offset
+    delay = m.delay_cycles
+    t_0 = d._target_prev  # == target_position: no wrap on the common path
+    demand_0 = d._demand
+    # samples n_lo .. n_e of the generator and of the drive's demand (n_lo >= n_0)
+    n_lo = n_e - delay - 2
+    ps, i, smoothing = _outputs(pg, n_0, n_lo, n_e)
+    demands = [
+        demand_0 if n == n_0 else demand_0 + (((p + off) * cpu).__round__() - t_0)
+        for n, p in zip(range(n_lo, n_e + 1), ps)
+    ]
+    inv_dt = pg._inv_dt
+    p_2, p_1, p = ps[-3], ps[-2], ps[-1]
+    v_1 = (p_1 - p_2) * inv_dt
+    v = (p - p_1) * inv_dt
+    acc = (v - v_1) * inv_dt
+    # the profile generator after sample n_e
+    pg._n = n_e
+    if i != pg._seg_i:
+        pg._enter_segment(i)
+    pg._out = (p, v, acc)
+    if smoothing is not None:
+        pg._buf, pg._j, pg._sum = smoothing
+    # the axis's reference and the drive's target
+    a._cycle += k
+    a.ref_pos, a.ref_vel, a.ref_acc = p, v, acc
+    target = ((p + off) * cpu).__round__()
+    d.target_position = target
+    d._target_prev = target
+    demand = demands[-1]
+    d._demand = demand
+    # the ideal motor, delay_cycles behind the demand: x = demand of sample n_e - delay
+    dt = a.dt
+    x_2, x_1, x = demands[0], demands[1], demands[2]
+    m._demand_vel = (demand - demands[-2]) / dt
+    m._demand = demand
+    if delay != 1:
+        m._line.clear()
+        m._line.extend(demands[3:])
+    v_m_1 = (x_1 - x_2) / dt
+    v_m = (x - x_1) / dt
+    m.torque = m.inertia * (v_m - v_m_1) / dt * TWO_PI / m.counts_per_rev
+    m.velocity = v_m
+    m.position = x
+    # the drive's feedback
+    d._encoder = enc = x.__round__()
+    d.position_actual = enc
+    d.digital_inputs = di = d.sensors.update(x_1, x)
+    d._motor_position_prev = x
+    sw = _SW_CYCLIC
+    torque = m.torque
+    if (torque >= d._torque_quiet_nm or torque <= d._torque_quiet_neg_nm) and abs(
+        d.torque_actual
+    ) >= d._max_torque:
+        sw |= SW_INTERNAL_LIMIT
+    d.statusword = sw
+    # the axis's feedback
+    if enc != a._position_actual:
+        a._feedback_counts = counts = a._feedback_counts + (enc - a._position_actual)
+        a._position_actual = enc
+        a.pos_fb_raw = raw = counts / cpu
+        a.pos_fb = raw - off
+    if di != a._digital_inputs:
+        a._hw_inputs(di)

@@ -1,0 +1,116 @@
+"""Time skipping: where the controller may jump the clock to, and the jump itself.
+
+One rule for every part of a run: each reports the next cycle at which something of it
+can change, and the clock jumps to the earliest of them, so that the cycles in between
+are never computed. A task reports its wake cycle (Sleep), or nothing while it waits on
+an event (a Till whose condition only a computed cycle can change: `runtime/kernel.py`
+EVENT_WAIT); a client its `next_event`; the motion kernel how far its axes can be
+advanced in closed form (`MotionKernel.coast_horizon`: a resting axis forever, an axis
+on a plain profile move until its T-curve ends, any other axis not at all). Axes are
+advanced over the jumped cycles by `MotionKernel.coast`, which leaves every value as
+stepping would; a client that reads moving axes in its hooks (`observes_motion`)
+keeps the clock from jumping while an axis moves. A client that samples every cycle
+(`samples_skipped_cycles`: a scope) has each jumped cycle sampled: the jump then goes
+cycle by cycle, setting the clock-driven values (the HMPL system time) and advancing
+the moving axes one cycle at a time, with no task, no other client run.
+
+A task waiting on an event is passed over only if nothing it tests changed since it
+polled: no task acted after it in its cycle (`Kernel.quiet`), and the status it tests
+(every axis's flags, the digital inputs and outputs) is now what it was right after
+the tasks of the last computed cycle (`after_tasks`). Otherwise that task is stepped
+once more, and polls again. Each `Controller.run` starts without that record, as the
+host may have changed a variable between runs.
+"""
+
+from __future__ import annotations
+
+from motionvm.motion.axis_coast import NEVER
+
+
+class JumpPlanner:
+    """Decides, between two cycles of one controller, whether and how far to jump."""
+
+    def __init__(self, controller) -> None:
+        self.controller = controller
+        self._signature: tuple | None = None
+        """The status right after the tasks of the last computed cycle (None: unknown)."""
+        self.jumps = 0
+        """Jumps made so far (the cycles they covered were not computed)."""
+
+    def _status(self) -> tuple:
+        ctl = self.controller
+        gpio = ctl.io.gpio
+        return ctl.motion.status_signature(), tuple(gpio.inputs), tuple(gpio.outputs)
+
+    def after_tasks(self) -> None:
+        """Record what the waiting tasks saw (the controller calls it after the tasks)."""
+        self._signature = self._status() if self.controller.kernel.event_waits else None
+
+    def forget(self) -> None:
+        """Something outside the cycle may have changed what a task tests."""
+        self._signature = None
+
+    def jump(self, end_cycle: int | None) -> bool:
+        """Jump the clock ahead if nothing can change before a later cycle (advancing the
+        moving axes to it); True if it jumped. `end_cycle` bounds the jump."""
+        ctl = self.controller
+        cycle = ctl.clock.cycle
+        limit = NEVER if end_cycle is None else end_cycle - cycle
+        if limit <= 0:
+            return False
+        kernel = ctl.kernel
+        wake = kernel.next_wake()
+        if wake is not None and wake <= cycle:
+            seen = self._signature
+            if seen is None or not kernel.quiet or seen != self._status():
+                return False
+            wake = kernel.next_wake_past_event_waits()
+            if wake is not None and wake <= cycle:
+                return False
+        clients = ctl.clients
+        for c in clients:
+            e = c.next_event()
+            if e is not None and (wake is None or e < wake):
+                if e <= cycle:
+                    return False
+                wake = e
+        motion = ctl.motion
+        resting = motion.at_rest()
+        if wake is not None:
+            limit = min(limit, wake - cycle)
+        if resting:
+            if wake is None and end_cycle is None:
+                return False  # nothing will ever change: step on (a timeout ends the run)
+            k = limit
+        elif any(getattr(c, "observes_motion", True) for c in clients):
+            return False
+        else:
+            k = motion.coast_horizon(limit)
+            if not k:
+                return False
+        samplers = [c for c in clients if getattr(c, "samples_skipped_cycles", False)]
+        if samplers:
+            self._sampled_jump(cycle, k, resting, samplers)
+        elif not resting:
+            motion.coast(k)
+        ctl.clock.cycle = cycle + k
+        self.jumps += 1
+        return True
+
+    def _sampled_jump(self, cycle: int, k: int, resting: bool, samplers: list) -> None:
+        """Jump over cycles `cycle` .. `cycle + k - 1` one by one for the clients that
+        sample every cycle (a scope): each cycle the clock shows it, the clients whose
+        `begin_cycle` only writes values of the clock (`clock_driven`, the HMPL system
+        time) set them, the moving axes advance one cycle, and the samplers' `end_cycle`
+        records the state that cycle left, as stepping would."""
+        ctl = self.controller
+        clock, motion = ctl.clock, ctl.motion
+        timed = [c for c in ctl.clients if getattr(c, "clock_driven", False)]
+        for c in range(cycle, cycle + k):
+            clock.cycle = c
+            for t in timed:
+                t.begin_cycle()
+            if not resting:
+                motion.coast(1)
+            for s in samplers:
+                s.end_cycle()
