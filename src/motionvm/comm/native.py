@@ -72,7 +72,9 @@ def _unescape(body: str) -> bytes:
             i += 2 + len(m.group())
         elif nxt in "01234567":
             digits = re.match(r"[0-7]{1,3}", body[i + 1 :]).group()  # type: ignore[union-attr]
-            out.append(int(digits, 8) & 0xFF)
+            if int(digits, 8) > 0xFF:
+                raise RequestError(f"octal escape '\\{digits}' is out of range (at most \\377)")
+            out.append(int(digits, 8))
             i += 1 + len(digits)
         elif nxt in _ESCAPES:
             out.append(_ESCAPES[nxt])
