@@ -70,6 +70,10 @@ class LineServer:
             await self._lines(reader, writer)
         except (ConnectionError, asyncio.IncompleteReadError):
             pass
+        except asyncio.CancelledError:
+            # the servers stop while this connection waits for a reply (a parser that
+            # never returns): end quietly, not as a cancelled task asyncio reports
+            pass
         except Exception as exc:  # noqa: BLE001 — a bug of ours: tell the client, close
             await _reply(writer, f"ERR internal error of motionvm (a bug): {exc}", True)
         finally:

@@ -309,17 +309,19 @@ class HmplComm(PassiveClient):
         me = Task(self.parser_task, name="ascii agent")
         kernel.current = me
         try:
-            y = gen.send(None)
-        except (StopIteration, TaskExit):
-            self._current = None
-            reply.set_result(rt.mem.read_cstr(res, "res").decode("latin-1"))
+            try:
+                y = gen.send(None)
+            except (StopIteration, TaskExit):
+                self._current = None
+                # a `res` the parser left unterminated is its fault, as a task's would be
+                reply.set_result(rt.mem.read_cstr(res, "res").decode("latin-1"))
+            else:
+                self._wake = cycle + 1 if y is None else max(int(y), cycle + 1)
         except Exception as exc:  # noqa: BLE001 — the parser's fault, reported as a task's
             self._current = None
             self.parser = None
             rt._on_fault(me, exc)
             reply.set_result(f"ERR the ASCII agent stopped: {exc}")
-        else:
-            self._wake = cycle + 1 if y is None else max(int(y), cycle + 1)
         finally:
             kernel.current = None
 
