@@ -173,3 +173,17 @@ def _pdu(rng: random.Random) -> bytes:
     if rng.random() < 0.2:  # truncated
         pdu = pdu[: rng.randrange(1, len(pdu) + 1)]
     return pdu
+
+
+def test_clients_that_send_many_requests_and_vanish_leave_the_server_serving(server):
+    _sim, port = server
+    for _ in range(5):
+        s = connect(port)
+        s.sendall(b"".join(read_regs(tid, 0, 1) for tid in range(100)))
+        s.close()  # before any reply
+    c = connect(port)
+    try:
+        c.sendall(read_regs(7, 0, 1))
+        assert reply(c)[:9] == frame(7, b"\x03\x02\0\0")[:9]
+    finally:
+        c.close()
