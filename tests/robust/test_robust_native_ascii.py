@@ -124,3 +124,30 @@ def test_a_served_controller_answers_hostile_lines_and_keeps_answering():
             assert client.ask("count") == "5"
         finally:
             client.close()
+
+
+@pytest.mark.parametrize(
+    ("requests", "reply"),
+    [
+        (["arr[3] = 9", "arr[3]"], "9"),
+        (["arr[0x2] = -4", "arr[2]"], "-4"),
+        (["darr[1] = 2.5;", "darr[1]"], "2.5"),
+        (["arr[4]"], "ERR scope channel 'arr[4]': index 4 is out of range for arr[4] (0..3)"),
+        (["arr[1.5]"], "ERR expected 'arr[INDEX]' with an integer index >= 0"),
+        (["arr[-1]"], "ERR expected 'arr[INDEX]' with an integer index"),
+        (["arr["], "ERR expected 'arr[INDEX]' with an integer index"),
+        (["arr[1](2)"], "ERR 'arr[1]' is an array element: it can be read or written, not called"),
+        (["arr[1][2]"], "ERR expected '(' or '=' after 'arr[1]'"),
+    ],
+)
+def test_array_elements_are_read_and_written_by_index(requests, reply):
+    """The variable requests take `table[3]` (they said so, but '[' did not parse)."""
+    sim = Simulation.from_source("int arr[4]; double darr[2];\nvoid main() { }\n")
+    try:
+        sim.run(until=0.002)
+        hub = sim.controller.comm
+        for line in requests[:-1]:
+            assert ask(hub, line) == "OK"
+        assert ask(hub, requests[-1]) == reply
+    finally:
+        sim.close()
