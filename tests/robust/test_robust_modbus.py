@@ -60,11 +60,11 @@ def read_regs(tid: int, start: int, count: int) -> bytes:
 
 
 def test_requests_sent_together_are_all_answered_in_order(server):
-    sim, port = server
-    sim.write("system_ltest1", 0x12345678)
-    time.sleep(0.05)
+    _sim, port = server
     s = connect(port)
     try:
+        s.sendall(frame(0, struct.pack(">BHHBHH", 16, 2, 2, 4, 0x1234, 0x5678)))  # ltest1
+        assert reply(s) == frame(0, struct.pack(">BHH", 16, 2, 2))
         s.sendall(b"".join(read_regs(tid, 2, 2) for tid in (1, 2, 3)))
         for tid in (1, 2, 3):
             assert reply(s) == frame(tid, bytes.fromhex("03 04 12 34 56 78"))
@@ -108,18 +108,19 @@ def test_a_client_that_pipelines_many_requests_gets_every_reply(server):
 def test_counts_and_values_the_specification_refuses_get_exception_03_and_change_nothing(
     server, pdu
 ):
-    sim, port = server
-    sim.write("system_ltest0", 7)
-    sim.write("gpo0", 0)
-    time.sleep(0.05)
+    _sim, port = server
     s = connect(port)
     try:
+        s.sendall(frame(1, struct.pack(">BHHBHH", 16, 0, 2, 4, 0, 7)))  # system_ltest0 = 7
+        s.sendall(frame(2, struct.pack(">BHH", 5, 0, 0)))  # output 1 off
+        assert [reply(s)[:2] for _ in range(2)] == [b"\0\1", b"\0\2"]
         s.sendall(frame(9, pdu))
         assert reply(s) == frame(9, bytes([pdu[0] | 0x80, 0x03]))
+        s.sendall(read_regs(3, 0, 2) + frame(4, struct.pack(">BHH", 1, 0, 1)))
+        assert reply(s) == frame(3, bytes.fromhex("03 04 00 00 00 07"))
+        assert reply(s) == frame(4, bytes.fromhex("01 01 00"))
     finally:
         s.close()
-    assert sim.read("system_ltest0") == 7
-    assert sim.read("gpo0") == 0
 
 
 def test_generated_malformed_frames_get_an_answer_or_a_close_and_the_server_serves_on(server):
