@@ -188,3 +188,26 @@ def test_clients_that_send_many_requests_and_vanish_leave_the_server_serving(ser
         assert reply(c)[:9] == frame(7, b"\x03\x02\0\0")[:9]
     finally:
         c.close()
+
+
+@pytest.mark.parametrize(
+    "pdu",
+    [
+        struct.pack(">BHH", 8, 0, 0x1234),  # diagnostics: echo
+        struct.pack(">BHH", 8, 4, 0),  # diagnostics: force listen-only mode
+        b"\x07",  # read exception status
+        b"\x11",  # report server id ("Pymodbus")
+        struct.pack(">BH", 24, 0),  # read FIFO queue (made-up values)
+        b"\x15\x09\x06\x00\x01\x00\x00\x00\x01\x00\x05",  # write file record (did nothing)
+        b"\x2b\x0e\x01\x00",  # read device identification
+    ],
+    ids=["fc8-echo", "fc8-listen-only", "fc7", "fc17", "fc24", "fc21", "fc43"],
+)
+def test_function_codes_the_map_does_not_serve_get_exception_01(server, pdu):
+    _sim, port = server
+    s = connect(port)
+    try:
+        s.sendall(frame(5, pdu))
+        assert reply(s) == frame(5, bytes([pdu[0] | 0x80, 0x01]))
+    finally:
+        s.close()

@@ -7,7 +7,8 @@ response or a closed connection) and asks a server context for values; our conte
 (comm/hub.py) and answers from the register map (comm/modbus_map.py). Any unit id is
 served. A client may send requests before the replies of earlier ones (pipelining):
 each is answered, in order. Counts, byte counts and coil values the Modbus specification
-refuses get exception 03 (`check_pdu`). At most `MAX_CLIENTS` connections: the next one is accepted and closed at once.
+refuses get exception 03, and function codes other than those above exception 01
+(pymodbus would answer diagnostics, FIFO and file records from made-up data) (`check_pdu`). At most `MAX_CLIENTS` connections: the next one is accepted and closed at once.
 A frame whose header is not Modbus TCP's (protocol id 0, length 2..254), or more than
 260 bytes that hold no complete frame, close the connection; pymodbus's log messages are not printed (a NullHandler on its logger).
 """
@@ -37,10 +38,19 @@ _READ_MAX = {1: 2000, 2: 2000, 3: 125, 4: 125}
 _COILS_MAX, _REGS_MAX, _RW_READ_MAX, _RW_WRITE_MAX = 1968, 123, 125, 121
 
 
+SERVED = frozenset({1, 2, 3, 4, 5, 6, 15, 16, 22, 23})
+"""The function codes the register map serves; pymodbus would answer others (8
+diagnostics, 17 server id, 20/21 file records, 24 FIFO, 43 device id) from its own
+made-up data."""
+
+
 def check_pdu(pdu: bytes) -> int | None:
-    """Exception code 03 (illegal data value) for a request whose counts, byte count or
-    value the Modbus specification refuses, None for anything else (pymodbus decodes it)."""
+    """The exception code of a request refused before the map sees it: 01 (illegal
+    function) for a function code not served, 03 (illegal data value) for counts, a byte
+    count or a value the Modbus specification refuses; None for a request to decode."""
     fc, n = (pdu[0], len(pdu)) if pdu else (0, 0)
+    if fc not in SERVED:
+        return 0x01
     field = lambda i: int.from_bytes(pdu[i : i + 2], "big")  # noqa: E731
     if fc in _READ_MAX:
         return None if n == 5 and 1 <= field(3) <= _READ_MAX[fc] else 0x03
