@@ -135,7 +135,10 @@ def _to_target(b: _Builder, p_f: float, v_max: float, a_max: float, d_max: float
         v_peak = v_max
         b.v = s * v_peak
     else:
-        v_peak = math.sqrt((2.0 * a_max * d_max * dist + d_max * u * u) / (a_max + d_max))
+        v_sq = (2.0 * a_max * d_max * dist + d_max * u * u) / (a_max + d_max)
+        if not math.isfinite(v_sq):  # a_max * d_max overflowed: the same over a_max * d_max
+            v_sq = (2.0 * dist + u * u / a_max) / (1.0 / a_max + 1.0 / d_max)
+        v_peak = math.sqrt(v_sq)
         v_peak = max(min(v_peak, v_max), u)
         b.add((v_peak - u) / a_max, s * a_max)
         b.v = s * v_peak
