@@ -61,3 +61,10 @@ def test_a_move_after_setdec_1e308_ends_at_its_target():
     with Simulation.from_source(program) as sim:
         sim.run(until=1.0)
         assert sim.messages == ["1.000000 0"]
+
+
+def test_the_closed_form_move_time_survives_the_same_limits():
+    from motionvm.motion.tcurve import rest_to_rest_time
+
+    # the peak is limited by the 1000 mm/s^2 ramp alone: sqrt(2 * 1000 * 1) mm/s
+    assert math.isclose(rest_to_rest_time(1.0, 300.0, 1000.0, 1e308), math.sqrt(2000.0) / 1000.0)
