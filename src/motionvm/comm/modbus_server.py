@@ -184,6 +184,9 @@ class _Handler(ServerRequestHandler):
         if self._worker is None or self._worker.done():
             self._worker = asyncio.get_running_loop().create_task(self._answer_all())
 
+    def handle_later(self) -> None:
+        """pymodbus's answer from `last_pdu`, which `_one_frame` has taken: nothing to do."""
+
     async def _answer_all(self) -> None:
         pending = self._pending
         while pending:
