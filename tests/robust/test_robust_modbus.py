@@ -8,6 +8,7 @@ import random
 import socket
 import struct
 import sys
+import threading
 import time
 from pathlib import Path
 
@@ -209,5 +210,23 @@ def test_function_codes_the_map_does_not_serve_get_exception_01(server, pdu):
     try:
         s.sendall(frame(5, pdu))
         assert reply(s) == frame(5, bytes([pdu[0] | 0x80, 0x01]))
+    finally:
+        s.close()
+
+
+def test_a_client_that_reads_its_replies_late_gets_every_one(server):
+    """Its unread replies fill the server's send buffer: the server stops answering (and
+    then reading) until they drain, and loses none."""
+    _sim, port = server
+    s = connect(port)
+    try:
+        s.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 4096)
+        requests = b"".join(frame(tid, struct.pack(">BHH", 4, 1000, 125)) for tid in range(600))
+        sender = threading.Thread(target=s.sendall, args=(requests,), daemon=True)
+        sender.start()  # 600 replies of 257 bytes: more than the buffers hold
+        time.sleep(1.0)
+        tids = [struct.unpack(">H", reply(s)[:2])[0] for _ in range(600)]
+        sender.join(5.0)
+        assert tids == list(range(600))
     finally:
         s.close()

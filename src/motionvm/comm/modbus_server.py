@@ -133,6 +133,22 @@ class _Handler(ServerRequestHandler):
     _pending: collections.deque | None = None
     _worker: asyncio.Task | None = None
     _paused = False
+    _writable: asyncio.Event | None = None
+    """Clear while the transport's send buffer is full (a client not reading its replies):
+    no request is answered until it drains, so the queue fills and reading stops."""
+
+    def pause_writing(self) -> None:
+        if self._writable is None:
+            self._writable = asyncio.Event()
+        self._writable.clear()
+
+    def resume_writing(self) -> None:
+        if self._writable is not None:
+            self._writable.set()
+
+    def callback_disconnected(self, exc: Exception | None) -> None:
+        self.resume_writing()  # a worker waiting to write ends
+        super().callback_disconnected(exc)
 
     def data_received(self, data: bytes) -> None:
         buf = self.recv_buffer + data
@@ -190,6 +206,8 @@ class _Handler(ServerRequestHandler):
     async def _answer_all(self) -> None:
         pending = self._pending
         while pending:
+            if self._writable is not None:
+                await self._writable.wait()
             pdu, addr = pending.popleft()
             try:
                 reply = await pdu.datastore_update(self.server.context, pdu.dev_id)
