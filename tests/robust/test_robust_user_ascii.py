@@ -67,3 +67,24 @@ def test_stopping_while_a_client_waits_for_a_parser_prints_no_traceback(capfd, c
     assert "Traceback" not in err and "CancelledError" not in err, err
     # asyncio reports a failed callback through logging (stderr outside pytest)
     assert not [r for r in caplog.records if r.exc_info], caplog.text
+
+
+@pytest.mark.parametrize(
+    ("agent", "count"), [("main", "0 parameters"), ("Q", "1 parameter"), ("R", "3 parameters")]
+)
+def test_a_parser_of_the_wrong_shape_is_a_runtime_error_of_its_task(agent, count):
+    """START_ASCII_AGENT(main) used to be accepted; the first line crashed the controller."""
+    program = (
+        "int Q(int a) { return a; }\n"
+        "void R(char *cmd, char *res, int x) { }\n"
+        f"void main() {{ START_ASCII_AGENT({agent}); while (1) Sleep(10); }}\n"
+    )
+    with served(program) as (sim, srv):
+        user = LineClient(srv.ports["user-ascii"])
+        try:
+            assert user.ask("hello") == NO_AGENT
+        finally:
+            user.close()
+        assert [f.message for f in sim.fault_records] == [
+            f"START_ASCII_AGENT: the parser takes (char *cmd, char *res); {agent} takes {count}"
+        ]

@@ -24,6 +24,7 @@ from __future__ import annotations
 import collections
 import json
 import math
+import re
 from functools import lru_cache
 from importlib import resources
 
@@ -253,6 +254,13 @@ class HmplComm(PassiveClient):
         """START_ASCII_AGENT(parser) from task `task_id`."""
         if not callable(parser):
             raise RuntimeFault("START_ASCII_AGENT: the argument is not a function")
+        code = getattr(parser, "__code__", None)
+        if code is not None and code.co_argcount != 2:
+            name = re.sub(r"^(g|t\d+)_", "", parser.__name__)  # the generated name's task prefix
+            raise RuntimeFault(
+                f"START_ASCII_AGENT: the parser takes (char *cmd, char *res); "
+                f"{name} takes {code.co_argcount} parameter{'s' if code.co_argcount != 1 else ''}"
+            )
         if self.parser is not None and self.parser is not parser:
             raise RuntimeFault(
                 "START_ASCII_AGENT: an ASCII agent is already running "
