@@ -230,9 +230,19 @@ class Simulation:
         "timeout" (or "stopped"), with `sim_time` and, if it did not finish,
         `still_running`: each task, drive task, scenario and axis and where it waits.
         With `raise_faults`, raises `TaskFault` instead at the first fault."""
+        self._not_serving("run")
         result = self.session.run(until, timeout=timeout)
         self._log.raise_pending()
         return result
+
+    def _not_serving(self, what: str) -> None:
+        """SessionError while `serve` runs the simulation in its thread: a second thread
+        stepping or writing the same controller would race with it."""
+        if self._serving is not None and self._serving.running:
+            raise SessionError(
+                f"{what}: this simulation is being served (its thread runs it); "
+                "stop the serving first (Serving.stop())"
+            )
 
     def serve(
         self,
@@ -247,8 +257,8 @@ class Simulation:
         0: a free port) and run the simulation paced to the wall clock in a background
         thread, as `motionvm serve` does, until `until` seconds or `Serving.stop()`.
         Returns at once with the bound ports (`Serving.ports`); `SessionError` if a server
-        cannot listen, or if it is already being served. Do not call `run`, `step` or
-        `write` while it serves; `close()` stops it first."""
+        cannot listen, or if it is already being served. `run`, `step` and `write` are
+        refused (SessionError) while it serves; `close()` stops it first."""
         if self._serving is not None and self._serving.running:
             raise SessionError("this simulation is already being served")
         comm = CommConfig(bind, native_ascii_port, user_ascii_port, modbus_port)
@@ -258,6 +268,7 @@ class Simulation:
     def step(self, cycles: int = 1) -> None:
         """Run exactly `cycles` controller cycles (with `raise_faults`: fewer, if a fault
         raises `TaskFault` at the end of its cycle)."""
+        self._not_serving("step")
         session, log = self.session, self._log
         if not log.raise_faults:
             session.step(cycles)
@@ -319,6 +330,7 @@ class Simulation:
         through that function; `driveN.<name>` as the drive's host write; GDL states as a
         scenario input. KeyError for an unknown name, `WriteError` for a read-only
         variable or a refused value (with the manual's error code)."""
+        self._not_serving("write")
         self.variables.write(name, value)
 
     def axis(self, n: int) -> AxisState:

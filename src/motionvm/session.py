@@ -561,6 +561,7 @@ class Session:
         after every task has ended. `ready(ports)` is called once they listen."""
         from motionvm.comm.servers import CommError, CommServers
 
+        self._check_open()  # before any server listens
         servers = CommServers(self.controller.comm, comm or self.machine.comm)
         try:
             ports = servers.start()

@@ -176,12 +176,18 @@ def cmd_run(args) -> int:
         return EXIT_COMPILE
     except SessionError as exc:
         raise UsageError(str(exc), located=exc.located) from None
+    finally:
+        # free the run's memory now: a caller of `main` in a loop (a test suite) would
+        # otherwise hold every run's program memory until a full garbage collection
+        if session is not None:
+            faults = session.fault_count
+            session.close()
     _verdict(result, args)
     if sys.stderr.isatty():
-        _summary(result, wall, session.fault_count)
+        _summary(result, wall, faults)
     if result.reason == TIMEOUT:
         return EXIT_TIMEOUT
-    return EXIT_RUNTIME if session.fault_count else EXIT_OK
+    return EXIT_RUNTIME if faults else EXIT_OK
 
 
 def cmd_scope(args) -> int:
@@ -192,6 +198,7 @@ def cmd_scope(args) -> int:
     try:
         session = Session(spec, emit=lambda line: None, report=_report)
         channels = session.scope_channels()
+        session.close()
     except CompileFailed:
         return EXIT_COMPILE
     except SessionError as exc:

@@ -84,4 +84,6 @@ def cmd_serve(args) -> int:
     except SessionError as exc:
         raise UsageError(str(exc), located=exc.located) from None
     flush_stdout()
-    return EXIT_RUNTIME if session.fault_count else EXIT_OK
+    faults = session.fault_count
+    session.close()  # free the run's memory now (see cmd_run)
+    return EXIT_RUNTIME if faults else EXIT_OK

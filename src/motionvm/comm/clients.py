@@ -13,7 +13,9 @@ from 10 per kind (the manual's examples use socket 10). Decisions where the manu
   the manual's example passes 100 for an 11-character string; ASCII_ClientRecv waits
   for at least one byte and returns what has arrived, at most `length` bytes;
 - the Modbus client sends unit id 1; an exception response is eERR_MODBUS_JOB_FAIL
-  (0x1840), no answer within the timeout eERR_MODBUS_JOB_TIMEOUT (0x183F); a count over
+  (0x1840), as is a response that does not answer the request (another byte count, a
+  write not echoed); no complete answer within the timeout (however it trickles in)
+  eERR_MODBUS_JOB_TIMEOUT (0x183F); a count over
   the manual's limit (or 0) is refused before anything is sent (0x183D);
 - a second operation on a socket whose first has not finished: 0x17E0 (receive),
   0x17EA (send), 0x183E (Modbus).
@@ -24,6 +26,7 @@ from __future__ import annotations
 import ipaddress
 import socket
 import struct
+import time
 
 from motionvm.comm.hub import CommHub, Job
 
@@ -233,9 +236,15 @@ def _modbus_pdu(function_code: int, address: int, count: int, words: list[int]) 
     return struct.pack(">BHHB", 15, address, count, nbytes) + packed
 
 
-def _recv_exact(sock: socket.socket, n: int) -> bytes | None:
+def _recv_exact(sock: socket.socket, n: int, deadline: float) -> bytes | None:
+    """`n` bytes, None if the peer closes first; TimeoutError once `deadline` (monotonic
+    clock) has passed, however the bytes trickle in."""
     buf = b""
     while len(buf) < n:
+        left = deadline - time.monotonic()
+        if left <= 0:
+            raise TimeoutError
+        sock.settimeout(left)
         chunk = sock.recv(n - len(buf))
         if not chunk:
             return None
@@ -244,18 +253,22 @@ def _recv_exact(sock: socket.socket, n: int) -> bytes | None:
 
 
 def _transact(sock: socket.socket, tid: int, pdu: bytes) -> tuple[int, bytes]:
-    """Send one request and read its response; (code, data bytes)."""
+    """Send one request and read its response within the client timeout; (code, data
+    bytes). A response that is not the request's (another function code, a byte count
+    other than the request's, data it does not hold) is eERR_MODBUS_JOB_FAIL."""
     frame = struct.pack(">HHHB", tid, 0, len(pdu) + 1, MODBUS_UNIT) + pdu
+    timeout = sock.gettimeout()
+    deadline = time.monotonic() + (timeout if timeout is not None else 1.0)
     try:
         sock.sendall(frame)
         while True:
-            head = _recv_exact(sock, 7)
+            head = _recv_exact(sock, 7, deadline)
             if head is None:
                 return MODBUS_JOB_FAIL, b""
             rtid, _pid, length, _unit = struct.unpack(">HHHB", head)
             if not 2 <= length <= 260:
                 return MODBUS_JOB_FAIL, b""
-            body = _recv_exact(sock, length - 1)
+            body = _recv_exact(sock, length - 1, deadline)
             if body is None:
                 return MODBUS_JOB_FAIL, b""
             if rtid == tid:
@@ -264,9 +277,25 @@ def _transact(sock: socket.socket, tid: int, pdu: bytes) -> tuple[int, bytes]:
         return MODBUS_JOB_TIMEOUT, b""
     except OSError:
         return MODBUS_JOB_FAIL, b""
+    finally:
+        try:
+            sock.settimeout(timeout)
+        except OSError:
+            pass
+    return _response_data(pdu, body)
+
+
+def _response_data(pdu: bytes, body: bytes) -> tuple[int, bytes]:
+    """(0, data) of a response `body` that answers `pdu`, else (eERR_MODBUS_JOB_FAIL, b"")."""
     fc = body[0]
     if fc & 0x80 or fc != pdu[0]:
         return MODBUS_JOB_FAIL, b""
+    count = int.from_bytes(pdu[3:5], "big")
     if fc in (1, 2, 3, 4):
-        return 0, body[2 : 2 + body[1]]
+        want = 2 * count if fc in (3, 4) else (count + 7) // 8
+        if len(body) != 2 + want or body[1] != want:
+            return MODBUS_JOB_FAIL, b""
+        return 0, body[2:]
+    if len(body) != 5 or body[1:5] != pdu[1:5]:  # a write echoes its address and count
+        return MODBUS_JOB_FAIL, b""
     return 0, body[1:5]

@@ -47,12 +47,23 @@ def load_comm(table: object, problems) -> CommConfig:
     bind = table.get("bind")
     if bind is not None:
         try:
-            ipaddress.ip_address(bind if isinstance(bind, str) else "")
-            out["bind"] = bind
+            addr = ipaddress.ip_address(bind if isinstance(bind, str) else "")
         except ValueError:
             problems.at(
                 "comm", "bind", f'bind = {bind!r}: must be an IP address such as "127.0.0.1"'
             )
+        else:
+            # a TCP server listens on one host's address: a group or broadcast address
+            # would "listen" where no client can ever connect
+            if addr.is_multicast or addr == ipaddress.IPv4Address("255.255.255.255"):
+                problems.at(
+                    "comm",
+                    "bind",
+                    f"bind = {bind!r}: a multicast or broadcast address; a server listens "
+                    'on an address of this host such as "127.0.0.1" (or "0.0.0.0": all)',
+                )
+            else:
+                out["bind"] = bind
     for key in ("native_ascii_port", "user_ascii_port", "modbus_port"):
         value = table.get(key)
         if value is None:

@@ -10,7 +10,9 @@ Limits: at most `MAX_CLIENTS` connections per server (the next one gets
 `ERR too many clients (8)` and is closed); a line longer than `MAX_LINE` bytes gets
 `ERR line too long` and is discarded up to its terminator. A client that goes away
 loses nothing: the complete lines it sent before are still carried out (their replies
-are dropped).
+are dropped). A broadcast (`send_all`) goes to every client whose unread backlog is at
+most `MAX_BACKLOG` bytes: a client that never reads misses broadcasts instead of
+growing the server's memory without bound.
 """
 
 from __future__ import annotations
@@ -22,6 +24,8 @@ MAX_CLIENTS = 8
 """Connections per server."""
 MAX_LINE = 1024
 """Bytes per request line, terminator excluded."""
+MAX_BACKLOG = 64 * 1024
+"""Bytes of broadcasts a client may leave unread before it misses the next ones."""
 _CHUNK = 4096
 
 Handler = Callable[[str], Awaitable[str | None]]
@@ -51,9 +55,10 @@ class LineServer:
             await self.server.wait_closed()
 
     def send_all(self, data: bytes) -> None:
-        """Send `data` to every connected client (event loop thread)."""
+        """Send `data` to every connected client (event loop thread); a client with more
+        than `MAX_BACKLOG` bytes it has not read yet misses it."""
         for w in list(self.writers):
-            if not w.is_closing():
+            if not w.is_closing() and w.transport.get_write_buffer_size() <= MAX_BACKLOG:
                 w.write(data)
 
     async def _serve(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
@@ -69,6 +74,10 @@ class LineServer:
         try:
             await self._lines(reader, writer)
         except (ConnectionError, asyncio.IncompleteReadError):
+            pass
+        except asyncio.CancelledError:
+            # the servers stop while this connection waits for a reply (a parser that
+            # never returns): end quietly, not as a cancelled task asyncio reports
             pass
         except Exception as exc:  # noqa: BLE001 — a bug of ours: tell the client, close
             await _reply(writer, f"ERR internal error of motionvm (a bug): {exc}", True)

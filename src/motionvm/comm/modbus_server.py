@@ -5,7 +5,10 @@ pymodbus decodes the frames (MBAP header, function codes 1, 2, 3, 4, 5, 6, 15, 1
 response or a closed connection) and asks a server context for values; our context
 (`_MapContext`) hands every read and write to the simulation thread through the hub
 (comm/hub.py) and answers from the register map (comm/modbus_map.py). Any unit id is
-served. At most `MAX_CLIENTS` connections: the next one is accepted and closed at once.
+served. A client may send requests before the replies of earlier ones (pipelining):
+each is answered, in order. Counts, byte counts and coil values the Modbus specification
+refuses get exception 03, and function codes other than those above exception 01
+(pymodbus would answer diagnostics, FIFO and file records from made-up data) (`check_pdu`). At most `MAX_CLIENTS` connections: the next one is accepted and closed at once.
 A frame whose header is not Modbus TCP's (protocol id 0, length 2..254), or more than
 260 bytes that hold no complete frame, close the connection; pymodbus's log messages are not printed (a NullHandler on its logger).
 """
@@ -13,6 +16,7 @@ A frame whose header is not Modbus TCP's (protocol id 0, length 2..254), or more
 from __future__ import annotations
 
 import asyncio
+import collections
 import logging
 from collections.abc import Sequence
 
@@ -25,6 +29,52 @@ from pymodbus.server.requesthandler import ServerRequestHandler
 from motionvm.comm import modbus_map
 from motionvm.comm.hub import CommHub
 from motionvm.comm.lineserver import MAX_CLIENTS
+
+MAX_PENDING = 16
+"""Requests a connection may have waiting for their replies before it stops reading."""
+
+# Counts the Modbus application protocol (1.1b3, section 6) allows per function code
+_READ_MAX = {1: 2000, 2: 2000, 3: 125, 4: 125}
+_COILS_MAX, _REGS_MAX, _RW_READ_MAX, _RW_WRITE_MAX = 1968, 123, 125, 121
+
+
+SERVED = frozenset({1, 2, 3, 4, 5, 6, 15, 16, 22, 23})
+"""The function codes the register map serves; pymodbus would answer others (8
+diagnostics, 17 server id, 20/21 file records, 24 FIFO, 43 device id) from its own
+made-up data."""
+
+
+def check_pdu(pdu: bytes) -> int | None:
+    """The exception code of a request refused before the map sees it: 01 (illegal
+    function) for a function code not served, 03 (illegal data value) for counts, a byte
+    count or a value the Modbus specification refuses; None for a request to decode."""
+    fc, n = (pdu[0], len(pdu)) if pdu else (0, 0)
+    if fc not in SERVED:
+        return 0x01
+    field = lambda i: int.from_bytes(pdu[i : i + 2], "big")  # noqa: E731
+    if fc in _READ_MAX:
+        return None if n == 5 and 1 <= field(3) <= _READ_MAX[fc] else 0x03
+    if fc == 5:
+        return None if n == 5 and field(3) in (0x0000, 0xFF00) else 0x03
+    if fc == 6:
+        return None if n == 5 else 0x03
+    if fc in (15, 16):
+        if n < 6:
+            return 0x03
+        count, size = field(3), pdu[5]
+        ok = 1 <= count <= (_COILS_MAX if fc == 15 else _REGS_MAX)
+        want = (count + 7) // 8 if fc == 15 else 2 * count
+        return None if ok and size == want and n == 6 + size else 0x03
+    if fc == 22:
+        return None if n == 7 else 0x03
+    if fc == 23:
+        if n < 10:
+            return 0x03
+        reads, writes, size = field(3), field(7), pdu[9]
+        ok = 1 <= reads <= _RW_READ_MAX and 1 <= writes <= _RW_WRITE_MAX
+        return None if ok and size == 2 * writes and n == 10 + size else 0x03
+    return None
+
 
 # pymodbus logs every malformed frame a client sends; a server's stderr is not the place
 logging.getLogger("pymodbus").addHandler(logging.NullHandler())
@@ -68,32 +118,111 @@ class _Refuse(asyncio.Protocol):
 
 
 class _Handler(ServerRequestHandler):
-    """pymodbus's connection handler, answering an unknown function code with that code
-    (pymodbus says function 0: `0x80 0x01`; a client expects `fc|0x80 0x01`)."""
+    """pymodbus's connection handler, made to answer every frame of a stream in order.
+
+    pymodbus decodes one frame per received chunk (a second frame in the same chunk waits
+    for more data) and answers from `self.last_pdu` a moment later (a request arriving
+    in between replaces it): a client that sends its next request before the last reply
+    lost requests. Here each complete frame is decoded on arrival and queued with its
+    own PDU; the queue is answered in order (at most `MAX_PENDING` requests, then the
+    connection stops reading until the queue drains). A request whose counts or values
+    the Modbus specification refuses gets exception 03 without reaching the map, and an
+    unknown function code exception 01 with that code (pymodbus says function 0)."""
 
     _frame = b""
+    _pending: collections.deque | None = None
+    _worker: asyncio.Task | None = None
+    _paused = False
+    _writable: asyncio.Event | None = None
+    """Clear while the transport's send buffer is full (a client not reading its replies):
+    no request is answered until it drains, so the queue fills and reading stops."""
+
+    def pause_writing(self) -> None:
+        if self._writable is None:
+            self._writable = asyncio.Event()
+        self._writable.clear()
+
+    def resume_writing(self) -> None:
+        if self._writable is not None:
+            self._writable.set()
+
+    def callback_disconnected(self, exc: Exception | None) -> None:
+        self.resume_writing()  # a worker waiting to write ends
+        super().callback_disconnected(exc)
 
     def data_received(self, data: bytes) -> None:
+        buf = self.recv_buffer + data
+        self.recv_buffer = buf[self.callback_data(buf) :]
         # more than one frame's worth (260 bytes) without a complete frame: pymodbus would
         # drop it silently and wait; a client that cannot be understood is closed instead
-        if len(self.recv_buffer) + len(data) > self.max_buffer_size:
-            if self.transport is not None:
-                self.transport.close()
-            return
-        super().data_received(data)
+        if len(self.recv_buffer) > self.max_buffer_size and self.transport is not None:
+            self.recv_buffer = b""
+            self.transport.close()
 
     def callback_data(self, data: bytes, addr: tuple | None = None) -> int:
-        # `data` starts at a frame boundary: a header that is no Modbus TCP header (a
-        # protocol id other than 0, a length outside 2..254) means a stream that cannot
-        # be resynchronised: close the connection rather than wait for more
-        if len(data) >= 6:
-            protocol, length = int.from_bytes(data[2:4], "big"), int.from_bytes(data[4:6], "big")
+        """Handle every complete frame at the start of `data`; the bytes used."""
+        used = 0
+        while len(data) - used >= 8:
+            head = data[used : used + 6]
+            protocol, length = int.from_bytes(head[2:4], "big"), int.from_bytes(head[4:6], "big")
             if protocol != 0 or not 2 <= length <= 254:
+                # a header that is no Modbus TCP header: a stream that cannot be
+                # resynchronised; close the connection rather than wait for more
                 if self.transport is not None:
                     self.transport.close()
                 return len(data)
-        self._frame = data
-        return super().callback_data(data, addr)
+            if len(data) - used < 6 + length:
+                break
+            frame = data[used : used + 6 + length]
+            used += 6 + length
+            self._one_frame(frame, addr)
+        return used
+
+    def _one_frame(self, frame: bytes, addr: tuple | None) -> None:
+        self._frame = frame
+        code = check_pdu(frame[7:])
+        if code is not None:
+            reply = ExceptionResponse(frame[7], exception_code=ExcCodes(code))
+            reply.transaction_id = int.from_bytes(frame[0:2], "big")
+            reply.dev_id = frame[6]
+            self.server_send(reply, addr)
+            return
+        super().callback_data(frame, addr)  # decodes into last_pdu, or answers exception 01
+        pdu, self.last_pdu = self.last_pdu, None  # no handle_later of pymodbus's
+        if pdu is None:
+            return
+        if self._pending is None:
+            self._pending = collections.deque()
+        self._pending.append((pdu, addr))
+        if len(self._pending) >= MAX_PENDING and self.transport is not None:
+            self.transport.pause_reading()
+            self._paused = True
+        if self._worker is None or self._worker.done():
+            self._worker = asyncio.get_running_loop().create_task(self._answer_all())
+
+    def handle_later(self) -> None:
+        """pymodbus's answer from `last_pdu`, which `_one_frame` has taken: nothing to do."""
+
+    async def _answer_all(self) -> None:
+        pending = self._pending
+        while pending:
+            if self._writable is not None:
+                await self._writable.wait()
+            pdu, addr = pending.popleft()
+            try:
+                reply = await pdu.datastore_update(self.server.context, pdu.dev_id)
+            except Exception:  # noqa: BLE001 — a bug of ours: the client gets exception 04
+                reply = ExceptionResponse(pdu.function_code, ExcCodes.DEVICE_FAILURE)
+            reply.transaction_id = pdu.transaction_id
+            reply.dev_id = pdu.dev_id
+            if self.transport is None or self.transport.is_closing():
+                pending.clear()
+                return
+            self._frame = b""
+            self.server_send(reply, addr)
+            if self._paused and len(pending) < MAX_PENDING // 2:
+                self._paused = False
+                self.transport.resume_reading()
 
     def server_send(self, pdu, addr) -> None:
         frame = self._frame

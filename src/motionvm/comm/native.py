@@ -2,8 +2,9 @@
 
     request  := call | read | write
     call     := NAME '(' [arg {',' arg}] ')' [';']
-    read     := NAME
-    write    := NAME '=' arg [';']
+    read     := var
+    write    := var '=' arg [';']
+    var      := NAME ['[' INTEGER ']']       (an array element: table[3])
     arg      := ['-' | '+'] NUMBER | STRING | CHAR | NAME
 
 NUMBER is a C integer (decimal, 0x hex, 0 octal, 0b binary) or a C floating literal;
@@ -45,7 +46,7 @@ _TOKEN = re.compile(
     | (?P<name>[A-Za-z_]\w*)
     | (?P<str>"(?:[^"\\]|\\.)*")
     | (?P<chr>'(?:[^'\\]|\\.)+')
-    | (?P<punct>[(),=;+-])
+    | (?P<punct>[(),=;+\[\]-])
     )""",
     re.VERBOSE,
 )
@@ -72,7 +73,9 @@ def _unescape(body: str) -> bytes:
             i += 2 + len(m.group())
         elif nxt in "01234567":
             digits = re.match(r"[0-7]{1,3}", body[i + 1 :]).group()  # type: ignore[union-attr]
-            out.append(int(digits, 8) & 0xFF)
+            if int(digits, 8) > 0xFF:
+                raise RequestError(f"octal escape '\\{digits}' is out of range (at most \\377)")
+            out.append(int(digits, 8))
             i += 1 + len(digits)
         elif nxt in _ESCAPES:
             out.append(_ESCAPES[nxt])
@@ -107,6 +110,13 @@ def parse_request(line: str) -> Request:
     kind, name = toks[0]
     if kind != "name":
         raise RequestError("a request starts with a function or variable name")
+    if len(toks) > 1 and toks[1] == ("punct", "["):
+        toks = [("name", _element(name, toks))] + toks[4:]
+        name = toks[0][1]
+        if len(toks) > 1 and toks[1] == ("punct", "("):
+            raise RequestError(
+                f"'{name}' is an array element: it can be read or written, not called"
+            )
     if len(toks) == 1:
         return Request("read", name)
     if toks[1] == ("punct", "="):
@@ -138,6 +148,16 @@ def parse_request(line: str) -> Request:
     if i != len(toks):
         raise RequestError(f"unexpected '{toks[i][1]}' after the call of '{name}'")
     return Request("call", name, tuple(args))
+
+
+def _element(name: str, toks: list[tuple[str, str]]) -> str:
+    """`name[k]` of the tokens `NAME [ INTEGER ]` at the start of `toks`."""
+    if len(toks) < 4 or toks[3] != ("punct", "]"):
+        raise RequestError(f"expected '{name}[INDEX]' with an integer index")
+    index, _ = _arg(toks, 2)
+    if not isinstance(index, int) or index < 0:
+        raise RequestError(f"expected '{name}[INDEX]' with an integer index >= 0")
+    return f"{name}[{index}]"
 
 
 def _arg(toks: list[tuple[str, str]], i: int) -> tuple[object, int]:

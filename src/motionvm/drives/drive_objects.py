@@ -40,7 +40,12 @@ DEFAULT_TX = ((0x603F, 0), (0x6041, 0), (0x6061, 0), (0x6064, 0), (0x606C, 0), (
               (0x60F4, 0), (0x60B9, 0), (0x60BA, 0), (0x60BC, 0), (0x60FD, 0))  # fmt: skip
 REQUIRED = {"rxpdo": ((0x6040, 0), (0x607A, 0)), "txpdo": ((0x6041, 0), (0x6064, 0))}
 
-_ENTRY = re.compile(r"\s*(0[xX][0-9a-fA-F]+|\d+)\s*(?::\s*(0[xX][0-9a-fA-F]+|\d+))?\s*")
+_ENTRY = re.compile(
+    r"\s*(0[xX][0-9a-fA-F]{1,16}|[0-9]{1,16})\s*(?::\s*(0[xX][0-9a-fA-F]{1,16}|[0-9]{1,16}))?\s*",
+    re.ASCII,
+)
+"""An entry string: index and optional subindex, each hex (0x) or decimal (leading zeros
+allowed, `"0x60FE:01"`); 16 digits at most, as no index or subindex needs more."""
 
 
 def _attr(drive, name: str, dtype: str, attr: str, writable: bool = False, check=None) -> Obj:
@@ -118,8 +123,13 @@ def _entries(config: dict, key: str, default) -> list[tuple[int, int]]:
                 f"drive: {key} = {raw!r}: entry {item!r} is not an object index "
                 '(0x607A) or "INDEX:SUBINDEX" ("0x60FE:1")'
             )
-        index, sub = int(m.group(1), 0), int(m.group(2) or "0", 0)
+        index, sub = _number(m.group(1)), _number(m.group(2) or "0")
         if index > 0xFFFF or sub > 0xFF:
             raise ValueError(f"drive: {key} = {raw!r}: entry {item!r} is out of range")
         out.append((index, sub))
     return out
+
+
+def _number(text: str) -> int:
+    """A matched entry number: hex with 0x, else decimal."""
+    return int(text[2:], 16) if text[:2].lower() == "0x" else int(text, 10)

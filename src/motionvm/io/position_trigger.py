@@ -28,7 +28,10 @@ Decisions where the manual is silent:
   move would (its velocity setting times its velocity scale); while the PT is armed a
   move that would reach it is refused with the same code (`Axis.move_vel_limit`).
 - The drive must have been homed (12.1): EnablePT on an axis that is not homed fails with
-  eERR_AXIS_CMD_INVALID_STATE. Bad arguments: eERR_AXIS_CMD_INVALID_PARAMETER.
+  eERR_AXIS_CMD_INVALID_STATE. Bad arguments: eERR_AXIS_CMD_INVALID_PARAMETER, as is an
+  equal-interval train whose count of positions overflows (start -1e308, end 1e308).
+- An equal-interval train is computed position by position as the axis reaches them,
+  so its length costs no memory.
 - Settings changed while the PT is armed apply at the next EnablePT.
 - `pt_count` counts every pulse since power-on; the output is active high.
 """
@@ -37,7 +40,7 @@ from __future__ import annotations
 
 import math
 from bisect import bisect_right
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Sequence
 
 from motionvm.motion import axis_status as st
 from motionvm.motion.axis_status import AxisCommandError
@@ -72,7 +75,7 @@ class PositionTrigger:
         """Pulses output since power-on."""
         self.pulses: list[tuple[float, float]] = []
         """(sim_time [s], position [mm or deg]) of every pulse output."""
-        self._points: list[tuple[float, bool]] = []
+        self._points: Sequence[tuple[float, bool]] = []
         self._next = 0
         self._direction = 0
         self._x = 0.0
@@ -126,15 +129,20 @@ class PositionTrigger:
 
     # ---- the train ------------------------------------------------------------------
 
-    def train(self) -> list[tuple[float, bool]]:
+    def train(self) -> Sequence[tuple[float, bool]]:
         """The positions of the configured mode, in order, with their output flag."""
         if self.mode == INTERVAL:
             if self.interval <= 0.0:
                 raise self._bad("PT interval not set")
             span = self.end_pos - self.start_pos
-            n = math.floor(abs(span) / self.interval * (1 + 1e-12)) + 1
-            step = math.copysign(self.interval, span)
-            return [(self.start_pos + k * step, True) for k in range(n)]
+            count = abs(span) / self.interval * (1 + 1e-12)
+            if not math.isfinite(count):  # start -1e308, end 1e308
+                raise self._bad(
+                    f"PT from {self.start_pos:g} to {self.end_pos:g} every {self.interval:g}: "
+                    "more positions than any count"
+                )
+            n = math.floor(count) + 1
+            return _Interval(self.start_pos, math.copysign(self.interval, span), n)
         a, b = self.start_index, self.end_index
         order = range(a, b + 1) if b >= a else range(a, b - 1, -1)
         out = [(self.positions[i], bool(self.states[i // 32] >> (i % 32) & 1)) for i in order]
@@ -143,12 +151,14 @@ class PositionTrigger:
             raise self._bad(f"PT positions of indices {a}..{b} do not run strictly one way")
         return out
 
-    def velocity_limit(self, points: list[tuple[float, bool]]) -> float:
+    def velocity_limit(self, points: Sequence[tuple[float, bool]]) -> float:
         """The velocity the axis must stay below (12.1.1) [mm/s or deg/s]."""
-        gaps = [abs(q[0] - p[0]) for p, q in zip(points, points[1:])]
-        if self.mode == INTERVAL:
-            gaps.append(self.interval)
-        return min(gaps) * self.axis.drive.pt_sample_rate if gaps else math.inf
+        if isinstance(points, _Interval):
+            gap = self.interval
+        else:
+            gaps = [abs(q[0] - p[0]) for p, q in zip(points, points[1:])]
+            gap = min(gaps, default=math.inf)
+        return gap * self.axis.drive.pt_sample_rate
 
     def enable(self, cycle: int) -> None:
         """Arm the train; AxisCommandError (the manual's code) if it cannot run."""
@@ -171,9 +181,14 @@ class PositionTrigger:
         d = 0 if len(points) == 1 else (1 if points[-1][0] > points[0][0] else -1)
         # the drive compares encoder counts: a position within half a count is reached
         self._eps = eps = 0.5 / a.cpu
-        skip = 0
-        while skip < len(points) and d * (x - points[skip][0]) > eps:
-            skip += 1
+        # the first position not yet passed (positions run one way: a binary search)
+        skip, hi = 0, len(points)
+        while skip < hi:
+            mid = (skip + hi) // 2
+            if d * (x - points[mid][0]) > eps:
+                skip = mid + 1
+            else:
+                hi = mid
         self._points, self._next, self._direction = points, skip, d
         self._x, self._t = x, (cycle - 1) * self.dt
         self.enabled = True
@@ -251,6 +266,26 @@ class PositionTrigger:
                 continue
             out += [(t, 1), (t + width, 0)]
         return out
+
+
+class _Interval:
+    """The positions of an equal-interval train, computed as they are needed: a train
+    of a billion positions (start -1e9, end 1e9, interval 1 um) is armed at once and
+    takes no memory."""
+
+    __slots__ = ("n", "start", "step")
+
+    def __init__(self, start: float, step: float, n: int) -> None:
+        self.start, self.step, self.n = start, step, n
+
+    def __len__(self) -> int:
+        return self.n
+
+    def __getitem__(self, k: int) -> tuple[float, bool]:
+        i = k + self.n if k < 0 else k
+        if not 0 <= i < self.n:
+            raise IndexError(k)
+        return self.start + i * self.step, True
 
 
 class _Output:

@@ -154,7 +154,7 @@ def build(
 
     MapError names the first bad parameter: a base or interval that is not a finite
     number, an interval <= 0, fewer than 2 points in a dimension, a range beyond the
-    table, spline interpolation of a 3-D map.
+    table, a table value that is not a finite number, spline interpolation of a 3-D map.
     """
     dims = len(base)
     for d in range(dims):
@@ -172,6 +172,9 @@ def build(
     if alg_type == ALG_SPLINE and dims == 3:
         raise MapError("3-D compensation does not support spline interpolation")
     values = tuple(float(table[start_idx + i]) for i in range(count))
+    for i, v in enumerate(values):
+        if not math.isfinite(v):  # it would drive the axis to its compensation limit
+            raise MapError(f"User Table [{start_idx + i}] = {v!r} is not a number")
     return ErrorMap(
         tuple(float(b) for b in base),
         tuple(float(h) for h in interval),

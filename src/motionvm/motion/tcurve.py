@@ -86,12 +86,21 @@ class _Builder:
         self.v = v_f  # exact, so a following cruise starts at exactly v_f
 
 
+def _peak_sq(dist: float, u: float, a_max: float, d_max: float) -> float:
+    """The squared peak velocity of accelerating from `u` with a_max, then braking with
+    d_max to rest, over `dist`."""
+    v_sq = (2.0 * a_max * d_max * dist + d_max * u * u) / (a_max + d_max)
+    if not math.isfinite(v_sq):  # a_max * d_max overflowed: the same over a_max * d_max
+        v_sq = (2.0 * dist + u * u / a_max) / (1.0 / a_max + 1.0 / d_max)
+    return v_sq
+
+
 def rest_to_rest_time(distance: float, v_max: float, a_max: float, d_max: float) -> float:
     """Closed-form T-curve time [s] of a move of `distance` [mm] from rest to rest."""
     dist = abs(distance)
     if dist == 0.0:
         return 0.0
-    v_peak = math.sqrt(2.0 * a_max * d_max * dist / (a_max + d_max))
+    v_peak = math.sqrt(_peak_sq(dist, 0.0, a_max, d_max))
     if v_peak <= v_max:
         return v_peak / a_max + v_peak / d_max
     d_ramps = v_max * v_max / (2.0 * a_max) + v_max * v_max / (2.0 * d_max)
@@ -135,7 +144,7 @@ def _to_target(b: _Builder, p_f: float, v_max: float, a_max: float, d_max: float
         v_peak = v_max
         b.v = s * v_peak
     else:
-        v_peak = math.sqrt((2.0 * a_max * d_max * dist + d_max * u * u) / (a_max + d_max))
+        v_peak = math.sqrt(_peak_sq(dist, u, a_max, d_max))
         v_peak = max(min(v_peak, v_max), u)
         b.add((v_peak - u) / a_max, s * a_max)
         b.v = s * v_peak

@@ -23,6 +23,8 @@ from __future__ import annotations
 
 import collections
 import json
+import math
+import re
 from functools import lru_cache
 from importlib import resources
 
@@ -194,11 +196,11 @@ class HmplComm(PassiveClient):
         if isinstance(ptype, ct.IntT):
             if isinstance(value, (bytes, bytearray)):
                 raise RequestError(f"{what} is an integer ({ptype}), got a string")
-            return wrap_scalar(ptype.code, int(value))  # C converts a double by truncation
+            return wrap_scalar(ptype.code, _integer(value, f"{what} ({ptype})"))
         if isinstance(ptype, ct.FloatT):
             if isinstance(value, (bytes, bytearray)):
                 raise RequestError(f"{what} is a number ({ptype}), got a string")
-            return float(value)  # type: ignore[arg-type]
+            return _double(value, f"{what} ({ptype})")
         if isinstance(ptype, ct.PtrT) and isinstance(ptype.target, ct.IntT):
             if ptype.target.size == 1 and isinstance(value, (bytes, bytearray)):
                 return self._string(bytes(value))
@@ -238,10 +240,11 @@ class HmplComm(PassiveClient):
         if not all(isinstance(a, (int, float)) for a in args):
             raise RequestError(f"{name} takes numbers")
         try:
+            index = _integer(args[0], f"the I/O number of {name}")
             if len(args) == 2:
-                rt._gpo_set(int(args[0]), args[1])
+                rt._gpo_set(index, args[1])
                 return "OK"
-            return format_value((rt._gpi if name == "HIMC_GPI" else rt._gpo)(int(args[0])))
+            return format_value((rt._gpi if name == "HIMC_GPI" else rt._gpo)(index))
         except RuntimeFault as exc:
             raise RequestError(str(exc)) from None
 
@@ -251,6 +254,13 @@ class HmplComm(PassiveClient):
         """START_ASCII_AGENT(parser) from task `task_id`."""
         if not callable(parser):
             raise RuntimeFault("START_ASCII_AGENT: the argument is not a function")
+        code = getattr(parser, "__code__", None)
+        if code is not None and code.co_argcount != 2:
+            name = re.sub(r"^(g|t\d+)_", "", parser.__name__)  # the generated name's task prefix
+            raise RuntimeFault(
+                f"START_ASCII_AGENT: the parser takes (char *cmd, char *res); "
+                f"{name} takes {code.co_argcount} parameter{'s' if code.co_argcount != 1 else ''}"
+            )
         if self.parser is not None and self.parser is not parser:
             raise RuntimeFault(
                 "START_ASCII_AGENT: an ASCII agent is already running "
@@ -307,19 +317,38 @@ class HmplComm(PassiveClient):
         me = Task(self.parser_task, name="ascii agent")
         kernel.current = me
         try:
-            y = gen.send(None)
-        except (StopIteration, TaskExit):
-            self._current = None
-            reply.set_result(rt.mem.read_cstr(res, "res").decode("latin-1"))
+            try:
+                y = gen.send(None)
+            except (StopIteration, TaskExit):
+                self._current = None
+                # a `res` the parser left unterminated is its fault, as a task's would be
+                reply.set_result(rt.mem.read_cstr(res, "res").decode("latin-1"))
+            else:
+                self._wake = cycle + 1 if y is None else max(int(y), cycle + 1)
         except Exception as exc:  # noqa: BLE001 — the parser's fault, reported as a task's
             self._current = None
             self.parser = None
             rt._on_fault(me, exc)
             reply.set_result(f"ERR the ASCII agent stopped: {exc}")
-        else:
-            self._wake = cycle + 1 if y is None else max(int(y), cycle + 1)
         finally:
             kernel.current = None
+
+
+def _integer(value: object, what: str) -> int:
+    """A literal as an integer parameter takes it (C truncates a double); RequestError for
+    an infinity or NaN, which no integer holds."""
+    if isinstance(value, float) and not math.isfinite(value):
+        raise RequestError(f"{what} is an integer; it cannot take {value!r}")
+    return int(value)  # type: ignore[call-overload]
+
+
+def _double(value: object, what: str) -> float:
+    """A literal as a double parameter takes it; RequestError for an integer literal beyond
+    a double's range."""
+    try:
+        return float(value)  # type: ignore[arg-type]
+    except OverflowError:
+        raise RequestError(f"{what} is a double; the integer is out of its range") from None
 
 
 def _plain(fn, *args):

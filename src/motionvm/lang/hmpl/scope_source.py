@@ -90,13 +90,14 @@ class HmplSource:
         t, index = sym.type, m.group(2)  # type: ignore[union-attr]
         elem_t = t if index is None else t.elem
         kind = "i64" if elem_t.is_pointer else elem_t.code
+        stored = _converted(name, kind, value)
         if sym.storage == "pyglobal":
-            self.runtime.ns[sym.pyname] = wrap_scalar(kind, value)
+            self.runtime.ns[sym.pyname] = stored
         elif sym.storage == "pylist":
-            self.runtime.ns[sym.pyname][int(index)] = wrap_scalar(kind, value)
+            self.runtime.ns[sym.pyname][int(index)] = stored
         else:
             addr = sym.addr + int(index or 0) * elem_t.size
-            self.runtime.mem.store(addr, kind, value)
+            self.runtime.mem.store(addr, kind, stored)
         return True
 
     @staticmethod
@@ -111,3 +112,18 @@ class HmplSource:
                     yield base
                 else:
                     yield from (f"{base}[{i}]" for i in range(min(n or 1, _SUGGESTED_ELEMENTS)))
+
+
+def _converted(name: str, kind: str, value: float):
+    """`value` as a variable of `kind` holds it; ValueError for a value no assignment
+    can store (an infinity or NaN into an integer, an integer beyond a double's range)."""
+    try:
+        return wrap_scalar(kind, value)
+    except (OverflowError, ValueError):
+        what = "a double" if kind[0] == "f" else "an integer variable"
+        shown = (
+            f"an integer of {value.bit_length()} bits"
+            if isinstance(value, int) and value.bit_length() > 64
+            else repr(value)
+        )
+        raise ValueError(f"'{name}' is {what}: it cannot hold {shown}") from None

@@ -21,7 +21,14 @@ from __future__ import annotations
 
 import struct
 
-from motionvm.drives.dictionary import SIZES, ObjectDictionary, SdoAbort, decode, wrap
+from motionvm.drives.dictionary import (
+    SIZES,
+    STRING_MAX,
+    ObjectDictionary,
+    SdoAbort,
+    decode,
+    wrap,
+)
 from motionvm.motion import axis_status as st
 from motionvm.motion.commands.base import CommandBase
 from motionvm.motion.kernel import ECAT_OP, ECAT_PREOP
@@ -85,7 +92,11 @@ class ObjectCommands(CommandBase):
     def WriteSDO(
         self, slv_id: int, obj_index: int, obj_subindex: int, obj_length: int, obj_value: int
     ) -> int:
-        data = struct.pack("<q", wrap("i64", obj_value)) + bytes(max(0, obj_length - 8))
+        # zeros past the int64's 8 bytes, no more than any object holds: the dictionary
+        # refuses a length that is not its object's (obj_length 2**31 allocated 2 GB)
+        data = struct.pack("<q", wrap("i64", obj_value)) + bytes(
+            min(max(0, obj_length - 8), STRING_MAX)
+        )
         return self.WriteSDOEx(slv_id, obj_index, obj_subindex, obj_length, data)
 
     # ---- PDO --------------------------------------------------------------------------
