@@ -57,9 +57,12 @@ def _gc_held() -> Iterator[None]:
 
 
 def compile_tasks(
-    files: list[TaskFile], sink: DiagnosticSink, mem: Memory | None = None
+    files: list[TaskFile], sink: DiagnosticSink, mem: Memory | None = None, *, bytecode: bool = True
 ) -> tuple[CompiledProgram | None, Memory]:
-    """Compile every task file into one program; None (and errors in `sink`) on failure."""
+    """Compile every task file into one program; None (and errors in `sink`) on failure.
+
+    `bytecode` false (`motionvm check`) stops after the generated Python tree: every
+    diagnostic is found before it, so the program's `codes` stay empty."""
     mem = mem or new_memory()
     units: list[Unit] = []
     with _gc_held():
@@ -70,4 +73,4 @@ def compile_tasks(
         if sink.has_errors:
             return None, mem
         pc = ProgramCompiler(mem, sink, implemented_builtins())
-        return pc.compile(units), mem
+        return pc.compile(units, bytecode=bytecode), mem

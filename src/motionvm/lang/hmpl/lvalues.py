@@ -46,8 +46,6 @@ def name(id_: str, store: bool = False) -> ast.Name:
 
 
 def const(v) -> ast.expr:
-    if isinstance(v, int) and v < 0:
-        return ast.UnaryOp(op=ast.USub(), operand=ast.Constant(-v))
     return ast.Constant(v)
 
 

@@ -537,7 +537,7 @@ class ProgramCompiler:
 
     # ------------------------------------------------------------ lowering
 
-    def compile(self, units: list[Unit]) -> CompiledProgram | None:
+    def compile(self, units: list[Unit], bytecode: bool = True) -> CompiledProgram | None:
         self._pending_inits: dict[int, list] = {}
         try:
             self.analyse(units)
@@ -573,7 +573,8 @@ class ProgramCompiler:
         for fname, body in per_file.items():
             mod = ast.Module(body=body, type_ignores=[])
             modules.append((fname, mod))
-            codes.append((fname, compile(mod, fname, "exec")))
+            if bytecode:
+                codes.append((fname, compile(mod, fname, "exec")))
         globals_ = {k: v for k, v in self.global_scope.names.items() if isinstance(v, VarSym)}
         return CompiledProgram(self.tasks, modules, codes, self.sysvars, globals_)
 
