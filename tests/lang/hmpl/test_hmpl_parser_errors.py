@@ -213,11 +213,11 @@ def test_missing_file_returns_none(tmp_path):
 
 def test_deep_nesting_is_an_error_not_a_crash():
     for text in (
-        "int x = " + "(" * 3000 + "1" + ")" * 3000 + ";",
-        "void f() " + "{" * 3000 + "}" * 3000,
-        "void f() { x = " + "-" * 3000 + "1; }",
-        "void f() { " + "if (1) " * 3000 + "x; }",
-        "int a = " + "{" * 3000 + "1" + "}" * 3000 + ";",
+        "int x = " + "(" * 5000 + "1" + ")" * 5000 + ";",
+        "void f() " + "{" * 5000 + "}" * 5000,
+        "void f() { x = " + "- " * 5000 + "1; }",
+        "void f() { " + "if (1) " * 5000 + "x; }",
+        "int a = " + "{" * 5000 + "1" + "}" * 5000 + ";",
     ):
         errors = errors_of(text)
         assert any("nesting deeper than" in e for e in errors), errors[:3]

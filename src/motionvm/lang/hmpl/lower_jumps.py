@@ -87,6 +87,7 @@ class JumpLowering:
             elif not isinstance(it, n.Empty):
                 self.sink.warning(it.pos, "statement before the first case label is never executed")
         ctx = LoopCtx("switch", flag=flag)
+        self.nest(s.pos)
         self.loops.append(ctx)
         saved = self.scope
         self.scope = Scope(saved, "block")
@@ -128,6 +129,7 @@ class JumpLowering:
         finally:
             self.scope = saved
             self.loops.pop()
+            self.unnest()
         body.append(ast.Break())
         if uses_matched:
             out.append(ast.Assign(targets=[name(matched, True)], value=ast.Constant(False)))

@@ -39,6 +39,7 @@ class FunctionLowerer(ExprLowering, AccessLowering, LoopLowering, JumpLowering):
         self.addr_taken = addr_taken
         self.globals_stored: set[str] = set()
         self.loops: list[LoopCtx] = []
+        self.py_blocks = 0  # Python blocks of the enclosing loops and switches
         self.frame_size = 0
         self.frame_valid = bytearray()
         # bytes of the local arrays kept as Python lists: charged to the task's stack

@@ -19,7 +19,6 @@ are used (an `enum` type is 'int32_t'), so no enum reaches the later stages.
 from __future__ import annotations
 
 import dataclasses
-import sys
 from collections.abc import Callable
 from operator import attrgetter
 from typing import ClassVar
@@ -28,6 +27,7 @@ from motionvm.lang.hmpl import nodes as n
 from motionvm.lang.hmpl.lexer import gc_paused
 from motionvm.lang.hmpl.preprocess import preprocess
 from motionvm.lang.hmpl.tokens import BINARY_PREC, Token
+from motionvm.source.deep import run_deep
 from motionvm.source.diagnostics import DiagnosticSink, TooManyErrors
 from motionvm.source.files import SourceFile, SourcePos
 from motionvm.source.suggest import did_you_mean
@@ -50,7 +50,12 @@ INT32_MIN, INT32_MAX = -(1 << 31), (1 << 31) - 1
 ASSIGN_OPS = frozenset(["=", "+=", "-=", "*=", "/=", "%=", "<<=", ">>=", "&=", "|=", "^="])
 UNARY_OPS = frozenset(["-", "+", "!", "~", "*", "&"])
 POSTFIX_START = frozenset(["[", "(", ".", "->", "++", "--"])
-MAX_NESTING = 256
+MAX_NESTING = 2048
+"""Levels of nesting the parser follows: each block, statement, parenthesis, unary
+operator and initializer brace is one (so about 1,000 nested blocks)."""
+MAX_OPERATORS = 50_000
+"""Binary operators of one precedence level in a row (`a + b + ...`): each is a level of
+the tree the compiler walks."""
 _text = attrgetter("text")
 _kind = attrgetter("kind")
 
@@ -83,6 +88,10 @@ def _canonical_table() -> dict[tuple[str, ...], str]:
 CANONICAL = _canonical_table()
 
 
+class _TooDeep(Exception):
+    """A nest past MAX_NESTING: parsing of the file stops (the error is reported)."""
+
+
 class _Fail(Exception):
     """A syntax error was reported; unwind to the nearest recovery point."""
 
@@ -105,7 +114,7 @@ def parse_file(
 def parse(tokens: list[Token], sink: DiagnosticSink) -> n.TranslationUnit:
     """Parse preprocessed tokens (ending with 'eof'); errors go to `sink`."""
     with gc_paused():
-        return Parser(tokens, sink).run()
+        return run_deep(Parser(tokens, sink).run)
 
 
 def _end_of(t: Token) -> SourcePos:
@@ -139,18 +148,14 @@ class Parser:
         self.depth = 0
 
     def run(self) -> n.TranslationUnit:
-        old_limit = sys.getrecursionlimit()
-        sys.setrecursionlimit(max(old_limit, 20 * MAX_NESTING + 2000))
         try:
             self._parse_translation_unit()
-        except TooManyErrors:
+        except (TooManyErrors, _TooDeep):
             pass
         except RecursionError:  # pragma: no cover - MAX_NESTING keeps us well below
             self.sink.error(
                 self.toks[min(self.i, len(self.toks) - 1)].pos, "program nested too deeply"
             )
-        finally:
-            sys.setrecursionlimit(old_limit)
         return n.TranslationUnit(SourcePos(self.toks[-1].pos.file, 1, 1), tuple(self.items))
 
     # ------------------------------------------------------------ token helpers
@@ -207,7 +212,12 @@ class Parser:
     def _enter(self) -> None:
         self.depth += 1
         if self.depth > MAX_NESTING:
-            raise self._fail_here(f"nesting deeper than {MAX_NESTING} levels")
+            self._error(
+                self._tok().pos,
+                f"nesting deeper than {MAX_NESTING} levels (the limit of HMPL); the rest of"
+                " the file is not parsed",
+            )
+            raise _TooDeep  # no recovery inside such a nest: it would only add errors
 
     def _is_type_start(self, j: int) -> bool:
         k = self.keys[j]
@@ -1029,12 +1039,18 @@ class Parser:
             self.i = i + 1
         else:
             left = self._parse_cast_expression()
+        count = 0
         while True:
             op = keys[self.i]
             prec = BINARY_PREC.get(op)
             if prec is None or prec < min_prec:
                 return left
             t = self.toks[self.i]
+            count += 1
+            if count > MAX_OPERATORS:
+                raise self._fail_here(
+                    f"more than {MAX_OPERATORS} operators in a row (the limit of HMPL)"
+                )
             self.i += 1
             left = n.Binary(t.pos, op, left, self._parse_binary_expression(prec + 1))
 

@@ -27,6 +27,7 @@ from motionvm.lang.hmpl.lower_stmt import FunctionLowerer
 from motionvm.lang.hmpl.lower_util import at as _at
 from motionvm.lang.hmpl.lvalues import VIEW_NAMES, call, name, view_code
 from motionvm.lang.hmpl.symbols import FuncSym, Scope, VarSym, error_symbol
+from motionvm.source.deep import run_deep
 from motionvm.source.diagnostics import DiagnosticSink, TooManyErrors
 from motionvm.source.files import SourcePos
 from motionvm.source.suggest import did_you_mean
@@ -73,7 +74,7 @@ class CompiledProgram:
     def python_source(self) -> str:
         out = []
         for fname, mod in self.modules:
-            out.append(f"# ---- {fname}\n{ast.unparse(mod)}\n")
+            out.append(f"# ---- {fname}\n{run_deep(ast.unparse, mod)}\n")
         return "\n".join(out)
 
 
@@ -177,14 +178,18 @@ class ProgramCompiler:
     def define_struct(self, sd: n.StructDef, scope: Scope, task: int) -> ct.StructT:
         """The struct or union type; if it fails, its tag names the error type, so that
         later uses of the tag add no errors."""
+        st = ct.StructT(0, 1, sd.kind, sd.tag or f"<anonymous {sd.kind}>", ())
+        if sd.tag:
+            scope.tags[sd.tag] = st  # members may point to it
         try:
-            return self._define_struct(sd, scope, task)
+            self._define_struct(sd, st, scope, task)
         except SemanticError:
-            if sd.tag and sd.tag not in scope.tags:
+            if sd.tag and scope.tags.get(sd.tag) is st:
                 scope.tags[sd.tag] = ct.ERROR  # type: ignore[assignment]
             raise
+        return st
 
-    def _define_struct(self, sd: n.StructDef, scope: Scope, task: int) -> ct.StructT:
+    def _define_struct(self, sd: n.StructDef, st: ct.StructT, scope: Scope, task: int) -> None:
         fields = []
         off = size = 0
         align = 1
@@ -202,10 +207,7 @@ class ProgramCompiler:
                 off += ft.size
                 size = off
         size = (size + align - 1) // align * align
-        st = ct.StructT(size, align, sd.kind, sd.tag or f"<anonymous {sd.kind}>", tuple(fields))
-        if sd.tag:
-            scope.tags[sd.tag] = st
-        return st
+        st.complete(size, align, tuple(fields))
 
     def decl_type(self, d, scope: Scope, task: int) -> ct.CType:
         t = self.resolve_typeref(d.type, scope, task)
