@@ -408,7 +408,9 @@ class ExprLowering:
         assert isinstance(v.type, ct.IntT)
         if v.type.size == t.size:
             return v.node, v.exact and v.type.signed == t.signed
-        return self.exact(v), True  # a narrower exact value fits in t
+        # a narrower value fits in t, unless it is signed and t unsigned: a negative one
+        # converts to t modulo 2**bits, so the result still needs reducing to t
+        return self.exact(v), t.signed or not v.type.signed
 
     def _int_op(self, op: str, a: Val, b: Val, t: ct.IntT, pos) -> Val:
         if op in _RING_OPS:
