@@ -588,21 +588,27 @@ class Parser:
                 )
             name = self._advance()
             self._not_an_enumerator(name)
+            reported = False
             if self._accept("="):
                 e = self._parse_conditional_expression()
-                folded = _fold(e)
+                try:
+                    folded = _fold(e)
+                except _FoldError as exc:
+                    self._error(exc.pos, f"{exc} in the value of enumerator '{name.text}'")
+                    folded, reported = 0, True
                 if folded is None:
                     self._error(
                         e.pos, f"the value of enumerator '{name.text}' is not an integer constant"
                     )
-                    folded = value
+                    folded, reported = 0, True
                 value = folded
-            if not INT32_MIN <= value <= INT32_MAX:
+            if not reported and not INT32_MIN <= value <= INT32_MAX:
                 self._error(
                     name.pos,
                     f"enumerator value {value} of '{name.text}' is outside "
                     f"the range of int [{INT32_MIN}, {INT32_MAX}]",
                 )
+                value = 0  # one error, not one per following enumerator
             self.enumerators[name.text] = value
             value += 1
             if not self._accept(","):
@@ -1223,8 +1229,17 @@ def _designated_count(items: tuple) -> int | None:
     return count
 
 
+class _FoldError(Exception):
+    """A constant expression that has no value (division by zero, negative shift count)."""
+
+    def __init__(self, pos: SourcePos, message: str) -> None:
+        super().__init__(message)
+        self.pos = pos
+
+
 def _fold(e: n.Expr) -> int | None:
-    """The value of an integer constant expression (enumerator values), or None."""
+    """The exact value of an integer constant expression (enumerator values; the caller
+    checks the range), or None if it is not one; _FoldError if it has no value."""
     if isinstance(e, (n.IntLit, n.CharLit)):
         return e.value
     if isinstance(e, n.Cast) and e.type.pointers == 0 and e.type.base not in ("float", "double"):
@@ -1244,11 +1259,15 @@ def _fold(e: n.Expr) -> int | None:
         op = e.op
         if op in ("/", "%"):
             if b == 0:
-                return None
+                raise _FoldError(e.pos, "division by zero" if op == "/" else "modulo by zero")
             q = abs(a) // abs(b) * (1 if (a < 0) == (b < 0) else -1)
             return q if op == "/" else a - q * b
         if op in ("<<", ">>"):
-            return (a << b if op == "<<" else a >> b) if 0 <= b < 64 else None
+            if b < 0:
+                raise _FoldError(e.pos, f"negative shift count {b}")
+            if op == ">>":
+                return a >> b
+            return a << min(b, 64)  # past 64 bits it is out of every range anyway
         table = {
             "+": lambda: a + b,
             "-": lambda: a - b,
