@@ -566,7 +566,8 @@ class ProgramCompiler:
                             fn = lw.function(item, sym)
                         except SemanticError:
                             continue
-                        per_file.setdefault(item.pos.file, []).append(fn)
+                        if bytecode:  # `check` wants the diagnostics only: memory stays flat
+                            per_file.setdefault(item.pos.file, []).append(fn)
         except TooManyErrors:
             return None
         if self.sink.has_errors:
