@@ -99,6 +99,8 @@ class FunctionLowerer(ExprLowering, AccessLowering, LoopLowering, JumpLowering):
             raise self.fail(d.pos, f"redefinition of '{d.name}'")
         if isinstance(t, ct.VoidT):
             raise self.fail(d.pos, f"variable '{d.name}' declared void")
+        if d.is_static and self.func is not None:
+            return self._declare_static_local(d, t)
         if self.prog.list_backed(d, t):
             sym = VarSym(d.name, t, "pylist", d.pos, pyname=self.unique_local(d.name))
             if self.func is not None:
@@ -123,6 +125,23 @@ class FunctionLowerer(ExprLowering, AccessLowering, LoopLowering, JumpLowering):
         out = self.init_var(sym, d.init, d.pos, zero_default=not is_param)
         self.scope.names[d.name] = sym
         return out
+
+    def _declare_static_local(self, d: n.VarDecl, t: ct.CType) -> list[ast.stmt]:
+        """A `static` local: one object in static memory for the whole run, visible in its
+        block, given its constant initial value when the program is loaded (C: before the
+        program starts); it generates no statement where it is declared."""
+        mem = self.prog.mem
+        addr = mem.alloc_static(t.size, d.name, align=max(8, t.align))
+        sym = VarSym(d.name, t, "static", d.pos, addr=addr, is_const=d.type.is_const)
+        if d.init is not None:
+            image, stores = self.prog.aggregate_init(self, t, d.init, ast.Constant(addr), d.name)
+            if stores:
+                raise self.fail(
+                    d.init.pos, f"the initializer of static '{d.name}' must be a constant"
+                )
+            mem.buf[addr : addr + len(image)] = image
+        self.scope.names[d.name] = sym
+        return []
 
     def init_var(self, sym: VarSym, init, pos, zero_default: bool = True) -> list[ast.stmt]:
         """Statements giving a variable its initial value (0 when there is no initializer)."""

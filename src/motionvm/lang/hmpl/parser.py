@@ -461,12 +461,8 @@ class Parser:
                 self.i += 1
             elif k in STORAGE:
                 t = self._advance()
-                if scope == "block" and k == "static":
-                    self._error(
-                        t.pos,
-                        "'static' local variables are not supported in HMPL "
-                        "(use a task variable outside the function)",
-                    )
+                if scope in ("param", "field", "type") and k == "static":
+                    self._error(t.pos, "'static' is not allowed here")
                 elif scope in ("param", "block", "field", "type") and k == "extern":
                     self._error(t.pos, "'extern' is not allowed here")
                 storage = k
@@ -668,6 +664,7 @@ class Parser:
         pointers: int,
         name_tok: Token | None,
         dims: tuple[n.Expr | None, ...],
+        is_static: bool = False,
     ) -> n.VarDecl:
         assert name_tok is not None
         self._not_an_enumerator(name_tok)
@@ -682,6 +679,7 @@ class Parser:
             name_tok.text,
             _infer_first_dim(dims, init),
             init,
+            is_static,
         )
 
     # BNF: initializer = assignment_expression
@@ -763,7 +761,7 @@ class Parser:
         start = self._tok()
         if self.keys[self.i] == "typedef":
             raise self._fail_here("typedef is only allowed at file scope in HMPL")
-        spec, _ = self._parse_declaration_specifiers("block")
+        spec, storage = self._parse_declaration_specifiers("block")
         self.new_structs.clear()
         decls: list[n.VarDecl] = []
         if self.keys[self.i] != ";":
@@ -771,7 +769,11 @@ class Parser:
                 pointers, name_tok, dims = self._parse_declarator()
                 if self.keys[self.i] == "(":
                     raise self._fail_here("functions can only be declared at file scope")
-                decls.append(self._finish_var_decl(spec, pointers, name_tok, dims))
+                decls.append(
+                    self._finish_var_decl(
+                        spec, pointers, name_tok, dims, is_static=storage == "static"
+                    )
+                )
                 if not self._accept(","):
                     break
         self._expect(";", "after declaration")
