@@ -74,13 +74,7 @@ def errors_of(text: str) -> list[str]:
         ("int a[2] = {1, 2", "1:17: error: expected '}' at end of initializer list"),
         ("_AUTORUN_ int x;", "1:1: error: _AUTORUN_ must be followed by a function definition"),
         ("_AUTORUN_ void f();", "1:1: error: _AUTORUN_ must be followed by a function definition"),
-        (
-            "void f() { static int k; }",
-            (
-                "1:12: error: 'static' local variables are not "
-                "supported in HMPL (use a task variable outside the function)"
-            ),
-        ),
+        ("void f(static int a) {}", "1:8: error: 'static' is not allowed here"),
         ("void f(extern int a) {}", "1:8: error: 'extern' is not allowed here"),
         ("struct S { int a : 3; };", "1:18: error: bit-fields are not supported in HMPL"),
         ("struct S { int a = 3; };", "1:18: error: struct members cannot have initializers"),
