@@ -303,7 +303,7 @@ class LoopLowering:
         """Known bounds of a range-for counter's start value."""
         init = s.init
         e = None
-        if isinstance(init, n.DeclStmt):
+        if isinstance(init, n.DeclStmt) and isinstance(init.decls[0], n.VarDecl):
             e = init.decls[0].init
         elif isinstance(init, n.ExprStmt) and isinstance(init.expr, n.Assign):
             e = init.expr.value
@@ -322,7 +322,12 @@ class LoopLowering:
         init = s.init
         if isinstance(init, n.DeclStmt) and len(init.decls) == 1:
             d = init.decls[0]
-            if not d.dims and d.init is not None and not isinstance(d.init, n.InitList):
+            if (
+                isinstance(d, n.VarDecl)
+                and not d.dims
+                and d.init is not None
+                and not isinstance(d.init, n.InitList)
+            ):
                 return d.name
         if isinstance(init, n.ExprStmt) and isinstance(init.expr, n.Assign) and init.expr.op == "=":
             if isinstance(init.expr.target, n.Name):

@@ -99,6 +99,8 @@ class FunctionLowerer(ExprLowering, AccessLowering, LoopLowering, JumpLowering):
             raise self.fail(d.pos, f"redefinition of '{d.name}'")
         if isinstance(t, ct.VoidT):
             raise self.fail(d.pos, f"variable '{d.name}' declared void")
+        if not d.name:  # `struct S { ... };` in a block: the definition alone
+            return []
         if d.is_static and self.func is not None:
             return self._declare_static_local(d, t)
         if self.prog.list_backed(d, t):
@@ -268,6 +270,9 @@ class FunctionLowerer(ExprLowering, AccessLowering, LoopLowering, JumpLowering):
         out: list[ast.stmt] = []
         for d in s.decls:
             try:
+                if type(d) is n.Typedef:
+                    self._s_Typedef(d)
+                    continue
                 out.extend(at(self.declare_local(d), d.pos))
             except SemanticError:
                 pass
@@ -275,6 +280,23 @@ class FunctionLowerer(ExprLowering, AccessLowering, LoopLowering, JumpLowering):
 
     def _s_VarDecl(self, s: n.VarDecl) -> list[ast.stmt]:
         return self.declare_local(s)
+
+    def _s_Typedef(self, s: n.Typedef) -> list[ast.stmt]:
+        """A typedef inside a function: a type name of the current block."""
+        try:
+            t = self.prog.resolve_typeref(s.type, self.scope, self.task)
+            for dim in reversed(s.dims):
+                count = self.const_int(dim) if dim is not None else None
+                if count is not None and count <= 0:
+                    raise self.fail(
+                        dim.pos, f"size of array '{s.name}' must be positive (it is {count})"
+                    )
+                t = ct.array_of(t, count)
+        except SemanticError:
+            self.scope.types.setdefault(s.name, ct.ERROR)
+            raise
+        self.scope.types[s.name] = t
+        return []
 
     def _s_Empty(self, s) -> list[ast.stmt]:
         return []

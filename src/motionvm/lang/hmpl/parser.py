@@ -141,6 +141,7 @@ class Parser:
         self.i = 0
         self.sink = sink
         self.typedefs: set[str] = set(PREDEFINED_TYPES)
+        self.block_typedefs: list[str] = []  # names typedef'd in the open blocks
         # enum constants are replaced by their values as they are parsed
         self.enumerators: dict[str, int] = {}
         self.items: list = []
@@ -414,11 +415,26 @@ class Parser:
         pos = name_tok.pos if name_tok is not None else t.pos
         return n.Param(pos, _with_pointers(spec, pointers), name, dims)
 
+    def _block_typedef(self) -> n.DeclStmt:
+        """A typedef inside a function: its names are types until the block ends."""
+        kw = self._tok()
+        items = self.items
+        self.items = []  # the extra declarators go here, not to file scope
+        try:
+            last = self._parse_typedef_declaration(block=True)
+            tds = (*self.items, last)
+        finally:
+            self.items = items
+        return n.DeclStmt(kw.pos, tds)  # type: ignore[arg-type]
+
     # BNF: typedef_declaration = "typedef" declaration_specifiers declarator { "," declarator } ";"
-    def _parse_typedef_declaration(self) -> n.Typedef:
+    def _parse_typedef_declaration(self, block: bool = False) -> n.Typedef:
         kw = self._advance()
-        spec, _ = self._parse_declaration_specifiers("file")
-        self._flush_structs()
+        spec, _ = self._parse_declaration_specifiers("block" if block else "file")
+        if block:
+            self.new_structs.clear()
+        else:
+            self._flush_structs()
         result = None
         while True:
             pointers, name_tok, dims = self._parse_declarator()
@@ -426,6 +442,8 @@ class Parser:
             if name_tok.text in PREDEFINED_TYPES:
                 self._error(name_tok.pos, f"'{name_tok.text}' is a built-in type of HMPL")
             td = n.Typedef(kw.pos, name_tok.text, _with_pointers(spec, pointers), dims)
+            if block and name_tok.text not in self.typedefs:
+                self.block_typedefs.append(name_tok.text)
             self.typedefs.add(name_tok.text)
             if result is None:
                 result = td
@@ -510,8 +528,8 @@ class Parser:
             if not tag:
                 raise self._fail_here(f"expected a tag name or '{{' after '{kw.text}'")
             return f"{kw.text} {tag}", None
-        if scope != "file" and scope != "field":
-            self._error(kw.pos, f"{kw.text} definitions are only allowed at file scope in HMPL")
+        if scope not in ("file", "field", "block"):
+            self._error(kw.pos, f"{kw.text} definitions are only allowed in declarations in HMPL")
         fields = self._parse_struct_declaration_list()
         sd = n.StructDef(kw.pos, kw.text, tag, fields)
         if tag:
@@ -728,6 +746,15 @@ class Parser:
     # BNF: compound_statement = "{" { block_item } "}"
     def _parse_compound_statement(self) -> n.Block:
         lbrace = self._expect("{")
+        mark = len(self.block_typedefs)
+        try:
+            return self._compound_items(lbrace)
+        finally:
+            for name in self.block_typedefs[mark:]:
+                self.typedefs.discard(name)  # a block's typedef names end with it
+            del self.block_typedefs[mark:]
+
+    def _compound_items(self, lbrace: Token) -> n.Block:
         self._enter()
         items: list[n.Stmt] = []
         keys = self.keys
@@ -755,15 +782,18 @@ class Parser:
             return self._parse_declaration()
         return self._parse_statement()
 
-    # BNF: declaration = declaration_specifiers init_declarator { "," init_declarator } ";"
+    # BNF: declaration = typedef_declaration
+    # BNF:     | declaration_specifiers [ init_declarator { "," init_declarator } ] ";"
     # BNF: init_declarator = declarator [ "=" initializer ]
     def _parse_declaration(self) -> n.DeclStmt:
         start = self._tok()
         if self.keys[self.i] == "typedef":
-            raise self._fail_here("typedef is only allowed at file scope in HMPL")
+            return self._block_typedef()
         spec, storage = self._parse_declaration_specifiers("block")
-        self.new_structs.clear()
+        self.new_structs.clear()  # defined where the declaration is lowered, in its block
         decls: list[n.VarDecl] = []
+        if self.keys[self.i] == ";" and spec.struct_def is not None:
+            decls.append(n.VarDecl(start.pos, spec, ""))  # `struct S { ... };` alone
         if self.keys[self.i] != ";":
             while True:
                 pointers, name_tok, dims = self._parse_declarator()

@@ -92,6 +92,7 @@ class ProgramCompiler:
         self.task_scopes: dict[int, Scope] = {0: self.global_scope}
         self.tasks: dict[int, TaskInfo] = {}
         self._strings: dict[bytes, int] = {}
+        self._structs: dict[int, ct.StructT] = {}  # id(StructDef) -> its type
         self.sysvars: dict[str, VarSym] = {}
         self.addr_taken: set[str] = set()
         self._warned: set[tuple[SourcePos, str]] = set()
@@ -178,7 +179,13 @@ class ProgramCompiler:
     def define_struct(self, sd: n.StructDef, scope: Scope, task: int) -> ct.StructT:
         """The struct or union type; if it fails, its tag names the error type, so that
         later uses of the tag add no errors."""
+        st = self._structs.get(id(sd))
+        if st is not None:  # one type per definition, however often it is resolved
+            if sd.tag:
+                scope.tags[sd.tag] = st
+            return st
         st = ct.StructT(0, 1, sd.kind, sd.tag or f"<anonymous {sd.kind}>", ())
+        self._structs[id(sd)] = st
         if sd.tag:
             scope.tags[sd.tag] = st  # members may point to it
         try:
