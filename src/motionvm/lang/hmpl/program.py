@@ -405,7 +405,8 @@ class ProgramCompiler:
                     pass
         elif isinstance(item, n.VarDecl):
             if item.name in scope.names:
-                raise self._fail(item.pos, f"redefinition of '{item.name}'")
+                self._redeclare(item, scope, task)
+                return
             if item.type.struct_def is not None and not item.name:
                 self.define_struct(item.type.struct_def, scope, task)
                 return
@@ -439,6 +440,32 @@ class ProgramCompiler:
                 if item.name not in scope.names:
                     scope.names[item.name] = error_symbol(item.name, item.pos)
                 raise
+
+    def _redeclare(self, item: n.VarDecl, scope: Scope, task: int) -> None:
+        """A file-scope variable declared again (C's tentative definitions: `int x;` then
+        `int x = 3;`): the same type, at most one initializer; else a redefinition."""
+        old = scope.names[item.name]
+        pending = self._pending_inits.get(task, [])
+        k = next((i for i, (sym, _) in enumerate(pending) if sym is old), None)
+        if isinstance(old, VarSym) and k is not None:
+            try:
+                t = self.decl_type(item, scope, task)
+            except SemanticError:
+                return
+            first = pending[k][1]
+            if t == old.type and (item.init is None or first.init is None):
+                if item.init is not None:
+                    if old.storage == "pylist" and not constant_init(item.init):
+                        raise self._fail(
+                            item.pos, f"'{item.name}' needs a constant initializer here"
+                        )
+                    pending[k] = (old, item)
+                return
+            if t != old.type:
+                raise self._fail(
+                    item.pos, f"conflicting types for '{item.name}' (was '{old.type}')"
+                )
+        raise self._fail(item.pos, f"redefinition of '{item.name}'")
 
     def _declare_function(
         self, f: n.FuncDef, scope: Scope, task: int, prefix: str, info: TaskInfo
