@@ -113,7 +113,7 @@ def errors_of(text: str) -> list[str]:
                 "declarators are not supported in HMPL"
             ),
         ),
-        ("void f() { int g(int); }", "1:17: error: functions can only be declared at file scope"),
+        ("void f() { int g(int) }", "1:22: error: expected ';' after declaration"),
         ("void f() { x = (int[2])y; }", "1:16: error: cannot cast to an array type"),
         ("void f() { x = sizeof(int[]); }", "1:23: error: array size missing in a type name"),
         ("void f() { x = (int y)z; }", "1:21: error: unexpected name 'y' in a type name"),

@@ -328,11 +328,25 @@ class Parser:
         first = True
         while True:
             pointers, name_tok, dims = self._parse_declarator()
-            if first and self.keys[self.i] == "(":
-                self.items.append(
-                    self._parse_function_definition(spec, pointers, name_tok, autorun)
-                )
-                return
+            if self.keys[self.i] == "(":
+                assert name_tok is not None
+                if first:
+                    fd = self._parse_function_definition(spec, pointers, name_tok, autorun, True)
+                    self.items.append(fd)
+                    if fd.body is not None or not self._accept(","):
+                        if fd.body is None:
+                            self._expect(";", "after function declaration")
+                        return
+                else:  # `int f(int), g(int), a;`: one more prototype
+                    params = self._parse_parameter_list()
+                    ret = _with_pointers(spec, pointers)
+                    self.items.append(
+                        n.FuncDef(name_tok.pos, ret, name_tok.text, params, None, False)
+                    )
+                    if not self._accept(","):
+                        break
+                first = False
+                continue
             if autorun is not None:
                 self._error(autorun.pos, "_AUTORUN_ must be followed by a function definition")
                 autorun = None
@@ -370,14 +384,20 @@ class Parser:
 
     # BNF: function_definition = parameter_list ( compound_statement | ";" )
     def _parse_function_definition(
-        self, spec: n.TypeRef, pointers: int, name_tok: Token, autorun: Token | None
+        self,
+        spec: n.TypeRef,
+        pointers: int,
+        name_tok: Token,
+        autorun: Token | None,
+        more: bool = False,
     ) -> n.FuncDef:
         params = self._parse_parameter_list()
         ret = _with_pointers(spec, pointers)
         if self.keys[self.i] == "{":
             body = self._parse_compound_statement()
             return n.FuncDef(name_tok.pos, ret, name_tok.text, params, body, autorun is not None)
-        self._expect(";", "after function declaration")
+        if not more:  # else the caller reads `,` (more declarators) or `;`
+            self._expect(";", "after function declaration")
         if autorun is not None:
             self._error(autorun.pos, "_AUTORUN_ must be followed by a function definition")
         return n.FuncDef(name_tok.pos, ret, name_tok.text, params, None, False)
@@ -797,8 +817,16 @@ class Parser:
         if self.keys[self.i] != ";":
             while True:
                 pointers, name_tok, dims = self._parse_declarator()
-                if self.keys[self.i] == "(":
-                    raise self._fail_here("functions can only be declared at file scope")
+                if self.keys[self.i] == "(":  # a prototype: checked against the definition
+                    assert name_tok is not None
+                    params = self._parse_parameter_list()
+                    ret = _with_pointers(spec, pointers)
+                    self.items.append(
+                        n.FuncDef(name_tok.pos, ret, name_tok.text, params, None, False)
+                    )
+                    if not self._accept(","):
+                        break
+                    continue
                 decls.append(
                     self._finish_var_decl(
                         spec, pointers, name_tok, dims, is_static=storage == "static"
