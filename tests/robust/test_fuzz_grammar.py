@@ -10,6 +10,7 @@ import os
 import random
 import time
 
+import pytest
 from grammar_fuzz import GDL_SCENARIO, GdlGen, HmplGen, PdlGen, damage
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
@@ -42,6 +43,7 @@ def _source(gen, seed: int) -> str:
     return text
 
 
+@pytest.mark.filterwarnings("ignore:The recursion limit will not be reset")
 @PROFILE
 @given(seed=st.integers(0, 2**32 - 1))
 def test_hmpl_programs_never_crash(cli, seed):
@@ -51,6 +53,7 @@ def test_hmpl_programs_never_crash(cli, seed):
     _check(r, text, time.process_time() - t0)
 
 
+@pytest.mark.filterwarnings("ignore:The recursion limit will not be reset")
 @PROFILE
 @given(seed=st.integers(0, 2**32 - 1))
 def test_pdl_programs_never_crash(cli, seed):
@@ -60,6 +63,7 @@ def test_pdl_programs_never_crash(cli, seed):
     _check(r, text, time.process_time() - t0)
 
 
+@pytest.mark.filterwarnings("ignore:The recursion limit will not be reset")
 @PROFILE
 @given(seed=st.integers(0, 2**32 - 1))
 def test_gdl_programs_never_crash(cli, seed):
