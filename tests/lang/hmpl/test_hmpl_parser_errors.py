@@ -114,6 +114,10 @@ def errors_of(text: str) -> list[str]:
             ),
         ),
         ("void f() { int g(int) }", "1:22: error: expected ';' after declaration"),
+        (
+            "void f() { for (typedef int X; 0;) {} }",
+            "1:17: error: a for loop's first clause declares variables only",
+        ),
         ("void f() { x = (int[2])y; }", "1:16: error: cannot cast to an array type"),
         ("void f() { x = sizeof(int[]); }", "1:23: error: array size missing in a type name"),
         ("void f() { x = (int y)z; }", "1:21: error: unexpected name 'y' in a type name"),

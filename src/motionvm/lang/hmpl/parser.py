@@ -966,6 +966,8 @@ class Parser:
         cond = step = None
         try:
             if self._starts_declaration():
+                if self.keys[self.i] == "typedef":
+                    raise self._fail_here("a for loop's first clause declares variables only")
                 init = self._parse_declaration()
             elif not self._accept(";"):
                 t = self._tok()
