@@ -130,6 +130,14 @@ class StringLib(Library):
 
     def _put_str(self, func: str, dest: int, text: bytes, at: int = 0) -> None:
         """Write `text` + NUL at dest+at, or fault without writing if it does not fit."""
+        mem = self.mem
+        if 0 < dest < mem.size and mem.shadow[dest]:  # the common case, checked in place
+            end = dest + at + len(text)
+            if end < mem.shadow.find(0, dest):
+                buf = mem.buf
+                buf[dest + at : end] = text
+                buf[end] = 0
+                return
         if dest == 0:
             raise RuntimeFault(f"{func}: null destination pointer")
         room = self.mem.extent(dest)
