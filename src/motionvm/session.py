@@ -237,7 +237,7 @@ def compile_run(
         from motionvm.lang.hmpl.compiler import compile_tasks
 
         sink = DiagnosticSink()
-        prog, mem = compile_tasks(place_tasks(by_lang["HMPL"]), sink)
+        prog, mem = compile_tasks(place_tasks(by_lang["HMPL"]), sink, bytecode=place)
         _render(sink.items, report)
         failed += _failures(sink, spec.werror)
         out.hmpl = (prog, mem) if prog is not None else None

@@ -8,6 +8,7 @@ from motionvm.lang.gdl.check import check_app
 from motionvm.lang.gdl.lexer import tokenize
 from motionvm.lang.gdl.lower import lower_app
 from motionvm.lang.gdl.parser import parse_tokens
+from motionvm.source.deep import run_deep
 from motionvm.source.diagnostics import DiagnosticSink, TooManyErrors
 from motionvm.source.files import SourceFile, SourcePos
 
@@ -26,7 +27,12 @@ def compile_app(paths: list[str], *, sink: DiagnosticSink) -> App | None:
     """Compile several files as one application; None when any error was reported.
 
     Never raises for a user's mistake: every problem becomes a diagnostic in `sink`.
+    Runs with room for deep recursion (long expressions, deep nests: `run_deep`).
     """
+    return run_deep(_compile_app, paths, sink)
+
+
+def _compile_app(paths: list[str], sink: DiagnosticSink) -> App | None:
     try:
         files = [f for f in (parse_file(p, sink) for p in paths) if f is not None]
         if sink.has_errors:
@@ -38,4 +44,8 @@ def compile_app(paths: list[str], *, sink: DiagnosticSink) -> App | None:
             app.functions = lower_app(app)
         return app
     except TooManyErrors:
+        return None
+    except RecursionError:  # pragma: no cover - past 100,000 levels of nesting
+        if not sink.has_errors and paths:
+            sink.error(SourcePos(paths[0], 1, 1), "program nested too deeply for the compiler")
         return None

@@ -31,6 +31,7 @@ from collections.abc import Callable
 
 from motionvm.lang.gdl import nodes as n
 from motionvm.lang.gdl.app import App, ProcInfo
+from motionvm.source.deep import run_deep
 from motionvm.source.files import SourcePos
 
 RELATIONS: dict[str, type[ast.cmpop]] = {
@@ -56,8 +57,28 @@ def _at(node: ast.AST, pos: SourcePos) -> ast.AST:
     return node
 
 
+WHILES_PER_FUNCTION = 16
+"""WHILE loops nested in one Python function; a deeper one becomes a nested function
+(Python allows 20 nested blocks in a function, GDL has no such limit)."""
+
+
 class Lowerer:
-    """Builds the Python `ast` of the procedures of one file."""
+    """Builds the Python `ast` of the procedures of one file.
+
+    A WHILE nested deeper than WHILES_PER_FUNCTION in its Python function is lowered as
+
+        def _w3():                    # no locals: every value lives in `rt`
+            while <cond>:
+                ...                   # RETURN here: `return True`
+            return False
+        if _w3():
+            return                    # (`return True` inside another such function)
+    """
+
+    def __init__(self) -> None:
+        self.whiles = 0  # WHILE loops open in the current Python function
+        self.nested = 0  # nested functions open
+        self.count = 0
 
     def _rt_call(self, method: str, args: list[ast.expr], pos: SourcePos) -> ast.expr:
         func = _at(ast.Attribute(_at(ast.Name("rt", ast.Load()), pos), method, ast.Load()), pos)
@@ -99,9 +120,40 @@ class Lowerer:
             then = self._block(instr.then) or [_at(ast.Pass(), pos)]
             return _at(ast.If(self._expr(instr.cond), then, self._block(instr.orelse)), pos)  # type: ignore[return-value]
         if isinstance(instr, n.While):
-            body = [self._stmt(self._rt_call("loop", [], pos), pos), *self._block(instr.body)]
+            if self.whiles >= WHILES_PER_FUNCTION:
+                return self._while_function(instr)
+            self.whiles += 1
+            try:
+                body = [self._stmt(self._rt_call("loop", [], pos), pos), *self._block(instr.body)]
+            finally:
+                self.whiles -= 1
             return _at(ast.While(self._expr(instr.cond), body, []), pos)  # type: ignore[return-value]
-        return _at(ast.Return(None), pos)  # type: ignore[return-value]
+        return self._return(pos)
+
+    def _return(self, pos: SourcePos) -> ast.stmt:
+        value = _at(ast.Constant(True), pos) if self.nested else None
+        return _at(ast.Return(value), pos)  # type: ignore[return-value]
+
+    def _while_function(self, instr: n.While) -> ast.stmt:
+        """A WHILE as a nested function of its own (see the class docstring); the two
+        statements come back wrapped in an always-true `if`."""
+        pos = instr.pos
+        self.count += 1
+        fname = f"_w{self.count}"
+        saved = self.whiles
+        self.whiles, self.nested = 0, self.nested + 1
+        try:
+            loop = self._instr(instr)
+        finally:
+            self.whiles, self.nested = saved, self.nested - 1
+        args = ast.arguments(posonlyargs=[], args=[], kwonlyargs=[], kw_defaults=[], defaults=[])
+        done = _at(ast.Return(_at(ast.Constant(False), pos)), pos)
+        func = _at(
+            ast.FunctionDef(name=fname, args=args, body=[loop, done], decorator_list=[]), pos
+        )
+        test = _at(ast.Call(_at(ast.Name(fname, ast.Load()), pos), [], []), pos)
+        leave = _at(ast.If(test, [self._return(pos)], []), pos)
+        return _at(ast.If(_at(ast.Constant(True), pos), [func, leave], []), pos)  # type: ignore[return-value]
 
     def _target(self, ref: n.ObjectRef, keyword: str) -> list[ast.expr]:
         """obj key, keyword, subscript (an expression, or None: scalar or whole array)."""
@@ -164,5 +216,5 @@ def emit_python(app: App) -> str:
     """`ast.unparse` of the generated code, file by file (`--emit-python`)."""
     parts = []
     for path, procs in _by_file(app).items():
-        parts.append(f"# {path}\n{ast.unparse(lower_file(procs))}\n")
+        parts.append(f"# {path}\n{run_deep(lambda p=procs: ast.unparse(lower_file(p)))}\n")
     return "\n".join(parts)

@@ -32,8 +32,11 @@ def _spelling(annotation) -> str:
     return getattr(annotation, "__name__", None) or repr(annotation)
 
 
-def walk(node):
-    """Every AST node under `node` (inclusive), depth first."""
+def walk(node) -> list:
+    """Every AST node under `node` (inclusive), depth first (a list: cheaper than a
+    generator for the small trees it is used on)."""
+    out: list = []
+    add = out.append
     stack = [node]
     pop, push, extend = stack.pop, stack.append, stack.extend
     children = _CHILDREN
@@ -45,7 +48,7 @@ def walk(node):
             continue
         if x is None:
             continue
-        yield x
+        add(x)
         fields = children.get(t)
         if fields is None:
             fields = _children_of(t)
@@ -53,6 +56,7 @@ def walk(node):
             v = getattr(x, fname)
             if v is not None:
                 push(v)
+    return out
 
 
 @dataclass

@@ -37,6 +37,16 @@ SCALAR_FORMATS = {
     "f64": ("d", 8),
 }
 
+SHADOW_ONES = {1: 1, 2: 0x0101, 4: 0x01010101, 8: 0x0101010101010101}
+"""The shadow word of n valid bytes (valid bytes are 1 in the shadow map)."""
+SHADOW_SPAN = 1 << 24
+"""The shadow map covers at least addresses [0, SHADOW_SPAN) (bytes past the memory are
+never valid), so that an address passing ADDRESS_SIGN_MASK indexes it safely."""
+ADDRESS_SIGN_MASK = -SHADOW_SPAN
+"""`a & (ADDRESS_SIGN_MASK | n - 1) == 0`: 0 <= a < SHADOW_SPAN and a is a multiple of
+n (one test for the inline fast path of a pointer access; other addresses take the
+checked path)."""
+
 _F32 = struct.Struct("<f")
 
 
@@ -64,11 +74,15 @@ class Memory:
         size = _round_up(max(size, NULL_GUARD + ALIGN), ALIGN)
         self.size = size
         self.buf = bytearray(size)
-        self.shadow = bytearray(size)
+        self.shadow = bytearray(max(size, SHADOW_SPAN))
         mv = memoryview(self.buf)
         for kind, (fmt, _) in SCALAR_FORMATS.items():
             setattr(self, kind, mv.cast(fmt))
         self.u8 = mv  # plain byte view
+        # the shadow map seen 1, 2, 4 and 8 bytes at a time: an aligned scalar of n bytes
+        # at `a` is inside a live object iff shadow_views[n][a // n] == SHADOW_ONES[n]
+        smv = memoryview(self.shadow)
+        self.shadow_views = {n: smv.cast(f) for n, f in ((1, "B"), (2, "H"), (4, "I"), (8, "Q"))}
         self._static_top = NULL_GUARD
         self._static_limit = size
         self.names: dict[int, str] = {}
@@ -79,6 +93,8 @@ class Memory:
         taken elsewhere and still held keeps the buffer until it goes."""
         for kind in SCALAR_FORMATS:
             getattr(self, kind).release()
+        for view in self.shadow_views.values():
+            view.release()
         self.shadow.clear()
         try:
             self.buf.clear()

@@ -11,7 +11,9 @@ from motionvm.lang.hmpl.cmemory import Memory
 from motionvm.lang.hmpl.lib import implemented_builtins
 from motionvm.lang.hmpl.parser import parse_file
 from motionvm.lang.hmpl.program import CompiledProgram, ProgramCompiler, Unit
+from motionvm.source.deep import run_deep
 from motionvm.source.diagnostics import DiagnosticSink
+from motionvm.source.files import SourcePos
 
 # memory map sizes [bytes]
 STATIC_SIZE = 8 * 1024 * 1024
@@ -57,10 +59,30 @@ def _gc_held() -> Iterator[None]:
 
 
 def compile_tasks(
-    files: list[TaskFile], sink: DiagnosticSink, mem: Memory | None = None
+    files: list[TaskFile], sink: DiagnosticSink, mem: Memory | None = None, *, bytecode: bool = True
 ) -> tuple[CompiledProgram | None, Memory]:
-    """Compile every task file into one program; None (and errors in `sink`) on failure."""
+    """Compile every task file into one program; None (and errors in `sink`) on failure.
+
+    `bytecode` false (`motionvm check`) stops after the generated Python tree: every
+    diagnostic is found before it, so the program's `codes` stay empty."""
+    return run_deep(_compile_tasks, files, sink, mem, bytecode)
+
+
+def _compile_tasks(
+    files: list[TaskFile], sink: DiagnosticSink, mem: Memory | None, bytecode: bool
+) -> tuple[CompiledProgram | None, Memory]:
     mem = mem or new_memory()
+    try:
+        return _compile_units(files, sink, mem, bytecode)
+    except RecursionError:  # pragma: no cover - the parser's limits keep well below
+        if not sink.has_errors:
+            sink.error(SourcePos(files[0].path, 1, 1), "program nested too deeply for the compiler")
+        return None, mem
+
+
+def _compile_units(
+    files: list[TaskFile], sink: DiagnosticSink, mem: Memory, bytecode: bool
+) -> tuple[CompiledProgram | None, Memory]:
     units: list[Unit] = []
     with _gc_held():
         for f in files:
@@ -70,4 +92,4 @@ def compile_tasks(
         if sink.has_errors:
             return None, mem
         pc = ProgramCompiler(mem, sink, implemented_builtins())
-        return pc.compile(units), mem
+        return pc.compile(units, bytecode=bytecode), mem

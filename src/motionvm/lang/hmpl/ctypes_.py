@@ -105,13 +105,22 @@ class ArrayT(CType):
         return f"{self.elem}[{'' if self.n is None else self.n}]"
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, eq=False)
 class StructT(CType):
-    """A struct or union (Timer and Data_t are predefined ones)."""
+    """A struct or union (Timer and Data_t are predefined ones).
+
+    Each definition is its own type (compared by identity, as C does). While its members
+    are declared it is incomplete (size 0): a member may point to it (`struct N *next`),
+    then `complete` gives it its members, size and alignment."""
 
     kind: str = "struct"
     tag: str = ""
     fields: tuple[tuple[str, int, CType], ...] = ()  # (name, offset, type)
+
+    def complete(self, size: int, align: int, fields: tuple) -> None:
+        object.__setattr__(self, "size", size)
+        object.__setattr__(self, "align", align)
+        object.__setattr__(self, "fields", fields)
 
     def field(self, name: str) -> tuple[int, CType] | None:
         for n, off, t in self.fields:

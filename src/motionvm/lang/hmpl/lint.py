@@ -118,6 +118,9 @@ class _Unused:
                         break
 
     def declare(self, d: n.VarDecl) -> None:
+        if type(d) is n.Typedef:  # a type name, not a variable
+            self.uses(d.dims)
+            return
         self.uses((d.dims, d.init))
         if d.name and d.name not in self.scopes[-1]:  # a redefinition is an error already
             self.scopes[-1][d.name] = [d.pos, False]

@@ -58,6 +58,9 @@ class Val:
     loff: ast.expr | None = None  # ... and the flattened offset of this row
 
 
+_LE_LE = [ast.LtE(), ast.LtE()]  # operator objects are immutable and may be shared
+
+
 def wrap_node(node: ast.expr, t: ct.IntT) -> ast.expr:
     """Reduce a Python int to the range of `t`.
 
@@ -67,12 +70,10 @@ def wrap_node(node: ast.expr, t: ct.IntT) -> ast.expr:
     bits = t.bits
     if t.signed:
         lo, hi = -(1 << (bits - 1)), (1 << (bits - 1)) - 1
-        grab = ast.NamedExpr(target=ast.Name(id="_w", ctx=ast.Store()), value=node)
-        test = ast.Compare(
-            left=const(lo), ops=[ast.LtE(), ast.LtE()], comparators=[grab, ast.Constant(hi)]
-        )
-        slow = call("_wrapi", ast.Name(id="_w", ctx=ast.Load()), ast.Constant(bits))
-        return ast.IfExp(test=test, body=ast.Name(id="_w", ctx=ast.Load()), orelse=slow)
+        grab = ast.NamedExpr(target=name("_w", True), value=node)
+        test = ast.Compare(left=ast.Constant(lo), ops=_LE_LE, comparators=[grab, ast.Constant(hi)])
+        slow = call("_wrapi", name("_w"), ast.Constant(bits))
+        return ast.IfExp(test=test, body=name("_w"), orelse=slow)
     return ast.BinOp(left=node, op=ast.BitAnd(), right=ast.Constant((1 << bits) - 1))
 
 
@@ -407,7 +408,9 @@ class ExprLowering:
         assert isinstance(v.type, ct.IntT)
         if v.type.size == t.size:
             return v.node, v.exact and v.type.signed == t.signed
-        return self.exact(v), True  # a narrower exact value fits in t
+        # a narrower value fits in t, unless it is signed and t unsigned: a negative one
+        # converts to t modulo 2**bits, so the result still needs reducing to t
+        return self.exact(v), t.signed or not v.type.signed
 
     def _int_op(self, op: str, a: Val, b: Val, t: ct.IntT, pos) -> Val:
         if op in _RING_OPS:

@@ -55,7 +55,6 @@ class JumpLowering:
         sw, matched, flag = self.temp(), self.temp(), self.temp()
         out: list[ast.stmt] = [
             ast.Assign(targets=[name(sw, True)], value=self.convert(v, t, s.pos)),
-            ast.Assign(targets=[name(matched, True)], value=ast.Constant(False)),
         ]
         items = s.body.items if isinstance(s.body, n.Block) else (s.body,)
         for it in items:
@@ -88,13 +87,19 @@ class JumpLowering:
             elif not isinstance(it, n.Empty):
                 self.sink.warning(it.pos, "statement before the first case label is never executed")
         ctx = LoopCtx("switch", flag=flag)
+        self.nest(s.pos)
         self.loops.append(ctx)
         saved = self.scope
         self.scope = Scope(saved, "block")
         try:
             body: list[ast.stmt] = []
-            for labels, stmts in groups:
-                tests: list[ast.expr] = [name(matched)]
+            # `matched` carries a fall-through into the next group; a group after one that
+            # ends in a jump is entered only by its own labels
+            falls = [not _ends_in_jump(stmts) for _, stmts in groups]
+            uses_matched = any(falls[:-1])
+            for g, (labels, stmts) in enumerate(groups):
+                entered = g > 0 and falls[g - 1]
+                tests: list[ast.expr] = [name(matched)] if entered else []
                 for lab in labels:
                     if isinstance(lab, n.Default):
                         others = ast.Tuple(elts=[const(k) for k in values], ctx=ast.Load())
@@ -109,18 +114,25 @@ class JumpLowering:
                         tests.append(
                             ast.Compare(left=name(sw), ops=[ast.Eq()], comparators=[const(cv)])
                         )
-                inner = [ast.Assign(targets=[name(matched, True)], value=ast.Constant(True))]
-                inner += self.stmts(stmts)
-                body.extend(
-                    at(
-                        [ast.If(test=ast.BoolOp(op=ast.Or(), values=tests), body=inner, orelse=[])],
-                        labels[0].pos,
+                if not tests:
+                    continue  # its labels failed (reported)
+                inner: list[ast.stmt] = []
+                if falls[g] and g + 1 < len(groups):
+                    inner.append(
+                        ast.Assign(targets=[name(matched, True)], value=ast.Constant(True))
                     )
+                inner += self.stmts(stmts)
+                test = tests[0] if len(tests) == 1 else ast.BoolOp(op=ast.Or(), values=tests)
+                body.extend(
+                    at([ast.If(test=test, body=inner or [ast.Pass()], orelse=[])], labels[0].pos)
                 )
         finally:
             self.scope = saved
             self.loops.pop()
+            self.unnest()
         body.append(ast.Break())
+        if uses_matched:
+            out.append(ast.Assign(targets=[name(matched, True)], value=ast.Constant(False)))
         if ctx.flag_used:
             out.append(ast.Assign(targets=[name(flag, True)], value=ast.Constant(False)))
         out.append(ast.While(test=ast.Constant(True), body=body, orelse=[]))
@@ -258,3 +270,18 @@ def _copy_tree(node: ast.AST) -> ast.AST:
             v = [_copy_tree(x) if isinstance(x, ast.AST) else x for x in v]
         d[k] = v
     return new
+
+
+_JUMP_STMTS = (n.Break, n.Continue, n.Return, n.Goto)
+
+
+def _ends_in_jump(stmts) -> bool:
+    """The statements end in a break, continue, return or goto (never fall off the end)."""
+    while stmts:
+        last = stmts[-1]
+        if isinstance(last, _JUMP_STMTS):
+            return True
+        if not isinstance(last, n.Block):
+            return False
+        stmts = last.items
+    return False

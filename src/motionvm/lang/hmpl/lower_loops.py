@@ -23,7 +23,14 @@ from motionvm.lang.hmpl import ctypes_ as ct
 from motionvm.lang.hmpl import nodes as n
 from motionvm.lang.hmpl.analysis import walk
 from motionvm.lang.hmpl.lower_expr import SemanticError
-from motionvm.lang.hmpl.lower_util import CHUNK, LoopCtx, at, backedge, countdown_init
+from motionvm.lang.hmpl.lower_util import (
+    CHUNK,
+    MAX_LOOP_NESTING,
+    LoopCtx,
+    at,
+    backedge,
+    countdown_init,
+)
 from motionvm.lang.hmpl.lvalues import call, const, name
 from motionvm.lang.hmpl.symbols import Scope, VarSym
 
@@ -31,13 +38,33 @@ from motionvm.lang.hmpl.symbols import Scope, VarSym
 class LoopLowering:
     """Mixin of the function lowerer: loops."""
 
-    def _loop_body(self, body, cont: list[ast.stmt]) -> list[ast.stmt]:
+    def nest(self, pos, blocks: int = 1) -> None:
+        """Enter a loop or switch taking `blocks` Python blocks; past the limit of nested
+        loops and switches, a compile error at `pos`. Pair with `unnest`."""
+        if len(self.loops) >= MAX_LOOP_NESTING:
+            raise self.fail(
+                pos,
+                f"loops and switches nested more than {MAX_LOOP_NESTING} deep in one function"
+                " (the limit of HMPL); move the inner ones into a function",
+            )
+        self.py_blocks += blocks
+
+    def unnest(self, blocks: int = 1) -> None:
+        self.py_blocks -= blocks
+
+    def _room_for_chunks(self, body) -> bool:
+        """A counting loop may take two blocks if the deeper loops still find one each."""
+        return self.py_blocks + 2 + _loop_depth(body) <= MAX_LOOP_NESTING
+
+    def _loop_body(self, body, cont: list[ast.stmt], blocks: int = 1) -> list[ast.stmt]:
         self.has_yield = True  # every loop has a budgeted back-edge
+        self.nest(body.pos, blocks)
         self.loops.append(LoopCtx("loop", cont))
         try:
             return self.block(body)
         finally:
             self.loops.pop()
+            self.unnest(blocks)
 
     def _s_While(self, s: n.While) -> list[ast.stmt]:
         test = self.cond(s.cond)
@@ -165,7 +192,7 @@ class LoopLowering:
                 op=ast.Add() if inc == "var" or inc > 0 else ast.Sub(),
                 right=ast.Constant(1),
             )
-        chunked = not _breaks_out(s.body)
+        chunked = not _breaks_out(s.body) and self._room_for_chunks(s.body)
         b = self.temp()
         cont = [ast.Continue()] if chunked else backedge(b) + [ast.Continue()]
         start = self._start_range(s)
@@ -178,7 +205,9 @@ class LoopLowering:
         if known is not None:
             self.known_ranges[sym.pyname] = known  # lets indexing skip its bounds check
         try:
-            body = self._loop_body(s.body, cont) + ([] if chunked else backedge(b))
+            body = self._loop_body(s.body, cont, 2 if chunked else 1) + (
+                [] if chunked else backedge(b)
+            )
         finally:
             self.known_ranges.pop(sym.pyname, None)
         pre: list[ast.stmt] = []
@@ -274,7 +303,7 @@ class LoopLowering:
         """Known bounds of a range-for counter's start value."""
         init = s.init
         e = None
-        if isinstance(init, n.DeclStmt):
+        if isinstance(init, n.DeclStmt) and isinstance(init.decls[0], n.VarDecl):
             e = init.decls[0].init
         elif isinstance(init, n.ExprStmt) and isinstance(init.expr, n.Assign):
             e = init.expr.value
@@ -293,7 +322,12 @@ class LoopLowering:
         init = s.init
         if isinstance(init, n.DeclStmt) and len(init.decls) == 1:
             d = init.decls[0]
-            if not d.dims and d.init is not None and not isinstance(d.init, n.InitList):
+            if (
+                isinstance(d, n.VarDecl)
+                and not d.dims
+                and d.init is not None
+                and not isinstance(d.init, n.InitList)
+            ):
                 return d.name
         if isinstance(init, n.ExprStmt) and isinstance(init.expr, n.Assign) and init.expr.op == "=":
             if isinstance(init.expr.target, n.Name):
@@ -367,3 +401,26 @@ def _assigned_names(body) -> set[str]:
         ):
             out.add(x.operand.id)
     return out
+
+
+_NESTING = (n.While, n.DoWhile, n.For, n.Switch)
+
+
+def _loop_depth(stmt) -> int:
+    """How deep loops and switches nest inside a statement (0: none)."""
+    deepest = 0
+    stack = [(stmt, 0)]
+    while stack:
+        x, d = stack.pop()
+        t = type(x)
+        if t in _NESTING:
+            d += 1
+            deepest = max(deepest, d)
+            stack.append((x.body, d))
+        elif t is n.Block:
+            stack.extend((y, d) for y in x.items)
+        elif t is n.If:
+            stack.append((x.then, d))
+            if x.else_ is not None:
+                stack.append((x.else_, d))
+    return deepest

@@ -42,6 +42,7 @@ class FunctionLowerer(ExprLowering, AccessLowering, LoopLowering, JumpLowering):
         self.addr_taken = addr_taken
         self.globals_stored: set[str] = set()
         self.loops: list[LoopCtx] = []
+        self.py_blocks = 0  # Python blocks of the enclosing loops and switches
         self.frame_size = 0
         self.frame_valid = bytearray()
         # bytes of the local arrays kept as Python lists: charged to the task's stack
@@ -101,6 +102,10 @@ class FunctionLowerer(ExprLowering, AccessLowering, LoopLowering, JumpLowering):
             raise self.fail(d.pos, f"redefinition of '{d.name}'")
         if isinstance(t, ct.VoidT):
             raise self.fail(d.pos, f"variable '{d.name}' declared void")
+        if not d.name:  # `struct S { ... };` in a block: the definition alone
+            return []
+        if d.is_static and self.func is not None:
+            return self._declare_static_local(d, t)
         if self.prog.list_backed(d, t):
             sym = VarSym(d.name, t, "pylist", d.pos, pyname=self.unique_local(d.name))
             if self.func is not None:
@@ -125,6 +130,23 @@ class FunctionLowerer(ExprLowering, AccessLowering, LoopLowering, JumpLowering):
         out = self.init_var(sym, d.init, d.pos, zero_default=not is_param)
         self.scope.names[d.name] = sym
         return out
+
+    def _declare_static_local(self, d: n.VarDecl, t: ct.CType) -> list[ast.stmt]:
+        """A `static` local: one object in static memory for the whole run, visible in its
+        block, given its constant initial value when the program is loaded (C: before the
+        program starts); it generates no statement where it is declared."""
+        mem = self.prog.mem
+        addr = mem.alloc_static(t.size, d.name, align=max(8, t.align))
+        sym = VarSym(d.name, t, "static", d.pos, addr=addr, is_const=d.type.is_const)
+        if d.init is not None:
+            image, stores = self.prog.aggregate_init(self, t, d.init, ast.Constant(addr), d.name)
+            if stores:
+                raise self.fail(
+                    d.init.pos, f"the initializer of static '{d.name}' must be a constant"
+                )
+            mem.buf[addr : addr + len(image)] = image
+        self.scope.names[d.name] = sym
+        return []
 
     def init_var(self, sym: VarSym, init, pos, zero_default: bool = True) -> list[ast.stmt]:
         """Statements giving a variable its initial value (0 when there is no initializer)."""
@@ -251,6 +273,9 @@ class FunctionLowerer(ExprLowering, AccessLowering, LoopLowering, JumpLowering):
         out: list[ast.stmt] = []
         for d in s.decls:
             try:
+                if type(d) is n.Typedef:
+                    self._s_Typedef(d)
+                    continue
                 out.extend(at(self.declare_local(d), d.pos))
             except SemanticError:
                 pass
@@ -258,6 +283,23 @@ class FunctionLowerer(ExprLowering, AccessLowering, LoopLowering, JumpLowering):
 
     def _s_VarDecl(self, s: n.VarDecl) -> list[ast.stmt]:
         return self.declare_local(s)
+
+    def _s_Typedef(self, s: n.Typedef) -> list[ast.stmt]:
+        """A typedef inside a function: a type name of the current block."""
+        try:
+            t = self.prog.resolve_typeref(s.type, self.scope, self.task)
+            for dim in reversed(s.dims):
+                count = self.const_int(dim) if dim is not None else None
+                if count is not None and count <= 0:
+                    raise self.fail(
+                        dim.pos, f"size of array '{s.name}' must be positive (it is {count})"
+                    )
+                t = ct.array_of(t, count)
+        except SemanticError:
+            self.scope.types.setdefault(s.name, ct.ERROR)
+            raise
+        self.scope.types[s.name] = t
+        return []
 
     def _s_Empty(self, s) -> list[ast.stmt]:
         return []

@@ -17,6 +17,16 @@ class LoopCtx:
     flag_used: bool = False
 
 
+# Python allows 20 statically nested blocks (loops, try) in one function. A function
+# lowers with up to 3 of its own (the frame's try/finally, the goto dispatcher's loop and
+# try) and one more may come innermost (the wait loop of a `Till`); the rest hold the
+# user's loops and switches (one block each; a counting loop in chunks takes two while
+# there is room for them).
+PY_BLOCKS = 20
+MAX_LOOP_NESTING = PY_BLOCKS - 4
+"""Loops and switches nested in one function, at most (a documented HMPL limit)."""
+
+
 # A loop charges the task's budget in units of CHUNK back-edges, counting down a local
 # (much cheaper per iteration than a global); the kernel refills `_budget` each cycle.
 CHUNK = 64

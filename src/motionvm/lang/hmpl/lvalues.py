@@ -13,6 +13,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 from motionvm.lang.hmpl import ctypes_ as ct
+from motionvm.lang.hmpl.cmemory import ADDRESS_SIGN_MASK, SHADOW_ONES
 
 VIEW_NAMES = {
     "i8": "_I8",
@@ -45,8 +46,6 @@ def name(id_: str, store: bool = False) -> ast.Name:
 
 
 def const(v) -> ast.expr:
-    if isinstance(v, int) and v < 0:
-        return ast.UnaryOp(op=ast.USub(), operand=ast.Constant(-v))
     return ast.Constant(v)
 
 
@@ -150,26 +149,27 @@ class PtrLV(LValue):
         code = view_code(self.type)
         if not isinstance(self.address, ast.Name):
             return call("_ld_" + code, self.address)
-        # inline fast path: aligned and inside a live object -> one view read
+        # inline fast path: aligned and inside a live object (one shadow word) -> one view read
         a = self.address
         size = self.type.size
-        last = ast.BinOp(left=a, op=ast.Add(), right=ast.Constant(size - 1)) if size > 1 else a
-        checks = [ast.Compare(left=a, ops=[ast.Gt()], comparators=[ast.Constant(0)])]
-        if size > 1:
-            checks.append(
-                ast.UnaryOp(
-                    op=ast.Not(),
-                    operand=ast.BinOp(left=a, op=ast.BitAnd(), right=ast.Constant(size - 1)),
-                )
-            )
-        checks.append(ast.Subscript(value=name("_SH"), slice=a, ctx=_LOAD))
-        if size > 1:
-            checks.append(ast.Subscript(value=name("_SH"), slice=last, ctx=_LOAD))
         shift = size.bit_length() - 1
         idx = ast.BinOp(left=a, op=ast.RShift(), right=ast.Constant(shift)) if shift else a
+        sign_align = ast.UnaryOp(
+            op=ast.Not(),
+            operand=ast.BinOp(
+                left=a, op=ast.BitAnd(), right=ast.Constant(ADDRESS_SIGN_MASK | (size - 1))
+            ),
+        )
+        valid: ast.expr = ast.Subscript(value=name(f"_SH{8 * size}"), slice=idx, ctx=_LOAD)
+        if size > 1:
+            valid = ast.Compare(
+                left=valid, ops=[ast.Eq()], comparators=[ast.Constant(SHADOW_ONES[size])]
+            )
         fast = ast.Subscript(value=name(VIEW_NAMES[code]), slice=idx, ctx=_LOAD)
         return ast.IfExp(
-            test=ast.BoolOp(op=ast.And(), values=checks), body=fast, orelse=call("_ld_" + code, a)
+            test=ast.BoolOp(op=ast.And(), values=[sign_align, valid]),
+            body=fast,
+            orelse=call("_ld_" + code, a),
         )
 
     def store(self, value: ast.expr) -> list[ast.stmt]:

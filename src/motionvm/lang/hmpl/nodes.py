@@ -73,13 +73,15 @@ class Designated:
 
 @dataclass(frozen=True, slots=True)
 class VarDecl:
-    """One declared variable; `dims` holds one entry per `[...]`, None for `[]`."""
+    """One declared variable; `dims` holds one entry per `[...]`, None for `[]`.
+    `is_static`: a `static` local (one object for the whole run)."""
 
     pos: SourcePos
     type: TypeRef
     name: str
     dims: tuple[Expr | None, ...] = ()
     init: Expr | InitList | None = None
+    is_static: bool = False
 
 
 @dataclass(frozen=True, slots=True)

@@ -19,7 +19,6 @@ are used (an `enum` type is 'int32_t'), so no enum reaches the later stages.
 from __future__ import annotations
 
 import dataclasses
-import sys
 from collections.abc import Callable
 from operator import attrgetter
 from typing import ClassVar
@@ -28,6 +27,7 @@ from motionvm.lang.hmpl import nodes as n
 from motionvm.lang.hmpl.lexer import gc_paused
 from motionvm.lang.hmpl.preprocess import preprocess
 from motionvm.lang.hmpl.tokens import BINARY_PREC, Token
+from motionvm.source.deep import run_deep
 from motionvm.source.diagnostics import DiagnosticSink, TooManyErrors
 from motionvm.source.files import SourceFile, SourcePos
 from motionvm.source.suggest import did_you_mean
@@ -50,7 +50,12 @@ INT32_MIN, INT32_MAX = -(1 << 31), (1 << 31) - 1
 ASSIGN_OPS = frozenset(["=", "+=", "-=", "*=", "/=", "%=", "<<=", ">>=", "&=", "|=", "^="])
 UNARY_OPS = frozenset(["-", "+", "!", "~", "*", "&"])
 POSTFIX_START = frozenset(["[", "(", ".", "->", "++", "--"])
-MAX_NESTING = 256
+MAX_NESTING = 2048
+"""Levels of nesting the parser follows: each block, statement, parenthesis, unary
+operator and initializer brace is one (so about 1,000 nested blocks)."""
+MAX_OPERATORS = 50_000
+"""Binary operators of one precedence level in a row (`a + b + ...`): each is a level of
+the tree the compiler walks."""
 _text = attrgetter("text")
 _kind = attrgetter("kind")
 
@@ -83,6 +88,10 @@ def _canonical_table() -> dict[tuple[str, ...], str]:
 CANONICAL = _canonical_table()
 
 
+class _TooDeep(Exception):
+    """A nest past MAX_NESTING: parsing of the file stops (the error is reported)."""
+
+
 class _Fail(Exception):
     """A syntax error was reported; unwind to the nearest recovery point."""
 
@@ -105,7 +114,7 @@ def parse_file(
 def parse(tokens: list[Token], sink: DiagnosticSink) -> n.TranslationUnit:
     """Parse preprocessed tokens (ending with 'eof'); errors go to `sink`."""
     with gc_paused():
-        return Parser(tokens, sink).run()
+        return run_deep(Parser(tokens, sink).run)
 
 
 def _end_of(t: Token) -> SourcePos:
@@ -132,6 +141,7 @@ class Parser:
         self.i = 0
         self.sink = sink
         self.typedefs: set[str] = set(PREDEFINED_TYPES)
+        self.block_typedefs: list[str] = []  # names typedef'd in the open blocks
         # enum constants are replaced by their values as they are parsed
         self.enumerators: dict[str, int] = {}
         self.items: list = []
@@ -139,18 +149,14 @@ class Parser:
         self.depth = 0
 
     def run(self) -> n.TranslationUnit:
-        old_limit = sys.getrecursionlimit()
-        sys.setrecursionlimit(max(old_limit, 20 * MAX_NESTING + 2000))
         try:
             self._parse_translation_unit()
-        except TooManyErrors:
+        except (TooManyErrors, _TooDeep):
             pass
         except RecursionError:  # pragma: no cover - MAX_NESTING keeps us well below
             self.sink.error(
                 self.toks[min(self.i, len(self.toks) - 1)].pos, "program nested too deeply"
             )
-        finally:
-            sys.setrecursionlimit(old_limit)
         return n.TranslationUnit(SourcePos(self.toks[-1].pos.file, 1, 1), tuple(self.items))
 
     # ------------------------------------------------------------ token helpers
@@ -207,7 +213,12 @@ class Parser:
     def _enter(self) -> None:
         self.depth += 1
         if self.depth > MAX_NESTING:
-            raise self._fail_here(f"nesting deeper than {MAX_NESTING} levels")
+            self._error(
+                self._tok().pos,
+                f"nesting deeper than {MAX_NESTING} levels (the limit of HMPL); the rest of"
+                " the file is not parsed",
+            )
+            raise _TooDeep  # no recovery inside such a nest: it would only add errors
 
     def _is_type_start(self, j: int) -> bool:
         k = self.keys[j]
@@ -317,11 +328,25 @@ class Parser:
         first = True
         while True:
             pointers, name_tok, dims = self._parse_declarator()
-            if first and self.keys[self.i] == "(":
-                self.items.append(
-                    self._parse_function_definition(spec, pointers, name_tok, autorun)
-                )
-                return
+            if self.keys[self.i] == "(":
+                assert name_tok is not None
+                if first:
+                    fd = self._parse_function_definition(spec, pointers, name_tok, autorun, True)
+                    self.items.append(fd)
+                    if fd.body is not None or not self._accept(","):
+                        if fd.body is None:
+                            self._expect(";", "after function declaration")
+                        return
+                else:  # `int f(int), g(int), a;`: one more prototype
+                    params = self._parse_parameter_list()
+                    ret = _with_pointers(spec, pointers)
+                    self.items.append(
+                        n.FuncDef(name_tok.pos, ret, name_tok.text, params, None, False)
+                    )
+                    if not self._accept(","):
+                        break
+                first = False
+                continue
             if autorun is not None:
                 self._error(autorun.pos, "_AUTORUN_ must be followed by a function definition")
                 autorun = None
@@ -359,14 +384,20 @@ class Parser:
 
     # BNF: function_definition = parameter_list ( compound_statement | ";" )
     def _parse_function_definition(
-        self, spec: n.TypeRef, pointers: int, name_tok: Token, autorun: Token | None
+        self,
+        spec: n.TypeRef,
+        pointers: int,
+        name_tok: Token,
+        autorun: Token | None,
+        more: bool = False,
     ) -> n.FuncDef:
         params = self._parse_parameter_list()
         ret = _with_pointers(spec, pointers)
         if self.keys[self.i] == "{":
             body = self._parse_compound_statement()
             return n.FuncDef(name_tok.pos, ret, name_tok.text, params, body, autorun is not None)
-        self._expect(";", "after function declaration")
+        if not more:  # else the caller reads `,` (more declarators) or `;`
+            self._expect(";", "after function declaration")
         if autorun is not None:
             self._error(autorun.pos, "_AUTORUN_ must be followed by a function definition")
         return n.FuncDef(name_tok.pos, ret, name_tok.text, params, None, False)
@@ -404,11 +435,26 @@ class Parser:
         pos = name_tok.pos if name_tok is not None else t.pos
         return n.Param(pos, _with_pointers(spec, pointers), name, dims)
 
+    def _block_typedef(self) -> n.DeclStmt:
+        """A typedef inside a function: its names are types until the block ends."""
+        kw = self._tok()
+        items = self.items
+        self.items = []  # the extra declarators go here, not to file scope
+        try:
+            last = self._parse_typedef_declaration(block=True)
+            tds = (*self.items, last)
+        finally:
+            self.items = items
+        return n.DeclStmt(kw.pos, tds)  # type: ignore[arg-type]
+
     # BNF: typedef_declaration = "typedef" declaration_specifiers declarator { "," declarator } ";"
-    def _parse_typedef_declaration(self) -> n.Typedef:
+    def _parse_typedef_declaration(self, block: bool = False) -> n.Typedef:
         kw = self._advance()
-        spec, _ = self._parse_declaration_specifiers("file")
-        self._flush_structs()
+        spec, _ = self._parse_declaration_specifiers("block" if block else "file")
+        if block:
+            self.new_structs.clear()
+        else:
+            self._flush_structs()
         result = None
         while True:
             pointers, name_tok, dims = self._parse_declarator()
@@ -416,6 +462,8 @@ class Parser:
             if name_tok.text in PREDEFINED_TYPES:
                 self._error(name_tok.pos, f"'{name_tok.text}' is a built-in type of HMPL")
             td = n.Typedef(kw.pos, name_tok.text, _with_pointers(spec, pointers), dims)
+            if block and name_tok.text not in self.typedefs:
+                self.block_typedefs.append(name_tok.text)
             self.typedefs.add(name_tok.text)
             if result is None:
                 result = td
@@ -451,12 +499,8 @@ class Parser:
                 self.i += 1
             elif k in STORAGE:
                 t = self._advance()
-                if scope == "block" and k == "static":
-                    self._error(
-                        t.pos,
-                        "'static' local variables are not supported in HMPL "
-                        "(use a task variable outside the function)",
-                    )
+                if scope in ("param", "field", "type") and k == "static":
+                    self._error(t.pos, "'static' is not allowed here")
                 elif scope in ("param", "block", "field", "type") and k == "extern":
                     self._error(t.pos, "'extern' is not allowed here")
                 storage = k
@@ -504,8 +548,8 @@ class Parser:
             if not tag:
                 raise self._fail_here(f"expected a tag name or '{{' after '{kw.text}'")
             return f"{kw.text} {tag}", None
-        if scope != "file" and scope != "field":
-            self._error(kw.pos, f"{kw.text} definitions are only allowed at file scope in HMPL")
+        if scope not in ("file", "field", "block"):
+            self._error(kw.pos, f"{kw.text} definitions are only allowed in declarations in HMPL")
         fields = self._parse_struct_declaration_list()
         sd = n.StructDef(kw.pos, kw.text, tag, fields)
         if tag:
@@ -578,21 +622,27 @@ class Parser:
                 )
             name = self._advance()
             self._not_an_enumerator(name)
+            reported = False
             if self._accept("="):
                 e = self._parse_conditional_expression()
-                folded = _fold(e)
+                try:
+                    folded = _fold(e)
+                except _FoldError as exc:
+                    self._error(exc.pos, f"{exc} in the value of enumerator '{name.text}'")
+                    folded, reported = 0, True
                 if folded is None:
                     self._error(
                         e.pos, f"the value of enumerator '{name.text}' is not an integer constant"
                     )
-                    folded = value
+                    folded, reported = 0, True
                 value = folded
-            if not INT32_MIN <= value <= INT32_MAX:
+            if not reported and not INT32_MIN <= value <= INT32_MAX:
                 self._error(
                     name.pos,
                     f"enumerator value {value} of '{name.text}' is outside "
                     f"the range of int [{INT32_MIN}, {INT32_MAX}]",
                 )
+                value = 0  # one error, not one per following enumerator
             self.enumerators[name.text] = value
             value += 1
             if not self._accept(","):
@@ -652,6 +702,7 @@ class Parser:
         pointers: int,
         name_tok: Token | None,
         dims: tuple[n.Expr | None, ...],
+        is_static: bool = False,
     ) -> n.VarDecl:
         assert name_tok is not None
         self._not_an_enumerator(name_tok)
@@ -666,6 +717,7 @@ class Parser:
             name_tok.text,
             _infer_first_dim(dims, init),
             init,
+            is_static,
         )
 
     # BNF: initializer = assignment_expression
@@ -714,6 +766,15 @@ class Parser:
     # BNF: compound_statement = "{" { block_item } "}"
     def _parse_compound_statement(self) -> n.Block:
         lbrace = self._expect("{")
+        mark = len(self.block_typedefs)
+        try:
+            return self._compound_items(lbrace)
+        finally:
+            for name in self.block_typedefs[mark:]:
+                self.typedefs.discard(name)  # a block's typedef names end with it
+            del self.block_typedefs[mark:]
+
+    def _compound_items(self, lbrace: Token) -> n.Block:
         self._enter()
         items: list[n.Stmt] = []
         keys = self.keys
@@ -741,21 +802,36 @@ class Parser:
             return self._parse_declaration()
         return self._parse_statement()
 
-    # BNF: declaration = declaration_specifiers init_declarator { "," init_declarator } ";"
+    # BNF: declaration = typedef_declaration
+    # BNF:     | declaration_specifiers [ init_declarator { "," init_declarator } ] ";"
     # BNF: init_declarator = declarator [ "=" initializer ]
     def _parse_declaration(self) -> n.DeclStmt:
         start = self._tok()
         if self.keys[self.i] == "typedef":
-            raise self._fail_here("typedef is only allowed at file scope in HMPL")
-        spec, _ = self._parse_declaration_specifiers("block")
-        self.new_structs.clear()
+            return self._block_typedef()
+        spec, storage = self._parse_declaration_specifiers("block")
+        self.new_structs.clear()  # defined where the declaration is lowered, in its block
         decls: list[n.VarDecl] = []
+        if self.keys[self.i] == ";" and spec.struct_def is not None:
+            decls.append(n.VarDecl(start.pos, spec, ""))  # `struct S { ... };` alone
         if self.keys[self.i] != ";":
             while True:
                 pointers, name_tok, dims = self._parse_declarator()
-                if self.keys[self.i] == "(":
-                    raise self._fail_here("functions can only be declared at file scope")
-                decls.append(self._finish_var_decl(spec, pointers, name_tok, dims))
+                if self.keys[self.i] == "(":  # a prototype: checked against the definition
+                    assert name_tok is not None
+                    params = self._parse_parameter_list()
+                    ret = _with_pointers(spec, pointers)
+                    self.items.append(
+                        n.FuncDef(name_tok.pos, ret, name_tok.text, params, None, False)
+                    )
+                    if not self._accept(","):
+                        break
+                    continue
+                decls.append(
+                    self._finish_var_decl(
+                        spec, pointers, name_tok, dims, is_static=storage == "static"
+                    )
+                )
                 if not self._accept(","):
                     break
         self._expect(";", "after declaration")
@@ -890,6 +966,8 @@ class Parser:
         cond = step = None
         try:
             if self._starts_declaration():
+                if self.keys[self.i] == "typedef":
+                    raise self._fail_here("a for loop's first clause declares variables only")
                 init = self._parse_declaration()
             elif not self._accept(";"):
                 t = self._tok()
@@ -1029,12 +1107,18 @@ class Parser:
             self.i = i + 1
         else:
             left = self._parse_cast_expression()
+        count = 0
         while True:
             op = keys[self.i]
             prec = BINARY_PREC.get(op)
             if prec is None or prec < min_prec:
                 return left
             t = self.toks[self.i]
+            count += 1
+            if count > MAX_OPERATORS:
+                raise self._fail_here(
+                    f"more than {MAX_OPERATORS} operators in a row (the limit of HMPL)"
+                )
             self.i += 1
             left = n.Binary(t.pos, op, left, self._parse_binary_expression(prec + 1))
 
@@ -1207,8 +1291,17 @@ def _designated_count(items: tuple) -> int | None:
     return count
 
 
+class _FoldError(Exception):
+    """A constant expression that has no value (division by zero, negative shift count)."""
+
+    def __init__(self, pos: SourcePos, message: str) -> None:
+        super().__init__(message)
+        self.pos = pos
+
+
 def _fold(e: n.Expr) -> int | None:
-    """The value of an integer constant expression (enumerator values), or None."""
+    """The exact value of an integer constant expression (enumerator values; the caller
+    checks the range), or None if it is not one; _FoldError if it has no value."""
     if isinstance(e, (n.IntLit, n.CharLit)):
         return e.value
     if isinstance(e, n.Cast) and e.type.pointers == 0 and e.type.base not in ("float", "double"):
@@ -1228,11 +1321,15 @@ def _fold(e: n.Expr) -> int | None:
         op = e.op
         if op in ("/", "%"):
             if b == 0:
-                return None
+                raise _FoldError(e.pos, "division by zero" if op == "/" else "modulo by zero")
             q = abs(a) // abs(b) * (1 if (a < 0) == (b < 0) else -1)
             return q if op == "/" else a - q * b
         if op in ("<<", ">>"):
-            return (a << b if op == "<<" else a >> b) if 0 <= b < 64 else None
+            if b < 0:
+                raise _FoldError(e.pos, f"negative shift count {b}")
+            if op == ">>":
+                return a >> b
+            return a << min(b, 64)  # past 64 bits it is out of every range anyway
         table = {
             "+": lambda: a + b,
             "-": lambda: a - b,

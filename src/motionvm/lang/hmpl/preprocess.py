@@ -472,6 +472,8 @@ class Preprocessor:
                 return out
             if m.params is None:
                 body = self._subst(m, None, hs | {m.name}, t.pos, hs_map)
+                if not body and self._tokens_made > MAX_TOKENS:
+                    body = [_placeholder(t)]
                 _end_at(body, t, t, hs_map)
                 stack.extend(reversed(body))
                 continue
@@ -501,6 +503,8 @@ class Preprocessor:
             r_entry = hs_map.get(id(rparen))
             r_hs = r_entry[1] if r_entry is not None and r_entry[0] is rparen else _EMPTY
             body = self._subst(m, args, (hs & r_hs) | {m.name}, t.pos, hs_map)
+            if not body and self._tokens_made > MAX_TOKENS:
+                body = [_placeholder(t)]  # the use stays an operand: no follow-on errors
             _end_at(body, t, rparen, hs_map)
             stack.extend(reversed(body))
 
@@ -754,6 +758,11 @@ def _same_definition(a: Macro, b: Macro) -> bool:
 # ---------------------------------------------------------------- #if evaluation
 
 
+def _placeholder(use: Token) -> Token:
+    """`0` in place of a macro use whose expansion ran over the budget (reported)."""
+    return Token("int", "0", use.pos, 0)
+
+
 class _IfError(Exception):
     def __init__(self, pos: SourcePos, message: str) -> None:
         super().__init__(message)
@@ -835,8 +844,9 @@ class _IfEval:
             q = q if (a < 0) == (b < 0) else -q
             return q if op == "/" else a - q * b
         if op in ("<<", ">>"):
-            if b < 0 or b >= 64:
-                return 0
+            if b < 0:
+                raise _IfError(pos, f"negative shift count {b} in #if")
+            b %= 64  # as HMPL shifts at run time: the count modulo the width
             return a << b if op == "<<" else a >> b
         return {
             "||": lambda: int(bool(a or b)),

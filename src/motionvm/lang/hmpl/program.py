@@ -27,6 +27,7 @@ from motionvm.lang.hmpl.lower_stmt import FunctionLowerer
 from motionvm.lang.hmpl.lower_util import at as _at
 from motionvm.lang.hmpl.lvalues import VIEW_NAMES, call, name, view_code
 from motionvm.lang.hmpl.symbols import FuncSym, Scope, VarSym, error_symbol
+from motionvm.source.deep import run_deep
 from motionvm.source.diagnostics import DiagnosticSink, TooManyErrors
 from motionvm.source.files import SourcePos
 from motionvm.source.suggest import did_you_mean
@@ -73,7 +74,7 @@ class CompiledProgram:
     def python_source(self) -> str:
         out = []
         for fname, mod in self.modules:
-            out.append(f"# ---- {fname}\n{ast.unparse(mod)}\n")
+            out.append(f"# ---- {fname}\n{run_deep(ast.unparse, mod)}\n")
         return "\n".join(out)
 
 
@@ -91,6 +92,7 @@ class ProgramCompiler:
         self.task_scopes: dict[int, Scope] = {0: self.global_scope}
         self.tasks: dict[int, TaskInfo] = {}
         self._strings: dict[bytes, int] = {}
+        self._structs: dict[int, ct.StructT] = {}  # id(StructDef) -> its type
         self.sysvars: dict[str, VarSym] = {}
         self.addr_taken: set[str] = set()
         self._warned: set[tuple[SourcePos, str]] = set()
@@ -177,14 +179,24 @@ class ProgramCompiler:
     def define_struct(self, sd: n.StructDef, scope: Scope, task: int) -> ct.StructT:
         """The struct or union type; if it fails, its tag names the error type, so that
         later uses of the tag add no errors."""
+        st = self._structs.get(id(sd))
+        if st is not None:  # one type per definition, however often it is resolved
+            if sd.tag:
+                scope.tags[sd.tag] = st
+            return st
+        st = ct.StructT(0, 1, sd.kind, sd.tag or f"<anonymous {sd.kind}>", ())
+        self._structs[id(sd)] = st
+        if sd.tag:
+            scope.tags[sd.tag] = st  # members may point to it
         try:
-            return self._define_struct(sd, scope, task)
+            self._define_struct(sd, st, scope, task)
         except SemanticError:
-            if sd.tag and sd.tag not in scope.tags:
+            if sd.tag and scope.tags.get(sd.tag) is st:
                 scope.tags[sd.tag] = ct.ERROR  # type: ignore[assignment]
             raise
+        return st
 
-    def _define_struct(self, sd: n.StructDef, scope: Scope, task: int) -> ct.StructT:
+    def _define_struct(self, sd: n.StructDef, st: ct.StructT, scope: Scope, task: int) -> None:
         fields = []
         off = size = 0
         align = 1
@@ -202,10 +214,7 @@ class ProgramCompiler:
                 off += ft.size
                 size = off
         size = (size + align - 1) // align * align
-        st = ct.StructT(size, align, sd.kind, sd.tag or f"<anonymous {sd.kind}>", tuple(fields))
-        if sd.tag:
-            scope.tags[sd.tag] = st
-        return st
+        st.complete(size, align, tuple(fields))
 
     def decl_type(self, d, scope: Scope, task: int) -> ct.CType:
         t = self.resolve_typeref(d.type, scope, task)
@@ -396,7 +405,8 @@ class ProgramCompiler:
                     pass
         elif isinstance(item, n.VarDecl):
             if item.name in scope.names:
-                raise self._fail(item.pos, f"redefinition of '{item.name}'")
+                self._redeclare(item, scope, task)
+                return
             if item.type.struct_def is not None and not item.name:
                 self.define_struct(item.type.struct_def, scope, task)
                 return
@@ -430,6 +440,32 @@ class ProgramCompiler:
                 if item.name not in scope.names:
                     scope.names[item.name] = error_symbol(item.name, item.pos)
                 raise
+
+    def _redeclare(self, item: n.VarDecl, scope: Scope, task: int) -> None:
+        """A file-scope variable declared again (C's tentative definitions: `int x;` then
+        `int x = 3;`): the same type, at most one initializer; else a redefinition."""
+        old = scope.names[item.name]
+        pending = self._pending_inits.get(task, [])
+        k = next((i for i, (sym, _) in enumerate(pending) if sym is old), None)
+        if isinstance(old, VarSym) and k is not None:
+            try:
+                t = self.decl_type(item, scope, task)
+            except SemanticError:
+                return
+            first = pending[k][1]
+            if t == old.type and (item.init is None or first.init is None):
+                if item.init is not None:
+                    if old.storage == "pylist" and not constant_init(item.init):
+                        raise self._fail(
+                            item.pos, f"'{item.name}' needs a constant initializer here"
+                        )
+                    pending[k] = (old, item)
+                return
+            if t != old.type:
+                raise self._fail(
+                    item.pos, f"conflicting types for '{item.name}' (was '{old.type}')"
+                )
+        raise self._fail(item.pos, f"redefinition of '{item.name}'")
 
     def _declare_function(
         self, f: n.FuncDef, scope: Scope, task: int, prefix: str, info: TaskInfo
@@ -537,7 +573,7 @@ class ProgramCompiler:
 
     # ------------------------------------------------------------ lowering
 
-    def compile(self, units: list[Unit]) -> CompiledProgram | None:
+    def compile(self, units: list[Unit], bytecode: bool = True) -> CompiledProgram | None:
         self._pending_inits: dict[int, list] = {}
         try:
             self.analyse(units)
@@ -564,7 +600,8 @@ class ProgramCompiler:
                             fn = lw.function(item, sym)
                         except SemanticError:
                             continue
-                        per_file.setdefault(item.pos.file, []).append(fn)
+                        if bytecode:  # `check` wants the diagnostics only: memory stays flat
+                            per_file.setdefault(item.pos.file, []).append(fn)
         except TooManyErrors:
             return None
         if self.sink.has_errors:
@@ -573,7 +610,8 @@ class ProgramCompiler:
         for fname, body in per_file.items():
             mod = ast.Module(body=body, type_ignores=[])
             modules.append((fname, mod))
-            codes.append((fname, compile(mod, fname, "exec")))
+            if bytecode:
+                codes.append((fname, compile(mod, fname, "exec")))
         globals_ = {k: v for k, v in self.global_scope.names.items() if isinstance(v, VarSym)}
         return CompiledProgram(self.tasks, modules, codes, self.sysvars, globals_)
 

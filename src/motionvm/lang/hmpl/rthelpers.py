@@ -9,7 +9,14 @@ from __future__ import annotations
 
 import math
 
-from motionvm.lang.hmpl.cmemory import SCALAR_FORMATS, Memory, to_f32, wrap_scalar
+from motionvm.lang.hmpl.cmemory import (
+    ADDRESS_SIGN_MASK,
+    SCALAR_FORMATS,
+    SHADOW_ONES,
+    Memory,
+    to_f32,
+    wrap_scalar,
+)
 from motionvm.lang.hmpl.lvalues import VIEW_NAMES
 from motionvm.runtime.errors import RuntimeFault
 
@@ -130,17 +137,20 @@ def make_helpers(mem: Memory) -> dict[str, object]:
         ns[vname] = getattr(mem, code)
     sh = mem.shadow
     ns["_SH"] = sh
+    for n, view in mem.shadow_views.items():
+        ns[f"_SH{8 * n}"] = view
 
     def make_access(code: str):
         view = getattr(mem, code)
         size = SCALAR_FORMATS[code][1]
-        last = size - 1
         shift = size.bit_length() - 1
-        amask = size - 1
+        mask = ADDRESS_SIGN_MASK | (size - 1)
+        shv = mem.shadow_views[size]
+        ones = SHADOW_ONES[size]
 
         def load(a):
             try:
-                if a > 0 and not a & amask and sh[a] and sh[a + last]:
+                if not a & mask and shv[a >> shift] == ones:
                     return view[a >> shift]
             except (IndexError, TypeError):
                 pass
@@ -148,7 +158,7 @@ def make_helpers(mem: Memory) -> dict[str, object]:
 
         def store(a, v):
             try:
-                if a > 0 and not a & amask and sh[a] and sh[a + last]:
+                if not a & mask and shv[a >> shift] == ones:
                     view[a >> shift] = v
                     return view[a >> shift]
             except (IndexError, TypeError):

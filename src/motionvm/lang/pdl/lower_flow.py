@@ -44,6 +44,32 @@ def is_jumpy(s: object) -> bool:
     return False
 
 
+NATIVE_LOOP_DEPTH = 8
+"""Loops nested deeper than this are flattened into dispatcher segments like jumpy ones:
+Python allows only 20 nested blocks in a function, PDL 200 nested loops (manual §2.2.8)."""
+
+
+def _loop_depth(body) -> int:
+    """How deep `while` and `loop` statements nest in a statement list (0: none)."""
+    deepest = 0
+    stack = [(s, 0) for s in body]
+    while stack:
+        s, d = stack.pop()
+        if isinstance(s, (n.Loop, n.While)):
+            deepest = max(deepest, d + 1)
+            stack.extend((x, d + 1) for x in s.body)
+        elif isinstance(s, n.If):
+            stack.extend((x, d) for x in s.then_body)
+            stack.extend((x, d) for x in s.else_body or ())
+    return deepest
+
+
+def needs_flat(s: object) -> bool:
+    """True if a statement must be flattened into dispatcher segments: it holds a label
+    or a jump, or loops nested deeper than NATIVE_LOOP_DEPTH."""
+    return is_jumpy(s) or _loop_depth((s,)) > NATIVE_LOOP_DEPTH
+
+
 def check_budget(promo: Promotion | None = None) -> ast.stmt:
     """`if b <= 0: b = yield b`, saving and reloading promoted scalars around the yield."""
     test = ast.Compare(left=nm("b"), ops=[ast.LtE()], comparators=[const(0)])
@@ -58,7 +84,7 @@ class FlowLowering:
 
     def s_If(self: BodyLowerer, s: n.If, flat: bool) -> None:
         self.pending += 1
-        if not (flat and is_jumpy(s)):
+        if not (flat and needs_flat(s)):
             self.flush()
             then = self.native_block(s.then_body, 0, False)
             orelse = self.native_block(s.else_body, 0, False) if s.else_body else []
@@ -80,7 +106,7 @@ class FlowLowering:
             skip.value = self.new_segment()
 
     def s_While(self: BodyLowerer, s: n.While, flat: bool) -> None:
-        if not (flat and is_jumpy(s)):
+        if not (flat and needs_flat(s)):
             self.pending += 1
             self.flush()
             promo = self.begin_promotion(s)
@@ -109,7 +135,7 @@ class FlowLowering:
         times = ast.BoolOp(
             op=ast.Or(), values=[binop(count, ast.BitAnd(), const(0xFFFF)), const(65536)]
         )
-        if not (flat and is_jumpy(s)):
+        if not (flat and needs_flat(s)):
             self.flush()
             promo = self.begin_promotion(s)
             body = self.native_block(s.body, 1, False)

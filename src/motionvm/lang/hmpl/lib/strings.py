@@ -130,6 +130,14 @@ class StringLib(Library):
 
     def _put_str(self, func: str, dest: int, text: bytes, at: int = 0) -> None:
         """Write `text` + NUL at dest+at, or fault without writing if it does not fit."""
+        mem = self.mem
+        if 0 < dest < mem.size and mem.shadow[dest]:  # the common case, checked in place
+            end = dest + at + len(text)
+            if end < mem.shadow.find(0, dest):
+                buf = mem.buf
+                buf[dest + at : end] = text
+                buf[end] = 0
+                return
         if dest == 0:
             raise RuntimeFault(f"{func}: null destination pointer")
         room = self.mem.extent(dest)
@@ -145,6 +153,16 @@ class StringLib(Library):
 
     def _str(self, func: str, addr: int, what: str) -> bytes:
         return self.mem.read_cstr(addr, f"{func} {what}")
+
+    def _str_end(self, func: str, addr: int, what: str) -> int:
+        """The address of the NUL ending the string at `addr` (read_cstr's checks, no copy)."""
+        mem = self.mem
+        if 0 < addr < mem.size and mem.shadow[addr]:
+            end = mem.buf.find(0, addr, mem.shadow.find(0, addr))
+            if end >= 0:
+                return end
+        mem.read_cstr(addr, f"{func} {what}")  # raises the fault that says why
+        raise AssertionError("unreachable")  # pragma: no cover
 
     def _substring(self, func: str, source: int, start_pos: int, copy_len: int) -> bytes | None:
         src = self._str(func, source, "source")
@@ -209,7 +227,7 @@ class StringLib(Library):
 
     @builtin()
     def StringLen(self, str: int) -> int:
-        return len(self._str("StringLen", str, "string"))
+        return self._str_end("StringLen", str, "string") - str
 
     @builtin()
     def IsStringEqual(self, str1: int, str2: int) -> int:
@@ -254,9 +272,14 @@ class StringLib(Library):
 
     @builtin()
     def StringCat(self, destination: int, source: int) -> int:
-        src = self._str("StringCat", source, "source")
-        at = len(self._str("StringCat", destination, "destination"))
-        self._put_str("StringCat", destination, src, at)
+        src_end = self._str_end("StringCat", source, "source")
+        at = self._str_end("StringCat", destination, "destination") - destination
+        buf = self.mem.buf
+        n = src_end - source
+        if destination + at + n + 1 <= self.mem.shadow.find(0, destination):  # fits: copy
+            buf[destination + at : destination + at + n + 1] = buf[source : src_end + 1]
+            return 0
+        self._put_str("StringCat", destination, bytes(buf[source:src_end]), at)  # the fault
         return 0
 
     @builtin()
