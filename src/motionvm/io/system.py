@@ -6,7 +6,10 @@ sensors, AO bindings, the E-stop input; a cycle client of the controller.
 - `bus`, every slave (io/slaves.py): the axes' drives, then the I/O slaves; it tells
   the motion kernel how many I/O slaves follow the drives (`extra_slaves`), so that
   GetSlaveNum and GetSlvECATSt count them;
-- the wires and sensors (io/wiring.py).
+- the wires and sensors (io/wiring.py);
+- each I/O slave's CoE object dictionary (io/slave_objects.py), added to the motion
+  kernel's `slaves` after the drives' (ReadSDO ... ReleasePDO use the same slave ids);
+  `end_cycle` applies the forced PDO values after the cycle's writes.
 
 Each cycle (runtime/clients.py): `begin_cycle` delivers the wires' due changes and
 updates the sensors (the inputs are latched before the tasks run); `end_cycle` updates
@@ -33,6 +36,7 @@ from collections.abc import Callable
 from motionvm.io.analog import AXIS_SHIFT, AXIS_VARIABLES, value_of_word, word_of_raw, word_of_value
 from motionvm.io.config import DEFAULT_IO, Endpoint, IOConfig, parse_endpoint
 from motionvm.io.gpio import DigitalIO, call_estop_handlers
+from motionvm.io.slave_objects import build as build_slave_objects
 from motionvm.io.slaves import DRIVE, Module, Slave, SlaveBus
 from motionvm.io.wiring import Sensor, Wire, delay_cycles
 from motionvm.runtime.clients import PassiveClient
@@ -58,6 +62,8 @@ class IOSystem(PassiveClient):
             slaves.append(Slave(len(slaves), spec.kind, modules, spec.name))
         self.bus = SlaveBus(slaves)
         motion.extra_slaves = len(config.slaves)
+        self.slave_objects = self._attach_objects()
+        """The I/O slaves' object dictionaries (io/slave_objects.py), in bus order."""
         self._estop_handlers: list = []
         """Called with the input number after an E-stop input disabled the axes."""
         self.var_readers: list[Callable[[int], float | None]] = [self._axis_variable]
@@ -93,6 +99,9 @@ class IOSystem(PassiveClient):
     def end_cycle(self) -> None:
         for module, k in self.bound:
             self._update_binding(module, k)
+        for objects in self.slave_objects:
+            if objects.forced:  # ForceWritePDO wins over this cycle's writes
+                objects.apply_forced()
         if self.wires:
             cycle = self.motion_cycle()
             for w in self.wires:
@@ -132,6 +141,22 @@ class IOSystem(PassiveClient):
 
     clock = None
     """The controller's clock (`runtime.clock.Clock`), set by the controller."""
+
+    def _attach_objects(self) -> list:
+        """Give every slave its object dictionary: a drive its own, an I/O slave one of
+        io/slave_objects.py, registered after the drives so its SDO slave id is its
+        slave id."""
+        out = []
+        for slave in self.bus.slaves:
+            if slave.axis is not None:
+                slave.objects = self.motion.slaves.get(slave.slave_id)
+                continue
+            objects = build_slave_objects(slave)
+            if self.motion.slaves.add(objects) != slave.slave_id:
+                raise RuntimeError(f"slave {slave.slave_id}: its objects got another id")
+            slave.objects = objects
+            out.append(objects)
+        return out
 
     # ---- E-stop and faults ----------------------------------------------------------
 

@@ -4,7 +4,8 @@ Slaves are addressed by slave id (`MotionKernel.slaves`: the axes' drives are sl
 0..N-1, I/O modules follow). Every function returns -1 on failure, as the manual says;
 why it failed is stored as the system's last error (GetSystemLastErr): a bad slave id
 eERR_HMPL_ARG_OUT_OF_RANGE (0x138F), a bus not in Pre-Operational or above (SDO) or
-not in Operational (PDO) eERR_HMPL_NOT_IN_OP_MODE (0x14B4), an access the slave
+not in Operational (PDO), or a slave that left the bus (it is in Init),
+eERR_HMPL_NOT_IN_OP_MODE (0x14B4), an access the slave
 refuses its CiA 301 SDO abort code (0x06020000 no such object, 0x06090011 no such
 subindex, 0x06070010 length mismatch, 0x06010002 read-only, 0x06040041 not mapped,
 0x06090030 value refused).
@@ -45,7 +46,7 @@ class ObjectCommands(CommandBase):
         if d is None:
             motion.system_last_error = st.SYS_HMPL_ARG_OUT_OF_RANGE
             return None
-        if motion.ecat_state < state:
+        if motion.ecat_state < state or slv_id in motion.lost_slaves:  # a lost one is in Init
             motion.system_last_error = st.SYS_HMPL_NOT_IN_OP_MODE
             return None
         return d
