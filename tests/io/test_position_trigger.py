@@ -137,6 +137,17 @@ def test_non_monotonic_array_and_bad_arguments_are_refused():
     assert pt.EnablePT(99) == 0x138F and pt.IsPTEnabled(99) == 0
 
 
+def test_a_train_of_more_positions_than_a_length_holds_is_refused():
+    r = Rig()
+    r.ready()
+    pt = r.pt
+    pt.SetPT_StartPos(0, 0.0)
+    pt.SetPT_EndPos(0, 1e308)  # 1e308 positions 1 mm apart: finite, but no length holds it
+    pt.SetPT_Interval(0, 1.0)
+    assert pt.EnablePT(0) & 0xFFFFFFFF == 0x8300012C
+    assert pt.IsPTEnabled(0) == 0
+
+
 def test_pt_needs_a_homed_axis():
     r = Rig()
     pt = r.pt

@@ -95,6 +95,10 @@ def test_profile_defaults_and_ranges():
     assert c.SetGrpSMTime(0, 501) == grp_err(grp.CRD_INVALID_LIN_SM_TIME)
     assert c.SetGrpAccTime(0, 100) == 0 and c.GetGrpMaxAcc(0) == pytest.approx(2000.0)
     assert c.SetGrpDecTime(0, 400) == 0 and c.GetGrpMaxDec(0) == pytest.approx(500.0)
+    # a time whose acceleration is no number (5e-324 ms / 1000 is 0) is refused, not divided
+    assert c.SetGrpAccTime(0, 5e-324) == grp_err(grp.CRD_INVALID_LIN_ACC)
+    assert c.SetGrpDecTime(0, 1e-320) == grp_err(grp.CRD_INVALID_LIN_DEC)
+    assert (c.GetGrpMaxAcc(0), c.GetGrpMaxDec(0)) == pytest.approx((2000.0, 500.0))
     assert c.SetGrpAngMotionProfile(0, 7201, 1, 1, 0) == grp_err(grp.CRD_INVALID_ANG_VEL)
     assert c.SetGrpAngMotionProfile(0, 720, 7200, 7200, 0) == 0
 

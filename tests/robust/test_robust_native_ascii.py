@@ -79,6 +79,8 @@ def test_hostile_arguments_to_every_built_in_get_a_reply_not_an_internal_error(h
         ("g = " + "9" * 400, "ERR 'g' is a double: it cannot hold an integer of 1329 bits"),
         ("SetAxisVsf(0, " + "9" * 400 + ", 0.5)",
          "ERR argument 'frequency' of SetAxisVsf (double) is a double; the integer is out of its range"),
+        ("SetupGroup(0, 0, 1e999)", "ERR SetupGroup: axis id inf is not an integer"),
+        ("SetupGroup(0, 0, -1e999, 1)", "ERR SetupGroup: axis id -inf is not an integer"),
         ("f('\\400')", "ERR octal escape '\\400' is out of range (at most \\377)"),
         ('f("\\777")', "ERR octal escape '\\777' is out of range (at most \\377)"),
     ],

@@ -51,6 +51,9 @@ N_POSITIONS = 256
 N_STATE_WORDS = 8
 WIDTH_MIN_NS, WIDTH_MAX_NS, WIDTH_STEP_NS = 20, 80_000, 20
 INTERVAL, ARRAY = "interval", "array"
+MAX_TRAIN = 2.0**53
+"""Most positions of an equal-interval train: beyond it consecutive positions are no longer
+distinct doubles (start 0, end 1e308, interval 1 is refused like an infinite count)."""
 
 
 class PositionTrigger:
@@ -136,7 +139,7 @@ class PositionTrigger:
                 raise self._bad("PT interval not set")
             span = self.end_pos - self.start_pos
             count = abs(span) / self.interval * (1 + 1e-12)
-            if not math.isfinite(count):  # start -1e308, end 1e308
+            if not count < MAX_TRAIN:  # start -1e308, end 1e308; or NaN
                 raise self._bad(
                     f"PT from {self.start_pos:g} to {self.end_pos:g} every {self.interval:g}: "
                     "more positions than any count"

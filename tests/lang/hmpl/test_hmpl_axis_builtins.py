@@ -160,6 +160,19 @@ void main() {
     assert sim.messages[1] in ("2 1", "3 1")
 
 
+def test_rollover_turns_beyond_an_int_saturate():
+    # a rollover far below one count: 1 mm is more turns than a C int counts
+    sim = sim_of("""
+void main() {
+    SetPos(0, 1); SetPos(1, -1);
+    SetRollover(0, 1e-320); SetRollover(1, 1e-320);
+    Print("%d %d", GetRolloverTurns(0), GetRolloverTurns(1));
+}
+""")
+    sim.run()
+    assert sim.messages == ["2147483647 -2147483648"]
+
+
 def test_set_hmi_scope_sets_the_controller_flag():
     sim = sim_of("void main() { SetHMIScope(1); Sleep(10); SetHMIScope(0); }")
     sim.run(until=0.005)

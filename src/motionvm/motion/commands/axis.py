@@ -14,6 +14,7 @@ GetPosErr. Decisions where the manual is silent are in `motionvm.motion.axis`.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 
 from motionvm.motion import axis_status as st
@@ -22,6 +23,9 @@ from motionvm.motion.commands.touchprobe import NO_SPECIFIC_PDO
 from motionvm.motion.gantry import from_axes
 from motionvm.motion.kernel import ECAT_OP
 from motionvm.motion.pvt import MAX_POINTS
+
+_INT_MAX = 2**31 - 1
+"""The largest count a C int return holds."""
 
 _GANTRY_VIEW = frozenset({"pos_fb", "vel_fb", "ref_pos", "ref_vel", "ref_acc", "pos_err"})
 """Axis variables that a gantry pair's axes report in linear/yaw coordinates (manual 7.1)."""
@@ -243,7 +247,16 @@ class AxisCommands(CommandBase):
         return self._command(axis_id, "set_rollover", rollover_val)
 
     def GetRolloverTurns(self, axis_id: int) -> int:
-        return int(self._get(axis_id, "rollover_turns", 0))
+        """Whole turns of the feedback position; the controller counts them in a C int, so
+        a count beyond it (a rollover far below one encoder count, SetRollover(0, 1e-320))
+        saturates at INT_MIN / INT_MAX instead of failing."""
+        a = self._axis(axis_id)
+        if a is None or not a.rollover:
+            return 0
+        turns = a.pos_fb / a.rollover
+        if not math.isfinite(turns) or abs(turns) >= _INT_MAX:
+            return _INT_MAX if turns > 0 else -_INT_MAX - 1
+        return int(a.rollover_turns)
 
     def SetOpMode(self, axis_id: int, op_mode: int) -> int:
         """CSV (9) needs 0x60FF, CST (10) 0x6071 in the drive's RxPDO, else

@@ -16,6 +16,17 @@ from motionvm.motion.group import AxisGroup
 from motionvm.motion.group_coords import CS_ACS, CS_MCS, CoordSystems
 
 
+def _rate(vel: float, time_ms: float) -> float | None:
+    """The acceleration that reaches `vel` in `time_ms` [ms], or None when there is none: a
+    time that is not a positive finite number, or one so short (5e-324 ms) that the
+    acceleration is no finite number."""
+    if not (_finite(time_ms) and time_ms > 0.0):
+        return None
+    seconds = time_ms / 1000.0
+    rate = vel / seconds if seconds > 0.0 else float("inf")
+    return rate if _finite(rate) else None
+
+
 class GroupSettingsCommands(GroupCommandBase):
     """Chapter 8.3: SetGrpMotionProfile ... SetGrpQueueSize (membership: GroupCommands)."""
 
@@ -73,10 +84,11 @@ class GroupSettingsCommands(GroupCommandBase):
         g = self._group(group_id)
         if g is None:
             return st.SYS_HMPL_ARG_OUT_OF_RANGE
-        if not (_finite(acc_time) and acc_time > 0.0):
+        rate = _rate(g.lin.vel, acc_time)
+        if rate is None:
             return self._do(group_id, lambda g: self._check(False, grp.CRD_INVALID_LIN_ACC,
                                                             f"acceleration time {acc_time!r}"))  # fmt: skip
-        return self._set_profile(group_id, {1: g.lin.vel / (acc_time / 1000.0)}, linear=True)
+        return self._set_profile(group_id, {1: rate}, linear=True)
 
     def GetGrpMaxDec(self, group_id: int) -> float:
         return float(self._query(group_id, lambda g: g.lin.dec, 0.0))
@@ -88,10 +100,11 @@ class GroupSettingsCommands(GroupCommandBase):
         g = self._group(group_id)
         if g is None:
             return st.SYS_HMPL_ARG_OUT_OF_RANGE
-        if not (_finite(dec_time) and dec_time > 0.0):
+        rate = _rate(g.lin.vel, dec_time)
+        if rate is None:
             return self._do(group_id, lambda g: self._check(False, grp.CRD_INVALID_LIN_DEC,
                                                             f"deceleration time {dec_time!r}"))  # fmt: skip
-        return self._set_profile(group_id, {2: g.lin.vel / (dec_time / 1000.0)}, linear=True)
+        return self._set_profile(group_id, {2: rate}, linear=True)
 
     def GetGrpSMTime(self, group_id: int) -> float:
         return float(self._query(group_id, lambda g: g.lin.sm_ms, 0.0))

@@ -10,8 +10,22 @@ transition parameters of 4) and write the out arrays (6 doubles). A null `trans_
 
 from __future__ import annotations
 
+import math
+
 from motionvm.lang.hmpl.lib.base import Library, builtin, command
 from motionvm.runtime.errors import RuntimeFault
+
+
+def _axis_vararg(value: object) -> int:
+    """An axis id after the fixed ones: C passes it untyped, so a double (a finite one is
+    truncated as C converts it) or a pointer may arrive; an infinity or NaN is no id."""
+    if isinstance(value, float):
+        if not math.isfinite(value):
+            raise RuntimeFault(f"SetupGroup: axis id {value!r} is not an integer")
+        return int(value)
+    if not isinstance(value, int):
+        raise RuntimeFault(f"SetupGroup: axis id {value!r} is not an integer")
+    return value
 
 
 class GroupLib(Library):
@@ -55,7 +69,7 @@ class GroupLib(Library):
 
     @builtin()
     def SetupGroup(self, group_id: int, axis_id: int, *axis_ids) -> int:
-        ids = [axis_id, *(int(a) for a in axis_ids)]
+        ids = [axis_id, *(_axis_vararg(a) for a in axis_ids)]
         if len(ids) > 9:
             raise RuntimeFault(f"SetupGroup: {len(ids)} axes, a group takes at most 9")
         return self.rt.commands.SetupGroup(group_id, *ids)
