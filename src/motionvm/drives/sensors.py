@@ -79,7 +79,7 @@ class Sensors:
         # edge needs no new one: the switch band (an open interval of positions without
         # a limit or home edge) with its inputs, and the index interval (positions with
         # the same index number, see `_index_number`).
-        self._switch_low = self._switch_high = 0.0
+        self._switch_low, self._switch_high = math.inf, -math.inf  # none found yet
         self._switch_external = 0
         self._switch_inputs = 0
         self._index_low, self._index_high, self._index_n = math.inf, -math.inf, 0
@@ -162,7 +162,12 @@ class Sensors:
         """Advance one cycle from motor position x_0 to x_1 [counts]; return 0x60FD.
 
         Within the switch band of the last evaluation (same external inputs, no probe)
-        only the index pulse can change: it is found from the index numbers alone."""
+        only the index pulse can change: it is found from the index numbers alone. A
+        motor standing on an edge (an empty band at x_0 == x_1) changes nothing either."""
+        if x_1 == x_0 == self._switch_low == self._switch_high and not (
+            self.external != self._switch_external or self.tp_function or self.tp_status
+        ):
+            return self._switch_inputs  # what `_evaluate` would return, and leave as it is
         if not (self._switch_low < x_1 < self._switch_high
                 and self.external == self._switch_external
                 and not (self.tp_function or self.tp_status)):  # fmt: skip

@@ -133,3 +133,13 @@ def test_a_variable_the_host_writes_between_runs_is_seen(tmp_path):
         sim.run(until=0.5)
         outs.append(sim.messages)
     assert outs[0] == outs[1] == ["200 go"]
+
+
+def test_no_client_of_a_plain_program_keeps_moving_axes_from_jumping():
+    """A program without sensors, bound outputs, servers or armed triggers has only
+    clients that do not read moving axes: the controller may coast them."""
+    sim = Simulation.from_source(WAIT_PROGRAM, skip=True)
+    observing = [
+        type(c).__name__ for c in sim.controller.clients if getattr(c, "observes_motion", True)
+    ]
+    assert observing == []

@@ -71,6 +71,10 @@ def _stack(mem, size: int, name: str) -> TaskStack:
 class HmplComm(PassiveClient):
     """The program's Native ASCII table, variables and ASCII agent (module docstring)."""
 
+    observes_motion = False
+    """Its only hook runs the ASCII agent's parser, which `next_event` wakes at its cycles
+    (a line received, its Sleep ended), never in a cycle a jump passes."""
+
     def __init__(self, rt) -> None:
         self.rt = rt
         self.vars = HmplSource(rt)
