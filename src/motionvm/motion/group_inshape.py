@@ -16,7 +16,7 @@ velocity from the shaped poses in the same way).
 
 from __future__ import annotations
 
-from motionvm.motion.inshape import Shaper, ShaperState
+from motionvm.motion.inshape import Shaper, ShaperState, design
 
 
 class GroupShaper:
@@ -47,3 +47,17 @@ class GroupShaper:
         out = [s.step(p, (p - q) * inv, 0.0)[0] for s, p, q in zip(self._states, pose, self._last)]
         self._last = list(pose)
         return out
+
+
+def install(kernel, group_id: int) -> None:
+    """Put group `group_id`'s shaper on its planner from `kernel.group_inshape` (or
+    remove it when disabled); it starts at rest at the present commanded pose."""
+    g = kernel.groups.get(group_id)
+    if g is None:
+        return
+    s = kernel.group_inshape[group_id]
+    if not s.enabled:
+        g.planner.command_filter = None
+        return
+    shaper = design(s.frequency, s.damping, s.shaper_type, kernel.dt)
+    g.planner.command_filter = GroupShaper(shaper, kernel.dt, g.planner.out)

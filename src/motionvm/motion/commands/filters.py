@@ -28,9 +28,8 @@ import math
 
 from motionvm.motion import axis_status as st
 from motionvm.motion import group as grp
-from motionvm.motion import inshape
+from motionvm.motion import group_inshape, inshape
 from motionvm.motion.commands.base import CommandBase
-from motionvm.motion.group_inshape import GroupShaper
 
 GRP_INSHAPE_FREQUENCY = (3.0, 300.0)
 """[Hz] SetGrpInShape's frequency range (15.10)."""
@@ -90,16 +89,7 @@ class FilterCommands(CommandBase):
         return g is not None and g.moving
 
     def _apply_group_inshape(self, group_id: int) -> None:
-        """Install (or remove) the group planner's shaper from the group's settings."""
-        g = self.motion.groups.get(group_id)
-        if g is None:
-            return
-        s = self.motion.group_inshape[group_id]
-        if not s.enabled:
-            g.planner.command_filter = None
-            return
-        shaper = inshape.design(s.frequency, s.damping, s.shaper_type, self.motion.dt)
-        g.planner.command_filter = GroupShaper(shaper, self.motion.dt, g.planner.out)
+        group_inshape.install(self.motion, group_id)
 
     def _set_group_inshape(self, group_id: int, enabled: bool) -> int:
         s = self._group_inshape(group_id)
