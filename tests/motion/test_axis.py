@@ -337,6 +337,17 @@ def test_pvt_errors_use_the_manuals_codes():
     ("method", "value", "code"),
     [
         ("set_vel", 0.0, st.CMD_INVALID_VEL),
+        ("set_vel", 5e-324, st.CMD_INVALID_VEL),  # a move would never end
+        ("set_vel", 1e308, st.CMD_INVALID_VEL),  # the machine file caps it at 1e12
+        ("set_acc", 5e-324, st.CMD_INVALID_ACC),
+        ("set_acc", 1e13, st.CMD_INVALID_ACC),
+        ("set_dec", 1e308, st.CMD_INVALID_DEC),
+        ("set_dec", 1e-300, st.CMD_INVALID_DEC),
+        ("set_kill_dec", 1e308, st.CMD_INVALID_KILL_DEC),
+        ("set_kill_dec", 5e-324, st.CMD_INVALID_KILL_DEC),
+        ("set_acc_time", 5e-324, st.CMD_INVALID_ACC),  # ms / 1000 used to divide by 0
+        ("set_dec_time", 5e-324, st.CMD_INVALID_DEC),
+        ("set_acc_time", 1e308, st.CMD_INVALID_ACC),  # an acceleration below 1e-6
         ("set_acc", -1.0, st.CMD_INVALID_ACC),
         ("set_dec", math.nan, st.CMD_INVALID_DEC),
         ("set_acc_time", 0.0, st.CMD_INVALID_ACC),
@@ -355,6 +366,16 @@ def test_out_of_range_settings_are_refused(method, value, code):
     with pytest.raises(AxisCommandError) as exc:
         getattr(a, method)(value)
     assert exc.value.code == code
+
+
+def test_the_setters_take_the_machine_file_range_edges():
+    a = make()
+    a.set_vel(1e12)
+    a.set_vel(1e-6)
+    a.set_acc(1e-6)
+    a.set_dec(1e12)
+    a.set_kill_dec(1e12)
+    assert (a.pg.v_max, a.pg.a_max, a.pg.d_max, a.kill_dec) == (1e-6, 1e-6, 1e12, 1e12)
 
 
 def test_acc_time_sets_the_acceleration_from_the_maximum_velocity():

@@ -68,7 +68,7 @@ def test_axes_zero_is_a_machine_without_axes(tmp_path):
 @pytest.mark.parametrize(
     ("text", "place", "words"),
     [
-        ("[[axis]]\nmax_vel = 0\n", "2:1", ["max_vel = 0: must be in 0 < max_vel <= 1e+12"]),
+        ("[[axis]]\nmax_vel = 0\n", "2:1", ["max_vel = 0: must be in 1e-06 <= max_vel <= 1e+12"]),
         ('[[axis]]\n\n[[axis]]\ntype = "spiral"\n', "4:1", ["[[axis]] 1", "type"]),
         ("[[axis]]\nspeed = 3\n", "2:1", ["unknown key 'speed'"]),
         ("[[axis]]\nsw_left = 5.0\nsw_right = -5.0\n", "3:1", ["sw_right"]),

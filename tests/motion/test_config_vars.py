@@ -8,6 +8,7 @@ import math
 
 import pytest
 
+from motionvm.motion import inshape
 from motionvm.motion.axis_config import AxisConfig
 from motionvm.motion.commands import MotionCommands
 from motionvm.motion.config_vars import (
@@ -108,7 +109,53 @@ def test_families_are_extensible(cmds):
     assert cmds.GetConfigVar(0x82100104) == (-1, 0.0)
 
 
-@pytest.mark.xfail(reason="axis groups register the variables of table 17.1.1.3", strict=False)
 def test_every_group_id_of_table_17_1_1_3_is_registered(cmds):
     for var, name in manual_ids()[GROUP]:
         assert cmds.GetConfigVar(hcv_id(GROUP, 0, var))[0] == 0, name
+
+
+GROUP_WRITES = [  # (variable, value written, how the group shows it)
+    (0x00DD, 250.0, lambda g, k: g.lin.vel),
+    (0x00DE, 2000.0, lambda g, k: g.lin.acc),
+    (0x00E0, 20.0, lambda g, k: g.lin.sm_ms),
+    (0x00E7, 90.0, lambda g, k: g.ang.vel),
+    (0x00F2, 4.0, lambda g, k: g.buffer_mode),
+    (0x00F4, 50.0, lambda g, k: g.trans_prm[0]),
+    (0x00F5, 2.0, lambda g, k: g.trans_prm[1]),
+    (0x0104, 40.0, lambda g, k: g.vel_scale),
+    (0x0119, 12.0, lambda g, k: k.group_inshape[g.group_id].frequency),
+    (0x011A, 0.2, lambda g, k: k.group_inshape[g.group_id].damping),
+]
+
+
+@pytest.mark.parametrize(("var", "value", "shown"), GROUP_WRITES)
+def test_group_variables_write_through_to_the_group(cmds, var, value, shown):
+    hid = hcv_id(GROUP, 2, var)
+    assert cmds.SetConfigVar(hid, value) == 0
+    assert shown(cmds.motion.groups[2], cmds.motion) == value
+    assert cmds.GetConfigVar(hid) == (0, value)
+
+
+def test_group_variables_read_the_group_and_refuse_what_its_setters_refuse(cmds):
+    assert cmds.AddAxisToGrp(1, 0) == 0 and cmds.AddAxisToGrp(1, 1) == 0
+    assert cmds.GetConfigVar(hcv_id(GROUP, 1, 0x0002)) == (0, 2.0)  # num_axis
+    assert cmds.SetConfigVar(hcv_id(GROUP, 1, 0x0002), 3.0) == HCV_IS_READ_ONLY
+    assert cmds.GetConfigVar(hcv_id(GROUP, 1, 0x00CA)) == (0, 5000.0)  # lin_vel_lim
+    assert cmds.SetConfigVar(hcv_id(GROUP, 1, 0x00E2), 200.0) == 0  # lin_dec_time [ms]
+    g = cmds.motion.groups[1]
+    assert g.lin.dec == pytest.approx(g.lin.vel / 0.2)
+    for var, bad in [(0x00DD, 6000.0), (0x00F2, 9.0), (0x00F4, 4e-117), (0x0104, 101.0),
+                     (0x0119, 2.0), (0x011A, 0.5), (0x038F, 5.0)]:  # fmt: skip
+        assert cmds.SetConfigVar(hcv_id(GROUP, 1, var), bad) == HCV_VALUE_OUT_OF_RANGE, var
+    assert cmds.GetConfigVar(hcv_id(GROUP, 16, 0x0002))[0] != 0  # no group 16
+    cmds.SetGrpVelScale(1, 500.0)  # a refusal: the last error
+    assert cmds.GetConfigVar(hcv_id(GROUP, 1, 0x038F))[1] != 0
+    assert cmds.SetConfigVar(hcv_id(GROUP, 1, 0x038F), 0.0) == 0
+    assert cmds.GetGrpLastErr(1) == 0
+
+
+def test_group_shaper_frequency_variable_reshapes_an_enabled_filter(cmds):
+    assert cmds.EnableGrpInShape(0) == 0
+    assert cmds.SetConfigVar(hcv_id(GROUP, 0, 0x0119), 20.0) == 0
+    f = cmds.motion.groups[0].planner.command_filter
+    assert f.shaper == inshape.design(20.0, 0.03, inshape.SHAPER_NORMAL, DT)

@@ -366,3 +366,15 @@ def test_target_beyond_a_software_limit_is_refused():
     c.SetSWRL(1, 50.0)
     assert c.LineAbs2D(0, 10.0, 60.0) == grp_err(grp.CRD_INVALID_POS)
     assert c.LineAbs2D(0, 10.0, 40.0) == 0
+
+
+def test_a_positive_speed_too_small_to_end_a_move_is_refused():
+    """A transition velocity or feed above 0 but below MIN_SPEED (a 4e-117 mm/s blend
+    would never end) is an invalid parameter; 0 keeps its meaning."""
+    from motionvm.motion import group as grp
+
+    c = grouped(2)
+    assert c.SetGrpTransPrm(0, 4e-117, 1.0, 0.0, 0.0) == grp_err(grp.CRD_INVALID_TRANS_VEL)
+    assert c.SetGrpTransPrm(0, 0.0, 1.0, 0.0, 0.0) == 0
+    assert c.SetGrpTransPrm(0, 1e-6, 1.0, 0.0, 0.0) == 0
+    assert c.SetGrpMotionProfile(0, 5e-324, 500.0, 500.0, 50.0) == grp_err(grp.CRD_INVALID_LIN_VEL)

@@ -55,7 +55,7 @@ def run(cli, axis_table: str):
         ),
         (
             "max_vel = 1e13",
-            "2:1: error: [[axis]] 0: max_vel = 10000000000000.0: must be in 0 < max_vel <= 1e+12",
+            "2:1: error: [[axis]] 0: max_vel = 10000000000000.0: must be in 1e-06 <= max_vel <= 1e+12",
         ),
         (
             "sw_left = -1e10",

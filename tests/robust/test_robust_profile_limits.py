@@ -49,7 +49,8 @@ def test_a_rest_to_rest_plan_never_passes_its_target(dist, v_max, a_max, d_max):
     assert curve.evaluate(curve.duration)[0] == dist
 
 
-def test_a_move_after_setdec_1e308_ends_at_its_target():
+def test_setdec_1e308_is_refused_and_the_move_ends_at_its_target():
+    """SetDec above the machine file's 1e12 is eERR_AXIS_CMD_INVALID_DEC (0x83000154)."""
     program = """void main() {
     Enable(0); while (!IsEnabled(0)) Sleep(1);
     SetDec(0, 1e308);
@@ -60,7 +61,7 @@ def test_a_move_after_setdec_1e308_ends_at_its_target():
 """
     with Simulation.from_source(program) as sim:
         sim.run(until=1.0)
-        assert sim.messages == ["1.000000 0"]
+        assert sim.messages == ["1.000000 83000154"]
 
 
 def test_the_closed_form_move_time_survives_the_same_limits():

@@ -26,7 +26,8 @@ Every key has a default, so `{}` is the default machine's axis: a linear axis of
 
 The continuous torque of MoveTrq is the drive's rated_torque [N*m] (default 1).
 Each number must lie in its range (`_RANGES`: positions within +-1e9 mm, speeds and
-accelerations up to 1e12, counts_per_unit 0.001 .. 1e9, index pulses at least one count
+accelerations up to 1e12 and the profile's at least 1e-6 (`tolerances.MIN_SPEED`,
+`MIN_ACC`: a move slower would never end), counts_per_unit 0.001 .. 1e9, index pulses at least one count
 apart); beyond them the simulation would overflow, so the file is refused at load time.
 """
 
@@ -35,6 +36,8 @@ from __future__ import annotations
 import math
 import re
 from dataclasses import dataclass, field
+
+from motionvm.motion.tolerances import MIN_ACC, MIN_SPEED
 
 
 class AxisConfigError(ValueError):
@@ -116,10 +119,10 @@ class AxisConfig:
 _POSITION = (-1e9, 1e9, True)  # [mm] or [deg]
 _RANGES: dict[str, tuple[float, float, bool]] = {
     "counts_per_unit": (1e-3, 1e9, True),
-    "max_vel": (0.0, 1e12, False),
-    "max_acc": (0.0, 1e12, False),
-    "max_dec": (0.0, 1e12, False),
-    "kill_dec": (0.0, 1e12, False),
+    "max_vel": (MIN_SPEED, 1e12, True),
+    "max_acc": (MIN_ACC, 1e12, True),
+    "max_dec": (MIN_ACC, 1e12, True),
+    "kill_dec": (MIN_ACC, 1e12, True),
     "vel_limit": (0.0, 1e12, False),
     "acc_limit": (0.0, 1e12, False),
     "max_pos_err": (0.0, 1e9, False),
@@ -141,7 +144,7 @@ _RANGES: dict[str, tuple[float, float, bool]] = {
 
 
 def range_text(key: str) -> str:
-    """The range `key` must be in, as `0 < max_vel <= 1e+12`."""
+    """The range `key` must be in, as `1e-06 <= max_vel <= 1e+12`."""
     low, high, low_inclusive = _RANGES[key]
     return f"{low:g} {'<=' if low_inclusive else '<'} {key} <= {high:g}"
 
@@ -271,3 +274,13 @@ def build_drive(config: AxisConfig):
         m = re.search(r"unknown key '(\w+)'", msg) or re.search(r"(\w+) = ", msg)
         part = "drive.mechanics" if msg.startswith("mechanics") else "drive"
         raise AxisConfigError(f"{part}.{m.group(1)}" if m else part, msg) from None
+
+
+def check_range(key: str, value: float) -> bool:
+    """True if `value` lies in the machine file's range of `key` (a setter's check)."""
+    low, high, low_inclusive = _RANGES[key]
+    return (
+        math.isfinite(value)
+        and ((low <= value) if low_inclusive else (low < value))
+        and value <= high
+    )

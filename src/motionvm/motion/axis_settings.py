@@ -2,6 +2,9 @@
 
 A mixin of `Axis`. Setters raise `AxisCommandError` with the manual's codes for a value
 out of range (eERR_AXIS_CMD_INVALID_VEL ...) or a forbidden state (moving, enabled).
+Velocity, acceleration, deceleration and kill deceleration have the machine file's
+ranges (`axis_config.check_range`: 1e-6 .. 1e12; a subnormal velocity would make a move
+that never ends); an acceleration time so short the acceleration overflows is refused.
 Limits changed while moving apply on the fly (the profile generator replans).
 Units: [mm or deg], [mm/s], [mm/s^2]; times [ms] as the HMPL functions take them.
 """
@@ -18,6 +21,7 @@ from motionvm.drives.objects import (
     MODES,
 )
 from motionvm.motion import axis_status as st
+from motionvm.motion.axis_config import check_range, range_text
 from motionvm.motion.axis_cycle import PG
 from motionvm.motion.axis_status import AxisCommandError
 
@@ -25,6 +29,15 @@ from motionvm.motion.axis_status import AxisCommandError
 def _positive(value: float, code: int, what: str, axis_id: int) -> float:
     if not (math.isfinite(value) and value > 0.0):
         raise AxisCommandError(code, f"axis {axis_id}: {what} {value!r} must be a positive number")
+    return value
+
+
+def _in_range(key: str, value: float, code: int, what: str, axis_id: int) -> float:
+    """`value` if it lies in the machine file's range of `key`, else the manual's code."""
+    if not check_range(key, value):
+        raise AxisCommandError(
+            code, f"axis {axis_id}: {what} {value!r} must be in {range_text(key)}"
+        )
     return value
 
 
@@ -37,28 +50,32 @@ class AxisSettings:
 
     def set_vel(self, vel: float) -> None:
         self.wake()
-        self.pg.set_limits(v_max=_positive(vel, st.CMD_INVALID_VEL, "velocity", self.axis_id))
+        v = _in_range("max_vel", vel, st.CMD_INVALID_VEL, "velocity", self.axis_id)
+        self.pg.set_limits(v_max=v)
 
     def set_acc(self, acc: float) -> None:
         self.wake()
-        self.pg.set_limits(a_max=_positive(acc, st.CMD_INVALID_ACC, "acceleration", self.axis_id))
+        a = _in_range("max_acc", acc, st.CMD_INVALID_ACC, "acceleration", self.axis_id)
+        self.pg.set_limits(a_max=a)
 
     def set_dec(self, dec: float) -> None:
         self.wake()
-        self.pg.set_limits(d_max=_positive(dec, st.CMD_INVALID_DEC, "deceleration", self.axis_id))
+        d = _in_range("max_dec", dec, st.CMD_INVALID_DEC, "deceleration", self.axis_id)
+        self.pg.set_limits(d_max=d)
 
     def set_acc_time(self, ms: float) -> None:
         """Acceleration = maximum velocity / acc_time."""
         ms = _positive(ms, st.CMD_INVALID_ACC, "acceleration time", self.axis_id)
-        self.set_acc(self.pg.v_max / (ms / 1000.0))
+        self.set_acc(self.pg.v_max / ms * 1000.0)  # a tiny ms overflows to inf: refused
 
     def set_dec_time(self, ms: float) -> None:
         ms = _positive(ms, st.CMD_INVALID_DEC, "deceleration time", self.axis_id)
-        self.set_dec(self.pg.v_max / (ms / 1000.0))
+        self.set_dec(self.pg.v_max / ms * 1000.0)
 
     def set_kill_dec(self, dec: float) -> None:
         self.wake()
-        self.kill_dec = _positive(dec, st.CMD_INVALID_KILL_DEC, "kill deceleration", self.axis_id)
+        self.kill_dec = _in_range("kill_dec", dec, st.CMD_INVALID_KILL_DEC, "kill deceleration",
+                                  self.axis_id)  # fmt: skip
 
     def set_smooth_time(self, ms: float) -> None:
         """Ts [ms], 0..500; not while moving (5.3.16)."""

@@ -253,7 +253,9 @@ class AxisGroup:
     def _new_planner(self, pose) -> PathPlanner:
         old = self.planner
         p = PathPlanner(self.dt, pose)
-        p.command_filter = old.command_filter
+        p.command_filter = f = old.command_filter
+        if f is not None:  # a group input shaper starts at rest where the axes are
+            f.reset(pose)
         p.set_scale(self.vel_scale / 100.0)
         p.set_smoothing(self.lin.sm_ms / 1000.0)
         return p

@@ -25,7 +25,7 @@ the axes; their last errors live here too (`group_last_error`).
 from __future__ import annotations
 
 from motionvm.drives.dictionary import SlaveDirectory
-from motionvm.motion import axis_coast, config_axis
+from motionvm.motion import axis_coast, config_axis, config_group
 from motionvm.motion import axis_status as st
 from motionvm.motion.axis import Axis
 from motionvm.motion.axis_config import AxisConfig
@@ -73,6 +73,7 @@ class MotionKernel:
         """Each group's InShape settings (SetGrpInShape, EnableGrpInShape: chapter 15)."""
         self.groups = GroupSet(self, N_GROUPS, dt)
         """The axis groups (manual chapter 8), stepped before the axes."""
+        config_group.register(self.config_vars, self)
         self.estopped = False
         """True after EStop: IsSystemError answers 1."""
         self._bus_steps: list[int] = []

@@ -30,6 +30,16 @@ ROUNDOFF_ULPS = 64.0
 P_TOL = 1e-9
 """Absolute position agreement [mm] where a computed (not exact) position is compared."""
 
+MIN_SPEED = 1e-6
+"""[mm/s or deg/s] The lowest positive speed a command accepts: below it a 1 ms cycle
+advances less than `P_TOL`, and a move (a 4e-117 mm/s transition, a subnormal feed)
+would not end in any time a machine runs. A smaller positive value is an invalid
+parameter, not a move that never ends."""
+
+MIN_ACC = 1e-6
+"""[mm/s^2 or deg/s^2] The lowest acceleration or deceleration a command or the machine
+file accepts, for the same reason (a subnormal acceleration never reaches speed)."""
+
 
 def limit_slack(limit: float, p_scale: float, dt: float, order: int) -> float:
     """Allowed excess [unit of the limit] over `limit` for a difference of order `order`.

@@ -15,7 +15,11 @@ eERR_HMPL_ARG_OUT_OF_RANGE (system); a frequency outside 3..300 Hz (or too high 
 cycle) eERR_CRD_CMD_INVALID_FREQUENCY, a damping ratio outside 0..0.3
 eERR_CRD_CMD_INVALID_DAMPINGRATIO, a shaper type other than 0 or 1
 eERR_CRD_CMD_INVALID_INPUTSHAPING_PARAMETER_INCOMPLETE, each stored as the group's last
-error. The group's planner shapes its axes' commands with `motion.inshape` using them.
+error. While the group moves, each of the three is refused with
+eERR_CRD_CMD_INVALID_MOVING (15.8, 15.10: not while the motors move; Disable too, as
+the reference would jump). Enabled, the group's planner shapes its commanded pose with
+a `GroupShaper` (motion/group_inshape.py) made from them, one `ShaperState` per
+coordinate; the settings, and the switch, hold across DisableGroup and EnableGroup.
 """
 
 from __future__ import annotations
@@ -23,7 +27,8 @@ from __future__ import annotations
 import math
 
 from motionvm.motion import axis_status as st
-from motionvm.motion import inshape
+from motionvm.motion import group as grp
+from motionvm.motion import group_inshape, inshape
 from motionvm.motion.commands.base import CommandBase
 
 GRP_INSHAPE_FREQUENCY = (3.0, 300.0)
@@ -79,19 +84,28 @@ class FilterCommands(CommandBase):
         self.motion.group_last_error[group_id] = err = st.group_error(code, group_id)
         return err
 
-    def EnableGrpInShape(self, group_id: int) -> int:
+    def _grp_moving(self, group_id: int) -> bool:
+        g = self.motion.groups.get(group_id)
+        return g is not None and g.moving
+
+    def _apply_group_inshape(self, group_id: int) -> None:
+        group_inshape.install(self.motion, group_id)
+
+    def _set_group_inshape(self, group_id: int, enabled: bool) -> int:
         s = self._group_inshape(group_id)
         if s is None:
             return st.SYS_HMPL_ARG_OUT_OF_RANGE
-        s.enabled = True
+        if self._grp_moving(group_id):  # the reference would jump or vibrate
+            return self._group_fail(group_id, grp.CRD_INVALID_MOVING)
+        s.enabled = enabled
+        self._apply_group_inshape(group_id)
         return 0
 
+    def EnableGrpInShape(self, group_id: int) -> int:
+        return self._set_group_inshape(group_id, True)
+
     def DisableGrpInShape(self, group_id: int) -> int:
-        s = self._group_inshape(group_id)
-        if s is None:
-            return st.SYS_HMPL_ARG_OUT_OF_RANGE
-        s.enabled = False
-        return 0
+        return self._set_group_inshape(group_id, False)
 
     def SetGrpInShape(
         self, group_id: int, frequency: float, damping_ratio: float, shaper_type: int
@@ -99,6 +113,8 @@ class FilterCommands(CommandBase):
         s = self._group_inshape(group_id)
         if s is None:
             return st.SYS_HMPL_ARG_OUT_OF_RANGE
+        if self._grp_moving(group_id):
+            return self._group_fail(group_id, grp.CRD_INVALID_MOVING)
         lo, hi = GRP_INSHAPE_FREQUENCY
         if not (math.isfinite(frequency) and lo <= frequency <= hi):
             return self._group_fail(group_id, st.CRD_INVALID_FREQUENCY)
@@ -112,4 +128,5 @@ class FilterCommands(CommandBase):
         except inshape.ShaperDesignError:
             return self._group_fail(group_id, st.CRD_INVALID_FREQUENCY)
         s.frequency, s.damping, s.shaper_type = frequency, damping_ratio, shaper_type
+        self._apply_group_inshape(group_id)
         return 0

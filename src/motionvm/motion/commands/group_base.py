@@ -15,6 +15,7 @@ from motionvm.motion.group import AxisGroup, GroupError
 from motionvm.motion.group_coords import CS_ACS, CS_MCS, CoordSystems, Frame
 from motionvm.motion.group_path import PathError
 from motionvm.motion.group_plan import BM_LOOKAHEAD
+from motionvm.motion.tolerances import MIN_SPEED
 
 
 def _finite(*values: float) -> bool:
@@ -115,7 +116,7 @@ class GroupCommandBase(CommandBase):
                   grp.CRD_INVALID_LIN_SM_TIME) if linear else
                  (grp.CRD_INVALID_ANG_VEL, grp.CRD_INVALID_ANG_ACC, grp.CRD_INVALID_ANG_DEC,
                   grp.CRD_INVALID_ANG_SM_TIME))  # fmt: skip
-        if not (_finite(vel) and 0.0 <= vel <= v_top):
+        if not (_finite(vel) and (vel == 0.0 or MIN_SPEED <= vel <= v_top)):
             raise GroupError(codes[0], f"velocity {vel!r} is outside 0 .. {v_top:g}")
         if not (_finite(acc) and 0.0 < acc <= a_top):
             raise GroupError(codes[1], f"acceleration {acc!r} is outside >0 .. {a_top:g}")
@@ -138,7 +139,8 @@ class GroupCommandBase(CommandBase):
 
     @staticmethod
     def _check_prm(trans_vel, trans_dis, trans_dev, trans_curv) -> None:
-        if not (_finite(trans_vel) and 0.0 <= trans_vel < 5000.0):
+        # 0: the lower feed of the two segments; else MIN_SPEED .. < 5000 (8.3.26: > 0)
+        if not (_finite(trans_vel) and (trans_vel == 0.0 or MIN_SPEED <= trans_vel < 5000.0)):
             raise GroupError(grp.CRD_INVALID_TRANS_VEL, f"transition velocity {trans_vel!r}")
         if not (_finite(trans_dis) and trans_dis >= 0.0):
             raise GroupError(grp.CRD_INVALID_TRANS_DIS, f"transition distance {trans_dis!r}")
