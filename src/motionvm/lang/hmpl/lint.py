@@ -118,6 +118,8 @@ class _Unused:
                         break
 
     def declare(self, d: n.VarDecl) -> None:
+        if type(d) is n.FuncDef:  # a prototype: no variable
+            return
         if type(d) is n.Typedef:  # a type name, not a variable
             self.uses(d.dims)
             return

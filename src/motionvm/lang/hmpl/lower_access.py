@@ -367,6 +367,11 @@ class AccessLowering:
         if isinstance(sym, VarSym):
             raise self.fail(e.pos, f"'{fname}' is a variable, not a function")
         if isinstance(sym, FuncSym):
+            if not sym.defined:
+                raise self.fail(
+                    e.func.pos,
+                    f"function '{fname}' is declared (at {sym.pos}) but never defined",
+                )
             args = self._call_args(
                 e, fname, [(pn, pt) for pn, pt in zip(sym.param_names, sym.type.params)], False
             )

@@ -276,6 +276,13 @@ class FunctionLowerer(ExprLowering, AccessLowering, LoopLowering, JumpLowering):
                 if type(d) is n.Typedef:
                     self._s_Typedef(d)
                     continue
+                if type(d) is n.FuncDef:  # a prototype: its name is visible in this block
+                    if isinstance(self.scope.names.get(d.name), VarSym):
+                        raise self.fail(
+                            d.pos, f"'{d.name}' redeclared as a different kind of symbol"
+                        )
+                    self.scope.names[d.name] = self.prog.block_prototype(d, self.task)
+                    continue
                 out.extend(at(self.declare_local(d), d.pos))
             except SemanticError:
                 pass

@@ -96,7 +96,10 @@ class Param:
 
 @dataclass(frozen=True, slots=True)
 class FuncDef:
-    """A function definition (body) or prototype (body None); `autorun` marks `_AUTORUN_`."""
+    """A function definition (body) or prototype (body None); `autorun` marks `_AUTORUN_`.
+    `block_scope`: a prototype inside a function (its name is visible in its block only;
+    the parser puts it both in its DeclStmt and, for the checks against the definition,
+    in the file's items)."""
 
     pos: SourcePos
     ret: TypeRef
@@ -104,6 +107,7 @@ class FuncDef:
     params: tuple[Param, ...]
     body: Block | None
     autorun: bool = False
+    block_scope: bool = False
 
 
 @dataclass(frozen=True, slots=True)
@@ -125,10 +129,11 @@ class Block:
 
 @dataclass(frozen=True, slots=True)
 class DeclStmt:
-    """`int a = 1, b[3];` — one statement declaring several variables."""
+    """`int a = 1, b[3];` — one statement declaring several variables (and, inside a
+    function, the prototypes of `int f(int);` as block-scope FuncDefs, and typedefs)."""
 
     pos: SourcePos
-    decls: tuple[VarDecl, ...]
+    decls: tuple[VarDecl | FuncDef | Typedef, ...]
 
 
 @dataclass(frozen=True, slots=True)

@@ -821,9 +821,9 @@ class Parser:
                     assert name_tok is not None
                     params = self._parse_parameter_list()
                     ret = _with_pointers(spec, pointers)
-                    self.items.append(
-                        n.FuncDef(name_tok.pos, ret, name_tok.text, params, None, False)
-                    )
+                    proto = n.FuncDef(name_tok.pos, ret, name_tok.text, params, None, False, True)
+                    self.items.append(proto)  # checked with the file's declarations
+                    decls.append(proto)  # type: ignore[arg-type]  # and visible in its block
                     if not self._accept(","):
                         break
                     continue
@@ -969,6 +969,10 @@ class Parser:
                 if self.keys[self.i] == "typedef":
                     raise self._fail_here("a for loop's first clause declares variables only")
                 init = self._parse_declaration()
+                proto = next((d for d in init.decls if isinstance(d, n.FuncDef)), None)
+                if proto is not None:
+                    self._error(proto.pos, "a for loop's first clause declares variables only")
+                    init = None
             elif not self._accept(";"):
                 t = self._tok()
                 init = n.ExprStmt(t.pos, self._parse_expression())

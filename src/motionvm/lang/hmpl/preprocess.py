@@ -1,11 +1,13 @@
-"""HMPL preprocessor: #define/#undef, #if family, #include, #error, macro expansion.
+"""HMPL preprocessor: #define/#undef, #if family, #include, #error, #line, macro expansion.
 
 Works on the tokens of `lexer.scan`: text between directive lines is macro-expanded
 as one stream (so a macro call may span lines), directive lines are interpreted.
 Macro expansion follows C's rescanning rules with hide sets (a macro is not expanded
 again inside its own expansion). Tokens coming from a macro body carry the position
 of the macro's use; tokens of macro arguments keep the position they were written at.
-`_TASKID_` is predefined as the task id.
+`_TASKID_` is predefined as the task id; `__LINE__` and `__FILE__` become the line and
+file name of their use. `#line N ["FILE"]` renumbers the lines after it (C89 6.8.4): the
+positions of later tokens, lexical errors and `__LINE__`/`__FILE__` follow it.
 """
 
 from __future__ import annotations
@@ -31,13 +33,16 @@ DIRECTIVES = (
     "else",
     "endif",
     "error",
+    "line",
     "pragma",
 )
+LINE_MAX = 2147483647  # the largest line number `#line` may give (C99 6.10.4)
 MAX_EXPANSIONS = 200_000  # macro expansions in one text region before we give up
 MAX_TOKENS = 1_000_000  # tokens made by macro substitutions in one task file (and its includes)
 MAX_NESTING = 200  # nested macro calls in arguments
 
 _EMPTY: frozenset[str] = frozenset()
+_LINE_FILE = frozenset(("__LINE__", "__FILE__"))
 # Markers inside a substituted body: '##' to apply, and an empty argument next to it.
 _PASTE = Token("punct", "##", SourcePos("<paste>", 0, 0))
 _PLACEMARKER = Token("punct", "", SourcePos("<placemarker>", 0, 0))
@@ -72,6 +77,21 @@ class _State:
     scan: Scan
     conds: list[_Cond] = field(default_factory=list)
     error_index: int = 0
+    # set by `#line`: (physical line of the directive, number of the next line, file name)
+    line_map: tuple[int, int, str] | None = None
+    directive_line: int = 0  # physical line of the directive being interpreted
+
+    def remap(self, pos: SourcePos) -> SourcePos:
+        """Where `pos` (a physical place in this file) is after the `#line` directives."""
+        m = self.line_map
+        if m is None or pos.line <= m[0]:
+            return pos
+        return SourcePos(m[2], m[1] + pos.line - m[0] - 1, pos.col)
+
+    def mapped(self, toks: list[Token]) -> list[Token]:
+        if self.line_map is None:
+            return toks
+        return [_at(t, self.remap(t.pos)) for t in toks]
 
 
 class _Abort(Exception):
@@ -109,11 +129,12 @@ def _preprocess(
         if "\r" in text:  # as SourceFile.read does: CRLF and CR line ends become LF
             text = text.replace("\r\n", "\n").replace("\r", "\n")
         sf = SourceFile.register(path, text)
+    end = end_pos(sf)
     try:
-        pp.run_file(sf)
+        end = pp.run_file(sf).remap(end)
     except TooManyErrors:
         pass
-    pp.out.append(Token("eof", "", end_pos(sf)))
+    pp.out.append(Token("eof", "", end))
     return pp.out
 
 
@@ -137,7 +158,7 @@ class Preprocessor:
 
     # ------------------------------------------------------------ files
 
-    def run_file(self, sf: SourceFile) -> None:
+    def run_file(self, sf: SourceFile) -> _State:
         """Preprocess one file, appending its tokens to `self.out`."""
         self.files.append(os.path.realpath(sf.path))
         st = _State(sf, scan(sf))
@@ -149,18 +170,24 @@ class Preprocessor:
             self._flush_errors(st, line - 1, active)
             if active and ds > prev:
                 self._expansions = 0
-                self.out.extend(self.expand(toks[prev:ds]))
+                self.out.extend(self._text(st, toks[prev:ds]))
             end_line = toks[de - 1].pos.line
             self._flush_errors(st, end_line, active)
-            active = self._directive(st, toks[ds:de], active)
+            st.directive_line = end_line
+            active = self._directive(st, st.mapped(toks[ds:de]), active)
             prev = de
         self._flush_errors(st, 1 << 60, active)
         if active and prev < len(toks):
             self._expansions = 0
-            self.out.extend(self.expand(toks[prev:]))
+            self.out.extend(self._text(st, toks[prev:]))
         for c in st.conds:
             self.sink.error(c.pos, "unterminated #if (no matching #endif)")
         self.files.pop()
+        return st
+
+    def _text(self, st: _State, toks: list[Token]) -> list[Token]:
+        """A region of program text: renumbered, expanded, `__LINE__`/`__FILE__` replaced."""
+        return _line_and_file(self.expand(st.mapped(toks)))
 
     def _flush_errors(self, st: _State, last_line: int, active: bool) -> None:
         """Report (when `active`) or drop the lexical errors up to `last_line`."""
@@ -169,7 +196,7 @@ class Preprocessor:
         while i < len(errs) and errs[i][0].line <= last_line:
             pos, msg, always = errs[i]
             if active or always:
-                self.sink.error(pos, msg)
+                self.sink.error(st.remap(pos), msg)
             i += 1
         st.error_index = i
 
@@ -231,6 +258,8 @@ class Preprocessor:
             elif name == "error":
                 msg = _spell(args) if args else ""
                 sink.error(line[0].pos, f"#error {msg}".rstrip())
+            elif name == "line":
+                self._line(st, args, word)
             elif name == "pragma":
                 pass  # no pragma means anything to HMPL; accepted for C compatibility
             else:
@@ -241,6 +270,36 @@ class Preprocessor:
         except _Abort:
             pass
         return True
+
+    def _line(self, st: _State, args: list[Token], word: Token) -> None:
+        """`#line N` or `#line N "FILE"` (macros expanded first, as C allows)."""
+        toks = self.expand(args)
+        sink = self.sink
+        if not toks:
+            sink.error(word.pos, '#line expects a line number (#line N or #line N "FILE")')
+            raise _Abort
+        num = toks[0]
+        if num.kind != "int" or not num.text.isdigit():
+            sink.error(num.pos, f"#line expects a line number, not '{num.text}'")
+            raise _Abort
+        value = int(num.text)
+        if not 1 <= value <= LINE_MAX:
+            sink.error(num.pos, f"#line number {num.text} is outside [1, {LINE_MAX}]")
+            raise _Abort
+        fname = st.line_map[2] if st.line_map is not None else st.sf.path
+        if len(toks) > 1:
+            ft = toks[1]
+            if ft.kind != "string":
+                sink.error(ft.pos, f"#line expects a file name in quotes, not '{ft.text}'")
+                raise _Abort
+            fname = bytes(ft.value).decode("utf-8", "replace")  # type: ignore[arg-type]
+            if not fname:
+                sink.error(ft.pos, "#line file name is empty")
+                raise _Abort
+            if len(toks) > 2:
+                sink.error(toks[2].pos, "extra tokens at end of #line directive")
+                raise _Abort
+        st.line_map = (st.directive_line, value, fname)
 
     def _no_extra(self, args: list[Token], name: str, live: bool) -> None:
         if args and live:
@@ -400,7 +459,7 @@ class Preprocessor:
                 continue
             pre.append(t)
             i += 1
-        toks = self.expand(pre)
+        toks = _line_and_file(self.expand(pre))
         ev = _IfEval(toks, word.pos)
         try:
             value = ev.run()
@@ -706,6 +765,27 @@ def _end_at(body: list[Token], use: Token, last: Token, hs_map: dict) -> None:
 
 def _at(t: Token, pos: SourcePos) -> Token:
     return Token(t.kind, t.text, pos, t.value, t.suffix)
+
+
+def _line_and_file(toks: list[Token]) -> list[Token]:
+    """`__LINE__` and `__FILE__` replaced by the line number and file name of their place
+    (a macro body's tokens carry the place of the macro's use, as in C)."""
+    if _LINE_FILE.isdisjoint(map(_text, toks)):
+        return toks
+    for i, t in enumerate(toks):
+        if t.kind == "name" and (t.text == "__LINE__" or t.text == "__FILE__"):
+            pos = t.pos
+            if t.text == "__LINE__":
+                toks[i] = Token("int", str(pos.line), pos, pos.line)
+            else:
+                data = pos.file.encode("utf-8")
+                toks[i] = Token("string", _quote(data), pos, data)
+    return toks
+
+
+def _quote(data: bytes) -> str:
+    text = data.decode("utf-8", "replace").replace("\\", "\\\\").replace('"', '\\"')
+    return f'"{text}"'
 
 
 def _adjacent(a: Token, b: Token) -> bool:

@@ -93,6 +93,9 @@ class ProgramCompiler:
         self.tasks: dict[int, TaskInfo] = {}
         self._strings: dict[bytes, int] = {}
         self._structs: dict[int, ct.StructT] = {}  # id(StructDef) -> its type
+        # (task, name) -> the first prototype inside a function of a function that the
+        # file did not declare before it: a later declaration must agree with it
+        self._block_protos: dict[tuple[int, str], FuncSym] = {}
         self.sysvars: dict[str, VarSym] = {}
         self.addr_taken: set[str] = set()
         self._warned: set[tuple[SourcePos, str]] = set()
@@ -437,7 +440,7 @@ class ProgramCompiler:
             try:
                 self._declare_function(item, scope, task, prefix, info)
             except SemanticError:
-                if item.name not in scope.names:
+                if item.name not in scope.names and not item.block_scope:
                     scope.names[item.name] = error_symbol(item.name, item.pos)
                 raise
 
@@ -470,6 +473,8 @@ class ProgramCompiler:
     def _declare_function(
         self, f: n.FuncDef, scope: Scope, task: int, prefix: str, info: TaskInfo
     ) -> None:
+        """A function's definition or prototype at file scope; a prototype inside a
+        function (`block_scope`) is only checked against the file's declarations here."""
         if f.name in self.builtins or f.name in catalog.MACRO_NAMES:
             raise self._fail(f.pos, f"'{f.name}' is a built-in function and cannot be redefined")
         ret = self.resolve_typeref(f.ret, scope, task)
@@ -486,6 +491,17 @@ class ProgramCompiler:
             ptypes = []
         ftype = ct.FuncT(0, 1, ret, tuple(ptypes), False)
         old = scope.names.get(f.name)
+        if old is None:
+            old = self._block_protos.get((task, f.name))
+            if old is not None and old.type != ftype:
+                raise self._fail(f.pos, f"conflicting types for '{f.name}' (was '{old.type}')")
+            if f.block_scope:  # visible in its block only (bound there when lowered)
+                if old is None:
+                    self._block_protos[(task, f.name)] = FuncSym(
+                        f.name, ftype, f.pos, prefix + f.name, task
+                    )
+                return
+            old = None
         if old is not None:
             if not isinstance(old, FuncSym):
                 raise self._fail(f.pos, f"'{f.name}' redeclared as a different kind of symbol")
@@ -513,6 +529,29 @@ class ProgramCompiler:
             sym.param_names = tuple(p.name for p in f.params)
 
     # ------------------------------------------------------------ analysis
+
+    def _link_prototypes(self) -> None:
+        """A task's prototype of a function that task 0 defines names that function."""
+        for task, scope in self.task_scopes.items():
+            if task == 0:
+                continue
+            for fname, sym in scope.names.items():
+                if isinstance(sym, FuncSym) and not sym.defined:
+                    g = self.global_scope.names.get(fname)
+                    if isinstance(g, FuncSym) and g.defined and g.type == sym.type:
+                        scope.names[fname] = g
+
+    def block_prototype(self, f: n.FuncDef, task: int) -> FuncSym:
+        """The function a prototype inside a function names: the file's (or task 0's)
+        function of that name, or an undefined one that a call reports."""
+        scope = self.task_scopes.get(task, self.global_scope)
+        sym = scope.lookup(f.name)
+        if isinstance(sym, FuncSym):
+            return sym
+        proto = self._block_protos.get((task, f.name))
+        if proto is None or sym is not None:
+            raise SemanticError(f"'{f.name}' has no valid declaration")  # reported
+        return proto
 
     def list_backed(self, d: n.VarDecl, t: ct.CType) -> bool:
         """An array of scalars that is only ever indexed to its full depth (never decays to a
@@ -578,6 +617,7 @@ class ProgramCompiler:
         try:
             self.analyse(units)
             self.declare_units(units)
+            self._link_prototypes()
             self.classify_generators()
             per_file: dict[str, list[ast.stmt]] = {}
             for u in sorted(units, key=lambda u: u.task):
