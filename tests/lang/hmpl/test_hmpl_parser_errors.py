@@ -105,7 +105,12 @@ def errors_of(text: str) -> list[str]:
         ("Data_t p = {.x 1};", "1:16: error: expected '=' after designator"),
         ("int a[3] = {[0 = 1};", "1:16: error: expected ']' after designator index"),
         ("void f(...);", "1:8: error: variadic functions ('...') are not supported in HMPL"),
-        ("void f() { (int){1}; }", "1:17: error: compound literals are not supported in HMPL"),
+        ("void f() { (int){1; }", "1:19: error: expected '}' before ';'"),
+        (
+            "void f() { ++(int)1; }",
+            "1:19: error: expected '{' of a compound literal after the type name",
+        ),
+        ("int x = (int[])1;", "1:10: error: array size missing in a type name"),
         (
             "void f() { int (*fp)(int); }",
             (

@@ -102,7 +102,12 @@ class ArrayT(CType):
     n: int | None = None
 
     def __str__(self) -> str:
-        return f"{self.elem}[{'' if self.n is None else self.n}]"
+        # C spells the outer dimension first: `int[2][3]` is two arrays of three ints
+        dims, t = "", self
+        while isinstance(t, ArrayT):
+            dims += f"[{'' if t.n is None else t.n}]"
+            t = t.elem
+        return f"{t}{dims}"
 
 
 @dataclass(frozen=True, slots=True, eq=False)

@@ -15,7 +15,7 @@ HEADER = """# HMPL grammar
 Generated from the `# BNF:` comments of `src/motionvm/lang/hmpl/parser.py` by
 `python -m motionvm.lang.hmpl.grammar_doc`; do not edit by hand. Notation: `{ x }` repeats,
 `[ x ]` is optional, `|` separates alternatives, quoted text is literal. The preprocessor
-(`#define`, `#if`, `#include`, `_TASKID_`) runs before this grammar.
+(`#define`, `#if`, `#include`, `#line`, `_TASKID_`) runs before this grammar.
 
 ```ebnf
 """

@@ -68,6 +68,16 @@ def _plus(a: ast.expr, b: ast.expr) -> ast.expr:
     return ast.BinOp(left=a, op=ast.Add(), right=b)
 
 
+def _as_expr(st: ast.stmt) -> ast.expr:
+    """An initializing store as an expression: `V[i] = x` becomes `V.__setitem__(i, x)`."""
+    if isinstance(st, ast.Expr):
+        return st.value
+    assert isinstance(st, ast.Assign) and isinstance(st.targets[0], ast.Subscript)
+    target = st.targets[0]
+    setitem = ast.Attribute(value=target.value, attr="__setitem__", ctx=ast.Load())
+    return ast.Call(func=setitem, args=[target.slice, st.value], keywords=[])
+
+
 def _trusted_lv(t: ct.CType, addr: ast.expr) -> LValue:
     """An object at an address known to be inside a live object and aligned for `t`."""
     if t.is_scalar:
@@ -132,6 +142,8 @@ class AccessLowering:
             return self._index_lv(e)
         if isinstance(e, n.Member):
             return self._member_lv(e)
+        if isinstance(e, n.CompoundLit):
+            return self._compound_lv(e)
         if isinstance(e, n.Call) and isinstance(e.func, n.Name) and e.func.id == "HIMC_GPO":
             if len(e.args) != 1:
                 raise self.fail(e.pos, f"HIMC_GPO takes 1 argument, got {len(e.args)}")
@@ -256,6 +268,42 @@ class AccessLowering:
         if st.align < ft.align and ft.is_scalar:
             return PtrLV(ft, _add(base_addr, off))  # packed (Data_t): may be unaligned
         return _trusted_lv(ft, _add(base_addr, off))
+
+    def compound_type(self, e: n.CompoundLit) -> ct.CType:
+        """The type of a compound literal (`(int[]){1, 2}` counts its elements)."""
+        d = n.VarDecl(e.pos, e.type, "compound literal", e.dims, e.init)
+        t = self.prog.decl_type(d, self.scope, self.task)
+        if isinstance(t, ct.VoidT) or t.size == 0:
+            raise self.fail(e.pos, f"a compound literal of incomplete type '{t}'")
+        return t
+
+    def _compound_lv(self, e: n.CompoundLit) -> LValue:
+        """`(T){...}`: an unnamed object. In a function it has a place in the frame and is
+        initialized where the expression is evaluated, each time (C99 6.5.2.5); outside
+        (a file-scope initializer) it is static, its constant value set at load."""
+        t = self.compound_type(e)
+        prog = self.prog
+        what = "compound literal"
+        if self.func is None:
+            addr = prog.mem.alloc_static(t.size, what, align=max(8, t.align))
+            image, stores = prog.aggregate_init(self, t, e.init, ast.Constant(addr), what)
+            if stores:
+                raise self.fail(e.pos, "a compound literal outside a function must be a constant")
+            prog.mem.buf[addr : addr + len(image)] = image
+            return _trusted_lv(t, ast.Constant(addr))
+        off = self.frame_alloc(t)
+        image, stores = prog.aggregate_init(self, t, e.init, _add(name("_fp"), off), what)
+        steps: list[ast.expr] = [call("_fill", _add(name("_fp"), off), ast.Constant(bytes(image)))]
+        steps.extend(_as_expr(st) for st in stores)
+        steps.append(_add(name("_fp"), off))
+        seq = ast.Subscript(
+            value=ast.Tuple(elts=steps, ctx=ast.Load()), slice=const(-1), ctx=ast.Load()
+        )
+        return _trusted_lv(t, seq)
+
+    def _x_CompoundLit(self, e: n.CompoundLit) -> Val:
+        lv = self._compound_lv(e)
+        return Val(lv.load(), lv.type)
 
     def _x_Index(self, e: n.Index) -> Val:
         lv = self._index_lv(e)

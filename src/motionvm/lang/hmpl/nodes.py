@@ -394,6 +394,19 @@ class SizeOf:
     dims: tuple[Expr, ...] = ()
 
 
+@dataclass(frozen=True, slots=True)
+class CompoundLit:
+    """`(TYPE){ initializers }` (C99): an unnamed object, an lvalue. `dims` as in VarDecl
+    (`(int[]){1, 2}`: the first is None). Inside a function it is automatic (a local of
+    the function, initialized each time the expression is evaluated), at file scope
+    static."""
+
+    pos: SourcePos
+    type: TypeRef
+    dims: tuple[Expr | None, ...]
+    init: InitList
+
+
 Expr = (
     IntLit
     | FloatLit
@@ -411,4 +424,5 @@ Expr = (
     | Member
     | Cast
     | SizeOf
+    | CompoundLit
 )

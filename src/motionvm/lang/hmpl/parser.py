@@ -46,6 +46,7 @@ DECL_START = (
 )
 TYPE_START = BASIC_WORDS | INTN_TYPES | QUALIFIERS | {"struct", "union", "enum"}
 INT32_MIN, INT32_MAX = -(1 << 31), (1 << 31) - 1
+SCALAR_BASES = INTN_TYPES | {"char", "float", "double"}
 
 ASSIGN_OPS = frozenset(["=", "+=", "-=", "*=", "/=", "%=", "<<=", ">>=", "&=", "|=", "^="])
 UNARY_OPS = frozenset(["-", "+", "!", "~", "*", "&"])
@@ -687,11 +688,16 @@ class Parser:
         return pointers, name_tok, tuple(dims)
 
     # BNF: type_name = declaration_specifiers { "*" [ "const" ] } { "[" conditional_expression "]" }
-    def _parse_type_name(self) -> tuple[n.TypeRef, tuple[n.Expr, ...]]:
+    # BNF:     (a compound literal's type_name may leave its first size out: "(int[]){1, 2}")
+    def _parse_type_name(self, open_array: bool = False) -> tuple[n.TypeRef, tuple]:
+        """The type and its dimensions; with `open_array` the dimensions may hold None
+        (`int[]`, for a compound literal: the caller checks them)."""
         spec, _ = self._parse_declaration_specifiers("type")
         pointers, name_tok, dims = self._parse_declarator(abstract=True)
         if name_tok is not None:
             self._error(name_tok.pos, f"unexpected name '{name_tok.text}' in a type name")
+        if open_array:
+            return _with_pointers(spec, pointers), dims
         if any(d is None for d in dims):
             self._error(spec.pos, "array size missing in a type name")
         return _with_pointers(spec, pointers), tuple(d for d in dims if d is not None)
@@ -715,7 +721,7 @@ class Parser:
             name_tok.pos,
             _with_pointers(spec, pointers),
             name_tok.text,
-            _infer_first_dim(dims, init),
+            _infer_first_dim(dims, init, pointers > 0 or spec.base in SCALAR_BASES),
             init,
             is_static,
         )
@@ -1126,21 +1132,35 @@ class Parser:
             self.i += 1
             left = n.Binary(t.pos, op, left, self._parse_binary_expression(prec + 1))
 
-    # BNF: cast_expression = "(" type_name ")" cast_expression | unary_expression
+    # BNF: cast_expression = "(" type_name ")" cast_expression | compound_literal | unary_expression
     def _parse_cast_expression(self) -> n.Expr:
         if self.keys[self.i] == "(" and self._is_type_start(self.i + 1):
             lp = self._advance()
-            ty, dims = self._parse_type_name()
-            if dims:
-                self._error(lp.pos, "cannot cast to an array type")
+            ty, dims = self._parse_type_name(open_array=True)
             self._expect(")", "after type name")
             if self.keys[self.i] == "{":
-                raise self._fail_here("compound literals are not supported in HMPL")
+                return self._postfix_operators(self._parse_compound_literal(lp, ty, dims))
+            if any(d is None for d in dims):
+                self._error(ty.pos, "array size missing in a type name")
+            if dims:
+                self._error(lp.pos, "cannot cast to an array type")
             return n.Cast(lp.pos, ty, self._parse_cast_expression())
         return self._parse_unary_expression()
 
+    # BNF: compound_literal = "(" type_name ")" "{" [ initializer_item { "," initializer_item } [ "," ] ] "}"
+    # BNF:     { "[" expression "]" | "(" [ argument_list ] ")" | "." NAME | "->" NAME | "++" | "--" }
+    def _parse_compound_literal(
+        self, lp: Token, ty: n.TypeRef, dims: tuple[n.Expr | None, ...]
+    ) -> n.CompoundLit:
+        init = self._parse_initializer()
+        assert isinstance(init, n.InitList)
+        if ty.base == "void" and ty.pointers == 0:
+            self._error(lp.pos, "a compound literal of type void")
+        scalar = ty.pointers > 0 or ty.base in SCALAR_BASES
+        return n.CompoundLit(lp.pos, ty, _infer_first_dim(dims, init, scalar), init)
+
     # BNF: unary_expression = ( "++" | "--" ) unary_expression | ( "-" | "+" | "!" | "~" | "*" | "&" ) cast_expression
-    # BNF:     | "sizeof" ( "(" type_name ")" | unary_expression ) | postfix_expression
+    # BNF:     | "sizeof" ( "(" type_name ")" | compound_literal | unary_expression ) | postfix_expression
     def _parse_unary_expression(self) -> n.Expr:
         k = self.keys[self.i]
         if k in UNARY_OPS:
@@ -1158,10 +1178,15 @@ class Parser:
         if k == "sizeof":
             t = self._advance()
             if self.keys[self.i] == "(" and self._is_type_start(self.i + 1):
-                self.i += 1
-                ty, dims = self._parse_type_name()
+                lp = self._advance()
+                ty, dims = self._parse_type_name(open_array=True)
                 self._expect(")", "after type name")
-                return n.SizeOf(t.pos, ty, dims)
+                if self.keys[self.i] == "{":  # `sizeof (int[]){1, 2}`: of the object
+                    lit = self._parse_compound_literal(lp, ty, dims)
+                    return n.SizeOf(t.pos, self._postfix_operators(lit))
+                if any(d is None for d in dims):
+                    self._error(ty.pos, "array size missing in a type name")
+                return n.SizeOf(t.pos, ty, tuple(d for d in dims if d is not None))
             self._enter()
             e = n.SizeOf(t.pos, self._parse_unary_expression())
             self.depth -= 1
@@ -1172,7 +1197,9 @@ class Parser:
     # BNF:     | "." NAME | "->" NAME | "++" | "--" }
     # BNF: argument_list = assignment_expression { "," assignment_expression }
     def _parse_postfix_expression(self) -> n.Expr:
-        e = self._parse_primary_expression()
+        return self._postfix_operators(self._parse_primary_expression())
+
+    def _postfix_operators(self, e: n.Expr) -> n.Expr:
         keys = self.keys
         while keys[self.i] in POSTFIX_START:
             t = self.toks[self.i]
@@ -1201,6 +1228,7 @@ class Parser:
         return e
 
     # BNF: primary_expression = NAME | INT | FLOAT | CHAR | STRING { STRING } | "(" expression ")"
+    # BNF:     | compound_literal
     def _parse_primary_expression(self) -> n.Expr:
         t = self.toks[self.i]
         k = t.kind
@@ -1228,6 +1256,13 @@ class Parser:
                 parts.append(self.toks[self.i].value)
                 self.i += 1
             return n.StrLit(t.pos, b"".join(parts))  # type: ignore[arg-type]
+        if self.keys[self.i] == "(" and self._is_type_start(self.i + 1):
+            lp = self._advance()  # after '++', '--' or sizeof: a compound literal (no cast)
+            ty, dims = self._parse_type_name(open_array=True)
+            self._expect(")", "after type name")
+            if self.keys[self.i] != "{":
+                raise self._fail_here("expected '{' of a compound literal after the type name")
+            return self._parse_compound_literal(lp, ty, dims)
         if self.keys[self.i] == "(":
             self.i += 1
             self._enter()
@@ -1249,9 +1284,11 @@ def _with_pointers(spec: n.TypeRef, pointers: int) -> n.TypeRef:
 
 
 def _infer_first_dim(
-    dims: tuple[n.Expr | None, ...], init: n.Expr | n.InitList | None
+    dims: tuple[n.Expr | None, ...], init: n.Expr | n.InitList | None, scalar: bool
 ) -> tuple[n.Expr | None, ...]:
-    """`T a[] = init`: the first dimension from the initializer, as C does."""
+    """`T a[] = init`: the first dimension from the initializer, as C does, where the
+    braces tell it (`scalar`: T is a scalar type); else the checker counts it, with
+    brace elision (`struct P ps[] = {1, 2, 3, 4}` has 2 elements)."""
     if not dims or dims[0] is not None or init is None:
         return dims
     count: int | None = None
@@ -1261,16 +1298,19 @@ def _infer_first_dim(
     elif isinstance(init, n.InitList):
         items = init.items
         if any(isinstance(x, n.Designated) for x in items):
-            count = _designated_count(items)
+            if len(dims) == 1 and scalar:
+                count = _designated_count(items)
         elif len(dims) == 1:
             if len(items) == 1 and isinstance(items[0], n.StrLit):
                 count = len(items[0].value) + 1
-            else:
+            elif scalar or all(isinstance(x, n.InitList) for x in items):
                 count = len(items)
         elif all(isinstance(x, (n.InitList, n.StrLit)) for x in items):
             count = len(items)
-        elif not any(isinstance(x, n.InitList) for x in items) and all(
-            isinstance(d, n.IntLit) and d.value > 0 for d in dims[1:]
+        elif (
+            scalar
+            and not any(isinstance(x, n.InitList) for x in items)
+            and all(isinstance(d, n.IntLit) and d.value > 0 for d in dims[1:])
         ):
             inner = 1
             for d in dims[1:]:

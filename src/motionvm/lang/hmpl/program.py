@@ -21,6 +21,8 @@ from motionvm.lang.hmpl import ctypes_ as ct
 from motionvm.lang.hmpl import nodes as n
 from motionvm.lang.hmpl.analysis import FuncFacts, constant_init, scan
 from motionvm.lang.hmpl.cmemory import Memory
+from motionvm.lang.hmpl.initializers import Braces, ExcessError, array_length
+from motionvm.lang.hmpl.initializers import members as struct_members
 from motionvm.lang.hmpl.lint import lint_function
 from motionvm.lang.hmpl.lower_expr import SemanticError
 from motionvm.lang.hmpl.lower_stmt import FunctionLowerer
@@ -229,7 +231,7 @@ class ProgramCompiler:
                     raise self._fail(
                         d.pos, f"array '{d.name}' needs sizes for all but the first dimension"
                     )
-                count = self._count_from_init(getattr(d, "init", None), t)
+                count = self._count_from_init(d, t, scope, task)
                 if count is None:
                     if isinstance(d, n.Param):
                         return ct.pointer_to(t)
@@ -245,13 +247,37 @@ class ProgramCompiler:
             return ct.pointer_to(t.elem)
         return t
 
-    @staticmethod
-    def _count_from_init(init, elem: ct.CType) -> int | None:
-        if isinstance(init, n.StrLit):
-            return len(init.value) + 1
-        if isinstance(init, n.InitList):
-            return max(1, len(init.items))
-        return None
+    def _count_from_init(self, d, elem: ct.CType, scope: Scope, task: int) -> int | None:
+        """The length of `T a[] = init` from its initializer (brace elision counted)."""
+        init = getattr(d, "init", None)
+        if init is None:
+            return None
+        lw = FunctionLowerer(self, task, scope, None, set())
+        try:
+            count = array_length(self.braces(lw, d.name), ct.array_of(elem, None), init)
+        except ExcessError as e:
+            raise self._fail(e.pos, str(e)) from None
+        return None if count is None else max(1, count)
+
+    def braces(self, lw: FunctionLowerer, vname: str) -> Braces:
+        """The brace-elision rewriter of variable `vname`'s initializer (initializers.py)."""
+        return Braces(lw.const_int, lambda e: self._has_struct_type(lw, e), vname)
+
+    def _has_struct_type(self, lw: FunctionLowerer, e) -> bool:
+        """Whether expression `e` has a struct type: it is lowered once to learn its type,
+        and what that reports is taken back (the initialization lowers it again)."""
+        if isinstance(e, (n.IntLit, n.FloatLit, n.CharLit, n.StrLit)):
+            return False
+        if isinstance(e, n.CompoundLit):  # its type is written: no object to make here
+            return not e.dims and isinstance(lw.resolve_type(e.type), ct.StructT)
+        items, warned = self.sink.items[:], set(self._warned)
+        try:
+            return isinstance(lw.expr(e).type, ct.StructT)
+        except SemanticError:
+            return True  # initializes the struct whole, where its error is reported again
+        finally:
+            self.sink.items[:] = items
+            self._warned = warned
 
     def _const_int(self, e, scope: Scope, task: int) -> int:
         lw = FunctionLowerer(self, task, scope, None, set())
@@ -267,6 +293,10 @@ class ProgramCompiler:
         """(constant byte image of the object, statements for non-constant parts)."""
         image = bytearray(t.size)
         stores: list[ast.stmt] = []
+        try:
+            init = self.braces(lw, vname).full(t, init)
+        except ExcessError as e:
+            raise self._fail(e.pos, str(e)) from None
         self._init_into(lw, t, init, 0, image, stores, addr, vname)
         return image, stores
 
@@ -320,11 +350,7 @@ class ProgramCompiler:
                     )[0]
                 )
                 return
-            members = (
-                [f for f in t.fields if not f[0].startswith("_")]
-                if t.tag != "Timer"
-                else list(t.fields)
-            )
+            members = struct_members(t)
             k = 0
             for it in init.items:
                 if isinstance(it, n.Designated):
