@@ -403,3 +403,52 @@ xglue(HIGH, LOW)
         '"vers2.h" "hello"',
         '"hello" ", world"',
     ]
+
+
+def test_line_renumbers_the_following_lines():
+    sink = DiagnosticSink()
+    toks = preprocess(
+        "pp.hmpl", task_id=0, sink=sink, text='a\n#line 10\nb\nc\n#line 40 "x.c"\nd\n#line 7\ne'
+    )
+    assert sink.errors() == []
+    where = {t.text: (t.pos.file, t.pos.line) for t in toks[:-1]}
+    assert where == {
+        "a": ("pp.hmpl", 1),
+        "b": ("pp.hmpl", 10),
+        "c": ("pp.hmpl", 11),
+        "d": ("x.c", 40),
+        "e": ("x.c", 7),  # a #line without a file name keeps the last one
+    }
+    assert toks[-1].pos.file == "x.c"
+
+
+def test_line_and_file_macros_follow_line():
+    out = ok('__LINE__ __FILE__\n#line 70 "y.c"\n#define L __LINE__\n\nL __FILE__')
+    assert out == '1 "pp.hmpl" 72 "y.c"'
+
+
+def test_line_numbers_lexical_errors_and_later_directives():
+    _, errors = pp("#line 100\n$\n#error stop")
+    assert errors == [
+        "pp.hmpl:100:1: error: stray '$' in program",
+        "pp.hmpl:101:1: error: #error stop",
+    ]
+
+
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        ("#line", 'pp.hmpl:1:2: error: #line expects a line number (#line N or #line N "FILE")'),
+        ("#line 0", "pp.hmpl:1:7: error: #line number 0 is outside [1, 2147483647]"),
+        ("#line 2147483648", "pp.hmpl:1:7: error: #line number 2147483648 is outside"),
+        ("#line 0x10", "pp.hmpl:1:7: error: #line expects a line number, not '0x10'"),
+        ("#line -1", "pp.hmpl:1:7: error: #line expects a line number, not '-'"),
+        ("#line 5 x", "pp.hmpl:1:9: error: #line expects a file name in quotes, not 'x'"),
+        ('#line 5 ""', "pp.hmpl:1:9: error: #line file name is empty"),
+        ('#line 5 "a" 1', "pp.hmpl:1:13: error: extra tokens at end of #line directive"),
+    ],
+)
+def test_malformed_line_is_an_error(text, message):
+    out, errors = pp(text + "\nx")
+    assert len(errors) == 1 and errors[0].startswith(message), errors
+    assert out == "x"
