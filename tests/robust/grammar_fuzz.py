@@ -64,6 +64,11 @@ class HmplGen:
                     "StringLen(gs)",
                     "system_timeInMs",
                     "_TASKID_",
+                    "__LINE__",
+                    "(int[]){a, b, 3}[b & 1]",
+                    "(Point){a, 2.5}.x",
+                    "(&(struct P){.x = b})->x",
+                    "++(int){a}",
                 ]  # fmt: skip
             )
         k = r.random()
@@ -117,6 +122,12 @@ class HmplGen:
                     "Till(system_timeInMs >= 0);",
                     f"gl = gl * {e(1)} + 1;",
                     ";",
+                    # C89 brace elision, C99 compound literals, a prototype in a block
+                    f"{{ int m[2][3] = {{a, {e(1)}, 3, {{4}}}}; a = m[1][0] + m[0][1]; }}",
+                    f'{{ Point ps[2] = {{a, 1.5, 0, "ab", {e(1)}}}; a = ps[1].x; }}',
+                    f"{{ int *q = (int[]){{{e(1)}, 2}}; gptr = q; a = q[1]; }}",
+                    'gp = (Point){.x = a, .name = "cl"};',
+                    "{ int f9(int); int f1(int, int); a = a + 1; }",
                 ]
                 + (["break;", "continue;"] if in_loop else [])
                 + (["break;"] if in_switch else [])
@@ -156,6 +167,8 @@ class HmplGen:
             body = self.block(r.randint(1, 4), False, False)
             jump = "if (a > 100) goto done; " if r.random() < 0.5 else ""
             funcs.append(f"int f{k}(int a, int b) {{ {jump}{body} done: return a + b; }}")
+            if r.random() < 0.2:
+                funcs.append(f'#line {r.randint(1, 99999)} "renumbered.hmpl"')
         main = f'void main() {{ int a = 1, b = 2; {self.block(r.randint(2, 5), False, False)} Print("%d", a); }}'
         return HMPL_PRELUDE + "\n".join(funcs) + "\n" + main + "\n"
 
