@@ -518,16 +518,19 @@ class ProgramCompiler:
         ftype = ct.FuncT(0, 1, ret, tuple(ptypes), False)
         old = scope.names.get(f.name)
         if old is None:
-            old = self._block_protos.get((task, f.name))
-            if old is not None and old.type != ftype:
-                raise self._fail(f.pos, f"conflicting types for '{f.name}' (was '{old.type}')")
+            # an earlier prototype inside a function; for one inside a function, also
+            # task 0's function of that name (a task's block may declare it)
+            prev = self._block_protos.get((task, f.name))
+            if prev is None and f.block_scope:
+                prev = scope.lookup(f.name)
+            if isinstance(prev, FuncSym) and prev.type != ftype:
+                raise self._fail(f.pos, f"conflicting types for '{f.name}' (was '{prev.type}')")
             if f.block_scope:  # visible in its block only (bound there when lowered)
-                if old is None:
+                if prev is None:
                     self._block_protos[(task, f.name)] = FuncSym(
                         f.name, ftype, f.pos, prefix + f.name, task
                     )
                 return
-            old = None
         if old is not None:
             if not isinstance(old, FuncSym):
                 raise self._fail(f.pos, f"'{f.name}' redeclared as a different kind of symbol")
