@@ -427,6 +427,12 @@ def test_line_and_file_macros_follow_line():
     assert out == '1 "pp.hmpl" 72 "y.c"'
 
 
+def test_line_and_file_macros_are_defined():
+    assert (
+        ok("#if defined(__LINE__) && __LINE__ == 1\na\n#endif\n#ifdef __FILE__\nb\n#endif") == "a b"
+    )
+
+
 def test_line_numbers_lexical_errors_and_later_directives():
     _, errors = pp("#line 100\n$\n#error stop")
     assert errors == [

@@ -217,7 +217,7 @@ class Preprocessor:
             if name == "if":
                 value = self._eval_if(args, word)
             else:
-                value = self._ifdef_name(args, word) in self.macros
+                value = self._defined(self._ifdef_name(args, word))
                 if name == "ifndef":
                     value = not value
             st.conds.append(_Cond(line[0].pos, True, value))
@@ -300,6 +300,9 @@ class Preprocessor:
                 sink.error(toks[2].pos, "extra tokens at end of #line directive")
                 raise _Abort
         st.line_map = (st.directive_line, value, fname)
+
+    def _defined(self, name: str | None) -> bool:
+        return name in self.macros or name in _LINE_FILE
 
     def _no_extra(self, args: list[Token], name: str, live: bool) -> None:
         if args and live:
@@ -447,7 +450,7 @@ class Preprocessor:
                 if j >= n or args[j].kind not in ("name", "keyword"):
                     self.sink.error(t.pos, "operator 'defined' requires an identifier")
                     return False
-                val = 1 if args[j].text in self.macros else 0
+                val = 1 if self._defined(args[j].text) else 0
                 j += 1
                 if paren:
                     if j >= n or args[j].text != ")":
