@@ -71,6 +71,13 @@ class Braces:
         items = init.items
         if _is_char_array(t) and len(items) == 1 and isinstance(items[0], n.StrLit):
             return items[0]  # `char s[] = {"abc"}`
+        if (
+            isinstance(t, ct.ArrayT)
+            and not _is_aggregate(t.elem)
+            and (t.n is None or len(items) <= t.n)
+            and not any(isinstance(x, (n.InitList, n.Designated)) for x in items)
+        ):
+            return init  # values for the elements one by one: nothing to elide
         stream = list(items)
         at = [0]
         out = self._fill(t, stream, at, braced=True)
