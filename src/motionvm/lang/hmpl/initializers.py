@@ -32,11 +32,9 @@ class ExcessError(Exception):
 
 
 def members(t: ct.StructT) -> list[tuple[str, int, ct.CType]]:
-    """The members a brace list of struct `t` initializes, in order (Timer: all of them;
-    other structs: not the hidden ones, whose names start with '_')."""
-    if t.tag == "Timer":
-        return list(t.fields)
-    return [f for f in t.fields if not f[0].startswith("_")]
+    """The members a brace list of struct `t` initializes, in order: all of them (a
+    user's member may start with '_' too; Timer's two are hidden from `.` only)."""
+    return list(t.fields)
 
 
 def _is_char_array(t: ct.CType) -> bool:
@@ -154,7 +152,12 @@ class Braces:
         if isinstance(sub, ct.StructT) and self.is_struct(it):
             at[0] += 1
             return it
-        return n.InitList(it.pos, tuple(self._fill(sub, stream, at, braced=False)))
+        start = at[0]
+        values = self._fill(sub, stream, at, braced=False)
+        if at[0] == start:  # `sub` takes no value by position: the value is the error's
+            at[0] += 1
+            return it
+        return n.InitList(it.pos, tuple(values))
 
 
 def array_length(braces: Braces, t: ct.ArrayT, init) -> int | None:
