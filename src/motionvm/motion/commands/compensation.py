@@ -26,6 +26,35 @@ from motionvm.motion import compensation
 from motionvm.motion.commands.base import CommandBase
 
 
+def _setup_of_dims(dims: int, name: str):
+    """SetupComp2D / SetupComp3D: a map of `dims` reference axes, from the first `dims`
+    entries of each array."""
+
+    def setup(
+        self,
+        axis_id: int,
+        start_idx: int,
+        base_val: Sequence[float],
+        interval: Sequence[float],
+        num_pt: Sequence[int],
+        ref_axis_id: Sequence[int],
+        user_table: Sequence[float] = (),
+    ) -> int:
+        return self._setup(
+            axis_id,
+            start_idx,
+            base_val[:dims],
+            interval[:dims],
+            num_pt[:dims],
+            ref_axis_id[:dims],
+            user_table,
+        )
+
+    setup.__name__ = name
+    setup.__qualname__ = f"CompensationCommands.{name}"
+    return setup
+
+
 class CompensationCommands(CommandBase):
     """Chapter 14: EnableComp ... SetCompAlgType (and GetPosFbComp, IsCompActive of 5)."""
 
@@ -67,33 +96,8 @@ class CompensationCommands(CommandBase):
             axis_id, start_idx, [base_val], [interval], [num_pt], [ref_axis_id], user_table
         )
 
-    def SetupComp2D(
-        self,
-        axis_id: int,
-        start_idx: int,
-        base_val: Sequence[float],
-        interval: Sequence[float],
-        num_pt: Sequence[int],
-        ref_axis_id: Sequence[int],
-        user_table: Sequence[float] = (),
-    ) -> int:
-        return self._setup(
-            axis_id, start_idx, base_val[:2], interval[:2], num_pt[:2], ref_axis_id[:2], user_table
-        )
-
-    def SetupComp3D(
-        self,
-        axis_id: int,
-        start_idx: int,
-        base_val: Sequence[float],
-        interval: Sequence[float],
-        num_pt: Sequence[int],
-        ref_axis_id: Sequence[int],
-        user_table: Sequence[float] = (),
-    ) -> int:
-        return self._setup(
-            axis_id, start_idx, base_val[:3], interval[:3], num_pt[:3], ref_axis_id[:3], user_table
-        )
+    SetupComp2D = _setup_of_dims(2, "SetupComp2D")
+    SetupComp3D = _setup_of_dims(3, "SetupComp3D")
 
     def _comp_command(self, axis_id: int, method: str, *args) -> int:
         a = self._axis(axis_id)
