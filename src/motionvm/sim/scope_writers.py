@@ -188,33 +188,37 @@ def write_vcd(path: Path, recorder, title: str = "") -> None:
                 continue
             while k < len(edges) and edges[k][0] < stamp:  # edges between two samples
                 k = _write_edges(f, edges, k, last, bits, ids)
-            changes = []
-            for i in sampled:
+            changes: list[str] = []
+            for i in sampled:  # inline: once per channel and sample
                 v = values[i]
                 if not _same(v, last[i]):
                     last[i] = v
                     changes.append(_vcd_value(v, bits[i], ids[i]))
-            while k < len(edges) and edges[k][0] == stamp:  # edges at this sample's time
-                _, i, v = edges[k]
-                k += 1
-                if not _same(v, last[i]):
-                    last[i] = v
-                    changes.append(_vcd_value(v, bits[i], ids[i]))
+            k = _edge_changes(changes, edges, k, stamp, last, bits, ids)  # at this time
             if changes:
                 f.write(f"#{stamp}\n" + "\n".join(changes) + "\n")
 
 
-def _write_edges(f, edges: list, k: int, last: list, bits: list, ids: list) -> int:
-    """Write the edges at the time of `edges[k]` (those that change a value); the index
-    of the first edge after them."""
-    stamp = edges[k][0]
-    changes = []
+def _edge_changes(
+    changes: list[str], edges: list, k: int, stamp, last: list, bits: list, ids: list
+) -> int:
+    """Note the edges at time `stamp` from `edges[k]` on in `changes`; the index of the
+    first edge after them."""
     while k < len(edges) and edges[k][0] == stamp:
         _, i, v = edges[k]
         k += 1
         if not _same(v, last[i]):
             last[i] = v
             changes.append(_vcd_value(v, bits[i], ids[i]))
+    return k
+
+
+def _write_edges(f, edges: list, k: int, last: list, bits: list, ids: list) -> int:
+    """Write the edges at the time of `edges[k]` (those that change a value); the index
+    of the first edge after them."""
+    stamp = edges[k][0]
+    changes: list[str] = []
+    k = _edge_changes(changes, edges, k, stamp, last, bits, ids)
     if changes:
         f.write(f"#{stamp}\n" + "\n".join(changes) + "\n")
     return k
