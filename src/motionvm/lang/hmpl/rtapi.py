@@ -292,14 +292,24 @@ class HmplRuntime(PassiveClient):
         self.faults += 1
         where = self._user_location(exc)
         msg = self._fault_message(exc)
+        file, line, col = where
         if msg is None:
             detail = "".join(traceback.format_exception_only(type(exc), exc)).strip()
             self._report(
-                f"{self._place(where)}: internal error in task {t.id}: {detail}\n"
-                "  this is a bug in motionvm, not in your program; please file an issue with the program attached"
+                Fault(
+                    f"{self._place(where)}: internal error in task {t.id}: {detail}\n"
+                    "  this is a bug in motionvm, not in your program; please file an issue with the program attached",
+                    file=file,
+                    line=line,
+                    col=col,
+                    time=self.sim_time,
+                    message=detail,
+                    language="HMPL",
+                    task=t.id,
+                    kind="internal",
+                )  # fmt: skip
             )
             return
-        file, line, col = where
         self._report(
             Fault(
                 f"{self._place(where)}: runtime error in task {t.id} at t={self.sim_time:.3f} s: {msg}",
