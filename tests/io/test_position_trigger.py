@@ -346,3 +346,27 @@ def test_a_last_position_between_two_counts_is_reached_by_a_move_to_it():
     assert pt.EnablePT(0) == 0
     r.move(0, 20.00004)
     assert r.ctl.triggers[0].count == 11 and pt.IsPTEnabled(0) == 0
+
+
+def test_a_long_train_keeps_a_bounded_pulse_list_and_a_recording_every_edge():
+    from motionvm.io.position_trigger import PULSES_KEPT
+
+    r = Rig()
+    r.ready()
+    pt = r.pt
+    assert pt.SetPT_StartPos(0, 0.5) == pt.SetPT_Interval(0, 0.01) == 0
+    assert pt.SetPT_EndPos(0, 100.5) == 0  # 10001 positions, 15 pulses a cycle at 150 mm/s
+    out, _ = r.ctl.triggers.resolve("axis0.pt_out")  # a recording's channel keeps its edges
+    dropped, _ = r.ctl.triggers.resolve("axis0.pt_out")
+    del dropped  # a channel nobody holds keeps nothing
+    r.m.SetVel(0, 150.0)
+    assert pt.EnablePT(0) == 0
+    r.move(0, 101.0)
+    trig = r.ctl.triggers[0]
+    assert trig.count == 10_001 and pt.IsPTEnabled(0) == 0
+    assert PULSES_KEPT <= len(trig.pulses) < 2 * PULSES_KEPT
+    assert trig.pulses[-1][1] == pytest.approx(100.5)
+    assert [p for _, p in trig.pulses] == sorted(p for _, p in trig.pulses)
+    assert len(list(trig._outputs)) == 1
+    edges = out.edges()
+    assert len(edges) == 2 * 10_001 and [lvl for _, lvl in edges[:4]] == [1, 0, 1, 0]
