@@ -110,6 +110,34 @@ def test_requests_that_cannot_run_get_err_with_a_reason(client):
     assert client.ask("MoveAbs(0 10)") == "ERR expected ',' or ')' in the call of 'MoveAbs'"
 
 
+def test_print_converts_a_wide_integer_as_a_task_would(server, client):
+    """`%d` prints the low 32 bits of a 64-bit constant, `%lld` all of it, exactly what
+    the same Print in a task prints; a constant beyond 64 bits is refused like in C."""
+    sim = server[0]
+    requests = [
+        'Print("w %d", 4294967297)',
+        'Print("w %d", 18446744073709551615)',
+        'Print("w %lld", 9223372036854775807)',
+        'Print("w %u", -1)',
+    ]
+    replies = [client.ask(r) for r in requests]
+    assert all(not r.startswith("ERR") for r in replies), replies
+    lines = []
+    for _ in range(250):
+        lines = [m for m in sim.messages if m.startswith("w ")]
+        if len(lines) == 4:
+            break
+        time.sleep(0.02)
+    task = Simulation.from_source("void main() {\n" + ";\n".join(requests) + ";\n}\n")
+    task.run()
+    assert lines == task.messages == ["w 1", "w -1", "w 9223372036854775807", "w 4294967295"]
+    reply = client.ask('Print("%d", 99999999999999999999)')
+    assert reply == (
+        "ERR integer constant '99999999999999999999' is too large "
+        "(the limit is 18446744073709551615)"
+    )
+
+
 def test_a_built_in_not_implemented_is_named(monkeypatch):
     # every built-in is implemented: take one away, as a library that failed to provide it
     name = "GetGrpCmdNum"
