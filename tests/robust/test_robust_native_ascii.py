@@ -136,7 +136,7 @@ def test_a_served_controller_answers_hostile_lines_and_keeps_answering():
         (["arr[3] = 9", "arr[3]"], "9"),
         (["arr[0x2] = -4", "arr[2]"], "-4"),
         (["darr[1] = 2.5;", "darr[1]"], "2.5"),
-        (["arr[4]"], "ERR scope channel 'arr[4]': index 4 is out of range for arr[4] (0..3)"),
+        (["arr[4]"], "ERR variable 'arr[4]': index 4 is out of range for arr[4] (0..3)"),
         (["arr[1.5]"], "ERR expected 'arr[INDEX]' with an integer index >= 0"),
         (["arr[-1]"], "ERR expected 'arr[INDEX]' with an integer index"),
         (["arr["], "ERR expected 'arr[INDEX]' with an integer index"),
