@@ -27,8 +27,8 @@ from motionvm.motion.commands.base import CommandBase
 
 
 def _setup_of_dims(dims: int, name: str):
-    """SetupComp2D / SetupComp3D: a map of `dims` reference axes, from the first `dims`
-    entries of each array."""
+    """SetupComp2D / SetupComp3D (and SetupComp's work): a map of `dims` reference axes,
+    from the first `dims` entries of each array."""
 
     def setup(
         self,
@@ -40,34 +40,8 @@ def _setup_of_dims(dims: int, name: str):
         ref_axis_id: Sequence[int],
         user_table: Sequence[float] = (),
     ) -> int:
-        return self._setup(
-            axis_id,
-            start_idx,
-            base_val[:dims],
-            interval[:dims],
-            num_pt[:dims],
-            ref_axis_id[:dims],
-            user_table,
-        )
-
-    setup.__name__ = name
-    setup.__qualname__ = f"CompensationCommands.{name}"
-    return setup
-
-
-class CompensationCommands(CommandBase):
-    """Chapter 14: EnableComp ... SetCompAlgType (and GetPosFbComp, IsCompActive of 5)."""
-
-    def _setup(
-        self,
-        axis_id: int,
-        start_idx: int,
-        base_val: Sequence[float],
-        interval: Sequence[float],
-        num_pt: Sequence[int],
-        ref_axis_id: Sequence[int],
-        user_table: Sequence[float],
-    ) -> int:
+        base_val, interval = base_val[:dims], interval[:dims]
+        num_pt, ref_axis_id = num_pt[:dims], ref_axis_id[:dims]
         axes = self._axes(axis_id, *ref_axis_id)
         if axes is None:
             return st.SYS_HMPL_ARG_OUT_OF_RANGE
@@ -81,6 +55,16 @@ class CompensationCommands(CommandBase):
         except compensation.MapError:
             return self._fail(a, st.CMD_INVALID_PARAMETER)
         return self._run(a, a.filters.setup_comp, emap, tuple(ref_axis_id))
+
+    setup.__name__ = name
+    setup.__qualname__ = f"CompensationCommands.{name}"
+    return setup
+
+
+class CompensationCommands(CommandBase):
+    """Chapter 14: EnableComp ... SetCompAlgType (and GetPosFbComp, IsCompActive of 5)."""
+
+    _setup = _setup_of_dims(1, "_setup")
 
     def SetupComp(
         self,
