@@ -39,10 +39,10 @@ def enable(c: MotionCommands, *ids: int) -> None:
     until(c, lambda: all(c.IsEnabled(i) for i in ids))
 
 
-def enabled(n: int) -> MotionCommands:
-    """A machine of `n` axes, all enabled."""
+def enabled(n: int, *ids: int) -> MotionCommands:
+    """A machine of `n` axes, the axes `ids` enabled (none given: all)."""
     c = machine(n)
-    enable(c, *range(n))
+    enable(c, *(ids or range(n)))
     return c
 
 
