@@ -36,8 +36,9 @@ Decisions where the manual is silent:
 - `pt_count` counts every pulse since power-on; the output is active high.
 - Memory stays bounded however long the run: `pulses` keeps the latest pulses only
   (at least `PULSES_KEPT`, at most twice as many), enough for the output's level; the
-  exact edges of `axisN.pt_out` for a VCD file are kept by each resolved channel from
-  the moment it was resolved (a recording), and go with it.
+  exact edges of `axisN.pt_out` for a VCD file are kept only by the channels a scope
+  recording records (`_Output.record_edges`, called as the recording attaches), from
+  then on, and go with the recording. A channel only read (a host's `read`) keeps none.
 """
 
 from __future__ import annotations
@@ -87,7 +88,7 @@ class PositionTrigger:
         """(sim_time [s], position [mm or deg]) of the latest pulses output, in time order
         (at least the last `PULSES_KEPT`, at most twice as many)."""
         self._outputs: weakref.WeakSet[_Output] = weakref.WeakSet()
-        """The resolved `pt_out` channels, each keeping the pulse times it has seen."""
+        """The recorded `pt_out` channels, each keeping the pulse times it has seen."""
         self._points: Sequence[tuple[float, bool]] = []
         self._next = 0
         self._direction = 0
@@ -313,12 +314,16 @@ class _Interval:
 
 class _Output:
     """The scope getter of `axisN.pt_out`: the level now, and its exact edges (VCD) since
-    it was resolved (the pulse times it keeps go with it)."""
+    a recording started keeping them (the pulse times it keeps go with it)."""
 
     def __init__(self, pt: PositionTrigger, clock) -> None:
         self.pt, self.clock = pt, clock
         self.times: list[float] = []
-        pt._outputs.add(self)
+        """The times of the pulses since `record_edges` (none before)."""
+
+    def record_edges(self) -> None:
+        """Keep the time of every pulse from now on, for `edges` (a recording's channel)."""
+        self.pt._outputs.add(self)
 
     def __call__(self) -> int:
         return self.pt.level_at(self.clock.cycle * self.pt.dt)

@@ -307,9 +307,14 @@ class ScopeRecorder(PassiveClient):
         self._pairs = list(zip(self._columns, [c.getter for c in self.channels]))
 
     def attach(self, controller) -> None:
-        """Become a client of `controller`, sampling from its current cycle on."""
+        """Become a client of `controller`, sampling from its current cycle on; channels
+        with exact edges (`record_edges`, the position trigger's output) keep them from now."""
         self._controller = controller
         self._first_cycle = controller.cycle
+        for channel in self.channels:
+            record_edges = getattr(channel.getter, "record_edges", None)
+            if record_edges is not None:
+                record_edges()
         controller.add_client(self)
 
     def end_cycle(self) -> None:

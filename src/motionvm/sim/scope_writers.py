@@ -122,8 +122,9 @@ def _is_nan(v) -> bool:
 def write_vcd(path: Path, recorder, title: str = "") -> None:
     """IEEE 1364 value-change dump: `real` channels, `wire 1` bits; `axis0.x` goes in scope axis0.
 
-    A channel whose getter has `edges()` (a list of (sim_time [s], value), e.g. the
-    position trigger's `axisN.pt_out`, whose pulses are shorter than a cycle) is written
+    A channel whose getter has `edges()` (a list of (sim_time [s], value) since the
+    recorder attached, e.g. the position trigger's `axisN.pt_out`, whose pulses are
+    shorter than a cycle) is written
     at the exact time of each change between the first and the last sample, in a 1 ns
     timescale, instead of at the samples."""
     chans = recorder.channels
