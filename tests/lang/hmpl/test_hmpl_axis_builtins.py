@@ -174,6 +174,19 @@ void main() {
     assert sim.messages == ["830001f4 830101f4", "0 0", "10000 -10000"]
 
 
+def test_rollover_turns_beyond_an_int_saturate():
+    # one count of rollover (10000 counts per mm) 1 m from the origin: 1e10 turns
+    sim = sim_of("""
+void main() {
+    SetPos(0, 1e6); SetPos(1, -1e6);
+    SetRollover(0, 0.0001); SetRollover(1, 0.0001);
+    Print("%d %d", GetRolloverTurns(0), GetRolloverTurns(1));
+}
+""")
+    sim.run()
+    assert sim.messages == ["2147483647 -2147483648"]
+
+
 def test_set_hmi_scope_sets_the_controller_flag():
     sim = sim_of("void main() { SetHMIScope(1); Sleep(10); SetHMIScope(0); }")
     sim.run(until=0.005)
