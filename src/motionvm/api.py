@@ -290,8 +290,9 @@ class Simulation:
 
     @property
     def fault_records(self) -> list[Fault]:
-        """The runtime faults so far, structured: `task`, `file`, `line`, `col`, `time`
-        [s], `message` (`str()`: the report line)."""
+        """The faults so far, structured: `task`, `file`, `line`, `col`, `time` [s],
+        `message`, `kind` ("runtime": the program's error; "internal": an error of
+        motionvm while it ran the program) (`str()`: the report line)."""
         return [f for f in self.faults if isinstance(f, Fault)]
 
     def on_event(self, callback: Callable[[str, object], None]) -> None:

@@ -76,3 +76,45 @@ def test_a_fault_survives_pickling_with_its_fields():
     (fault,) = sim.fault_records
     copy = pickle.loads(pickle.dumps(fault))
     assert isinstance(copy, Fault) and copy == fault and copy.fields() == fault.fields()
+
+
+def test_an_internal_error_is_a_fault_record_of_kind_internal():
+    """An exception that is no fault of the program (here: of the host's event callback)
+    is reported as an internal error, and `fault_records` holds it too."""
+
+    def callback(kind, payload):
+        raise LookupError(f"host callback failed on {kind} {payload}")
+
+    sim = Simulation.from_source(
+        "void main() {\n    Sleep(2);\n    SendEvent(7);\n}\n", name="e.hmpl"
+    )
+    sim.on_event(callback)
+    sim.run()
+    assert sim.fault_count == 1
+    (fault,) = sim.fault_records
+    assert fault is sim.faults[0] and fault.kind == "internal"
+    assert fault.startswith("e.hmpl:3:5: internal error in task 0: LookupError: host callback")
+    assert (fault.file, fault.line, fault.task, fault.language) == ("e.hmpl", 3, 0, "HMPL")
+    assert fault.message == "LookupError: host callback failed on event 7"
+    assert fault.time == pytest.approx(0.002)
+    assert pickle.loads(pickle.dumps(fault)).kind == "internal"
+
+
+def test_a_program_error_is_a_fault_record_of_kind_runtime():
+    sim = Simulation.from_source(DIVIDE)
+    sim.run()
+    assert [f.kind for f in sim.fault_records] == ["runtime"]
+
+
+@pytest.mark.parametrize(
+    ("exc", "kind"), [(ZeroDivisionError(), "runtime"), (LookupError("no such key"), "internal")]
+)
+def test_a_pdl_drive_fault_tells_an_internal_error_from_the_programs(exc, kind):
+    from motionvm.lang.pdl.drive_faults import describe_fault
+    from motionvm.lang.pdl.program import compile_pdl
+    from motionvm.source import DiagnosticSink
+
+    program = compile_pdl("d.pdl", sink=DiagnosticSink(), text=DRIVE_PDL)
+    fault = describe_fault(program, 0, exc, 0.25)
+    assert fault.kind == kind and fault.language == "PDL" and fault.time == 0.25
+    assert ("internal error (LookupError" in fault.message) is (kind == "internal")

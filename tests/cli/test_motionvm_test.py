@@ -213,6 +213,10 @@ def test_a_malformed_case_is_an_error_not_a_crash(tmp_path: Path) -> None:
 
 
 def test_a_hanging_program_hits_the_case_timeout(tmp_path: Path) -> None:
+    """The limit is generous for the quick case (a tenth of a second of its own run: the
+    clock starts after its worker imported the compiler) and the hanging program never
+    ends (no simulated time limit, a loop without exit). Two workers run both at once, so
+    the test lasts about the limit."""
     write(
         tmp_path,
         {
@@ -221,11 +225,26 @@ def test_a_hanging_program_hits_the_case_timeout(tmp_path: Path) -> None:
             "quick.out": "hello\nx=42\n",
         },
     )
-    code, out, _ = motionvm_test("-j1", "--case-timeout", "1", cwd=tmp_path)
+    code, out, _ = motionvm_test("-j2", "--case-timeout", "2", cwd=tmp_path)
     assert code == 1
     assert "F." in out
-    assert "timed out after 1 s of wall-clock time" in out
+    assert "hang.hmpl" in out and "timed out after 2 s of wall-clock time" in out
     assert "1 passed, 1 failed" in out
+
+
+def test_a_case_clock_starts_after_the_imports_of_its_languages() -> None:
+    from motionvm.cli.workers import preload_modules
+
+    hmpl = Case("a.hmpl", "/", ("a.hmpl",))
+    gdl = Case("b.gdl", "/", ("b.gdl", "--scenario", "s.toml"))
+    assert preload_modules([hmpl]) == (
+        "motionvm.cli.run",
+        "motionvm.session",
+        "motionvm.lang.hmpl.compiler",
+        "motionvm.lang.hmpl.rtapi",
+    )
+    assert "motionvm.lang.gdl.compiler" in preload_modules([hmpl, gdl])
+    assert not any("pdl" in m for m in preload_modules([hmpl, gdl]))
 
 
 def test_the_examples_pass() -> None:

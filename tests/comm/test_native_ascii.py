@@ -110,6 +110,53 @@ def test_requests_that_cannot_run_get_err_with_a_reason(client):
     assert client.ask("MoveAbs(0 10)") == "ERR expected ',' or ')' in the call of 'MoveAbs'"
 
 
+def test_array_and_struct_variables_are_errors_about_the_variable():
+    """The Native ASCII errors of a variable that is not one number name the variable
+    and what a request can do, not a scope channel."""
+    program = "int table[4]; int x; struct P { int a; } p;\nvoid main() { }\n"
+    with served(program) as (_sim, srv):
+        c = LineClient(srv.ports["native-ascii"])
+        replies = {r: c.ask(r) for r in ("table", "table[9] = 1", "x[1]", "p", "p = 1")}
+        c.close()
+    assert replies == {
+        "table": "ERR variable 'table' is an array of 4; read or write one element, "
+        "e.g. 'table[0]'",
+        "table[9] = 1": "ERR variable 'table[9]': index 9 is out of range for table[4] (0..3)",
+        "x[1]": "ERR variable 'x[1]': 'x' is not an array",
+        "p": "ERR variable 'p' is a struct P; Native ASCII reads and writes numbers only",
+        "p = 1": "ERR variable 'p' is a struct P; Native ASCII reads and writes numbers only",
+    }
+    assert not any("scope" in r for r in replies.values())
+
+
+def test_print_converts_a_wide_integer_as_a_task_would(server, client):
+    """`%d` prints the low 32 bits of a 64-bit constant, `%lld` all of it, exactly what
+    the same Print in a task prints; a constant beyond 64 bits is refused like in C."""
+    sim = server[0]
+    requests = [
+        'Print("w %d", 4294967297)',
+        'Print("w %d", 18446744073709551615)',
+        'Print("w %lld", 9223372036854775807)',
+        'Print("w %u", -1)',
+    ]
+    replies = [client.ask(r) for r in requests]
+    assert all(not r.startswith("ERR") for r in replies), replies
+    lines = []
+    for _ in range(250):
+        lines = [m for m in sim.messages if m.startswith("w ")]
+        if len(lines) == 4:
+            break
+        time.sleep(0.02)
+    task = Simulation.from_source("void main() {\n" + ";\n".join(requests) + ";\n}\n")
+    task.run()
+    assert lines == task.messages == ["w 1", "w -1", "w 9223372036854775807", "w 4294967295"]
+    reply = client.ask('Print("%d", 99999999999999999999)')
+    assert reply == (
+        "ERR integer constant '99999999999999999999' is too large "
+        "(the limit is 18446744073709551615)"
+    )
+
+
 def test_a_built_in_not_implemented_is_named(monkeypatch):
     # every built-in is implemented: take one away, as a library that failed to provide it
     name = "GetGrpCmdNum"

@@ -21,6 +21,10 @@ from motionvm.comm.native import Ident, Request, format_value, parse_request
         ("F(010, 0b101, 10u)", Request("call", "F", (8, 5, 10))),
         ('Print("a\\tb\\\\ \\"q\\" %d", 3)', Request("call", "Print", (b'a\tb\\ "q" %d', 3))),
         ("F('A', '\\n', HMPL_ABS)", Request("call", "F", (65, 10, Ident("HMPL_ABS")))),
+        (
+            "F(18446744073709551615, -0xffffffffffffffff)",
+            Request("call", "F", (2**64 - 1, 1 - 2**64)),
+        ),
     ],
 )
 def test_lines_parse_to_requests(line, request_):
@@ -43,6 +47,15 @@ def test_lines_parse_to_requests(line, request_):
         ("F(1) 2", "unexpected '2' after the call of 'F'"),
         ("F(#)", "unexpected '#)' at column 3"),
         ("F('ab')", "character literal 'ab' holds 2 characters"),
+        (
+            'Print("%d", ' + "9" * 400 + ")",  # it printed -1 (its low 32 bits)
+            f"integer constant '{'9' * 400}' is too large (the limit is 18446744073709551615)",
+        ),
+        (
+            "x = -0x10000000000000000",
+            "integer constant '0x10000000000000000' is too large (the limit is "
+            "18446744073709551615)",
+        ),
     ],
 )
 def test_malformed_lines_say_what_is_wrong(line, message):

@@ -198,6 +198,7 @@ def test_scope_channels_and_exact_edges():
     src = r.ctl.triggers
     count, _ = src.resolve("axis0.pt_count")
     out, unit = src.resolve("axis0.pt_out")
+    out.record_edges()  # as a recording does when it attaches
     assert unit == "bool" and src.resolve("axis0.ref_pos") is None
     r.move(0, 5)
     assert count() == 3 and out() == 0
@@ -346,3 +347,30 @@ def test_a_last_position_between_two_counts_is_reached_by_a_move_to_it():
     assert pt.EnablePT(0) == 0
     r.move(0, 20.00004)
     assert r.ctl.triggers[0].count == 11 and pt.IsPTEnabled(0) == 0
+
+
+def test_a_long_train_keeps_a_bounded_pulse_list_and_a_recording_every_edge():
+    from motionvm.io.position_trigger import PULSES_KEPT
+
+    r = Rig()
+    r.ready()
+    pt = r.pt
+    assert pt.SetPT_StartPos(0, 0.5) == pt.SetPT_Interval(0, 0.01) == 0
+    assert pt.SetPT_EndPos(0, 100.5) == 0  # 10001 positions, 15 pulses a cycle at 150 mm/s
+    out, _ = r.ctl.triggers.resolve("axis0.pt_out")
+    out.record_edges()  # a recording's channel keeps its edges
+    read, _ = r.ctl.triggers.resolve("axis0.pt_out")  # a channel only read keeps none
+    dropped, _ = r.ctl.triggers.resolve("axis0.pt_out")
+    dropped.record_edges()
+    del dropped  # nor does a recorded channel nobody holds any more
+    r.m.SetVel(0, 150.0)
+    assert pt.EnablePT(0) == 0
+    r.move(0, 101.0)
+    trig = r.ctl.triggers[0]
+    assert trig.count == 10_001 and pt.IsPTEnabled(0) == 0
+    assert PULSES_KEPT <= len(trig.pulses) < 2 * PULSES_KEPT
+    assert trig.pulses[-1][1] == pytest.approx(100.5)
+    assert [p for _, p in trig.pulses] == sorted(p for _, p in trig.pulses)
+    assert list(trig._outputs) == [out] and read.times == [] and read() == 0
+    edges = out.edges()
+    assert len(edges) == 2 * 10_001 and [lvl for _, lvl in edges[:4]] == [1, 0, 1, 0]

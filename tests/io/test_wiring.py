@@ -24,22 +24,16 @@ TIMING = """void main() {
 }"""
 
 
-def machine(tmp_path, text: str, name: str = "m.toml") -> str:
-    p = tmp_path / name
-    p.write_text(text)
-    return str(p)
-
-
 @pytest.mark.parametrize("skip", [True, False])
 @pytest.mark.parametrize(
     ("cycle_ms", "delay_ms", "cycles"),
     [(1.0, 0, 1), (1.0, 5, 6), (1.0, 4.5, 6), (0.5, 5, 11), (2.0, 5, 4), (1.0, 1000, 1001)],
 )
 def test_a_wire_delivers_exactly_one_cycle_plus_its_delay_later(
-    tmp_path, skip, cycle_ms, delay_ms, cycles
+    write_file, skip, cycle_ms, delay_ms, cycles
 ):
-    m = machine(
-        tmp_path,
+    m = write_file(
+        "m.toml",
         f"axes = 1\n[controller]\ncycle_time_ms = {cycle_ms}\n"
         f'[[wire]]\nfrom = "gpo3"\nto = "gpi4"\ndelay_ms = {delay_ms}\n',
     )
@@ -48,8 +42,8 @@ def test_a_wire_delivers_exactly_one_cycle_plus_its_delay_later(
     assert sim.messages == [f"on after {cycles} cycles", f"off after {cycles} cycles"]
 
 
-def test_a_delayed_change_is_not_jumped_over_while_every_task_sleeps(tmp_path):
-    m = machine(tmp_path, 'axes = 1\n[[wire]]\nfrom = "gpo1"\nto = "gpi2"\ndelay_ms = 250\n')
+def test_a_delayed_change_is_not_jumped_over_while_every_task_sleeps(write_file):
+    m = write_file("m.toml", 'axes = 1\n[[wire]]\nfrom = "gpo1"\nto = "gpi2"\ndelay_ms = 250\n')
     sim = Simulation.from_source(
         'void main() { SetGPO(1, 1); Sleep(1000); Print("%d", GetGPI(2)); }', machine=m
     )
@@ -61,8 +55,8 @@ def test_a_delayed_change_is_not_jumped_over_while_every_task_sleeps(tmp_path):
     assert first_on == pytest.approx(0.251)
 
 
-def test_output_inversion_acts_on_the_pin_a_wire_carries(tmp_path):
-    m = machine(tmp_path, 'axes = 1\n[[wire]]\nfrom = "gpo2"\nto = "gpi1"\n')
+def test_output_inversion_acts_on_the_pin_a_wire_carries(write_file):
+    m = write_file("m.toml", 'axes = 1\n[[wire]]\nfrom = "gpo2"\nto = "gpi1"\n')
     sim = Simulation.from_source(
         """void main() {
             SetGPOInvert(2, 1); Sleep(2);
@@ -76,9 +70,9 @@ def test_output_inversion_acts_on_the_pin_a_wire_carries(tmp_path):
     assert sim.messages == ["0 1", "1 0"]
 
 
-def test_slave_wires_and_analog_gain_offset(tmp_path):
-    m = machine(
-        tmp_path,
+def test_slave_wires_and_analog_gain_offset(write_file):
+    m = write_file(
+        "m.toml",
         """axes = 1
 [[slave]]
 kind = "digital"
@@ -112,9 +106,9 @@ offset = 100
     assert sim.messages == ["1 1 600"]
 
 
-def test_a_sensor_follows_the_axis_feedback(tmp_path):
-    m = machine(
-        tmp_path,
+def test_a_sensor_follows_the_axis_feedback(write_file):
+    m = write_file(
+        "m.toml",
         """axes = 1
 [[sensor]]
 input = "gpi2"
@@ -198,33 +192,31 @@ invert = true
         ("[io]\nleds = 2\n", "2:1", "unknown key 'leds' in [io]"),
     ],
 )
-def test_bad_io_tables_are_machine_file_errors(tmp_path, text, where, message):
-    path = machine(tmp_path, "axes = 1\n" + text)
+def test_bad_io_tables_are_machine_file_errors(write_file, error_at, text, where, message):
+    path = write_file("m.toml", "axes = 1\n" + text)
     with pytest.raises(MachineFileError) as err:
         load_machine(path)
     line, col = where.split(":")
-    heads = [m for m in err.value.messages if message in m]
-    assert heads, err.value.messages
-    assert heads[0].startswith(f"{path}:{int(line) + 1}:{col}: error: "), heads[0]
+    error_at(err.value.messages, path, f"{int(line) + 1}:{col}", message)
 
 
-def test_the_cli_reports_a_bad_wire_with_exit_3(tmp_path, capsys):
+def test_the_cli_reports_a_bad_wire_with_exit_3(tmp_path, write_file, capsys):
     from motionvm.cli import main
 
-    m = machine(tmp_path, 'axes = 1\n[[wire]]\nfrom = "gpo3"\nto = "slv1.di1"\n')
+    m = write_file("m.toml", 'axes = 1\n[[wire]]\nfrom = "gpo3"\nto = "slv1.di1"\n')
     (tmp_path / "p.hmpl").write_text("void main() { }\n")
     assert main(["run", "--machine", m, str(tmp_path / "p.hmpl")]) == 3
     assert "m.toml:4:1: error: [[wire]] 0: to = 'slv1.di1'" in capsys.readouterr().err
 
 
-def test_a_session_error_for_the_api(tmp_path):
-    m = machine(tmp_path, 'axes = 1\n[[sensor]]\ninput = "gpi1"\n')
+def test_a_session_error_for_the_api(write_file):
+    m = write_file("m.toml", 'axes = 1\n[[sensor]]\ninput = "gpi1"\n')
     with pytest.raises(SessionError):
         Simulation.from_source("void main() { }", machine=m)
 
 
-def test_the_run_lasts_until_a_change_has_gone_through_its_wire(tmp_path):
-    m = machine(tmp_path, 'axes = 1\n[[wire]]\nfrom = "gpo1"\nto = "gpi2"\ndelay_ms = 50\n')
+def test_the_run_lasts_until_a_change_has_gone_through_its_wire(write_file):
+    m = write_file("m.toml", 'axes = 1\n[[wire]]\nfrom = "gpo1"\nto = "gpi2"\ndelay_ms = 50\n')
     sim = Simulation.from_source("void main() { SetGPO(1, 1); }", machine=m)
     result = sim.run()
     assert result.finished and sim.read("gpi2") == 1 and result.sim_time == pytest.approx(0.052)

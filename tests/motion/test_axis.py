@@ -357,6 +357,9 @@ def test_pvt_errors_use_the_manuals_codes():
         ("set_op_mode", 6, st.CMD_INVALID_OP_MODE),
         ("set_buffer_mode", 2, st.CMD_INVALID_BUFFER_MODE),
         ("set_rollover", -1.0, st.CMD_INVALID_ROLLOVER_POS),
+        ("set_rollover", 1e-320, st.CMD_INVALID_ROLLOVER_POS),  # below one encoder count
+        ("set_rollover", 0.99e-4, st.CMD_INVALID_ROLLOVER_POS),  # 10000 counts per mm
+        ("set_rollover", math.inf, st.CMD_INVALID_ROLLOVER_POS),
         ("set_sw_right", -2000.0, st.CMD_INVALID_POS),
         ("move_abs", 1500.0, st.CMD_INVALID_DISABLED),
     ],
@@ -366,6 +369,17 @@ def test_out_of_range_settings_are_refused(method, value, code):
     with pytest.raises(AxisCommandError) as exc:
         getattr(a, method)(value)
     assert exc.value.code == code
+
+
+def test_a_rollover_of_one_encoder_count_is_the_smallest_taken():
+    a = make(counts_per_unit=1000.0)
+    a.set_rollover(0.001)
+    assert a.rollover == 0.001
+    with pytest.raises(AxisCommandError) as exc:
+        a.set_rollover(0.000999)
+    assert exc.value.code == st.CMD_INVALID_ROLLOVER_POS and a.rollover == 0.001
+    a.set_rollover(0.0)  # off
+    assert a.rollover == 0.0
 
 
 def test_the_setters_take_the_machine_file_range_edges():

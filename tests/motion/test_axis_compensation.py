@@ -5,43 +5,13 @@ compensation limit, reference axes that are other axes (and wake a resting axis)
 from __future__ import annotations
 
 import pytest
+from axis_util import cycle, enable, err, machine, until
 
 from motionvm.motion import axis_status as st
-from motionvm.motion.axis_config import create
 from motionvm.motion.commands import MotionCommands
-from motionvm.motion.kernel import MotionKernel
 
-DT = 0.001
 EX1 = [-0.2, 0.1, -0.3, 0.4, -0.1]
 USER_TABLE = [0.0] * 100
-
-
-def machine(n: int = 3) -> MotionCommands:
-    return MotionCommands(MotionKernel([create({}) for _ in range(n)], DT))
-
-
-def cycle(c: MotionCommands, n: int = 1) -> None:
-    for _ in range(n):
-        c.motion.begin_cycle()
-        c.motion.step()
-
-
-def until(c: MotionCommands, cond, limit: int = 50_000) -> int:
-    for n in range(limit):
-        if cond():
-            return n
-        cycle(c)
-    raise AssertionError("condition never held")
-
-
-def enable(c: MotionCommands, *ids: int) -> None:
-    for i in ids:
-        assert c.Enable(i) == 0
-    until(c, lambda: all(c.IsEnabled(i) for i in ids))
-
-
-def err(code: int, axis_id: int = 0) -> int:
-    return st.axis_error(code, axis_id)
 
 
 def example_1(c: MotionCommands) -> None:
@@ -53,7 +23,7 @@ def example_1(c: MotionCommands) -> None:
 
 
 def test_example_1_the_compensation_follows_the_reference_axis():
-    c = machine()
+    c = machine(3)
     example_1(c)
     assert c.IsCompActive(0) == 1 and c.IsCompActive(1) == 0
     assert c.GetCompPos(0) == 0.0  # nothing is sent to a disabled drive
@@ -75,7 +45,7 @@ def test_example_1_the_compensation_follows_the_reference_axis():
 
 
 def test_a_resting_compensated_axis_wakes_when_its_reference_axis_moves():
-    c = machine()
+    c = machine(3)
     example_1(c)
     enable(c, 0, 1)
     cycle(c, 30)
@@ -101,7 +71,7 @@ def test_self_referenced_compensation_uses_the_axis_own_reference():
 
 
 def test_enable_and_disable_comp_only_while_the_axis_is_disabled():
-    c = machine()
+    c = machine(3)
     table = list(USER_TABLE)
     assert c.SetupComp(0, 1, -100.0, 200.0, 5, 1, table) == 0
     enable(c, 0)
@@ -120,7 +90,7 @@ def test_enable_and_disable_comp_only_while_the_axis_is_disabled():
 
 
 def test_disabling_the_axis_stops_sending_the_compensation():
-    c = machine()
+    c = machine(3)
     table = [0.3] * 5
     assert c.SetupComp(0, 0, 0.0, 10.0, 5, 0, table) == 0
     c.EnableComp(0)
@@ -135,7 +105,7 @@ def test_disabling_the_axis_stops_sending_the_compensation():
 
 
 def test_setup_refusals():
-    c = machine()
+    c = machine(3)
     table = list(USER_TABLE)
     assert c.SetupComp(0, 0, 0.0, 0.0, 5, 1, table) == err(st.CMD_INVALID_PARAMETER)
     assert c.SetupComp(0, 98, 0.0, 1.0, 5, 1, table) == err(st.CMD_INVALID_PARAMETER)
@@ -150,7 +120,7 @@ def test_setup_refusals():
 
 
 def test_alg_type_checks():
-    c = machine()
+    c = machine(3)
     assert c.SetCompAlgType(0, 2) == err(st.CMD_INVALID_PARAMETER)
     assert c.SetCompAlgType(0, 1) == 0
     three = [0.0] * 8
@@ -162,7 +132,7 @@ def test_alg_type_checks():
 
 
 def test_set_pos_and_homing_are_refused_while_compensation_fixes_the_origin():
-    c = machine()
+    c = machine(3)
     example_1(c)
     enable(c, 0, 1, 2)
     assert c.SetPos(0, 5.0) == err(st.CMD_INVALID_COMP_ENABLED)
@@ -191,7 +161,7 @@ def test_a_spline_beyond_the_limit_stops_the_axis_with_the_limit_error():
 
 
 def test_2d_example_axis_2_compensated_by_axes_0_and_1():
-    c = machine()
+    c = machine(3)
     table = [0.0] * 3 + [0.3, 0.1, -0.4, -0.4, 0.0, 0.2, 0.2, -0.1, 0.5]
     args = ([-100.0, -100.0], [200.0, 100.0], [3, 3], [0, 1])
     assert c.SetupComp2D(2, 3, *args, table) == 0 and c.EnableComp(2) == 0

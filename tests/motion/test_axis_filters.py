@@ -5,6 +5,7 @@ the manual's exclusions and refusals, and no effect on a followed reference."""
 from __future__ import annotations
 
 import pytest
+from axis_util import DT, cycle, enabled, err, machine, until
 
 from motionvm.motion import axis_status as st
 from motionvm.motion import inshape
@@ -12,42 +13,11 @@ from motionvm.motion.axis_config import create
 from motionvm.motion.commands import MotionCommands
 from motionvm.motion.kernel import MotionKernel
 
-DT = 0.001
 NORMAL, ROBUST = inshape.SHAPER_NORMAL, inshape.SHAPER_ROBUST
 
 
-def machine(n: int = 2) -> MotionCommands:
-    return MotionCommands(MotionKernel([create({}) for _ in range(n)], DT))
-
-
-def cycle(c: MotionCommands, n: int = 1) -> None:
-    for _ in range(n):
-        c.motion.begin_cycle()
-        c.motion.step()
-
-
-def until(c: MotionCommands, cond, limit: int = 50_000) -> int:
-    for n in range(limit):
-        if cond():
-            return n
-        cycle(c)
-    raise AssertionError("condition never held")
-
-
-def enabled(n: int = 2) -> MotionCommands:
-    c = machine(n)
-    for i in range(n):
-        assert c.Enable(i) == 0
-    until(c, lambda: all(c.IsEnabled(i) for i in range(n)))
-    return c
-
-
-def err(code: int, axis_id: int = 0) -> int:
-    return st.axis_error(code, axis_id)
-
-
 def test_manual_example_1_sets_and_enables_inshape_on_a_disabled_axis():
-    c = machine()
+    c = machine(2)
     assert c.SetAxisInShape(0, 5.5, 0.03, NORMAL) == 0
     assert c.EnableAxisInShape(0) == 0
     a = c.motion.axes[0]
@@ -58,7 +28,7 @@ def test_manual_example_1_sets_and_enables_inshape_on_a_disabled_axis():
 
 @pytest.mark.parametrize("shaper_type", [NORMAL, ROBUST])
 def test_an_inshape_move_ends_exactly_on_target_one_shaper_later(shaper_type):
-    c = enabled()
+    c = enabled(2)
     assert c.SetAxisInShape(0, 5.5, 0.03, shaper_type) == 0
     assert c.EnableAxisInShape(0) == 0
     length = inshape.design(5.5, 0.03, shaper_type, DT).length
@@ -92,7 +62,7 @@ def test_the_drive_gets_the_shaped_position():
 
 
 def test_vsf_moves_end_exactly_on_target_and_show_in_the_status():
-    c = enabled()
+    c = enabled(2)
     assert c.SetAxisVsf(0, 20.0, 1.0) == 0 and c.EnableAxisVsf(0) == 0
     assert c.motion.axes[0].motion_status & st.MS_VSF
     c.MoveAbs(0, -40.0)
@@ -103,7 +73,7 @@ def test_vsf_moves_end_exactly_on_target_and_show_in_the_status():
 
 
 def test_vsf_and_inshape_exclude_each_other():
-    c = machine()
+    c = machine(2)
     assert c.EnableAxisVsf(0) == 0
     assert c.EnableAxisInShape(0) == err(st.CMD_INVALID_INPUTSHAPING_ENABLED)
     assert c.GetAxisLastErr(0) == err(st.CMD_INVALID_INPUTSHAPING_ENABLED)
@@ -112,7 +82,7 @@ def test_vsf_and_inshape_exclude_each_other():
 
 
 def test_filters_cannot_change_while_the_motor_moves():
-    c = enabled()
+    c = enabled(2)
     c.EnableAxisInShape(0)
     c.MoveAbs(0, 50.0)
     moving = err(st.CMD_INVALID_MOVING)
@@ -139,13 +109,13 @@ def test_filters_cannot_change_while_the_motor_moves():
     ],
 )
 def test_parameters_outside_the_manuals_ranges_are_refused(call, code):
-    c = machine()
+    c = machine(2)
     assert call(c) == err(code)
     assert c.GetAxisLastErr(0) == err(code)
 
 
 def test_the_range_limits_themselves_are_accepted():
-    c = machine()
+    c = machine(2)
     assert c.SetAxisInShape(0, 1.5, 0.0, ROBUST) == 0
     assert c.SetAxisInShape(0, 300.0, 0.3, NORMAL) == 0
     assert c.SetAxisVsf(0, 0.1, 0.7) == 0 and c.SetAxisVsf(0, 200.0, 1.5) == 0
@@ -158,7 +128,7 @@ def test_a_frequency_too_high_for_a_slow_cycle_is_refused():
 
 
 def test_bad_ids_are_the_systems_error():
-    c = machine()
+    c = machine(2)
     bad = st.SYS_HMPL_ARG_OUT_OF_RANGE
     assert c.EnableAxisInShape(9) == bad and c.SetAxisVsf(-1, 5.0, 1.0) == bad
     assert c.GetSystemLastErr() == bad
@@ -235,7 +205,7 @@ def test_stop_in_the_middle_of_a_shaped_move_comes_to_rest():
 
 
 def test_group_inshape_settings_are_checked_and_kept():
-    c = machine()
+    c = machine(2)
     g = c.motion.group_inshape[0]
     assert (g.frequency, g.damping, g.shaper_type, g.enabled) == (5.5, 0.03, NORMAL, False)
     assert c.SetGrpInShape(0, 10, 0.15, 1) == 0  # manual example 2
@@ -254,12 +224,12 @@ def test_group_inshape_settings_are_checked_and_kept():
     ],
 )
 def test_group_inshape_refusals_are_group_errors(args, code):
-    c = machine()
+    c = machine(2)
     assert c.SetGrpInShape(3, *args) == st.group_error(code, 3)
     assert c.GetGrpLastErr(3) == st.group_error(code, 3)
 
 
 def test_group_inshape_bad_group_id():
-    c = machine()
+    c = machine(2)
     bad = st.SYS_HMPL_ARG_OUT_OF_RANGE
     assert c.EnableGrpInShape(16) == bad and c.SetGrpInShape(-1, 5.5, 0.0, 1) == bad

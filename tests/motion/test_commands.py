@@ -4,44 +4,16 @@ their results in manual units and their error codes."""
 from __future__ import annotations
 
 import pytest
+from axis_util import cycle, enabled, machine, until
 
 from motionvm.motion import axis_status as st
 from motionvm.motion import gear
-from motionvm.motion.axis_config import create
 from motionvm.motion.commands import MotionCommands
 from motionvm.motion.homing import DRIVE_HOME_FAILED
-from motionvm.motion.kernel import ECAT_OP, MotionKernel
+from motionvm.motion.kernel import ECAT_OP
 from motionvm.motion.touchprobe import CMD_INVALID_TP_ENABLED
 
-DT = 0.001
 BAD_ID = st.SYS_HMPL_ARG_OUT_OF_RANGE
-
-
-def machine(n: int = 4) -> MotionCommands:
-    return MotionCommands(MotionKernel([create({}) for _ in range(n)], DT))
-
-
-def cycle(c: MotionCommands, n: int = 1) -> None:
-    """`n` controller cycles of the motion kernel (no tasks)."""
-    for _ in range(n):
-        c.motion.begin_cycle()
-        c.motion.step()
-
-
-def until(c: MotionCommands, cond, limit: int = 20_000) -> int:
-    for n in range(limit):
-        if cond():
-            return n
-        cycle(c)
-    raise AssertionError("condition never held")
-
-
-def enabled(n: int = 4, *ids: int) -> MotionCommands:
-    c = machine(n)
-    for i in ids or range(n):
-        assert c.Enable(i) == 0
-    until(c, lambda: all(c.IsEnabled(i) for i in ids or range(n)))
-    return c
 
 
 def bad_id_stored(c: MotionCommands) -> bool:

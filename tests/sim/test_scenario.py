@@ -19,23 +19,20 @@ ai = 1
 """
 
 
-def files(tmp_path, scenario: str, machine: str = MACHINE) -> tuple[str, str]:
-    m, s = tmp_path / "m.toml", tmp_path / "s.toml"
-    m.write_text(machine)
-    s.write_text(scenario)
-    return str(m), str(s)
+def files(write_file, scenario: str, machine: str = MACHINE) -> tuple[str, str]:
+    return write_file("m.toml", machine), write_file("s.toml", scenario)
 
 
-def run(tmp_path, scenario: str, program: str, **kw) -> Simulation:
-    m, s = files(tmp_path, scenario)
+def run(write_file, scenario: str, program: str, **kw) -> Simulation:
+    m, s = files(write_file, scenario)
     sim = Simulation.from_source(program, machine=m, scenario=s, **kw)
     sim.run(until=kw.pop("until", 5.0))
     return sim
 
 
-def test_inputs_and_variables_change_at_their_cycle(tmp_path):
+def test_inputs_and_variables_change_at_their_cycle(write_file):
     sim = run(
-        tmp_path,
+        write_file,
         """[initial]
 gpi1 = 1
 [[event]]
@@ -68,9 +65,9 @@ value = 2.5
 
 
 @pytest.mark.parametrize("skip", [True, False])
-def test_events_wake_a_sleeping_program_the_same_with_or_without_skipping(tmp_path, skip):
+def test_events_wake_a_sleeping_program_the_same_with_or_without_skipping(write_file, skip):
     sim = run(
-        tmp_path,
+        write_file,
         '[[event]]\nat = 0.5\nset = "gpi2"\nvalue = 1\n',
         'void main() { Till(GetGPI(2)); Print("%d", system_timeInMs); }',
         skip=skip,
@@ -78,16 +75,16 @@ def test_events_wake_a_sleeping_program_the_same_with_or_without_skipping(tmp_pa
     assert sim.messages == ["500"]
 
 
-def test_the_run_lasts_until_the_last_event_and_until_is_read(tmp_path):
-    m, s = files(tmp_path, 'until = 0.3\n[[event]]\nat = 0.2\nset = "gpi2"\nvalue = 1\n')
+def test_the_run_lasts_until_the_last_event_and_until_is_read(write_file):
+    m, s = files(write_file, 'until = 0.3\n[[event]]\nat = 0.2\nset = "gpi2"\nvalue = 1\n')
     sim = Simulation.from_source("void main() { }", machine=m, scenario=s)
     result = sim.run()
     assert result.sim_time == pytest.approx(0.201) and sim.read("gpi2") == 1
 
 
-def test_drive_fault(tmp_path):
+def test_drive_fault(write_file):
     sim = run(
-        tmp_path,
+        write_file,
         '[[event]]\nat = 0.2\nfault = "drive"\naxis = 1\ncode = 0x7500\n',
         """void main() {
             Enable(1); Till(IsEnabled(1)); MoveAbs(1, 500);
@@ -99,9 +96,9 @@ def test_drive_fault(tmp_path):
     assert not sim.axis(1).enabled and sim.axis(1).pos_fb < 500
 
 
-def test_encoder_loss(tmp_path):
+def test_encoder_loss(write_file):
     sim = run(
-        tmp_path,
+        write_file,
         '[[event]]\nat = 0.1\nfault = "encoder_loss"\naxis = 0\n',
         """void main() {
             Enable(0); Till(IsEnabled(0)); MoveAbs(0, 500);
@@ -111,9 +108,9 @@ def test_encoder_loss(tmp_path):
     assert sim.messages == ["7305 0"]
 
 
-def test_following_error(tmp_path):
+def test_following_error(write_file):
     sim = run(
-        tmp_path,
+        write_file,
         '[[event]]\nat = 0.1\nfault = "following_error"\naxis = 0\n',
         """void main() {
             Enable(0); Till(IsEnabled(0)); MoveAbs(0, 500);
@@ -123,9 +120,9 @@ def test_following_error(tmp_path):
     assert sim.messages == ["8300083e"]
 
 
-def test_hw_limit(tmp_path):
+def test_hw_limit(write_file):
     sim = run(
-        tmp_path,
+        write_file,
         '[[event]]\nat = 0.1\nfault = "hw_limit"\naxis = 0\nside = "right"\n',
         """void main() {
             Enable(0); Till(IsEnabled(0)); MoveAbs(0, 500);
@@ -136,9 +133,9 @@ def test_hw_limit(tmp_path):
     assert sim.messages == ["1 1"]
 
 
-def test_slave_lost(tmp_path):
+def test_slave_lost(write_file):
     sim = run(
-        tmp_path,
+        write_file,
         """[[event]]
 at = 0.1
 fault = "slave_lost"
@@ -159,9 +156,9 @@ slave = 2
     assert sim.read("slv1.state") == 1 and sim.axis(1).error_stop
 
 
-def test_estop_event(tmp_path):
+def test_estop_event(write_file):
     sim = run(
-        tmp_path,
+        write_file,
         '[[event]]\nat = 0.1\nfault = "estop"\n',
         "void main() { Enable(0); while (1) Sleep(1); }",
     )
@@ -201,13 +198,11 @@ def test_inject_fault_from_python():
         ("colour = 1\n", "1:1", "unknown key 'colour'"),
     ],
 )
-def test_bad_scenarios_are_errors_at_their_keys(tmp_path, text, where, message):
-    m, s = files(tmp_path, text)
+def test_bad_scenarios_are_errors_at_their_keys(write_file, error_at, text, where, message):
+    m, s = files(write_file, text)
     with pytest.raises(SessionError) as err:
         Simulation.from_source("void main() { }", machine=m, scenario=s)
-    head = err.value.messages[0]
-    assert head.startswith(f"{s}:{where}: error: "), head
-    assert message in head
+    error_at(err.value.messages[:1], s, where, message)
 
 
 GDL = """MODULE m;
@@ -226,9 +221,9 @@ END$MODULE;
 """
 
 
-def test_one_scenario_shared_by_hmpl_and_gdl(tmp_path):
+def test_one_scenario_shared_by_hmpl_and_gdl(tmp_path, write_file):
     m, s = files(
-        tmp_path,
+        write_file,
         """until = 0.5
 [[event]]
 at = 0.1
@@ -253,10 +248,10 @@ value = 1
     assert sim.read("presses.VALUE") == 1
 
 
-def test_the_cli_runs_an_hmpl_scenario(tmp_path, capsys):
+def test_the_cli_runs_an_hmpl_scenario(tmp_path, write_file, capsys):
     from motionvm.cli import main
 
-    m, s = files(tmp_path, '[[event]]\nat = 0.03\nset = "gpi5"\nvalue = 1\n')
+    m, s = files(write_file, '[[event]]\nat = 0.03\nset = "gpi5"\nvalue = 1\n')
     p = tmp_path / "p.hmpl"
     p.write_text('void main() { Till(GetGPI(5)); Print("%d", system_timeInMs); }')
     assert main(["run", "--machine", m, "--scenario", s, str(p)]) == 0
@@ -266,11 +261,11 @@ def test_the_cli_runs_an_hmpl_scenario(tmp_path, capsys):
     assert "bad.toml:3:1: error: event 1: set = 'gpi0'" in capsys.readouterr().err
 
 
-def test_read_only_names_are_errors_and_refused_values_faults(tmp_path):
-    m, s = files(tmp_path, '[[event]]\nat = 0.1\nset = "himc_gpi_bits"\nvalue = 1\n')
+def test_read_only_names_are_errors_and_refused_values_faults(write_file):
+    m, s = files(write_file, '[[event]]\nat = 0.1\nset = "himc_gpi_bits"\nvalue = 1\n')
     with pytest.raises(SessionError, match="'himc_gpi_bits' is read-only"):
         Simulation.from_source("void main() { }", machine=m, scenario=s)
-    m, s = files(tmp_path, '[[event]]\nat = 0.1\nset = "axis0.max_vel"\nvalue = -5\n')
+    m, s = files(write_file, '[[event]]\nat = 0.1\nset = "axis0.max_vel"\nvalue = -5\n')
     sim = Simulation.from_source("void main() { }", machine=m, scenario=s)
     sim.run()
     assert sim.fault_count == 1

@@ -211,8 +211,6 @@ def build_parser() -> argparse.ArgumentParser:
     _scenario(s)
     _task(s)
     add_test_parser(sub)
-    from motionvm.cli.serve import add_serve_parser  # serve.py imports this module
-
     add_serve_parser(sub)
     return p
 
@@ -262,6 +260,32 @@ def add_test_parser(sub) -> None:
     )
     t.add_argument("--junitxml", metavar="FILE", help="also write a JUnit XML report")
     t.add_argument("--dask", metavar="ADDRESS", help="run the cases on the Dask cluster at ADDRESS")
+
+
+def add_serve_parser(sub) -> None:
+    """`motionvm serve`: a run paced to the wall clock with the TCP servers (cli/serve.py)."""
+    s = sub.add_parser(
+        "serve",
+        help="run programs in real time with the TCP servers listening (Native/User ASCII, Modbus)",
+        description="Compile every FILE and run them paced to the wall clock, with the "
+        "Native ASCII, User ASCII and Modbus TCP servers listening on the machine file's "
+        "[comm] address and ports (default 127.0.0.1: 3999, 4000, 502; port 0 picks a "
+        "free port). Stops at --until or Ctrl-C.",
+    )
+    s.add_argument("files", nargs="*", metavar="FILE", help="program files (.hmpl, .pdl, .gdl)")
+    _machine(s)
+    s.add_argument(
+        "--until", type=duration, metavar="TIME", help="stop after this much time (1.5, 2s, 1min)"
+    )
+    s.add_argument("--stamp", action="store_true", help="prefix messages with [t=SECONDS][task N]")
+    s.add_argument(
+        "--task",
+        action="append",
+        default=[],
+        metavar="N=FILE",
+        help="put the HMPL file FILE on task N (repeatable)",
+    )
+    _werror(s)
 
 
 def _machine(p: argparse.ArgumentParser) -> None:

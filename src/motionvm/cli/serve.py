@@ -11,38 +11,8 @@ from __future__ import annotations
 import sys
 
 from motionvm.cli.exits import EXIT_COMPILE, EXIT_OK, EXIT_RUNTIME, UsageError
-from motionvm.cli.options import duration
 from motionvm.cli.run import flush_stdout, sources_of, stdout_gone
 from motionvm.session import CompileFailed, RunSpec, Session, SessionError
-
-
-def add_serve_parser(sub) -> None:
-    s = sub.add_parser(
-        "serve",
-        help="run programs in real time with the TCP servers listening (Native/User ASCII, Modbus)",
-        description="Compile every FILE and run them paced to the wall clock, with the "
-        "Native ASCII, User ASCII and Modbus TCP servers listening on the machine file's "
-        "[comm] address and ports (default 127.0.0.1: 3999, 4000, 502; port 0 picks a "
-        "free port). Stops at --until or Ctrl-C.",
-    )
-    s.add_argument("files", nargs="*", metavar="FILE", help="program files (.hmpl, .pdl, .gdl)")
-    s.add_argument(
-        "--machine", metavar="FILE.toml", help="machine file (default: the built-in machine)"
-    )
-    s.add_argument(
-        "--until", type=duration, metavar="TIME", help="stop after this much time (1.5, 2s, 1min)"
-    )
-    s.add_argument("--stamp", action="store_true", help="prefix messages with [t=SECONDS][task N]")
-    s.add_argument(
-        "--task",
-        action="append",
-        default=[],
-        metavar="N=FILE",
-        help="put the HMPL file FILE on task N (repeatable)",
-    )
-    s.add_argument(
-        "--Werror", dest="werror", action="store_true", help="treat compiler warnings as errors"
-    )
 
 
 def _report(line: str) -> None:

@@ -2,8 +2,11 @@
 
 A local worker runs one case at a time in its own process, through the command line's
 `main` with stdout and stderr captured, in the case's folder, with a fresh data folder
-(MOTIONVM_DATA_DIR). A case that exceeds its wall-clock time limit has its worker
-killed and replaced, so a program that never ends fails instead of hanging the suite.
+(MOTIONVM_DATA_DIR). Before it runs a case it imports the run path and the compilers
+of the case's languages, and only then does the case's wall-clock time limit start: it
+measures the case's own run, not a first import (over a second on a busy machine). A
+case that exceeds its limit has its worker killed and replaced while cases remain, so a
+program that never ends fails instead of hanging the suite.
 On a Dask cluster each case runs as `python -m motionvm run` in a subprocess of a Dask
 worker (the workers need motionvm installed and the same paths to the programs).
 """
@@ -11,6 +14,7 @@ worker (the workers need motionvm installed and the same paths to the programs).
 from __future__ import annotations
 
 import contextlib
+import importlib
 import io
 import multiprocessing
 import os
@@ -27,8 +31,25 @@ from pathlib import Path
 from motionvm.cli.cases import Case
 
 _READY = "ready"
+_RUNNING = "running"
 _START_TIMEOUT_S = 120.0
 """Wall-clock time a new worker process may take to start and import motionvm [s]."""
+_RUN_MODULES = ("motionvm.cli.run", "motionvm.session")
+"""What every run imports."""
+_LANGUAGE_MODULES = {
+    ".hmpl": ("motionvm.lang.hmpl.compiler", "motionvm.lang.hmpl.rtapi"),
+    ".pdl": ("motionvm.lang.pdl.machine_drives",),
+    ".gdl": ("motionvm.lang.gdl.compiler", "motionvm.lang.gdl.client"),
+}
+"""The compiler and run time of each language, by program suffix."""
+
+
+def preload_modules(cases: Sequence[Case]) -> tuple[str, ...]:
+    """The modules a worker imports before the clock of a case starts: the run path and
+    the languages of the program files the cases name."""
+    suffixes = {Path(arg).suffix for case in cases for arg in case.argv}
+    langs = [m for suffix, mods in _LANGUAGE_MODULES.items() if suffix in suffixes for m in mods]
+    return (*_RUN_MODULES, *langs)
 
 
 @dataclass(frozen=True)
@@ -103,7 +124,8 @@ def _text(data: bytes | str | None) -> str:
 
 
 def _serve(conn: Connection) -> None:
-    """A worker process: run each case it receives, send back its Outcome; None ends it."""
+    """A worker process: for each case it receives, import what the case needs, say it
+    runs, run it and send back its Outcome; None ends it."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's to handle
     import motionvm.cli  # noqa: F401 — imported once, before the first case's clock starts
 
@@ -113,6 +135,9 @@ def _serve(conn: Connection) -> None:
         if case is None:
             return
         try:
+            for name in preload_modules([case]):  # before the case's clock starts
+                importlib.import_module(name)
+            conn.send(_RUNNING)
             conn.send(execute(case))
         except Exception as exc:  # noqa: BLE001 — reported as the case's crash
             conn.send(Outcome(None, "", "", 0.0, crashed=f"{type(exc).__name__}: {exc}"))
@@ -130,11 +155,14 @@ class _Worker:
         self.index: int | None = None
         self.deadline = time.monotonic() + _START_TIMEOUT_S
         self.started = 0.0
+        self.timeout = 0.0
 
     def send(self, index: int, case: Case, timeout: float) -> None:
+        """Hand `case` over; its `timeout` starts when the worker says it runs it."""
         self.index = index
+        self.timeout = timeout
         self.started = time.perf_counter()
-        self.deadline = time.monotonic() + timeout
+        self.deadline = time.monotonic() + _START_TIMEOUT_S  # the imports of its languages
         try:
             self.conn.send(case)
         except OSError:  # the worker died while idle: its sentinel reports it next
@@ -178,6 +206,10 @@ def local_outcomes(
                 if message == _READY:
                     w.ready = True
                     continue
+                if message == _RUNNING:  # the case's clock starts now
+                    w.started = time.perf_counter()
+                    w.deadline = time.monotonic() + w.timeout
+                    continue
                 if isinstance(message, Outcome):
                     index, w.index = w.index, None
                     yield index, message
@@ -188,7 +220,9 @@ def local_outcomes(
                         raise RuntimeError("a worker process of 'motionvm test' did not start")
                     index, lost = w.index, _lost(w)
                     w.kill()
-                    workers[k] = _Worker(ctx)
+                    w.index = None  # a dead worker is not live: no case, and ready
+                    if todo:  # a replacement only while cases wait for one
+                        workers[k] = _Worker(ctx)
                     yield index, lost
     finally:
         for w in workers:

@@ -7,7 +7,8 @@
     var      := NAME ['[' INTEGER ']']       (an array element: table[3])
     arg      := ['-' | '+'] NUMBER | STRING | CHAR | NAME
 
-NUMBER is a C integer (decimal, 0x hex, 0 octal, 0b binary) or a C floating literal;
+NUMBER is a C integer (decimal, 0x hex, 0 octal, 0b binary; at most UINT64_MAX, as a
+C constant must fit unsigned long long) or a C floating literal;
 STRING a C string literal (`"a\\n"`), CHAR a C character literal (`'A'`, its code);
 NAME an identifier (an HMPL named constant such as HMPL_ABS, resolved by the program's
 side). Parsing touches no simulation state; `execute` runs a parsed request through the
@@ -21,6 +22,9 @@ import re
 from dataclasses import dataclass
 
 from motionvm.comm.hub import CommHub, RequestError
+
+UINT64_MAX = 2**64 - 1
+"""The largest integer constant (C's unsigned long long); a larger one is an error."""
 
 
 @dataclass(frozen=True)
@@ -181,6 +185,10 @@ def _arg(toks: list[tuple[str, str]], i: int) -> tuple[object, int]:
             v = int(t, 8)
         else:
             v = int(t)
+        if v > UINT64_MAX:  # no C type holds it: the compiler refuses it too
+            raise RequestError(
+                f"integer constant '{text}' is too large (the limit is {UINT64_MAX})"
+            )
         return sign * v, i + 1
     if kind == "float":
         return sign * float(text), i + 1

@@ -211,8 +211,7 @@ class Cia402Drive:
     def velocity_actual(self) -> int:
         """0x606C [counts/s]."""
         if self.state is _OPERATION_ENABLED:
-            vel = round(self.mechanics.velocity)
-            return ((vel + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+            return wrap_i32(round(self.mechanics.velocity))
         return self._velocity_actual
 
     @velocity_actual.setter
@@ -235,8 +234,7 @@ class Cia402Drive:
     def position_demand(self) -> int:
         """0x6062 [counts]."""
         if self.state is _OPERATION_ENABLED:
-            demand = round(self._demand)
-            return ((demand + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+            return wrap_i32(round(self._demand))
         return self._position_demand
 
     @position_demand.setter
@@ -247,8 +245,7 @@ class Cia402Drive:
     def following_error(self) -> int:
         """0x60F4 [counts]: demand minus actual position."""
         if self.state is _OPERATION_ENABLED:
-            fe = round(self._demand) - self._encoder
-            return ((fe + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+            return wrap_i32(round(self._demand) - self._encoder)
         return self._following_error
 
     @following_error.setter

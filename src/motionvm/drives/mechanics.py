@@ -94,7 +94,23 @@ class Config:
         return value
 
 
-class IdealMechanics:
+class _Motor:
+    """What every model reports: the motor's actual position, velocity and torque."""
+
+    __slots__ = ()  # the models name the attributes
+
+    def _at_rest(self, counts_per_rev: int) -> None:
+        """Start at position 0 at rest, without torque."""
+        self.counts_per_rev = counts_per_rev
+        self.position = 0.0
+        """Actual position [counts]."""
+        self.velocity = 0.0
+        """Actual velocity [counts/s]."""
+        self.torque = 0.0
+        """Actual torque [N*m]."""
+
+
+class IdealMechanics(_Motor):
     """Feedback follows the demand exactly, `delay_cycles` cycles later.
 
     CSV integrates the velocity demand, CST accelerates `inertia` with the torque;
@@ -112,13 +128,7 @@ class IdealMechanics:
         self.delay_cycles = delay_cycles
         self.inertia = inertia
         """Load inertia [kg*m^2] seen by the motor (CST and the reported torque)."""
-        self.counts_per_rev = counts_per_rev
-        self.position = 0.0
-        """Actual position [counts]."""
-        self.velocity = 0.0
-        """Actual velocity [counts/s]."""
-        self.torque = 0.0
-        """Actual torque [N*m]."""
+        self._at_rest(counts_per_rev)
         self._line: deque[float] = deque([0.0] * delay_cycles)
         self._demand = 0.0
         """The last position demand [counts]."""
@@ -171,7 +181,7 @@ class IdealMechanics:
         self.set_position(self.position)
 
 
-class ServoMechanics:
+class ServoMechanics(_Motor):
     """A cascaded P position / P velocity loop tuned for `bandwidth` and `damping`.
 
     Closed loop (tuned_inertia = inertia, no friction): x'' = wn^2 (r - x) +
@@ -219,13 +229,7 @@ class ServoMechanics:
         """Torque limit of the drive [N*m]."""
         self.velocity_feedforward = velocity_feedforward
         """Velocity feed-forward gain [-], 0..1."""
-        self.counts_per_rev = counts_per_rev
-        self.position = 0.0
-        """Actual position [counts]."""
-        self.velocity = 0.0
-        """Actual velocity [counts/s]."""
-        self.torque = 0.0
-        """Actual torque [N*m]."""
+        self._at_rest(counts_per_rev)
         self._demand = 0.0
         self._rad = TWO_PI / counts_per_rev  # [rad/count]
         wn = TWO_PI * bandwidth

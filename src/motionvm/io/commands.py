@@ -137,36 +137,36 @@ class IOCommands:
             return None
         return slave, values, (idx - 1 if idx is not None else -1)
 
-    def SetSlvGPO(self, slv_slot_id: int, gpo_idx: int, on_off: int) -> int:
+    def _write_digital(self, slv_slot_id: int, gpo_idx: int | None, write) -> int:
+        """Apply `write(values, index)` to the outputs addressed: -1 for a bad address
+        (last error set) or a slave that is not online, else 0."""
         found = self._digital(slv_slot_id, True, gpo_idx)
         if found is None:
             return self._bad()
         slave, values, i = found
         if not slave.online:
             return FAIL
-        values[i] = 1 if on_off else 0
+        write(values, i)
         return 0
+
+    def SetSlvGPO(self, slv_slot_id: int, gpo_idx: int, on_off: int) -> int:
+        def write(values, i):
+            values[i] = 1 if on_off else 0
+
+        return self._write_digital(slv_slot_id, gpo_idx, write)
 
     def ToggleSlvGPO(self, slv_slot_id: int, gpo_idx: int) -> int:
-        found = self._digital(slv_slot_id, True, gpo_idx)
-        if found is None:
-            return self._bad()
-        slave, values, i = found
-        if not slave.online:
-            return FAIL
-        values[i] ^= 1
-        return 0
+        def write(values, i):
+            values[i] ^= 1
+
+        return self._write_digital(slv_slot_id, gpo_idx, write)
 
     def SetSlvAllGPO(self, slv_slot_id: int, all_gpo_state: int) -> int:
-        found = self._digital(slv_slot_id, True, None)
-        if found is None:
-            return self._bad()
-        slave, values, _ = found
-        if not slave.online:
-            return FAIL
-        for i in range(len(values)):
-            values[i] = (all_gpo_state >> i) & 1
-        return 0
+        def write(values, _):
+            for i in range(len(values)):
+                values[i] = (all_gpo_state >> i) & 1
+
+        return self._write_digital(slv_slot_id, None, write)
 
     def GetSlvGPI(self, slv_slot_id: int, gpi_idx: int) -> int:
         found = self._digital(slv_slot_id, False, gpi_idx)
@@ -243,33 +243,28 @@ class IOCommands:
         module.ao[k] = word_of_value(ao_val, module.bits, module.ao_type[k])
         return 0
 
-    def GetSlvAIRaw(self, slv_slot_id: int, ai_idx: int) -> int:
-        found = self._analog(slv_slot_id, False, ai_idx)
+    def _read_analog(self, slv_slot_id: int, output: bool, idx: int, convert, bad):
+        """`convert(word, bits, type)` of the channel addressed, or `bad` for a bad
+        address (last error set)."""
+        found = self._analog(slv_slot_id, output, idx)
         if found is None:
-            return self._bad(0)
+            return self._bad(bad)
         _, module, k = found
-        return raw_of_word(module.ai[k], module.bits, module.ai_type[k])
+        if output:
+            return convert(module.ao[k], module.bits, module.ao_type[k])
+        return convert(module.ai[k], module.bits, module.ai_type[k])
+
+    def GetSlvAIRaw(self, slv_slot_id: int, ai_idx: int) -> int:
+        return self._read_analog(slv_slot_id, False, ai_idx, raw_of_word, 0)
 
     def GetSlvAORaw(self, slv_slot_id: int, ao_idx: int) -> int:
-        found = self._analog(slv_slot_id, True, ao_idx)
-        if found is None:
-            return self._bad(0)
-        _, module, k = found
-        return raw_of_word(module.ao[k], module.bits, module.ao_type[k])
+        return self._read_analog(slv_slot_id, True, ao_idx, raw_of_word, 0)
 
     def GetSlvAI(self, slv_slot_id: int, ai_idx: int) -> float:
-        found = self._analog(slv_slot_id, False, ai_idx)
-        if found is None:
-            return self._bad(0.0)
-        _, module, k = found
-        return value_of_word(module.ai[k], module.bits, module.ai_type[k])
+        return self._read_analog(slv_slot_id, False, ai_idx, value_of_word, 0.0)
 
     def GetSlvAO(self, slv_slot_id: int, ao_idx: int) -> float:
-        found = self._analog(slv_slot_id, True, ao_idx)
-        if found is None:
-            return self._bad(0.0)
-        _, module, k = found
-        return value_of_word(module.ao[k], module.bits, module.ao_type[k])
+        return self._read_analog(slv_slot_id, True, ao_idx, value_of_word, 0.0)
 
     # ---- 10.4 AO bound to a controller variable --------------------------------------
 

@@ -382,15 +382,20 @@ def _endpoint(
     return ep
 
 
+def _unknown_keys(array: str, i: int, table: dict, known, report: Report) -> None:
+    """Report each key of `[[array]]` number `i` that is not one of `known`."""
+    for key in sorted(set(table) - known):
+        report(
+            array,
+            i,
+            key,
+            f"[[{array}]] {i}: unknown key '{key}' (known: {', '.join(sorted(known))})",
+        )
+
+
 def _wires(tables, cfg: IOConfig, n_axes: int, report: Report):
     for i, t in tables:
-        for key in sorted(set(t) - WIRE_KEYS):
-            report(
-                "wire",
-                i,
-                key,
-                f"[[wire]] {i}: unknown key '{key}' (known: {', '.join(sorted(WIRE_KEYS))})",
-            )
+        _unknown_keys("wire", i, t, WIRE_KEYS, report)
         src = _endpoint(i, t, "from", "wire", cfg, n_axes, report, True)
         dst = _endpoint(i, t, "to", "wire", cfg, n_axes, report, False)
         ok = src is not None and dst is not None
@@ -427,13 +432,7 @@ def _wires(tables, cfg: IOConfig, n_axes: int, report: Report):
 
 def _sensors(tables, cfg: IOConfig, n_axes: int, report: Report):
     for i, t in tables:
-        for key in sorted(set(t) - SENSOR_KEYS):
-            report(
-                "sensor",
-                i,
-                key,
-                f"[[sensor]] {i}: unknown key '{key}' (known: {', '.join(sorted(SENSOR_KEYS))})",
-            )
+        _unknown_keys("sensor", i, t, SENSOR_KEYS, report)
         ok = True
         dst = _endpoint(i, t, "input", "sensor", cfg, n_axes, report, False)
         if dst is not None and dst.is_analog:

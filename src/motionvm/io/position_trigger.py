@@ -34,11 +34,17 @@ Decisions where the manual is silent:
   so its length costs no memory.
 - Settings changed while the PT is armed apply at the next EnablePT.
 - `pt_count` counts every pulse since power-on; the output is active high.
+- Memory stays bounded however long the run: `pulses` keeps the latest pulses only
+  (at least `PULSES_KEPT`, at most twice as many), enough for the output's level; the
+  exact edges of `axisN.pt_out` for a VCD file are kept only by the channels a scope
+  recording records (`_Output.record_edges`, called as the recording attaches), from
+  then on, and go with the recording. A channel only read (a host's `read`) keeps none.
 """
 
 from __future__ import annotations
 
 import math
+import weakref
 from bisect import bisect_right
 from collections.abc import Callable, Iterable, Sequence
 
@@ -51,6 +57,8 @@ N_POSITIONS = 256
 N_STATE_WORDS = 8
 WIDTH_MIN_NS, WIDTH_MAX_NS, WIDTH_STEP_NS = 20, 80_000, 20
 INTERVAL, ARRAY = "interval", "array"
+PULSES_KEPT = 1024
+"""Pulses `PositionTrigger.pulses` keeps at least (the latest; at most twice as many)."""
 MAX_TRAIN = 2.0**53
 """Most positions of an equal-interval train: beyond it consecutive positions are no longer
 distinct doubles (start 0, end 1e308, interval 1 is refused like an infinite count)."""
@@ -77,7 +85,10 @@ class PositionTrigger:
         self.count = 0
         """Pulses output since power-on."""
         self.pulses: list[tuple[float, float]] = []
-        """(sim_time [s], position [mm or deg]) of every pulse output."""
+        """(sim_time [s], position [mm or deg]) of the latest pulses output, in time order
+        (at least the last `PULSES_KEPT`, at most twice as many)."""
+        self._outputs: weakref.WeakSet[_Output] = weakref.WeakSet()
+        """The recorded `pt_out` channels, each keeping the pulse times it has seen."""
         self._points: Sequence[tuple[float, bool]] = []
         self._next = 0
         self._direction = 0
@@ -242,13 +253,22 @@ class PositionTrigger:
             if out:
                 self.count += 1
                 frac = min(1.0, max(0.0, (p - x0) / (x1 - x0)))
-                self.pulses.append((t0 + (t1 - t0) * frac, p))
+                self._pulse(t0 + (t1 - t0) * frac, p)
             i += 1
         self._next = i
         if i == len(points):
             self.disable()
 
     # ---- the output -----------------------------------------------------------------
+
+    def _pulse(self, t: float, p: float) -> None:
+        """Output a pulse at `t` [s], position `p`; keep it as long as it is needed."""
+        pulses = self.pulses
+        pulses.append((t, p))
+        if len(pulses) >= 2 * PULSES_KEPT:
+            del pulses[:PULSES_KEPT]
+        for output in self._outputs:
+            output.times.append(t)
 
     def level_at(self, sim_time: float) -> int:
         """The output level at `sim_time` [s]: 1 inside a pulse."""
@@ -259,11 +279,12 @@ class PositionTrigger:
                 return 1
         return 0
 
-    def edges(self) -> list[tuple[float, int]]:
-        """(sim_time [s], level) of every change of the output, in time order."""
+    def edges(self, times: Iterable[float]) -> list[tuple[float, int]]:
+        """(sim_time [s], level) of every change of the output made by pulses at `times`
+        (in time order), at the current pulse width."""
         width = self.width_ns * 1e-9
         out: list[tuple[float, int]] = []
-        for t, _ in self.pulses:
+        for t in times:
             if out and out[-1][0] > t:  # pulses closer than their width merge
                 out[-1] = (t + width, 0)
                 continue
@@ -292,16 +313,23 @@ class _Interval:
 
 
 class _Output:
-    """The scope getter of `axisN.pt_out`: the level now, and its exact edges (VCD)."""
+    """The scope getter of `axisN.pt_out`: the level now, and its exact edges (VCD) since
+    a recording started keeping them (the pulse times it keeps go with it)."""
 
     def __init__(self, pt: PositionTrigger, clock) -> None:
         self.pt, self.clock = pt, clock
+        self.times: list[float] = []
+        """The times of the pulses since `record_edges` (none before)."""
+
+    def record_edges(self) -> None:
+        """Keep the time of every pulse from now on, for `edges` (a recording's channel)."""
+        self.pt._outputs.add(self)
 
     def __call__(self) -> int:
         return self.pt.level_at(self.clock.cycle * self.pt.dt)
 
     def edges(self) -> list[tuple[float, int]]:
-        return self.pt.edges()
+        return self.pt.edges(self.times)
 
 
 CHANNELS = ("pt_count", "pt_out", "pt_enabled")

@@ -200,7 +200,8 @@ class AxisSettings:
                 self._start(self._deferred_move)
 
     def set_rollover(self, value: float) -> None:
-        """Single-turn range [mm or deg], 0 = off; only while disabled (5.3.39)."""
+        """Single-turn range [mm or deg], 0 = off; only while disabled (5.3.39). A range
+        below one encoder count (1 / counts_per_unit) is refused: no position fits in it."""
         self.wake()
         if self.enabled or self._enabling:
             raise AxisCommandError(st.CMD_INVALID_ENABLED, f"axis {self.axis_id} is enabled")
@@ -208,6 +209,12 @@ class AxisSettings:
             raise AxisCommandError(
                 st.CMD_INVALID_ROLLOVER_POS,
                 f"axis {self.axis_id}: rollover {value!r} must be positive (0: off)",
+            )
+        if value and value * self.cpu < 1.0:
+            raise AxisCommandError(
+                st.CMD_INVALID_ROLLOVER_POS,
+                f"axis {self.axis_id}: rollover {value!r} is below one encoder count "
+                f"({1.0 / self.cpu:g})",
             )
         self.rollover = value
 

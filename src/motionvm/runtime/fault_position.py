@@ -54,7 +54,9 @@ def user_frames(tb: TracebackType | None, is_user: Callable[[str], bool]) -> lis
 class Fault(str):
     """A runtime fault report: the one line the CLI prints, carrying its parts.
 
-    It is a `str` (its text, `FILE:LINE:COL: runtime error in task N at t=S s: MESSAGE`),
+    It is a `str` (its text, `FILE:LINE:COL: runtime error in task N at t=S s: MESSAGE`,
+    or for an internal error `FILE:LINE:COL: internal error in task N: DETAIL` and a
+    second line asking for a report),
     so every receiver of report lines takes it as one; the run side that produced it fills
     the fields, nothing parses the text back. `who` is what faulted as the text names it
     (`task 3`, `drive 1 task 0`, `procedure fan_control`).
@@ -75,6 +77,10 @@ class Fault(str):
     """The PDL drive (the axis id it sits on; None: not a drive, or a standalone one)."""
     procedure: str | None
     """The GDL procedure (None: not GDL)."""
+    kind: str
+    """"runtime": an error of the user's program; "internal": an error of motionvm itself
+    while it ran the program (a bug, or an exception of a host callback), whose report
+    says so."""
 
     def __new__(
         cls,
@@ -89,10 +95,12 @@ class Fault(str):
         task: int | None = None,
         drive: int | None = None,
         procedure: str | None = None,
+        kind: str = "runtime",
     ) -> Fault:
         self = super().__new__(cls, text)
         fields = {"file": file, "line": line, "col": col, "time": time, "message": message,
-                  "language": language, "task": task, "drive": drive, "procedure": procedure}  # fmt: skip
+                  "language": language, "task": task, "drive": drive, "procedure": procedure,
+                  "kind": kind}  # fmt: skip
         for key, value in fields.items():
             object.__setattr__(self, key, value)
         return self

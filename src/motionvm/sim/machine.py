@@ -38,7 +38,6 @@ reported at once, in file order (exit code 3).
 from __future__ import annotations
 
 import re
-import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -46,7 +45,7 @@ from motionvm.comm.config import COMM_KEYS, CommConfig, load_comm
 from motionvm.io.config import DEFAULT_IO, IOConfig, create_io
 from motionvm.motion.axis_config import AxisConfig, AxisConfigError, build_drive
 from motionvm.motion.axis_config import create as create_axis
-from motionvm.source.toml_places import TomlProblems, syntax_error_place, undecodable_place
+from motionvm.source.toml_places import TomlProblems, parse_toml
 
 
 class MachineFileError(Exception):
@@ -153,18 +152,8 @@ def load_machine(path: str | Path) -> MachineConfig:
         raise MachineFileError(
             f"cannot read machine file {p}: {exc.strerror or exc}", located=False
         ) from None
-    try:
-        text = raw.decode("utf-8")
-    except UnicodeDecodeError as exc:
-        problems = _Problems(str(p), "")
-        problems.add(undecodable_place(raw, exc), "invalid TOML: the file is not UTF-8 text")
-        problems.raise_any()
-    problems = _Problems(str(p), text)
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        place, message = syntax_error_place(exc, problems.lines)
-        problems.add(place, f"invalid TOML: {message}")
+    data, problems = parse_toml(raw, lambda text: _Problems(str(p), text), "invalid TOML")
+    if data is None:
         problems.raise_any()
     for sec, val in data.items():
         if sec in ("axis", "axes") or sec in _IO_SECTIONS:

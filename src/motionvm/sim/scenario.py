@@ -32,7 +32,6 @@ the cycle of 0.1 s. A bad file is one `ScenarioError` that lists every problem, 
 from __future__ import annotations
 
 import math
-import tomllib
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -40,7 +39,7 @@ from pathlib import Path
 from motionvm.io.faults import check_fault, inject_fault
 from motionvm.runtime.clients import PassiveClient
 from motionvm.runtime.waits import Waiting
-from motionvm.source.toml_places import TomlProblems, syntax_error_place, undecodable_place
+from motionvm.source.toml_places import TomlProblems, parse_toml
 
 KEYS = {"at", "set", "value", "fault", "axis", "slave", "code", "side"}
 GDL_KEYS = {"force", "release", "during", "line"}
@@ -111,19 +110,9 @@ def load_scenario(path: str, resolve: Resolver, io, *, with_gdl: bool) -> Scenar
         raw = Path(path).read_bytes()
     except OSError as exc:
         raise ScenarioError(f"cannot read the scenario {path}: {exc.strerror or exc}") from None
-    problems = TomlProblems(path, "")
-    try:
-        text = raw.decode("utf-8")
-    except UnicodeDecodeError as exc:
-        problems.add(undecodable_place(raw, exc), "not valid TOML: the file is not UTF-8 text")
-        raise ScenarioError(*problems.headlines(), located=True) from None
-    problems = TomlProblems(path, text)
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        place, message = syntax_error_place(exc, problems.lines)
-        problems.add(place, f"not valid TOML: {message}")
-        raise ScenarioError(*problems.headlines(), located=True) from None
+    data, problems = parse_toml(raw, lambda text: TomlProblems(path, text))
+    if data is None:
+        raise ScenarioError(*problems.headlines(), located=True)
     out = Scenario(path)
     for key in sorted(set(data) - {"until", "initial", "event"}):
         problems.at("", key, f"unknown key '{key}' (keys: event, initial, until)")

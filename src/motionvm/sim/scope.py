@@ -24,6 +24,7 @@ from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
+from motionvm.runtime.clients import PassiveClient
 from motionvm.runtime.scope import BIT_UNIT, RAW_UNIT, ChannelSource, ScopeError
 
 __all__ = [  # the units and the error are the scope protocol's (runtime/scope.py)
@@ -259,11 +260,12 @@ def check_output_path(path: Path) -> None:
         )
 
 
-class ScopeRecorder:
+class ScopeRecorder(PassiveClient):
     """Samples channels at the end of every `every`-th controller cycle.
 
     Attach it after every other client, so it sees the cycle's final state. It has no
-    event of its own and does not keep the clock from jumping: a jump samples each
+    event of its own, does nothing before the tasks and never keeps a run going (a
+    `PassiveClient`), and does not keep the clock from jumping: a jump samples each
     cycle it passes (`samples_skipped_cycles`, sim/jumps.py), with the state stepping
     would have left, so no sample is skipped.
     A loop without a controller (a standalone PDL drive) calls `sample(cycle)` itself.
@@ -305,28 +307,19 @@ class ScopeRecorder:
         self._pairs = list(zip(self._columns, [c.getter for c in self.channels]))
 
     def attach(self, controller) -> None:
-        """Become a client of `controller`, sampling from its current cycle on."""
+        """Become a client of `controller`, sampling from its current cycle on; channels
+        with exact edges (`record_edges`, the position trigger's output) keep them from now."""
         self._controller = controller
         self._first_cycle = controller.cycle
+        for channel in self.channels:
+            record_edges = getattr(channel.getter, "record_edges", None)
+            if record_edges is not None:
+                record_edges()
         controller.add_client(self)
 
-    def begin_cycle(self) -> None:
-        """Nothing: a sample shows the state a cycle left behind."""
-
     def end_cycle(self) -> None:
+        """A sample of the state the cycle left behind."""
         self.sample(self._controller.cycle)
-
-    def busy(self) -> bool:
-        """Never: recording does not keep a run going."""
-        return False
-
-    def next_event(self) -> int | None:
-        """None: a jump samples the cycles it passes (`samples_skipped_cycles`)."""
-        return None
-
-    def still_running(self) -> list:
-        """Nothing: recording never keeps a run going."""
-        return []
 
     def sample(self, cycle: int) -> None:
         """Record every channel as cycle `cycle` (if it is an `every`-th cycle)."""

@@ -122,8 +122,9 @@ def _is_nan(v) -> bool:
 def write_vcd(path: Path, recorder, title: str = "") -> None:
     """IEEE 1364 value-change dump: `real` channels, `wire 1` bits; `axis0.x` goes in scope axis0.
 
-    A channel whose getter has `edges()` (a list of (sim_time [s], value), e.g. the
-    position trigger's `axisN.pt_out`, whose pulses are shorter than a cycle) is written
+    A channel whose getter has `edges()` (a list of (sim_time [s], value) since the
+    recorder attached, e.g. the position trigger's `axisN.pt_out`, whose pulses are
+    shorter than a cycle) is written
     at the exact time of each change between the first and the last sample, in a 1 ns
     timescale, instead of at the samples."""
     chans = recorder.channels
@@ -188,33 +189,37 @@ def write_vcd(path: Path, recorder, title: str = "") -> None:
                 continue
             while k < len(edges) and edges[k][0] < stamp:  # edges between two samples
                 k = _write_edges(f, edges, k, last, bits, ids)
-            changes = []
-            for i in sampled:
+            changes: list[str] = []
+            for i in sampled:  # inline: once per channel and sample
                 v = values[i]
                 if not _same(v, last[i]):
                     last[i] = v
                     changes.append(_vcd_value(v, bits[i], ids[i]))
-            while k < len(edges) and edges[k][0] == stamp:  # edges at this sample's time
-                _, i, v = edges[k]
-                k += 1
-                if not _same(v, last[i]):
-                    last[i] = v
-                    changes.append(_vcd_value(v, bits[i], ids[i]))
+            k = _edge_changes(changes, edges, k, stamp, last, bits, ids)  # at this time
             if changes:
                 f.write(f"#{stamp}\n" + "\n".join(changes) + "\n")
 
 
-def _write_edges(f, edges: list, k: int, last: list, bits: list, ids: list) -> int:
-    """Write the edges at the time of `edges[k]` (those that change a value); the index
-    of the first edge after them."""
-    stamp = edges[k][0]
-    changes = []
+def _edge_changes(
+    changes: list[str], edges: list, k: int, stamp, last: list, bits: list, ids: list
+) -> int:
+    """Note the edges at time `stamp` from `edges[k]` on in `changes`; the index of the
+    first edge after them."""
     while k < len(edges) and edges[k][0] == stamp:
         _, i, v = edges[k]
         k += 1
         if not _same(v, last[i]):
             last[i] = v
             changes.append(_vcd_value(v, bits[i], ids[i]))
+    return k
+
+
+def _write_edges(f, edges: list, k: int, last: list, bits: list, ids: list) -> int:
+    """Write the edges at the time of `edges[k]` (those that change a value); the index
+    of the first edge after them."""
+    stamp = edges[k][0]
+    changes: list[str] = []
+    k = _edge_changes(changes, edges, k, stamp, last, bits, ids)
     if changes:
         f.write(f"#{stamp}\n" + "\n".join(changes) + "\n")
     return k

@@ -20,7 +20,7 @@ from __future__ import annotations
 import json
 import re
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import make_dataclass
 from importlib import resources
 
 from motionvm.motion import axis_status as st
@@ -154,100 +154,56 @@ class Variables:
         return True
 
 
-@dataclass(frozen=True, slots=True)
-class AxisState:
-    """One axis at one instant: every axis variable of manual 5.1.1 by its manual name,
-    in the manual's unit (positions in mm or deg, the axis' unit), and the axis' status
-    flags. `AxisState.of(axis)` takes the snapshot."""
+AXIS_FLAGS: dict[str, Callable[[object], object]] = {
+    "enabled": lambda axis: axis.enabled,
+    "moving": lambda axis: axis.moving,
+    "in_pos": lambda axis: axis.in_pos,
+    "error_stop": lambda axis: axis.error_stop,
+    "stopping": lambda axis: axis.stopping,
+    "halted": lambda axis: axis.halted,
+    "accelerating": lambda axis: axis.motion_status & st.MS_ACCELERATING,
+    "homing": lambda axis: axis.motion_status & st.MS_HOMING,
+    "homed": lambda axis: axis.motion_status & st.MS_HOMED,
+    "drive_fault": lambda axis: axis.fault_status & st.FS_DRIVE_FAULT,
+    "position_error": lambda axis: axis.fault_status & st.FS_POSITION_ERROR,
+    "hw_left": lambda axis: axis.fault_status & st.FS_HW_LEFT,  # at the left hardware limit
+    "hw_right": lambda axis: axis.fault_status & st.FS_HW_RIGHT,
+    "sw_left": lambda axis: axis.fault_status & st.FS_SW_LEFT,  # beyond the left soft limit
+    "sw_right": lambda axis: axis.fault_status & st.FS_SW_RIGHT,
+}
+"""The status flags of an axis snapshot (manual 5.4: IsEnabled, IsMoving, IsInPos, ...):
+flag name -> its test on a `motion.axis.Axis`."""
 
-    axis_id: int
-    sim_time: float  # [s]
-    # status flags (manual 5.4: IsEnabled, IsMoving, IsInPos, IsErrorStop, ...)
-    enabled: bool
-    moving: bool
-    in_pos: bool
-    error_stop: bool
-    stopping: bool
-    halted: bool
-    accelerating: bool
-    homing: bool
-    homed: bool
-    drive_fault: bool
-    position_error: bool
-    hw_left: bool  # at the left hardware limit
-    hw_right: bool
-    sw_left: bool  # beyond the left software limit
-    sw_right: bool
-    # the axis variables of manual 5.1.1 (tables 5.1.1.1 to 5.1.1.6)
-    sync_pos_set: float  # [mm or deg]
-    pg_pos_cmd: float  # [mm or deg]
-    ref_pos: float  # [mm or deg]
-    ref_vel: float  # [mm/s or deg/s]
-    ref_acc: float  # [mm/s² or deg/s²]
-    comp_pos_set: float  # [mm or deg]
-    pos_comp: float  # [mm or deg]
-    pos_offset: float  # [mm or deg]
-    pos_out: float  # [mm or deg]
-    vel_out: float  # [mm/s or deg/s]
-    acc_out: float  # [mm/s² or deg/s²]
-    offset_pos_out: float  # [mm or deg]
-    pos_fb_raw: float  # [mm or deg]
-    offset_pos_fb: float  # [mm or deg]
-    pos_fb: float  # [mm or deg]
-    vel_fb: float  # [mm/s or deg/s]
-    pos_err: float  # [mm or deg]
-    vel_err: float  # [mm/s or deg/s]
-    movetime: float  # [ms]
-    settlingtime: float  # [ms]
-    max_vel: float  # [mm/s or deg/s]
-    max_acc: float  # [mm/s² or deg/s²]
-    max_dec: float  # [mm/s² or deg/s²]
-    sm_factor: float  # [ms]
-    fault_status: int
-    motion_status: int
-    power_drive_st: int
-    coe_controlword: int
-    coe_statusword: int
-    servo_type: int
-    coe_op_modes_display: int
-    coe_pos_cmd: int  # [count]
-    coe_vel_cmd: int  # [count/s]
-    coe_trq_cmd: int
-    coe_pos_fb: int  # [count]
-    coe_vel_fb: int  # [count/s]
-    coe_trq_fb: int
-    tp_function: int
-    tp_status: int
-    tp1_positive_edge: int  # [count]
-    tp1_negative_edge: int  # [count]
-    tp2_positive_edge: int  # [count]
-    tp2_negative_edge: int  # [count]
-    di_bit_HWLL: int
-    di_bit_HWRL: int
-    di_bit_HOME: int
 
-    @classmethod
-    def of(cls, axis, sim_time: float) -> AxisState:
-        """The snapshot of `axis` (a `motion.axis.Axis`) at `sim_time` [s]."""
-        fs, ms = axis.fault_status, axis.motion_status
-        values = {name: axis.variable(name) for name in VARIABLES}
-        return cls(
-            axis_id=axis.axis_id,
-            sim_time=sim_time,
-            enabled=bool(axis.enabled),
-            moving=bool(axis.moving),
-            in_pos=bool(axis.in_pos),
-            error_stop=bool(axis.error_stop),
-            stopping=bool(axis.stopping),
-            halted=bool(axis.halted),
-            accelerating=bool(ms & st.MS_ACCELERATING),
-            homing=bool(ms & st.MS_HOMING),
-            homed=bool(ms & st.MS_HOMED),
-            drive_fault=bool(fs & st.FS_DRIVE_FAULT),
-            position_error=bool(fs & st.FS_POSITION_ERROR),
-            hw_left=bool(fs & st.FS_HW_LEFT),
-            hw_right=bool(fs & st.FS_HW_RIGHT),
-            sw_left=bool(fs & st.FS_SW_LEFT),
-            sw_right=bool(fs & st.FS_SW_RIGHT),
-            **values,
-        )
+def _variable_type(unit: str) -> type:
+    """An axis variable's Python type: int for words, bit sets and counts (no unit or a
+    count unit), float for the rest (mm or deg, their rates, ms)."""
+    return int if unit == "" or unit.startswith("count") else float
+
+
+def _snapshot(cls, axis, sim_time: float):
+    """The snapshot of `axis` (a `motion.axis.Axis`) at `sim_time` [s]."""
+    flags = {name: bool(test(axis)) for name, test in AXIS_FLAGS.items()}
+    values = {name: axis.variable(name) for name in VARIABLES}
+    return cls(axis_id=axis.axis_id, sim_time=sim_time, **flags, **values)
+
+
+AxisState = make_dataclass(
+    "AxisState",
+    [
+        ("axis_id", int),
+        ("sim_time", float),  # [s]
+        *((name, bool) for name in AXIS_FLAGS),
+        *((name, _variable_type(unit)) for name, unit in VARIABLES.items()),
+    ],
+    namespace={
+        "__doc__": """One axis at one instant: the axis id, the time [s], the status flags
+    (`AXIS_FLAGS`) and every axis variable of manual 5.1.1 by its manual name, in the
+    manual's unit (`motion.axis_status.VARIABLES`: positions in mm or deg, the axis'
+    unit). `AxisState.of(axis, sim_time)` takes the snapshot.""",
+        "of": classmethod(_snapshot),
+    },
+    frozen=True,
+    slots=True,
+)
+AxisState.__module__ = __name__

@@ -96,6 +96,25 @@ def syntax_error_place(exc: tomllib.TOMLDecodeError, lines: list[str]) -> tuple[
     return (1, 1), text
 
 
+def parse_toml(raw: bytes, problems_of, invalid: str = "not valid TOML"):
+    """`(table, problems)` of a TOML file's bytes: `problems_of(text)` makes the file's
+    problems (a `TomlProblems`). Bytes that are not UTF-8 or text that is not TOML give
+    the table None and one problem at its place, `INVALID: ...` (a reader's wording)."""
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        problems = problems_of("")
+        problems.add(undecodable_place(raw, exc), f"{invalid}: the file is not UTF-8 text")
+        return None, problems
+    problems = problems_of(text)
+    try:
+        return tomllib.loads(text), problems
+    except tomllib.TOMLDecodeError as exc:
+        place, message = syntax_error_place(exc, problems.lines)
+        problems.add(place, f"{invalid}: {message}")
+        return None, problems
+
+
 class TomlProblems:
     """The problems of one TOML file, each at a line and column of its text."""
 

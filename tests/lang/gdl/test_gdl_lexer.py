@@ -94,11 +94,27 @@ def test_numbers() -> None:
     assert lex("-5")[0] == [("delim", "-"), ("int", 5)]
     assert lex("007")[0] == [("int", 7)]
     assert lex("1000000000")[1] == [
-        (
-            "1:1: integer constant 1000000000 has 10 digits, more than the limit 9 (largest value "
-            "999999999)"
-        )
+        "1:1: integer constant 1000000000 is beyond the GDL integer range: at most 999999999 "
+        "(9 digits)"
     ]
+
+
+def test_leading_zeros_do_not_count_toward_the_range() -> None:
+    assert lex("0000000007") == ([("int", 7)], [])
+    assert lex("000000000999999999") == ([("int", 999999999)], [])
+    assert lex("0001000000000")[1] == [
+        "1:1: integer constant 0001000000000 is beyond the GDL integer range: at most "
+        "999999999 (9 digits)"
+    ]
+
+
+def test_a_constant_of_thousands_of_digits_is_an_error_not_a_crash() -> None:
+    toks, errors = lex("9" * 5000 + " 1")
+    assert errors == [
+        "1:1: integer constant 999999999999... (5000 digits) is beyond the GDL integer "
+        "range: at most 999999999 (9 digits)"
+    ]
+    assert [t[0] for t in toks] == ["int", "int"]
 
 
 def test_no_reals() -> None:

@@ -160,12 +160,26 @@ void main() {
     assert sim.messages[1] in ("2 1", "3 1")
 
 
-def test_rollover_turns_beyond_an_int_saturate():
-    # a rollover far below one count: 1 mm is more turns than a C int counts
+def test_a_rollover_below_one_encoder_count_is_refused():
+    # 10000 counts per mm: one count is 0.0001 mm, the smallest rollover taken
     sim = sim_of("""
 void main() {
     SetPos(0, 1); SetPos(1, -1);
-    SetRollover(0, 1e-320); SetRollover(1, 1e-320);
+    Print("%x %x", SetRollover(0, 1e-320), SetRollover(1, 0.00009));
+    Print("%d %d", SetRollover(0, 0.0001), SetRollover(1, 0.0001));
+    Print("%d %d", GetRolloverTurns(0), GetRolloverTurns(1));
+}
+""")
+    sim.run()
+    assert sim.messages == ["830001f4 830101f4", "0 0", "10000 -10000"]
+
+
+def test_rollover_turns_beyond_an_int_saturate():
+    # one count of rollover (10000 counts per mm) 1 m from the origin: 1e10 turns
+    sim = sim_of("""
+void main() {
+    SetPos(0, 1e6); SetPos(1, -1e6);
+    SetRollover(0, 0.0001); SetRollover(1, 0.0001);
     Print("%d %d", GetRolloverTurns(0), GetRolloverTurns(1));
 }
 """)

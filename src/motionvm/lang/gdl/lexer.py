@@ -5,7 +5,9 @@
 - words: a letter or `_`, then letters, digits, `_`, `$`; a word with `$` must be a
   reserved word; identifiers are 1..40 characters; keywords are case-insensitive;
 - delimiters: single, and `<>`, `<=`, `>=` only when written together;
-- integers: at most 9 digits, no reals, the minus sign is a separate delimiter;
+- integers: values up to 999999999, the GDL integer range (9 digits; leading zeros do
+  not count: `0000000007` is 7), no reals, the minus sign is a separate delimiter; a
+  larger constant, however many digits, is an error naming it;
 - strings: `'...'`, at most 40 characters, HT becomes one space, a string continues
   on the next line after an opening quote preceded only by spaces;
 - comments: `|...|`, not nestable, anywhere between words, acting as a space.
@@ -22,6 +24,8 @@ from motionvm.source.suggest import did_you_mean
 
 MAX_IDENT = 40
 MAX_DIGITS = 9
+MAX_INT = 10**MAX_DIGITS - 1
+"""The largest integer constant: the GDL integer range is -999999999..999999999."""
 MAX_STRING = 40
 
 INSTRUCTION_WORDS = frozenset(
@@ -204,11 +208,14 @@ class Lexer:
         while self.i < len(self.text) and _is_digit(self.text[self.i]):
             self.i += 1
         digits = self.text[start : self.i]
-        if len(digits) > MAX_DIGITS:
+        significant = digits.lstrip("0")
+        value = int(significant or "0") if len(significant) <= MAX_DIGITS else 0
+        if len(significant) > MAX_DIGITS:  # not converted: thousands of digits would fail
+            shown = digits if len(digits) <= 24 else f"{digits[:12]}... ({len(digits)} digits)"
             self.sink.error(
                 pos,
-                f"integer constant {digits} has {len(digits)} digits, more "
-                f"than the limit {MAX_DIGITS} (largest value 999999999)",
+                f"integer constant {shown} is beyond the GDL integer range: at most "
+                f"{MAX_INT} ({MAX_DIGITS} digits)",
             )
         if self.i < len(self.text) and _is_word_char(self.text[self.i]):
             end = self.i
@@ -220,7 +227,7 @@ class Lexer:
                 "letters, and a name cannot start with a digit",
             )
             self.i = end
-        return Token("int", digits, pos, int(digits))
+        return Token("int", digits, pos, value)
 
     def _string(self) -> Token | None:
         text = self.text

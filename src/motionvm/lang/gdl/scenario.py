@@ -24,7 +24,6 @@ the key (an event's header for a key that is missing).
 from __future__ import annotations
 
 import math
-import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -33,7 +32,7 @@ from motionvm.lang.gdl.lexer import tokenize
 from motionvm.lang.gdl.objects import INT_LIMIT, StateSpec
 from motionvm.source.diagnostics import DiagnosticSink, TooManyErrors
 from motionvm.source.suggest import did_you_mean
-from motionvm.source.toml_places import TomlProblems, syntax_error_place, undecodable_place
+from motionvm.source.toml_places import TomlProblems, parse_toml
 
 EVENT_KEYS = {"at", "set", "force", "release", "value", "during", "line"}
 
@@ -236,18 +235,8 @@ def load_scenario(
         raw = Path(path).read_bytes()
     except OSError as exc:
         raise ScenarioError(f"cannot read the scenario {path}: {exc.strerror or exc}") from None
-    try:
-        text = raw.decode("utf-8")
-    except UnicodeDecodeError as exc:
-        problems = _Problems(path, "")
-        problems.add(undecodable_place(raw, exc), "not valid TOML: the file is not UTF-8 text")
-        problems.raise_any()
-    problems = _Problems(path, text)
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        place, message = syntax_error_place(exc, problems.lines)
-        problems.add(place, f"not valid TOML: {message}")
+    data, problems = parse_toml(raw, lambda text: _Problems(path, text))
+    if data is None:
         problems.raise_any()
     for key in sorted(set(data) - {"until", "initial", "event"}):
         problems.at("", key, f"unknown key '{key}' (keys: event, initial, until)")

@@ -291,18 +291,21 @@ class HmplRuntime(PassiveClient):
     def _on_fault(self, t: Task, exc: BaseException) -> None:
         self.faults += 1
         where = self._user_location(exc)
-        msg = self._fault_message(exc)
-        if msg is None:
-            detail = "".join(traceback.format_exception_only(type(exc), exc)).strip()
-            self._report(
-                f"{self._place(where)}: internal error in task {t.id}: {detail}\n"
-                "  this is a bug in motionvm, not in your program; please file an issue with the program attached"
-            )
-            return
         file, line, col = where
+        msg = self._fault_message(exc)
+        if msg is None:  # no fault of the program: an error of motionvm (or of a host callback)
+            msg = "".join(traceback.format_exception_only(type(exc), exc)).strip()
+            kind = "internal"
+            text = (
+                f"{self._place(where)}: internal error in task {t.id}: {msg}\n"
+                "  this is a bug in motionvm, not in your program; please file an issue with the program attached"
+            )  # fmt: skip
+        else:
+            kind = "runtime"
+            text = f"{self._place(where)}: runtime error in task {t.id} at t={self.sim_time:.3f} s: {msg}"  # fmt: skip
         self._report(
             Fault(
-                f"{self._place(where)}: runtime error in task {t.id} at t={self.sim_time:.3f} s: {msg}",
+                text,
                 file=file,
                 line=line,
                 col=col,
@@ -310,6 +313,7 @@ class HmplRuntime(PassiveClient):
                 message=msg,
                 language="HMPL",
                 task=t.id,
+                kind=kind,
             )  # fmt: skip
         )
 

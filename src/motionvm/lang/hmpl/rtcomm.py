@@ -77,7 +77,7 @@ class HmplComm(PassiveClient):
 
     def __init__(self, rt) -> None:
         self.rt = rt
-        self.vars = HmplSource(rt)
+        self.vars = HmplSource.for_native(rt)
         self.scratch = _stack(rt.mem, SCRATCH_SIZE, "<native ascii>")
         self.agent_stack = _stack(rt.mem, AGENT_STACK_SIZE, "<ascii agent>")
         self.parser = None

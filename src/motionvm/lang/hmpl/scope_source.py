@@ -3,7 +3,8 @@
 `system_timeInMs` [ms], `system_fclk`, `system_ltest0..9`, `system_dtest0..9`,
 `system_mtest[i]`, `system_user_table[i]`, and any global variable of the program by
 name (`count`; `table[3]` for an array element) [raw]. The HMPL run time offers this
-source through `HmplRuntime.scope_sources()`.
+source through `HmplRuntime.scope_sources()`; the Native ASCII server reads and writes the
+same variables through `HmplSource.for_native`, whose errors speak of variables.
 """
 
 from __future__ import annotations
@@ -23,9 +24,23 @@ _SUGGESTED_ELEMENTS = 10
 class HmplSource:
     """System variables and global variables of a loaded HMPL program (an `HmplRuntime`)."""
 
+    noun = "scope channel"
+    """What an error calls a name."""
+    use = "record"
+    """What one does with an array's element."""
+    numbers_only = "the scope records numbers"
+
     def __init__(self, runtime) -> None:
         self.runtime = runtime
         self.program = runtime.program
+
+    @classmethod
+    def for_native(cls, runtime) -> HmplSource:
+        """The same variables for Native ASCII requests: its errors name a variable."""
+        source = cls(runtime)
+        source.noun, source.use = "variable", "read or write"
+        source.numbers_only = "Native ASCII reads and writes numbers only"
+        return source
 
     def _symbol(self, base: str):
         return self.program.sysvars.get(base) or self.program.globals_.get(base)
@@ -43,17 +58,16 @@ class HmplSource:
         if index is None:
             if elem_t is not None:
                 raise ScopeError(
-                    f"scope channel '{name}' is an array of {t.n}; "
-                    f"record one element, e.g. '{base}[0]'"
+                    f"{self.noun} '{name}' is an array of {t.n}; "
+                    f"{self.use} one element, e.g. '{base}[0]'"
                 )
             return self._scalar(name, sym, t, sym.addr), self._unit(base)
         if elem_t is None:
-            raise ScopeError(f"scope channel '{name}': '{base}' is not an array")
+            raise ScopeError(f"{self.noun} '{name}': '{base}' is not an array")
         i = int(index)
         if t.n is not None and i >= t.n:
             raise ScopeError(
-                f"scope channel '{name}': index {i} is out of range for {base}[{t.n}] "
-                f"(0..{t.n - 1})"
+                f"{self.noun} '{name}': index {i} is out of range for {base}[{t.n}] (0..{t.n - 1})"
             )
         if sym.storage == "pylist" and elem_t.is_scalar:  # an array kept as a Python list
             ns, pyname = self.runtime.ns, sym.pyname
@@ -62,14 +76,14 @@ class HmplSource:
 
     def _scalar(self, name: str, sym, t, addr: int) -> Callable[[], float]:
         if not (t.is_arith or t.is_pointer):
-            raise ScopeError(f"scope channel '{name}' is a {t}; the scope records numbers")
+            raise ScopeError(f"{self.noun} '{name}' is a {t}; {self.numbers_only}")
         if sym.storage == "const":
             value = sym.const_value
             return lambda: value
         if sym.storage == "pyglobal":
             return partial(self.runtime.ns.get, sym.pyname, 0)
         if sym.storage != "static":
-            raise ScopeError(f"scope channel '{name}' is not a global variable")
+            raise ScopeError(f"{self.noun} '{name}' is not a global variable")
         kind = "i64" if t.is_pointer else t.code
         size = t.size
         if addr % size == 0:

@@ -45,11 +45,13 @@ def fault_message(exc: BaseException) -> str:
 
 def describe_fault(program: PdlProgram, task: int, exc: BaseException, sim_time: float) -> Fault:
     """`FILE:LINE:COL: runtime error in task N at t=S.ssssss s: MESSAGE` (a `Fault`, its
-    parts filled in); `sim_time` [s]: the drive's time of the faulting phase."""
+    parts filled in; kind "internal" for an exception that is no fault of the program);
+    `sim_time` [s]: the drive's time of the faulting phase."""
     file, line, col = fault_place(program, exc)
     message = fault_message(exc)
+    internal = not isinstance(exc, (RuntimeFault, *_PYTHON_FAULTS))
     return Fault(
         f"{file}:{line}:{col}: runtime error in task {task} at t={sim_time:.6f} s: {message}",
         file=file, line=line, col=col, time=sim_time, message=message, language="PDL",
-        task=task,
+        task=task, kind="internal" if internal else "runtime",
     )  # fmt: skip

@@ -248,7 +248,7 @@ class AxisCommands(CommandBase):
 
     def GetRolloverTurns(self, axis_id: int) -> int:
         """Whole turns of the feedback position; the controller counts them in a C int, so
-        a count beyond it (a rollover far below one encoder count, SetRollover(0, 1e-320))
+        a count beyond it (a rollover of one encoder count a metre from the origin)
         saturates at INT_MIN / INT_MAX instead of failing."""
         a = self._axis(axis_id)
         if a is None or not a.rollover:

@@ -26,10 +26,11 @@ from motionvm.motion import compensation
 from motionvm.motion.commands.base import CommandBase
 
 
-class CompensationCommands(CommandBase):
-    """Chapter 14: EnableComp ... SetCompAlgType (and GetPosFbComp, IsCompActive of 5)."""
+def _setup_of_dims(dims: int, name: str):
+    """SetupComp2D / SetupComp3D (and SetupComp's work): a map of `dims` reference axes,
+    from the first `dims` entries of each array."""
 
-    def _setup(
+    def setup(
         self,
         axis_id: int,
         start_idx: int,
@@ -37,8 +38,10 @@ class CompensationCommands(CommandBase):
         interval: Sequence[float],
         num_pt: Sequence[int],
         ref_axis_id: Sequence[int],
-        user_table: Sequence[float],
+        user_table: Sequence[float] = (),
     ) -> int:
+        base_val, interval = base_val[:dims], interval[:dims]
+        num_pt, ref_axis_id = num_pt[:dims], ref_axis_id[:dims]
         axes = self._axes(axis_id, *ref_axis_id)
         if axes is None:
             return st.SYS_HMPL_ARG_OUT_OF_RANGE
@@ -52,6 +55,16 @@ class CompensationCommands(CommandBase):
         except compensation.MapError:
             return self._fail(a, st.CMD_INVALID_PARAMETER)
         return self._run(a, a.filters.setup_comp, emap, tuple(ref_axis_id))
+
+    setup.__name__ = name
+    setup.__qualname__ = f"CompensationCommands.{name}"
+    return setup
+
+
+class CompensationCommands(CommandBase):
+    """Chapter 14: EnableComp ... SetCompAlgType (and GetPosFbComp, IsCompActive of 5)."""
+
+    _setup = _setup_of_dims(1, "_setup")
 
     def SetupComp(
         self,
@@ -67,33 +80,8 @@ class CompensationCommands(CommandBase):
             axis_id, start_idx, [base_val], [interval], [num_pt], [ref_axis_id], user_table
         )
 
-    def SetupComp2D(
-        self,
-        axis_id: int,
-        start_idx: int,
-        base_val: Sequence[float],
-        interval: Sequence[float],
-        num_pt: Sequence[int],
-        ref_axis_id: Sequence[int],
-        user_table: Sequence[float] = (),
-    ) -> int:
-        return self._setup(
-            axis_id, start_idx, base_val[:2], interval[:2], num_pt[:2], ref_axis_id[:2], user_table
-        )
-
-    def SetupComp3D(
-        self,
-        axis_id: int,
-        start_idx: int,
-        base_val: Sequence[float],
-        interval: Sequence[float],
-        num_pt: Sequence[int],
-        ref_axis_id: Sequence[int],
-        user_table: Sequence[float] = (),
-    ) -> int:
-        return self._setup(
-            axis_id, start_idx, base_val[:3], interval[:3], num_pt[:3], ref_axis_id[:3], user_table
-        )
+    SetupComp2D = _setup_of_dims(2, "SetupComp2D")
+    SetupComp3D = _setup_of_dims(3, "SetupComp3D")
 
     def _comp_command(self, axis_id: int, method: str, *args) -> int:
         a = self._axis(axis_id)
