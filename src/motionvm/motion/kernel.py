@@ -82,6 +82,10 @@ class MotionKernel:
         """I/O slaves on the bus after the drives: slaves n_axes .. n_slaves - 1."""
         self.lost_slaves: set[int] = set()
         """Slaves that left the bus (a fault): they report Init (1) for good."""
+        self.reads: list | None = None
+        """While a task runs (and time skipping records them): the status flags the task
+        read, as (object, attribute, value); None: nothing is recorded (runtime/kernel.py,
+        `Kernel.recorder`)."""
 
     @property
     def n_slaves(self) -> int:

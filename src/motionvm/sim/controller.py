@@ -75,6 +75,7 @@ class Controller:
         """Jump the clock over cycles in which nothing can change; False steps every
         cycle (`--no-skip`): the results are identical either way."""
         self.jumps = JumpPlanner(self)
+        self.kernel.recorder = self.motion  # the status flags a task's wait read
         self.cycles_computed = 0
         """Cycles stepped so far (the others were jumped over)."""
         self.stop_requested = False  # set to end run() at the next cycle (e.g. stdout closed)
