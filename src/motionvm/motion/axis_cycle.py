@@ -110,12 +110,10 @@ class AxisCycle:
             drive.controlword |= self._fault_reset_bit()
         # 4. the drive: its common cycle inline (`_drive_cycle`), any other its own step
         m = drive.mechanics
-        if (type(m) is IdealMechanics and m.delay_cycles == 1 and drive._mode_prev == MODE_CSP
-                and drive.state is drive._settled and drive.state is _OPERATION_ENABLED
-                and drive.mode == MODE_CSP and drive.controlword == drive._controlword_prev
-                and drive._fault is None and drive.local_demand is None
-                and not drive._encoder_lost and not drive._forced
-                and type(drive) is Cia402Drive):  # fmt: skip
+        if (m is self._inline_mechanics and drive.state is drive._settled is _OPERATION_ENABLED
+                and drive.mode == drive._mode_prev == MODE_CSP
+                and drive.controlword == drive._controlword_prev and drive._fault is None
+                and drive.local_demand is None and not (drive._encoder_lost or drive._forced)):  # fmt: skip
             self._drive_cycle(drive, m)
         else:
             drive.step(self.dt)
@@ -176,6 +174,14 @@ class AxisCycle:
         else:
             self._still_cycles = 0
 
+    def _inline_mechanics_of(self, drive):
+        """The drive's motor if its cycle may be taken inline (`_drive_cycle`: a
+        `Cia402Drive` with an ideal motor one cycle behind), else None."""
+        m = drive.mechanics
+        if type(drive) is Cia402Drive and type(m) is IdealMechanics and m.delay_cycles == 1:
+            return m
+        return None
+
     def _drive_cycle(self, drive, m) -> None:
         """`drive.step(dt)` of a drive in Operation enabled whose CSP cycle repeats: no
         new controlword or mode, no fault, no forced object, no local control, an ideal
@@ -205,6 +211,15 @@ class AxisCycle:
         s = drive.sensors
         if s.quiet_low < x < s.quiet_high:
             drive.digital_inputs = s.quiet_inputs
+        elif (
+            x == drive._motor_position_prev
+            and s._switch_low < x < s._switch_high
+            and s._external == s._switch_external
+            and not (s._tp_function or s.tp_status)
+        ):
+            # a motor at rest inside its switch band (on an index edge, say) passes no
+            # index pulse and no switch edge: `update` would return the band's inputs
+            drive.digital_inputs = s._switch_inputs
         elif s.has_switches or s.tp_function or s.tp_status:
             drive.digital_inputs = s.update(drive._motor_position_prev, x)
         else:

@@ -24,6 +24,8 @@ the axes; their last errors live here too (`group_last_error`).
 
 from __future__ import annotations
 
+from operator import attrgetter
+
 from motionvm.drives.dictionary import SlaveDirectory
 from motionvm.motion import axis_coast, config_axis, config_group
 from motionvm.motion import axis_status as st
@@ -32,11 +34,13 @@ from motionvm.motion.axis_config import AxisConfig
 from motionvm.motion.config_vars import ConfigVarTable
 from motionvm.motion.gantry import GantrySet
 from motionvm.motion.gear import GearBox
-from motionvm.motion.group import GroupSet
+from motionvm.motion.group import DISABLED, GroupSet
 from motionvm.motion.homing import AxisHoming
 from motionvm.motion.inshape import InShapeSettings
 from motionvm.motion.touchprobe import TouchProbe
 from motionvm.runtime.waits import Waiting
+
+_STATE = attrgetter("state")
 
 ECAT_INIT, ECAT_PREOP, ECAT_SAFEOP, ECAT_OP = 1, 2, 4, 8
 N_GROUPS = 16
@@ -123,7 +127,7 @@ class MotionKernel:
         An axis jogging at a constant velocity it has reached (`Axis.cruising`) counts as
         settled: nothing about it changes until it is commanded again.
         """
-        if self._bus_steps or self.groups.busy():
+        if self._bus_steps or self.groups_moving():
             return True
         for a in self.axes:
             if a._enabling:
@@ -131,6 +135,13 @@ class MotionKernel:
             if (a.moving or (a.enabled and not a.in_pos)) and not a.cruising:
                 return True
         return False
+
+    def groups_moving(self) -> bool:
+        """`groups.busy()`: a group moves (only an enabled group's planner is asked)."""
+        groups = self.groups.groups
+        if list(map(_STATE, groups)).count(DISABLED) == len(groups):
+            return False
+        return self.groups.busy()
 
     def still_running(self) -> list[Waiting]:
         """A `Waiting` for every axis that keeps the run busy (`busy`)."""
@@ -146,7 +157,7 @@ class MotionKernel:
 
     def at_rest(self) -> bool:
         """True if no axis needs stepping: the controller may then jump ahead in time."""
-        if self._bus_steps or self.groups.busy():
+        if self._bus_steps or self.groups_moving():
             return False
         for a in self.axes:
             if not a.resting:
@@ -164,7 +175,7 @@ class MotionKernel:
             self._bus_steps
             or self.gantries.pairs
             or self.gears.gears
-            or (groups is not None and groups.busy())
+            or (groups is not None and self.groups_moving())
         ):
             return 0 if not self.at_rest() else wanted
         k = wanted

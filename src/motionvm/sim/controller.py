@@ -75,7 +75,6 @@ class Controller:
         """Jump the clock over cycles in which nothing can change; False steps every
         cycle (`--no-skip`): the results are identical either way."""
         self.jumps = JumpPlanner(self)
-        self.kernel.recorder = self.motion  # the status flags a task's wait read
         self.cycles_computed = 0
         """Cycles stepped so far (the others were jumped over)."""
         self.stop_requested = False  # set to end run() at the next cycle (e.g. stdout closed)
@@ -151,6 +150,8 @@ class Controller:
         pacer = RealTimePacer(self.sim_time) if realtime else None
         self.stop_requested = False
         self.jumps.forget()
+        # while skipping, a task's status wait records the flags it read (sim/jumps.py)
+        self.kernel.recorder = self.motion if self.skip else None
         next_report = _NEVER if progress is None else clock.cycle
         while self.busy():
             if self.stop_requested:

@@ -110,8 +110,12 @@ class JumpPlanner:
         for t in kernel._active:
             w = t.wake_cycle
             if w <= cycle and t.event_wait:
-                if t.record is not None:
-                    if t.record_holds():
+                record = t.record
+                if record is not None:
+                    for read in record:  # `Task.record_holds`, inline
+                        if read is None or getattr(read[0], read[1]) != read[2]:
+                            break
+                    else:
                         continue
                 else:
                     if old_ok is None:
@@ -132,7 +136,12 @@ class JumpPlanner:
         motion = ctl.motion
         if any(getattr(c, "samples_skipped_cycles", False) for c in clients):
             return False
-        if motion._bus_steps or motion.gantries.pairs or motion.gears.gears or motion.groups.busy():
+        if (
+            motion._bus_steps
+            or motion.gantries.pairs
+            or motion.gears.gears
+            or motion.groups_moving()
+        ):
             return False
         motion.begin_cycle()
         motion.step()

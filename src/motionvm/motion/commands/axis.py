@@ -293,17 +293,11 @@ class AxisCommands(CommandBase):
 
     def IsInPos(self, axis_id: int) -> int:
         motion = self.motion
-        if axis_id >= 0:
+        if axis_id >= 0 and motion.reads is None:
             try:
-                a = motion.axes[axis_id]
+                return 1 if motion.axes[axis_id].in_pos else 0
             except IndexError:
                 pass
-            else:
-                flag = a.in_pos
-                reads = motion.reads
-                if reads is not None:
-                    reads.append((a, "in_pos", flag))
-                return 1 if flag else 0
         return self._status_flag(axis_id, "in_pos")
 
     def IsErrorStop(self, axis_id: int) -> int:
