@@ -24,8 +24,6 @@ the axes; their last errors live here too (`group_last_error`).
 
 from __future__ import annotations
 
-from operator import attrgetter
-
 from motionvm.drives.dictionary import SlaveDirectory
 from motionvm.motion import axis_coast, config_axis, config_group
 from motionvm.motion import axis_status as st
@@ -39,8 +37,6 @@ from motionvm.motion.homing import AxisHoming
 from motionvm.motion.inshape import InShapeSettings
 from motionvm.motion.touchprobe import TouchProbe
 from motionvm.runtime.waits import Waiting
-
-_STATE = attrgetter("state")
 
 ECAT_INIT, ECAT_PREOP, ECAT_SAFEOP, ECAT_OP = 1, 2, 4, 8
 N_GROUPS = 16
@@ -138,10 +134,10 @@ class MotionKernel:
 
     def groups_moving(self) -> bool:
         """`groups.busy()`: a group moves (only an enabled group's planner is asked)."""
-        groups = self.groups.groups
-        if list(map(_STATE, groups)).count(DISABLED) == len(groups):
-            return False
-        return self.groups.busy()
+        for g in self.groups.groups:
+            if g.state != DISABLED and g.moving:
+                return True
+        return False
 
     def still_running(self) -> list[Waiting]:
         """A `Waiting` for every axis that keeps the run busy (`busy`)."""

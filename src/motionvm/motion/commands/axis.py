@@ -293,11 +293,18 @@ class AxisCommands(CommandBase):
 
     def IsInPos(self, axis_id: int) -> int:
         motion = self.motion
-        if axis_id >= 0 and motion.reads is None:
+        if axis_id >= 0:
             try:
-                return 1 if motion.axes[axis_id].in_pos else 0
+                a = motion.axes[axis_id]
             except IndexError:
                 pass
+            else:
+                reads = motion.reads
+                if reads is None:
+                    return 1 if a.in_pos else 0
+                flag = a.in_pos
+                reads.append((a, "in_pos", flag))
+                return 1 if flag else 0
         return self._status_flag(axis_id, "in_pos")
 
     def IsErrorStop(self, axis_id: int) -> int:
