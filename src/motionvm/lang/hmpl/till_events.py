@@ -38,10 +38,10 @@ EVENT_BUILTINS = frozenset({
 })  # fmt: skip
 """Built-ins whose answer changes only in a computed cycle (given the same arguments)."""
 
-STATUS_BUILTINS = frozenset({
-    "IsInPos", "IsMoving", "IsEnabled", "IsHomed", "IsHoming", "IsErrorStop",
-})  # fmt: skip
-"""Event built-ins that answer an axis's status flag (each call is recorded)."""
+STATUS_BUILTINS = frozenset({"IsInPos", "IsMoving", "IsEnabled", "IsHomed", "IsErrorStop"})
+"""Event built-ins that answer an axis's status flag (each call is recorded). IsHoming
+is not among them: asking it notices a homing cut off from outside, which must happen
+when the task asks (motion/homing.py)."""
 
 _PURE_UNARY = frozenset({"-", "+", "!", "~"})
 
