@@ -32,7 +32,7 @@ from motionvm.motion.axis_config import AxisConfig
 from motionvm.motion.config_vars import ConfigVarTable
 from motionvm.motion.gantry import GantrySet
 from motionvm.motion.gear import GearBox
-from motionvm.motion.group import GroupSet
+from motionvm.motion.group import DISABLED, GroupSet
 from motionvm.motion.homing import AxisHoming
 from motionvm.motion.inshape import InShapeSettings
 from motionvm.motion.touchprobe import TouchProbe
@@ -82,6 +82,10 @@ class MotionKernel:
         """I/O slaves on the bus after the drives: slaves n_axes .. n_slaves - 1."""
         self.lost_slaves: set[int] = set()
         """Slaves that left the bus (a fault): they report Init (1) for good."""
+        self.reads: list | None = None
+        """While a task runs (and time skipping records them): the status flags the task
+        read, as (object, attribute, value); None: nothing is recorded (runtime/kernel.py,
+        `Kernel.recorder`)."""
 
     @property
     def n_slaves(self) -> int:
@@ -119,12 +123,19 @@ class MotionKernel:
         An axis jogging at a constant velocity it has reached (`Axis.cruising`) counts as
         settled: nothing about it changes until it is commanded again.
         """
-        if self._bus_steps or self.groups.busy():
+        if self._bus_steps or self.groups_moving():
             return True
         for a in self.axes:
             if a._enabling:
                 return True
             if (a.moving or (a.enabled and not a.in_pos)) and not a.cruising:
+                return True
+        return False
+
+    def groups_moving(self) -> bool:
+        """`groups.busy()`: a group moves (only an enabled group's planner is asked)."""
+        for g in self.groups.groups:
+            if g.state != DISABLED and g.moving:
                 return True
         return False
 
@@ -142,7 +153,7 @@ class MotionKernel:
 
     def at_rest(self) -> bool:
         """True if no axis needs stepping: the controller may then jump ahead in time."""
-        if self._bus_steps or self.groups.busy():
+        if self._bus_steps or self.groups_moving():
             return False
         for a in self.axes:
             if not a.resting:
@@ -160,7 +171,7 @@ class MotionKernel:
             self._bus_steps
             or self.gantries.pairs
             or self.gears.gears
-            or (groups is not None and groups.busy())
+            or (groups is not None and self.groups_moving())
         ):
             return 0 if not self.at_rest() else wanted
         k = wanted

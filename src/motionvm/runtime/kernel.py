@@ -7,6 +7,10 @@ Two negative ints also mean "next cycle" and tell the controller more (`EVENT_WA
 `EVENT_POLL`): the task polls a condition that can change only in a cycle the
 controller computes, never in one it jumps over (an axis's status flag, an input),
 so the clock may jump past it while nothing it tests changes (`quiet`).
+Two more (`STATUS_WAIT`, `STATUS_POLL`) say the condition depends on nothing but the
+answers of axis status flags: with a `recorder`, the kernel keeps the flags such a
+poll read (`Task.record`), and the task need not be resumed while they answer the same
+(`Task.record_holds`), whatever other tasks did since.
 A task ends when its generator returns, raises `TaskExit`, or faults; a fault stops
 only that task and is reported through `on_fault`. No wall clock, no threads: the
 same program gives the same schedule every run.
@@ -27,6 +31,10 @@ EVENT_WAIT = -2
 EVENT_POLL = -1
 """Yielded by such a wait after its condition was evaluated again and still is false,
 with nothing else run since the last yield (a quiet poll)."""
+STATUS_WAIT = -4
+"""EVENT_WAIT of a condition that depends only on the answers of status flags."""
+STATUS_POLL = -3
+"""EVENT_POLL of a condition that depends only on the answers of status flags."""
 
 
 @dataclass
@@ -39,11 +47,25 @@ class Task:
     name: str = ""
     starts: int = 0  # how many times the task was started
     context: object = None  # language run time's per-task data (e.g. the memory stack)
-    event_wait: bool = False  # the last yield was EVENT_WAIT or EVENT_POLL
+    event_wait: bool = False  # the last yield was EVENT_WAIT or EVENT_POLL (or STATUS_*)
+    record: list | None = None
+    """After a STATUS_WAIT or STATUS_POLL: the flags the task read in that slice, as
+    (object, attribute, value), the condition's last evaluation among them; else None."""
 
     @property
     def running(self) -> bool:
         return self.gen is not None
+
+    def record_holds(self) -> bool:
+        """True if the task waits on a status condition whose flags all answer what they
+        answered when it polled: polled again now, it would find it false again."""
+        record = self.record
+        if not record or not self.event_wait:
+            return False
+        for read in record:
+            if read is None or getattr(read[0], read[1]) != read[2]:
+                return False
+        return True
 
 
 class Kernel:
@@ -65,6 +87,9 @@ class Kernel:
         from outside."""
         self.event_waits = False
         """True if in the last cycle run a task waited on an event."""
+        self.recorder = None
+        """An object whose `reads` list the status flags record while a task runs (the
+        motion kernel), or None: no task keeps a `record`."""
 
     # ------------------------------------------------------------ control
 
@@ -77,6 +102,7 @@ class Kernel:
         t.context = context
         t.starts += 1
         t.event_wait = False
+        t.record = None
         self._changed = True
         if t not in self._active:
             self._active.append(t)
@@ -149,12 +175,17 @@ class Kernel:
         """Resume every task that is due in this cycle, once, in id order."""
         cycle = self.clock.cycle
         polled = stale = False  # a task polled an event; a task acted after that
+        recorder = self.recorder
+        reads = None
         for t in tuple(self._active):  # a task started in this cycle runs from the next one
             gen = t.gen
             if gen is None or t.wake_cycle > cycle:
                 continue
             self.current = t
             self.before_resume(t)
+            if recorder is not None:
+                recorder.reads = reads = []
+            t.record = None
             try:
                 y = gen.send(None)
             except StopIteration:
@@ -179,15 +210,19 @@ class Kernel:
                 elif y < 0:  # EVENT_POLL (only polled) or EVENT_WAIT (acted, then polled)
                     t.wake_cycle = cycle + 1
                     t.event_wait = True
-                    if y != EVENT_POLL:
+                    if y != EVENT_POLL and y != STATUS_POLL:
                         stale = stale or polled
                     polled = True
+                    if y <= STATUS_POLL and reads:
+                        t.record = reads
                 else:
                     t.wake_cycle = max(int(y), cycle + 1)
                     t.event_wait = False
                     stale = stale or polled
             finally:
                 self.current = None
+                if recorder is not None:
+                    recorder.reads = None
         self.event_waits = polled
         self.quiet = not stale and not self._changed
         self._changed = False

@@ -150,6 +150,8 @@ class Controller:
         pacer = RealTimePacer(self.sim_time) if realtime else None
         self.stop_requested = False
         self.jumps.forget()
+        # while skipping, a task's status wait records the flags it read (sim/jumps.py)
+        self.kernel.recorder = self.motion if self.skip else None
         next_report = _NEVER if progress is None else clock.cycle
         while self.busy():
             if self.stop_requested:

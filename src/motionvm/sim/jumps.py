@@ -19,7 +19,14 @@ polled: no task acted after it in its cycle (`Kernel.quiet`), and the status it 
 (every axis's flags, the digital inputs and outputs) is now what it was right after
 the tasks of the last computed cycle (`after_tasks`). Otherwise that task is stepped
 once more, and polls again. Each `Controller.run` starts without that record, as the
-host may have changed a variable between runs.
+host may have changed a variable between runs. A task waiting on a condition of status
+flags alone (STATUS_WAIT) is passed over while the flags its poll read answer the same
+(`Task.record_holds`), whatever the other tasks did.
+
+When no task and no client is due but an axis can be advanced neither by coasting nor
+by resting (it settles into position, or it ends a move), the jump is a single cycle
+of the motion kernel alone (`_motion_cycle`): the cycle stepping computes, minus tasks
+that would only poll and clients that have nothing to do in it.
 """
 
 from __future__ import annotations
@@ -61,10 +68,7 @@ class JumpPlanner:
         kernel = ctl.kernel
         wake = kernel.next_wake()
         if wake is not None and wake <= cycle:
-            seen = self._signature
-            if seen is None or not kernel.quiet or seen != self._status():
-                return False
-            wake = kernel.next_wake_past_event_waits()
+            wake = self._wake_past_polls(cycle)
             if wake is not None and wake <= cycle:
                 return False
         clients = ctl.clients
@@ -87,13 +91,61 @@ class JumpPlanner:
         else:
             k = motion.coast_horizon(limit)
             if not k:
-                return False
+                return self._motion_cycle(cycle, clients)
         samplers = [c for c in clients if getattr(c, "samples_skipped_cycles", False)]
         if samplers:
             self._sampled_jump(cycle, k, resting, samplers)
         elif not resting:
             motion.coast(k)
         ctl.clock.cycle = cycle + k
+        self.jumps += 1
+        return True
+
+    def _wake_past_polls(self, cycle: int) -> int | None:
+        """The earliest wake cycle of the running tasks, leaving out those waiting on an
+        event that would find their condition false again if polled now."""
+        kernel = self.controller.kernel
+        old_ok = None  # the tasks without a record: the whole status as after_tasks saw it
+        wake = None
+        for t in kernel._active:
+            w = t.wake_cycle
+            if w <= cycle and t.event_wait:
+                record = t.record
+                if record is not None:
+                    for read in record:  # `Task.record_holds`, inline
+                        if read is None or getattr(read[0], read[1]) != read[2]:
+                            break
+                    else:
+                        continue
+                else:
+                    if old_ok is None:
+                        seen = self._signature
+                        old_ok = (seen is not None and kernel.quiet and not kernel._changed
+                                  and seen == self._status())  # fmt: skip
+                    if old_ok:
+                        continue
+            if wake is None or w < wake:
+                wake = w
+        return wake
+
+    def _motion_cycle(self, cycle: int, clients: list) -> bool:
+        """Jump over cycle `cycle` stepping only the motion kernel (no task, no client
+        is due in it); True if it did. Not with a client that samples every cycle, nor
+        with gears, gantry pairs, a busy axis group or a starting bus."""
+        ctl = self.controller
+        motion = ctl.motion
+        if any(getattr(c, "samples_skipped_cycles", False) for c in clients):
+            return False
+        if (
+            motion._bus_steps
+            or motion.gantries.pairs
+            or motion.gears.gears
+            or motion.groups_moving()
+        ):
+            return False
+        motion.begin_cycle()
+        motion.step()
+        ctl.clock.cycle = cycle + 1
         self.jumps += 1
         return True
 

@@ -28,7 +28,27 @@ def python_of(body: str) -> str:
 ])  # fmt: skip
 def test_conditions_on_status_flags_wait_on_an_event(cond):
     text = python_of(f"Till({cond});")
-    assert "yield -2" in text and "yield -1" in text
+    assert ("yield -2" in text and "yield -1" in text) or (
+        "yield -4" in text and "yield -3" in text
+    )
+
+
+@pytest.mark.parametrize("cond", [
+    "IsInPos(a)", "IsInPos(0) && !IsMoving(1)", "IsHomed(a) || IsErrorStop(2)",
+    "IsEnabled(a + 1) == 1", "a > 3 ? IsInPos(0) : IsHomed(1)",
+])  # fmt: skip
+def test_conditions_on_axis_flags_and_locals_wait_on_the_flags_alone(cond):
+    text = python_of(f"Till({cond});")
+    assert "yield -4" in text and "yield -3" in text and "yield -2" not in text
+
+
+@pytest.mark.parametrize("cond", [
+    "IsEnabled(g + 1) == 1", "HIMC_GPI(3) == 1", "!HIMC_GPO(0)", "g > 3 ? IsInPos(0) : IsInPos(1)",
+    "IsHoming(a)", "IsInPos(0) && !IsHoming(0)",
+])  # fmt: skip
+def test_conditions_on_globals_or_io_wait_on_an_event_of_any_status(cond):
+    text = python_of(f"Till({cond});")
+    assert "yield -2" in text and "yield -1" in text and "yield -4" not in text
 
 
 @pytest.mark.parametrize("cond", [

@@ -21,8 +21,8 @@ from motionvm.lang.hmpl.lower_loops import LoopLowering, _assigned_names
 from motionvm.lang.hmpl.lower_util import LoopCtx, at
 from motionvm.lang.hmpl.lvalues import call, name, view_code
 from motionvm.lang.hmpl.symbols import FuncSym, Scope, VarSym, error_symbol
-from motionvm.lang.hmpl.till_events import time_wait, waits_on_event
-from motionvm.runtime.kernel import EVENT_POLL, EVENT_WAIT
+from motionvm.lang.hmpl.till_events import status_only, time_wait, waits_on_event
+from motionvm.runtime.kernel import EVENT_POLL, EVENT_WAIT, STATUS_POLL, STATUS_WAIT
 
 # node class -> its `_s_` method of FunctionLowerer
 _S_METHODS: dict[type, object] = {}
@@ -330,10 +330,14 @@ class FunctionLowerer(ExprLowering, AccessLowering, LoopLowering, JumpLowering):
         cond = self.cond(e.args[0])
         self.has_yield = True
         if waits_on_event(e.args[0], self._event_symbol):  # till_events.py
+            status = status_only(e.args[0], self._event_symbol)
             again = ast.UnaryOp(op=ast.Not(), operand=copy.deepcopy(cond))
-            poll = ast.While(test=again, body=[_yield(EVENT_POLL)], orelse=[])
+            poll = ast.While(
+                test=again, body=[_yield(STATUS_POLL if status else EVENT_POLL)], orelse=[]
+            )
             test = ast.UnaryOp(op=ast.Not(), operand=cond)
-            return [ast.If(test=test, body=[_yield(EVENT_WAIT), poll], orelse=[])]
+            wait = _yield(STATUS_WAIT if status else EVENT_WAIT)
+            return [ast.If(test=test, body=[wait, poll], orelse=[])]
         test = ast.UnaryOp(op=ast.Not(), operand=cond)
         timed = time_wait(e.args[0], self._event_symbol)
         if timed is not None:  # sleep until the first cycle whose time passes X

@@ -12,7 +12,12 @@ Till is lowered as
                                  while not b_IsInPos(g_a):
                                      yield -1              # EVENT_POLL
 
-so the controller may jump past it (runtime/kernel.py). A comparison of the time,
+so the controller may jump past it (runtime/kernel.py). A condition that tests only
+an axis's status flags (`STATUS_BUILTINS`), with arguments that are constants or the
+task's own plain local variables, which no other task can write, yields -4 and -3
+instead (STATUS_WAIT, STATUS_POLL): the controller then records the flags the poll
+read and passes the task over while they answer the same, whatever the other tasks
+did (`status_only`). A comparison of the time,
 `system_timeInMs >= X` (or >, <=, < with the operands swapped) with X such an
 expression, sleeps until the first cycle whose time passes X:
 
@@ -32,6 +37,11 @@ EVENT_BUILTINS = frozenset({
     "HIMC_GPI", "HIMC_GPO",
 })  # fmt: skip
 """Built-ins whose answer changes only in a computed cycle (given the same arguments)."""
+
+STATUS_BUILTINS = frozenset({"IsInPos", "IsMoving", "IsEnabled", "IsHomed", "IsErrorStop"})
+"""Event built-ins that answer an axis's status flag (each call is recorded). IsHoming
+is not among them: asking it notices a homing cut off from outside, which must happen
+when the task asks (motion/homing.py)."""
 
 _PURE_UNARY = frozenset({"-", "+", "!", "~"})
 
@@ -60,6 +70,33 @@ def waits_on_event(expr, resolve) -> bool:
         f = expr.func
         return (isinstance(f, n.Name) and f.id in EVENT_BUILTINS and resolve(f.id) is None
                 and all(waits_on_event(x, resolve) for x in expr.args))  # fmt: skip
+    return False
+
+
+def status_only(expr, resolve) -> bool:
+    """True if `expr` is an event condition (`waits_on_event`) that depends on nothing
+    but the answers of `STATUS_BUILTINS` calls: its names are constants or plain local
+    variables of the task (no global, no variable in the task's memory), so that the
+    same answers give the same value."""
+    if isinstance(expr, (n.IntLit, n.FloatLit, n.CharLit)):
+        return True
+    if isinstance(expr, n.Name):
+        sym = resolve(expr.id)
+        if not sym:
+            return False
+        if getattr(sym, "const_value", None) is not None:
+            return True
+        return getattr(sym, "storage", None) == "local"
+    if isinstance(expr, n.Unary):
+        return expr.op in _PURE_UNARY and status_only(expr.operand, resolve)
+    if isinstance(expr, n.Binary):
+        return status_only(expr.left, resolve) and status_only(expr.right, resolve)
+    if isinstance(expr, n.Cond):
+        return all(status_only(x, resolve) for x in (expr.cond, expr.then, expr.else_))
+    if isinstance(expr, n.Call):
+        f = expr.func
+        return (isinstance(f, n.Name) and f.id in STATUS_BUILTINS and resolve(f.id) is None
+                and all(status_only(x, resolve) for x in expr.args))  # fmt: skip
     return False
 
 

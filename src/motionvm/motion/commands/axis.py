@@ -45,6 +45,9 @@ class AxisCommands(CommandBase):
             return st.SYS_HMPL_ARG_OUT_OF_RANGE
         if a.controlled_by is not None:  # a PDL program or a GDL motor owns the axis
             return self._fail(a, st.CMD_INVALID_CONTROL_MODE)
+        reads = self.motion.reads
+        if reads:  # a command acts: what the task read before it is no wait's condition
+            reads.clear()
         return self._run(a, getattr(a, method), *args)
 
     def _get(self, axis_id: int, attr: str, default: float = 0.0):
@@ -278,30 +281,48 @@ class AxisCommands(CommandBase):
 
     # ------------------------------------------------------------ 5.4 status
 
-    # the three the manual's idioms poll every cycle (Till(IsInPos(a))) take a short path
+    # the three the manual's idioms poll every cycle (Till(IsInPos(a))) take a short path;
+    # while a task runs, the four flags of a status wait record what they answered
+    # (`MotionKernel.reads`, runtime/kernel.py)
 
     def IsEnabled(self, axis_id: int) -> int:
-        axes = self.motion.axes
-        if 0 <= axis_id < len(axes):
-            return 1 if axes[axis_id].enabled else 0
-        return self._flag(axis_id, "enabled")
+        return self._status_flag(axis_id, "enabled")
 
     def IsMoving(self, axis_id: int) -> int:
-        axes = self.motion.axes
-        if 0 <= axis_id < len(axes):
-            return 1 if axes[axis_id].moving else 0
-        return self._flag(axis_id, "moving")
+        return self._status_flag(axis_id, "moving")
 
     def IsInPos(self, axis_id: int) -> int:
+        motion = self.motion
         if axis_id >= 0:
             try:
-                return 1 if self.motion.axes[axis_id].in_pos else 0
+                a = motion.axes[axis_id]
             except IndexError:
                 pass
-        return self._flag(axis_id, "in_pos")
+            else:
+                reads = motion.reads
+                if reads is None:
+                    return 1 if a.in_pos else 0
+                flag = a.in_pos
+                reads.append((a, "in_pos", flag))
+                return 1 if flag else 0
+        return self._status_flag(axis_id, "in_pos")
 
     def IsErrorStop(self, axis_id: int) -> int:
-        return self._flag(axis_id, "error_stop")
+        return self._status_flag(axis_id, "error_stop")
+
+    def _status_flag(self, axis_id: int, attr: str) -> int:
+        motion = self.motion
+        reads = motion.reads
+        axes = motion.axes
+        if 0 <= axis_id < len(axes):
+            a = axes[axis_id]
+            flag = getattr(a, attr)
+            if reads is not None:
+                reads.append((a, attr, flag))
+            return 1 if flag else 0
+        if reads is not None:
+            reads.append(None)  # a bad id: not replayable (it sets the system's error)
+        return self._flag(axis_id, attr)
 
     def IsGantry(self, axis_id: int) -> int:
         return self._status(axis_id, st.MS_GANTRY)

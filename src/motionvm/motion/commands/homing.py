@@ -55,14 +55,24 @@ class HomingCommands(CommandBase):
         return self._homing_command(axis_id, "set_timeout", float(timeout))
 
     def IsHomed(self, axis_id: int) -> int:
-        if self._axis(axis_id) is None:
-            return 0
-        return 1 if self.motion.homing[axis_id].homed else 0
+        return self._homing_flag(axis_id, "homed")
 
     def IsHoming(self, axis_id: int) -> int:
+        return self._homing_flag(axis_id, "homing")
+
+    def _homing_flag(self, axis_id: int, attr: str) -> int:
+        """A homing flag; recorded while a task runs, as the axis flags are (axis.py)."""
+        reads = self.motion.reads
         if self._axis(axis_id) is None:
+            if reads is not None:
+                reads.append(None)
             return 0
-        return 1 if self.motion.homing[axis_id].homing else 0
+        h = self.motion.homing[axis_id]
+        flag = getattr(h, attr)
+        if reads is not None:
+            # `homing` notices a cut-off homing when asked: not asked again in a replay
+            reads.append((h, attr, flag) if attr == "homed" else None)
+        return 1 if flag else 0
 
     def SetHomedStatus(self, axis_id: int, is_homed: int) -> int:
         return self._homing_command(axis_id, "set_homed", is_homed)
