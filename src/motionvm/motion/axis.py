@@ -79,7 +79,7 @@ class Axis(AxisSettings, AxisCycle, AxisFollow):
         "_command_queue", "_commands_seen", "_cycle", "_deferred_move", "_digital_inputs",
         "_enable_cycles", "_enable_timeout_cycles", "_enabling", "_error_stop",
         "_fault_reset_cycles", "_feedback_counts", "_ignore_swl", "_in_pos_cycles",
-        "_in_pos_debounce_cycles", "_inline_mechanics", "_last_snapshot", "_max_pos_err", "_min_pos_err",
+        "_in_pos_debounce_cycles", "_last_snapshot", "_max_pos_err", "_min_pos_err",
         "_move_end_cycle", "_move_start_cycle", "_position_actual", "_provider", "_pvt_cycle",
         "_pvt_trajectory", "_ramp_decel", "_ramp_vel", "_reference_source",
         "_rest_after_cycles", "_rollover", "_still_cycles", "_sw_left", "_sw_right",
@@ -168,7 +168,6 @@ class Axis(AxisSettings, AxisCycle, AxisFollow):
         self._still_cycles = 0
         self._commands_seen = 0
         self._rest_after_cycles = getattr(self.drive.mechanics, "delay_cycles", 0) + 3
-        self._inline_mechanics = self._inline_mechanics_of(self.drive)
 
     # ---- checks ---------------------------------------------------------------------
 

@@ -25,19 +25,14 @@ from __future__ import annotations
 
 import math
 
-from motionvm.drives.cia402 import Cia402Drive
-from motionvm.drives.mechanics import TWO_PI, IdealMechanics
 from motionvm.drives.objects import (
     DI_HOME_SWITCH,
     DI_NEGATIVE_LIMIT,
     DI_POSITIVE_LIMIT,
-    ERR_FOLLOWING,
     MODE_CSP,
     MODE_CSV,
     SW_FAULT,
-    SW_FOLLOWING_ERROR,
     SW_FOLLOWS_TARGET,
-    SW_INTERNAL_LIMIT,
     SW_REMOTE,
     SW_VOLTAGE_ENABLED,
     State,
@@ -108,15 +103,8 @@ class AxisCycle:
             drive.controlword = self._disabled_controlword()
         if self._fault_reset_cycles is not None:
             drive.controlword |= self._fault_reset_bit()
-        # 4. the drive: its common cycle inline (`_drive_cycle`), any other its own step
-        m = drive.mechanics
-        if (m is self._inline_mechanics and drive.state is drive._settled is _OPERATION_ENABLED
-                and drive.mode == drive._mode_prev == MODE_CSP
-                and drive.controlword == drive._controlword_prev and drive._fault is None
-                and drive.local_demand is None and not (drive._encoder_lost or drive._forced)):  # fmt: skip
-            self._drive_cycle(drive, m)
-        else:
-            drive.step(self.dt)
+        # 4. the drive
+        drive.step(self.dt)
         # 5. feedback and faults
         position_actual = drive.position_actual
         delta = position_actual - self._position_actual
@@ -173,70 +161,6 @@ class AxisCycle:
             self._watch_rest()
         else:
             self._still_cycles = 0
-
-    def _inline_mechanics_of(self, drive):
-        """The drive's motor if its cycle may be taken inline (`_drive_cycle`: a
-        `Cia402Drive` with an ideal motor one cycle behind), else None."""
-        m = drive.mechanics
-        if type(drive) is Cia402Drive and type(m) is IdealMechanics and m.delay_cycles == 1:
-            return m
-        return None
-
-    def _drive_cycle(self, drive, m) -> None:
-        """`drive.step(dt)` of a drive in Operation enabled whose CSP cycle repeats: no
-        new controlword or mode, no fault, no forced object, no local control, an ideal
-        motor one cycle behind the demand (drives/cia402.py, drives/mechanics.py: the
-        same operations in the same order)."""
-        dt = self.dt
-        target = drive.target_position
-        change = target - drive._target_prev
-        if (change + 0x80000000) >> 32:  # beyond int32: the target wrapped
-            change = ((change + 0x80000000) & 0xFFFFFFFF) - 0x80000000
-        drive._demand = demand = drive._demand + change
-        drive._target_prev = target
-        # IdealMechanics.step_position(demand, dt) with a delay of one cycle
-        x = m._demand
-        m._demand_vel = (demand - x) / dt
-        m._demand = demand
-        v = (x - m.position) / dt
-        m.torque = torque = m.inertia * (v - m.velocity) / dt * TWO_PI / m.counts_per_rev
-        m.velocity = v
-        m.position = x
-        # feedback
-        drive._encoder = enc = x.__round__()
-        if (enc + 0x80000000) >> 32:  # beyond int32: the counter wraps
-            drive.position_actual = ((enc + 0x80000000) & 0xFFFFFFFF) - 0x80000000
-        else:
-            drive.position_actual = enc
-        s = drive.sensors
-        if s.quiet_low < x < s.quiet_high:
-            drive.digital_inputs = s.quiet_inputs
-        elif (
-            x == drive._motor_position_prev
-            and s._switch_low < x < s._switch_high
-            and s._external == s._switch_external
-            and not (s._tp_function or s.tp_status)
-        ):
-            # a motor at rest inside its switch band (on an index edge, say) passes no
-            # index pulse and no switch edge: `update` would return the band's inputs
-            drive.digital_inputs = s._switch_inputs
-        elif s.has_switches or s.tp_function or s.tp_status:
-            drive.digital_inputs = s.update(drive._motor_position_prev, x)
-        else:
-            drive.digital_inputs = s.external
-        drive._motor_position_prev = x
-        sw = _SW_CYCLIC
-        if drive.following_error_window < 0x80000000:
-            fe = round(demand) - enc
-            fe = ((fe + 0x80000000) & 0xFFFFFFFF) - 0x80000000
-            if abs(fe) > drive.following_error_window:
-                drive.inject_fault(ERR_FOLLOWING)  # no fault was pending in this state
-                sw |= SW_FOLLOWING_ERROR
-        if (torque >= drive._torque_quiet_nm or torque <= drive._torque_quiet_neg_nm) and abs(
-            drive.torque_actual
-        ) >= drive._max_torque:
-            sw |= SW_INTERNAL_LIMIT
-        drive.statusword = sw
 
     @property
     def max_pos_err(self) -> float:
