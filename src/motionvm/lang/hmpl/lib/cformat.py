@@ -322,7 +322,8 @@ def compile_format(fmt: bytes) -> tuple[list, int]:
     return parts, n_args
 
 
-_ONE_INT = (True,)
+ONE_INT = (True,)
+"""`CFormat.kinds` of a format whose one directive is a plain int32 `%d`."""
 
 
 class CFormat:
@@ -351,13 +352,13 @@ class CFormat:
                 kinds = []
                 quick = b""
                 break
-        self.kinds = _ONE_INT if kinds == [True] else tuple(kinds)
+        self.kinds = ONE_INT if kinds == [True] else tuple(kinds)
         self.quick = quick if kinds else b""
 
     def render(self, args: Sequence, mem: Memory, func: str) -> bytes:
         """The formatted bytes of `args` (extra arguments are ignored)."""
         kinds = self.kinds
-        if kinds is _ONE_INT and len(args) == 1:  # the commonest case, checked in place
+        if kinds is ONE_INT and len(args) == 1:  # the commonest case, checked in place
             v = args[0]
             if v.__class__ is int and -2147483648 <= v <= 2147483647:
                 return self.quick % v

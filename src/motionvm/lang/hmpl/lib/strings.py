@@ -43,7 +43,7 @@ import re
 
 from motionvm.lang.hmpl.cmemory import SHADOW_CAP
 from motionvm.lang.hmpl.lib.base import Library, builtin
-from motionvm.lang.hmpl.lib.cformat import FieldTooWide, compiled_format, format_c
+from motionvm.lang.hmpl.lib.cformat import ONE_INT, FieldTooWide, compiled_format, format_c
 from motionvm.runtime.errors import RuntimeFault
 
 HMPL_STR_MAX_LEN = 512
@@ -230,10 +230,19 @@ class StringLib(Library):
             if text is None:
                 return -1
         else:
-            try:
-                text = entry[1].render(args, self.mem, "StringPrint")
-            except FieldTooWide:
-                return -1
+            prog = entry[1]
+            if (
+                prog.kinds is ONE_INT
+                and len(args) == 1
+                and (v := args[0]).__class__ is int
+                and -2147483648 <= v <= 2147483647
+            ):
+                text = prog.quick % v  # CFormat.render's first case, in place
+            else:
+                try:
+                    text = prog.render(args, self.mem, "StringPrint")
+                except FieldTooWide:
+                    return -1
             if len(text) > HMPL_STR_MAX_LEN:
                 return -1
         n = len(text)
