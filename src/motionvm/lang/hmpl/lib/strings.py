@@ -43,7 +43,13 @@ import re
 
 from motionvm.lang.hmpl.cmemory import SHADOW_CAP
 from motionvm.lang.hmpl.lib.base import Library, builtin
-from motionvm.lang.hmpl.lib.cformat import ONE_INT, FieldTooWide, compiled_format, format_c
+from motionvm.lang.hmpl.lib.cformat import (
+    ONE_INT,
+    CFormat,
+    FieldTooWide,
+    compiled_format,
+    format_c,
+)
 from motionvm.runtime.errors import RuntimeFault
 
 HMPL_STR_MAX_LEN = 512
@@ -118,7 +124,8 @@ class StringLib(Library):
         super().__init__(rt)
         self._buf = self.mem.buf
         self._shadow = self.mem.shadow
-        self._formats: dict[int, tuple[bytes, object]] = {}  # address -> (format+NUL, compiled)
+        # format address -> (its bytes and NUL, their count, compiled, `quick` of a one-%d format)
+        self._formats: dict[int, tuple[bytes, int, CFormat, bytes]] = {}
         self._event_bucket = _TokenBucket(EVENT_RATE_HZ, EVENT_BURST)
         self._msg_bucket = _TokenBucket(EVENT_RATE_HZ, EVENT_BURST)
 
@@ -132,16 +139,17 @@ class StringLib(Library):
             if (
                 entry is not None
                 and self._buf.startswith(entry[0], fmt)
-                and self._shadow[fmt] >= len(entry[0])
+                and self._shadow[fmt] >= entry[1]
             ):
-                prog = entry[1]
+                prog = entry[2]
             else:
                 text = self.mem.read_cstr(fmt, f"{func} format")
                 prog = compiled_format(text, func)
                 if len(text) < SHADOW_CAP:
                     if len(self._formats) >= 256:
                         self._formats.clear()
-                    self._formats[fmt] = (text + b"\x00", prog)
+                    one_int = prog.quick if prog.kinds is ONE_INT else b""
+                    self._formats[fmt] = (text + b"\x00", len(text) + 1, prog, one_int)
             text = prog.render(args, self.mem, func)
         except FieldTooWide:
             return None
@@ -223,29 +231,30 @@ class StringLib(Library):
         """Write a formatted string into `destination`; return its length [characters], or -1."""
         # the fast path, with _format's and _put_str's checks in place
         entry = self._formats.get(format)
-        if entry is None or not (
-            self._buf.startswith(entry[0], format) and self._shadow[format] >= len(entry[0])
+        if entry is not None and (
+            self._buf.startswith(entry[0], format) and self._shadow[format] >= entry[1]
         ):
-            text = self._format("StringPrint", format, args)
-            if text is None:
-                return -1
-        else:
-            prog = entry[1]
+            one_int = entry[3]
             if (
-                prog.kinds is ONE_INT
+                one_int
                 and len(args) == 1
                 and (v := args[0]).__class__ is int
                 and -2147483648 <= v <= 2147483647
             ):
-                text = prog.quick % v  # CFormat.render's first case, in place
+                text = one_int % v  # CFormat.render's first case, in place
             else:
                 try:
-                    text = prog.render(args, self.mem, "StringPrint")
+                    text = entry[2].render(args, self.mem, "StringPrint")
                 except FieldTooWide:
                     return -1
-            if len(text) > HMPL_STR_MAX_LEN:
+            n = len(text)
+            if n > HMPL_STR_MAX_LEN:
                 return -1
-        n = len(text)
+        else:
+            text = self._format("StringPrint", format, args)
+            if text is None:
+                return -1
+            n = len(text)
         if 0 < destination < self.mem.size:
             end = destination + n
             left = self._shadow[destination]
