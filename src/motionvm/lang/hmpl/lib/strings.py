@@ -295,13 +295,10 @@ class StringLib(Library):
 
     @builtin()
     def StringLen(self, str: int) -> int:
-        if 0 < str < self.mem.size:  # _str_end in place
-            left = self._shadow[str]
-            if left:
-                lim = str + left if left < SHADOW_CAP else self._shadow.find(0, str)
-                end = self._buf.find(0, str, lim)
-                if end >= 0:
-                    return end - str
+        if 0 < str < self.mem.size:  # _str_end in place, within what the shadow byte vouches for
+            end = self._buf.find(0, str, str + self._shadow[str])
+            if end >= 0:
+                return end - str
         return self._str_end("StringLen", str, "string") - str
 
     @builtin()
@@ -349,17 +346,15 @@ class StringLib(Library):
     def StringCat(self, destination: int, source: int) -> int:
         size = self.mem.size
         if 0 < source < size and 0 < destination < size:  # _str_end's checks in place
+            # each NUL is looked for first within the 255 bytes a shadow byte vouches for
             sh = self._shadow
             ls = sh[source]
             ld = sh[destination]
             if ls and ld:
                 buf = self._buf
-                src_end = buf.find(
-                    0, source, source + ls if ls < SHADOW_CAP else sh.find(0, source)
-                )
-                room_end = destination + ld if ld < SHADOW_CAP else sh.find(0, destination)
-                end = buf.find(0, destination, room_end)
-                if src_end >= 0 and 0 <= end and end + (src_end - source) < room_end:
+                src_end = buf.find(0, source, source + ls)
+                end = buf.find(0, destination, destination + ld)
+                if src_end >= 0 and end >= 0 and src_end - source < sh[end]:  # fits with its NUL
                     buf[end : end + (src_end - source) + 1] = buf[source : src_end + 1]
                     return 0
         src_end = self._str_end("StringCat", source, "source")
