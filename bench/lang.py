@@ -134,13 +134,20 @@ void main() {
 """,
 )
 def py_strings():
+    # the same algorithm on byte arrays: sprintf into `part` with its NUL, strcat finds
+    # the end of `buf` and copies `part` up to and with its NUL, strlen finds the NUL
+    buf = bytearray(512)
+    part = bytearray(64)
     total = 0
     for rep in range(400):
-        buf = ""
+        buf[0] = 0
         for i in range(20):
-            part = "%d," % (i * rep)  # noqa: UP031 - the same format as the HMPL side
-            buf += part
-        total += len(buf)
+            text = b"%d," % (i * rep)  # noqa: UP031 - the same format as the HMPL side
+            part[: len(text) + 1] = text + b"\0"
+            end = buf.index(0)
+            n = part.index(0)
+            buf[end : end + n + 1] = part[: n + 1]
+        total += buf.index(0)
     return total
 
 

@@ -4,8 +4,11 @@ Arrays, strings, unions, structs, Timers and every variable whose address is tak
 live here; pointers are plain integer addresses into `buf`. Each live object's bytes
 are marked valid in a shadow map and objects are separated by red zones of invalid
 bytes, so a load or store through a pointer that walks off its object, or through a
-null pointer, is caught with one shadow lookup (`extent` finds the bytes left in an
-object with one search of the shadow map).
+null pointer, is caught with one shadow lookup. The shadow byte of a valid address
+holds the bytes left in its object from there, capped at 255 (`shadow_pattern`), and
+0 for an invalid one: an access of n <= 8 bytes at `a` is inside one live object iff
+`shadow[a] >= n`, one byte read (`extent` reads one byte for an object's last 254
+bytes and searches the shadow map for the end otherwise).
 
 Layout: [0, NULL_GUARD) is never valid (null page); static objects (globals, task
 variables, string literals, system variables) are bump-allocated after it; each task
@@ -37,8 +40,8 @@ SCALAR_FORMATS = {
     "f64": ("d", 8),
 }
 
-SHADOW_ONES = {1: 1, 2: 0x0101, 4: 0x01010101, 8: 0x0101010101010101}
-"""The shadow word of n valid bytes (valid bytes are 1 in the shadow map)."""
+SHADOW_CAP = 255
+"""The largest count of bytes left that a shadow byte holds."""
 SHADOW_SPAN = 1 << 24
 """The shadow map covers at least addresses [0, SHADOW_SPAN) (bytes past the memory are
 never valid), so that an address passing ADDRESS_SIGN_MASK indexes it safely."""
@@ -48,6 +51,18 @@ n (one test for the inline fast path of a pointer access; other addresses take t
 checked path)."""
 
 _F32 = struct.Struct("<f")
+_CAP_RUN = bytes([SHADOW_CAP]) * 4096
+
+
+def shadow_pattern(size: int) -> bytes:
+    """The shadow bytes of a live object of `size` bytes: the bytes left in the object
+    from each byte on, capped at SHADOW_CAP (all nonzero: every byte is valid)."""
+    tail = bytes(range(min(size, SHADOW_CAP), 0, -1))
+    head = size - len(tail)
+    if head <= 0:
+        return tail
+    run = _CAP_RUN if head <= len(_CAP_RUN) else bytes([SHADOW_CAP]) * head
+    return run[:head] + tail
 
 
 def to_f32(x: float) -> float:
@@ -79,10 +94,6 @@ class Memory:
         for kind, (fmt, _) in SCALAR_FORMATS.items():
             setattr(self, kind, mv.cast(fmt))
         self.u8 = mv  # plain byte view
-        # the shadow map seen 1, 2, 4 and 8 bytes at a time: an aligned scalar of n bytes
-        # at `a` is inside a live object iff shadow_views[n][a // n] == SHADOW_ONES[n]
-        smv = memoryview(self.shadow)
-        self.shadow_views = {n: smv.cast(f) for n, f in ((1, "B"), (2, "H"), (4, "I"), (8, "Q"))}
         self._static_top = NULL_GUARD
         self._static_limit = size
         self.names: dict[int, str] = {}
@@ -93,8 +104,6 @@ class Memory:
         taken elsewhere and still held keeps the buffer until it goes."""
         for kind in SCALAR_FORMATS:
             getattr(self, kind).release()
-        for view in self.shadow_views.values():
-            view.release()
         self.shadow.clear()
         try:
             self.buf.clear()
@@ -116,7 +125,7 @@ class Memory:
             raise MemoryError(
                 f"out of static memory allocating {size} bytes for {name or 'object'}"
             )
-        self.shadow[addr : addr + size] = b"\x01" * size
+        self.shadow[addr : addr + size] = shadow_pattern(size)
         self._static_top = _round_up(end, ALIGN) + RED_ZONE
         if name:
             self.names[addr] = name
@@ -130,8 +139,11 @@ class Memory:
 
     def extent(self, addr: int) -> int:
         """Bytes from `addr` to the end of the live object holding it; 0 if none does."""
-        if addr <= 0 or addr >= self.size or not self.shadow[addr]:
+        if addr <= 0 or addr >= self.size:
             return 0
+        left = self.shadow[addr]
+        if left < SHADOW_CAP:
+            return left
         end = self.shadow.find(0, addr)
         return (self.size if end < 0 else end) - addr
 
@@ -225,7 +237,7 @@ class TaskStack:
 
     def push(self, size: int, valid: bytes) -> int:
         """Allocate a frame of `size` bytes whose first len(`valid`) bytes are zeroed with
-        `valid` as their shadow pattern; the rest is only reserved (charged to the stack,
+        `valid` as their shadow bytes (`shadow_pattern` of each object, 0 between them); the rest is only reserved (charged to the stack,
         never valid): the bytes of local arrays that the function keeps as Python lists."""
         fp = self.top
         end = fp + size

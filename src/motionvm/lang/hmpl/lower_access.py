@@ -134,7 +134,7 @@ class AccessLowering:
             if isinstance(t, ct.VoidT):
                 raise self.fail(e.pos, "cannot dereference a 'void *' pointer (cast it first)")
             if t.is_scalar:
-                return PtrLV(t, p.node)
+                return PtrLV(t, p.node, self.temp())
             return AggLV(
                 t, call("_chkp", p.node, ast.Constant(max(t.size, 1)), ast.Constant(t.align))
             )
@@ -216,7 +216,7 @@ class AccessLowering:
             )
             addr = _plus(base.node, off)
             if elem.is_scalar:
-                return PtrLV(elem, addr)
+                return PtrLV(elem, addr, self.temp())
             return AggLV(elem, addr)
         base = self.expr(e.base)
         if not isinstance(base.type, ct.PtrT):
@@ -237,7 +237,7 @@ class AccessLowering:
             )
         addr = _plus(base.node, off)
         if elem.is_scalar:
-            return PtrLV(elem, addr)
+            return PtrLV(elem, addr, self.temp())
         return AggLV(elem, call("_chkp", addr, ast.Constant(elem.size), ast.Constant(elem.align)))
 
     def _member_lv(self, e: n.Member) -> LValue:
@@ -386,6 +386,18 @@ class AccessLowering:
         if prefix:
             res = self.binary(bop, Val(blv.load(), lv.type), one, pos)
             return Val(self._seq(pre, blv.store_expr(self.convert(res, lv.type, pos))), lv.type)
+        if not pre and isinstance(blv, NameLV) and isinstance(lv.type, ct.PtrT):
+            # p++ on a pointer variable: `(p := p + k) - k`, the old value without a tuple
+            step = self.convert(self.binary(bop, Val(blv.load(), lv.type), one, pos), lv.type, pos)
+            if (
+                isinstance(step, ast.BinOp)
+                and isinstance(step.op, (ast.Add, ast.Sub))
+                and isinstance(step.left, ast.Name)
+                and step.left.id == blv.pyname
+                and isinstance(step.right, ast.Constant)
+            ):
+                back = ast.Sub() if isinstance(step.op, ast.Add) else ast.Add()
+                return Val(ast.BinOp(left=blv.store_expr(step), op=back, right=step.right), lv.type)
         t = self.temp()
         grab = ast.NamedExpr(target=name(t, True), value=blv.load())
         res = self.binary(bop, Val(name(t), lv.type), one, pos)

@@ -13,7 +13,7 @@ import copy
 
 from motionvm.lang.hmpl import ctypes_ as ct
 from motionvm.lang.hmpl import nodes as n
-from motionvm.lang.hmpl.cmemory import RED_ZONE
+from motionvm.lang.hmpl.cmemory import RED_ZONE, shadow_pattern
 from motionvm.lang.hmpl.lower_access import AccessLowering
 from motionvm.lang.hmpl.lower_expr import ExprLowering, SemanticError
 from motionvm.lang.hmpl.lower_jumps import JumpLowering
@@ -78,7 +78,7 @@ class FunctionLowerer(ExprLowering, AccessLowering, LoopLowering, JumpLowering):
         size = max(t.size, 1)
         self.frame_valid.extend(b"\x00" * (off - len(self.frame_valid)))
         end = (off + size + 7) // 8 * 8
-        self.frame_valid.extend(b"\x01" * size)
+        self.frame_valid.extend(shadow_pattern(size))
         self.frame_valid.extend(b"\x00" * (end - off - size + RED_ZONE))
         self.frame_size = end + RED_ZONE
         return off

@@ -29,24 +29,26 @@ MAX_LOOP_NESTING = PY_BLOCKS - 4
 
 # A loop charges the task's budget in units of CHUNK back-edges, counting down a local
 # (much cheaper per iteration than a global); the kernel refills `_budget` each cycle.
+# The countdown starts at CHUNK + 1 and fires when it reaches 0 (a truth test is cheaper
+# than a comparison), so a loop yields after every CHUNK + 1 back-edges.
 CHUNK = 64
 
 
 def countdown_init(counter: str) -> ast.stmt:
-    return ast.Assign(targets=[name(counter, True)], value=ast.Constant(CHUNK))
+    return ast.Assign(targets=[name(counter, True)], value=ast.Constant(CHUNK + 1))
 
 
 def backedge(counter: str) -> list[ast.stmt]:
-    """`counter -= 1; if counter < 0: counter = CHUNK; _budget -= CHUNK; if _budget < 0: yield`."""
+    """`counter -= 1; if not counter: counter = CHUNK + 1; _budget -= CHUNK; if _budget < 0: yield`."""
     dec = ast.AugAssign(target=name(counter, True), op=ast.Sub(), value=ast.Constant(1))
     charge = ast.AugAssign(target=name("_budget", True), op=ast.Sub(), value=ast.Constant(CHUNK))
     over = ast.Compare(left=name("_budget"), ops=[ast.Lt()], comparators=[ast.Constant(0)])
     refill = [
-        ast.Assign(targets=[name(counter, True)], value=ast.Constant(CHUNK)),
+        ast.Assign(targets=[name(counter, True)], value=ast.Constant(CHUNK + 1)),
         charge,
         ast.If(test=over, body=[ast.Expr(value=ast.Yield(value=None))], orelse=[]),
     ]
-    test = ast.Compare(left=name(counter), ops=[ast.Lt()], comparators=[ast.Constant(0)])
+    test = ast.UnaryOp(op=ast.Not(), operand=name(counter))
     return [dec, ast.If(test=test, body=refill, orelse=[])]
 
 

@@ -13,7 +13,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 from motionvm.lang.hmpl import ctypes_ as ct
-from motionvm.lang.hmpl.cmemory import ADDRESS_SIGN_MASK, SHADOW_ONES
+from motionvm.lang.hmpl.cmemory import ADDRESS_SIGN_MASK
 
 VIEW_NAMES = {
     "i8": "_I8",
@@ -141,39 +141,70 @@ class MemLV(LValue):
 
 @dataclass
 class PtrLV(LValue):
-    """A scalar at a run-time address (through a pointer): checked loads and stores."""
+    """A scalar at a run-time address (through a pointer): checked loads and stores.
+
+    Through a pointer variable, both inline their fast path: the address is aligned and
+    in range (one mask test) and an access of n bytes fits its live object (one shadow
+    byte >= n); any other address takes the helper, which faults or does the slow access.
+    """
 
     address: ast.expr | None = None
+    tmp: str = ""
+    """A temporary that lets an address expression other than a name take the fast
+    path (evaluated once, into it); without one such an access calls the helper."""
 
-    def load(self) -> ast.expr:
-        code = view_code(self.type)
-        if not isinstance(self.address, ast.Name):
-            return call("_ld_" + code, self.address)
-        # inline fast path: aligned and inside a live object (one shadow word) -> one view read
+    def _fast(self) -> tuple[ast.expr, ast.expr, ast.expr] | None:
+        """(the test of the inline fast path, the index into the view, the address for
+        the helper) or None."""
         a = self.address
+        first = a
+        if not isinstance(a, ast.Name):
+            if not self.tmp or isinstance(a, ast.Constant):
+                return None
+            first = ast.NamedExpr(target=name(self.tmp, True), value=a)
+            a = name(self.tmp)
         size = self.type.size
         shift = size.bit_length() - 1
         idx = ast.BinOp(left=a, op=ast.RShift(), right=ast.Constant(shift)) if shift else a
         sign_align = ast.UnaryOp(
             op=ast.Not(),
             operand=ast.BinOp(
-                left=a, op=ast.BitAnd(), right=ast.Constant(ADDRESS_SIGN_MASK | (size - 1))
+                left=first, op=ast.BitAnd(), right=ast.Constant(ADDRESS_SIGN_MASK | (size - 1))
             ),
         )
-        valid: ast.expr = ast.Subscript(value=name(f"_SH{8 * size}"), slice=idx, ctx=_LOAD)
+        valid: ast.expr = ast.Subscript(value=name("_SH"), slice=a, ctx=_LOAD)
         if size > 1:
-            valid = ast.Compare(
-                left=valid, ops=[ast.Eq()], comparators=[ast.Constant(SHADOW_ONES[size])]
-            )
-        fast = ast.Subscript(value=name(VIEW_NAMES[code]), slice=idx, ctx=_LOAD)
+            valid = ast.Compare(left=valid, ops=[ast.Gt()], comparators=[ast.Constant(size - 1)])
+        return ast.BoolOp(op=ast.And(), values=[sign_align, valid]), idx, a
+
+    def load(self) -> ast.expr:
+        code = view_code(self.type)
+        fast = self._fast()
+        if fast is None:
+            return call("_ld_" + code, self.address)
+        test, idx, a = fast
         return ast.IfExp(
-            test=ast.BoolOp(op=ast.And(), values=[sign_align, valid]),
-            body=fast,
+            test=test,
+            body=ast.Subscript(value=name(VIEW_NAMES[code]), slice=idx, ctx=_LOAD),
             orelse=call("_ld_" + code, a),
         )
 
     def store(self, value: ast.expr) -> list[ast.stmt]:
-        return [ast.Expr(value=self.store_expr(value))]
+        fast = self._fast()
+        if fast is None:
+            return [ast.Expr(value=self.store_expr(value))]
+        # the value first (as the helper call would), then the check and the store
+        pre: list[ast.stmt] = []
+        if not is_simple(value):
+            pre = [ast.Assign(targets=[name("_sv", True)], value=value)]
+            value = name("_sv")
+        test, idx, a = fast
+        code = view_code(self.type)
+        tgt = ast.Subscript(value=name(VIEW_NAMES[code]), slice=idx, ctx=_STORE)
+        slow = ast.Expr(value=call("_st_" + code, a, value))
+        return pre + [
+            ast.If(test=test, body=[ast.Assign(targets=[tgt], value=value)], orelse=[slow])
+        ]
 
     def store_expr(self, value: ast.expr) -> ast.expr:
         return call("_st_" + view_code(self.type), self.address, value)

@@ -31,7 +31,7 @@ from importlib import resources
 from motionvm.comm.hub import CommHub, RequestError
 from motionvm.lang.hmpl import ctypes_ as ct
 from motionvm.lang.hmpl.catalog import builtin_signatures, constants
-from motionvm.lang.hmpl.cmemory import TaskStack, wrap_scalar
+from motionvm.lang.hmpl.cmemory import TaskStack, shadow_pattern, wrap_scalar
 from motionvm.lang.hmpl.lib import implemented_builtins
 from motionvm.lang.hmpl.scope_source import HmplSource
 from motionvm.runtime.clients import PassiveClient
@@ -173,7 +173,7 @@ class HmplComm(PassiveClient):
             if i in ins:
                 call_args.append(self._marshal(next(given), ptype, f"argument '{pname}' of {name}"))
             else:
-                addr = self.scratch.push(OUT_SIZE, b"\x01" * OUT_SIZE)
+                addr = self.scratch.push(OUT_SIZE, shadow_pattern(OUT_SIZE))
                 outs.append((addr, ptype))
                 call_args.append(addr)
         for extra in given:  # only a variadic built-in has more (counted above)
@@ -220,7 +220,7 @@ class HmplComm(PassiveClient):
 
     def _string(self, data: bytes) -> int:
         n = len(data) + 1
-        addr = self.scratch.push(n, b"\x01" * n)
+        addr = self.scratch.push(n, shadow_pattern(n))
         self.rt.mem.write_bytes(addr, data + b"\0")
         return addr
 
@@ -300,9 +300,9 @@ class HmplComm(PassiveClient):
         stack, mem = self.agent_stack, self.rt.mem
         stack.reset()
         data = line.encode("latin-1", "replace") + b"\0"
-        cmd = stack.push(len(data), b"\x01" * len(data))
+        cmd = stack.push(len(data), shadow_pattern(len(data)))
         mem.write_bytes(cmd, data)
-        res = stack.push(RES_SIZE, b"\x01" * RES_SIZE)
+        res = stack.push(RES_SIZE, shadow_pattern(RES_SIZE))
         parser = self.parser
         if getattr(getattr(parser, "__code__", None), "co_flags", 0) & _CO_GENERATOR:
             gen = parser(cmd, res)

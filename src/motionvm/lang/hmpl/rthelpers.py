@@ -12,7 +12,6 @@ import math
 from motionvm.lang.hmpl.cmemory import (
     ADDRESS_SIGN_MASK,
     SCALAR_FORMATS,
-    SHADOW_ONES,
     Memory,
     to_f32,
     wrap_scalar,
@@ -137,20 +136,16 @@ def make_helpers(mem: Memory) -> dict[str, object]:
         ns[vname] = getattr(mem, code)
     sh = mem.shadow
     ns["_SH"] = sh
-    for n, view in mem.shadow_views.items():
-        ns[f"_SH{8 * n}"] = view
 
     def make_access(code: str):
         view = getattr(mem, code)
         size = SCALAR_FORMATS[code][1]
         shift = size.bit_length() - 1
         mask = ADDRESS_SIGN_MASK | (size - 1)
-        shv = mem.shadow_views[size]
-        ones = SHADOW_ONES[size]
 
         def load(a):
             try:
-                if not a & mask and shv[a >> shift] == ones:
+                if not a & mask and sh[a] >= size:
                     return view[a >> shift]
             except (IndexError, TypeError):
                 pass
@@ -158,7 +153,7 @@ def make_helpers(mem: Memory) -> dict[str, object]:
 
         def store(a, v):
             try:
-                if not a & mask and shv[a >> shift] == ones:
+                if not a & mask and sh[a] >= size:
                     view[a >> shift] = v
                     return view[a >> shift]
             except (IndexError, TypeError):

@@ -439,3 +439,48 @@ def test_event_and_message_limits_are_separate(rt, lib):
         lib.SendEvent(1)
     assert lib.SendEvent(1) == ERR_EVENT_RATE
     assert lib.SendMsgEvent(cstr(rt, b"still fine")) == 0
+
+
+def test_a_format_in_a_char_array_is_read_again_after_it_changes(rt, lib):
+    fmt = cstr(rt, b"%d,", 16)
+    dest = cstr(rt, b"", 32)
+    assert lib.StringPrint(dest, fmt, 7) == 2
+    rt.mem.write_cstr(fmt, b"<%d>")
+    assert lib.StringPrint(dest, fmt, 7) == 3
+    assert rt.mem.read_cstr(dest) == b"<7>"
+    rt.mem.write_cstr(fmt, b"%d")  # shorter: the old text's tail stays after the NUL
+    assert lib.StringPrint(dest, fmt, 12) == 2
+    assert rt.mem.read_cstr(dest) == b"12"
+
+
+def test_a_format_in_a_finished_frame_faults(rt, lib):
+    from motionvm.lang.hmpl.cmemory import TaskStack, shadow_pattern
+
+    base = rt.mem.alloc_static(256, "stack")
+    rt.mem.shadow[base : base + 256] = bytes(256)
+    stack = TaskStack(rt.mem, base, 256)
+    fp = stack.push(16, shadow_pattern(16))
+    rt.mem.write_cstr(fp, b"%d!")
+    dest = cstr(rt, b"", 32)
+    assert lib.StringPrint(dest, fp, 5) == 2
+    stack.pop(fp)
+    with pytest.raises(RuntimeFault, match="StringPrint format"):
+        lib.StringPrint(dest, fp, 5)
+
+
+@pytest.mark.parametrize("size", [4, 255, 256, 400])
+def test_string_built_ins_use_the_whole_object_and_not_a_byte_more(rt, lib, size):
+    dest = cstr(rt, b"", size)
+    part = cstr(rt, b"x")
+    for _ in range(size - 1):
+        assert lib.StringCat(dest, part) == 0
+    assert lib.StringLen(dest) == size - 1
+    with pytest.raises(RuntimeFault, match="overflow"):
+        lib.StringCat(dest, part)
+    fmt = cstr(rt, b"%s")
+    assert lib.StringPrint(dest, fmt, cstr(rt, b"y" * (size - 1))) == size - 1
+    with pytest.raises(RuntimeFault, match="overflow"):
+        lib.StringPrint(dest, fmt, cstr(rt, b"y" * size))
+    assert lib.StringCopy(dest, cstr(rt, b"z" * (size - 1))) == 0
+    with pytest.raises(RuntimeFault, match="overflow"):
+        lib.StringCopy(dest, cstr(rt, b"z" * size))

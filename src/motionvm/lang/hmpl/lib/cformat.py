@@ -322,25 +322,87 @@ def compile_format(fmt: bytes) -> tuple[list, int]:
     return parts, n_args
 
 
-_cache: dict[bytes, tuple[list, int]] = {}
+ONE_INT = (True,)
+"""`CFormat.kinds` of a format whose one directive is a plain int32 `%d`."""
+
+
+class CFormat:
+    """A compiled format: its parts, the arguments it needs and, when every directive is
+    a plain `%d`/`%i`/`%ld` or a float directive with constant width and precision, one
+    Python bytes %-format doing the whole job (`quick`) for arguments of the right
+    class and range (int32 ints, finite floats)."""
+
+    __slots__ = ("kinds", "n_args", "parts", "quick")
+
+    def __init__(self, parts: list, n_args: int) -> None:
+        self.parts = parts
+        self.n_args = n_args
+        kinds: list[bool] = []  # per argument: True for an int32 `%d`, False for a float
+        quick = b""
+        for part in parts:
+            if part.__class__ is bytes:
+                quick += part.replace(b"%", b"%%")
+            elif part.render == part._render_dec_plain and part.bits == 32:
+                quick += b"%d"
+                kinds.append(True)
+            elif part.conv in _FLOAT_CONVS and part.pyfmt:
+                quick += part.pyfmt
+                kinds.append(False)
+            else:
+                kinds = []
+                quick = b""
+                break
+        self.kinds = ONE_INT if kinds == [True] else tuple(kinds)
+        self.quick = quick if kinds else b""
+
+    def render(self, args: Sequence, mem: Memory, func: str) -> bytes:
+        """The formatted bytes of `args` (extra arguments are ignored)."""
+        kinds = self.kinds
+        if kinds is ONE_INT and len(args) == 1:  # the commonest case, checked in place
+            v = args[0]
+            if v.__class__ is int and -2147483648 <= v <= 2147483647:
+                return self.quick % v
+        elif kinds and len(args) >= len(kinds):
+            if len(args) > len(kinds) or args.__class__ is not tuple:
+                args = tuple(args[: len(kinds)])
+            for is_int, v in zip(kinds, args):
+                if is_int:
+                    if v.__class__ is not int or not -2147483648 <= v <= 2147483647:
+                        break
+                elif v.__class__ is not float or v - v != 0.0:
+                    break
+            else:
+                return self.quick % args
+        return _render_parts(self.parts, self.n_args, args, mem, func)
+
+
+_cache: dict[bytes, CFormat] = {}
 
 
 class FieldTooWide(RuntimeFault):
     """A width or precision above MAX_FIELD: the result would exceed any HMPL string."""
 
 
-def format_c(fmt: bytes, args: Sequence, mem: Memory, func: str = "Print") -> bytes:
-    """Format `args` by the C format `fmt` as printf does; `func` names the caller in faults."""
+def compiled_format(fmt: bytes, func: str = "Print") -> CFormat:
+    """The compiled form of format `fmt` (cached by its bytes)."""
     prog = _cache.get(fmt)
     if prog is None:
         try:
-            prog = compile_format(fmt)
+            prog = CFormat(*compile_format(fmt))
         except RuntimeFault as exc:
             raise type(exc)(f"{func}: {exc}") from None
         if len(_cache) >= _CACHE_LIMIT:
             _cache.clear()
         _cache[fmt] = prog
-    parts, n_args = prog
+    return prog
+
+
+def format_c(fmt: bytes, args: Sequence, mem: Memory, func: str = "Print") -> bytes:
+    """Format `args` by the C format `fmt` as printf does; `func` names the caller in faults."""
+    return compiled_format(fmt, func).render(args, mem, func)
+
+
+def _render_parts(parts: list, n_args: int, args: Sequence, mem: Memory, func: str) -> bytes:
     if len(args) < n_args:
         raise RuntimeFault(f"{func}: format needs {n_args} arguments, got {len(args)}")
     out = []

@@ -41,8 +41,15 @@ from __future__ import annotations
 
 import re
 
+from motionvm.lang.hmpl.cmemory import SHADOW_CAP
 from motionvm.lang.hmpl.lib.base import Library, builtin
-from motionvm.lang.hmpl.lib.cformat import FieldTooWide, format_c
+from motionvm.lang.hmpl.lib.cformat import (
+    ONE_INT,
+    CFormat,
+    FieldTooWide,
+    compiled_format,
+    format_c,
+)
 from motionvm.runtime.errors import RuntimeFault
 
 HMPL_STR_MAX_LEN = 512
@@ -115,6 +122,10 @@ class StringLib(Library):
 
     def __init__(self, rt) -> None:
         super().__init__(rt)
+        self._buf = self.mem.buf
+        self._shadow = self.mem.shadow
+        # format address -> (its bytes and NUL, their count, compiled, `quick` of a one-%d format)
+        self._formats: dict[int, tuple[bytes, int, CFormat, bytes]] = {}
         self._event_bucket = _TokenBucket(EVENT_RATE_HZ, EVENT_BURST)
         self._msg_bucket = _TokenBucket(EVENT_RATE_HZ, EVENT_BURST)
 
@@ -123,7 +134,23 @@ class StringLib(Library):
     def _format(self, func: str, fmt: int, args: tuple) -> bytes | None:
         """The formatted string, or None if it is longer than HMPL_STR_MAX_LEN."""
         try:
-            text = format_c(self.mem.read_cstr(fmt, f"{func} format"), args, self.mem, func)
+            entry = self._formats.get(fmt)
+            # a format seen at this address before: still there, still in a live object?
+            if (
+                entry is not None
+                and self._buf.startswith(entry[0], fmt)
+                and self._shadow[fmt] >= entry[1]
+            ):
+                prog = entry[2]
+            else:
+                text = self.mem.read_cstr(fmt, f"{func} format")
+                prog = compiled_format(text, func)
+                if len(text) < SHADOW_CAP:
+                    if len(self._formats) >= 256:
+                        self._formats.clear()
+                    one_int = prog.quick if prog.kinds is ONE_INT else b""
+                    self._formats[fmt] = (text + b"\x00", len(text) + 1, prog, one_int)
+            text = prog.render(args, self.mem, func)
         except FieldTooWide:
             return None
         return None if len(text) > HMPL_STR_MAX_LEN else text
@@ -131,10 +158,11 @@ class StringLib(Library):
     def _put_str(self, func: str, dest: int, text: bytes, at: int = 0) -> None:
         """Write `text` + NUL at dest+at, or fault without writing if it does not fit."""
         mem = self.mem
-        if 0 < dest < mem.size and mem.shadow[dest]:  # the common case, checked in place
+        if 0 < dest < mem.size:  # the common case, checked in place
             end = dest + at + len(text)
-            if end < mem.shadow.find(0, dest):
-                buf = mem.buf
+            left = self._shadow[dest]
+            if end < dest + left or (left == SHADOW_CAP and end < self._shadow.find(0, dest)):
+                buf = self._buf
                 buf[dest + at : end] = text
                 buf[end] = 0
                 return
@@ -156,13 +184,20 @@ class StringLib(Library):
 
     def _str_end(self, func: str, addr: int, what: str) -> int:
         """The address of the NUL ending the string at `addr` (read_cstr's checks, no copy)."""
-        mem = self.mem
-        if 0 < addr < mem.size and mem.shadow[addr]:
-            end = mem.buf.find(0, addr, mem.shadow.find(0, addr))
-            if end >= 0:
-                return end
-        mem.read_cstr(addr, f"{func} {what}")  # raises the fault that says why
+        if 0 < addr < self.mem.size:
+            left = self._shadow[addr]
+            if left:
+                lim = addr + left if left < SHADOW_CAP else self._shadow.find(0, addr)
+                end = self._buf.find(0, addr, lim)
+                if end >= 0:
+                    return end
+        self.mem.read_cstr(addr, f"{func} {what}")  # raises the fault that says why
         raise AssertionError("unreachable")  # pragma: no cover
+
+    def _room_end(self, addr: int) -> int:
+        """The end of the live object holding `addr` (a valid address)."""
+        left = self._shadow[addr]
+        return addr + left if left < SHADOW_CAP else self._shadow.find(0, addr)
 
     def _substring(self, func: str, source: int, start_pos: int, copy_len: int) -> bytes | None:
         src = self._str(func, source, "source")
@@ -194,11 +229,44 @@ class StringLib(Library):
     @builtin()
     def StringPrint(self, destination: int, format: int, *args) -> int:
         """Write a formatted string into `destination`; return its length [characters], or -1."""
-        text = self._format("StringPrint", format, args)
-        if text is None:
-            return -1
+        # the fast path, with _format's and _put_str's checks in place
+        entry = self._formats.get(format)
+        if entry is not None and (
+            self._buf.startswith(entry[0], format) and self._shadow[format] >= entry[1]
+        ):
+            one_int = entry[3]
+            if (
+                one_int
+                and len(args) == 1
+                and (v := args[0]).__class__ is int
+                and -2147483648 <= v <= 2147483647
+            ):
+                text = one_int % v  # CFormat.render's first case, in place
+            else:
+                try:
+                    text = entry[2].render(args, self.mem, "StringPrint")
+                except FieldTooWide:
+                    return -1
+            n = len(text)
+            if n > HMPL_STR_MAX_LEN:
+                return -1
+        else:
+            text = self._format("StringPrint", format, args)
+            if text is None:
+                return -1
+            n = len(text)
+        if 0 < destination < self.mem.size:
+            end = destination + n
+            left = self._shadow[destination]
+            if end < destination + left or (
+                left == SHADOW_CAP and end < self._shadow.find(0, destination)
+            ):
+                buf = self._buf
+                buf[destination:end] = text
+                buf[end] = 0
+                return n
         self._put_str("StringPrint", destination, text)
-        return len(text)
+        return n
 
     @builtin()
     def SendEvent(self, evt_id: int) -> int:
@@ -227,6 +295,10 @@ class StringLib(Library):
 
     @builtin()
     def StringLen(self, str: int) -> int:
+        if 0 < str < self.mem.size:  # _str_end in place, within what the shadow byte vouches for
+            end = self._buf.find(0, str, str + self._shadow[str])
+            if end >= 0:
+                return end - str
         return self._str_end("StringLen", str, "string") - str
 
     @builtin()
@@ -272,14 +344,27 @@ class StringLib(Library):
 
     @builtin()
     def StringCat(self, destination: int, source: int) -> int:
+        size = self.mem.size
+        if 0 < source < size and 0 < destination < size:  # _str_end's checks in place
+            # each NUL is looked for first within the 255 bytes a shadow byte vouches for
+            sh = self._shadow
+            ls = sh[source]
+            ld = sh[destination]
+            if ls and ld:
+                buf = self._buf
+                src_end = buf.find(0, source, source + ls)
+                end = buf.find(0, destination, destination + ld)
+                if src_end >= 0 and end >= 0 and src_end - source < sh[end]:  # fits with its NUL
+                    buf[end : end + (src_end - source) + 1] = buf[source : src_end + 1]
+                    return 0
         src_end = self._str_end("StringCat", source, "source")
-        at = self._str_end("StringCat", destination, "destination") - destination
-        buf = self.mem.buf
+        end = self._str_end("StringCat", destination, "destination")
         n = src_end - source
-        if destination + at + n + 1 <= self.mem.shadow.find(0, destination):  # fits: copy
-            buf[destination + at : destination + at + n + 1] = buf[source : src_end + 1]
+        if end + n < self._room_end(destination):  # fits with its NUL: copy
+            self._buf[end : end + n + 1] = self._buf[source : src_end + 1]
             return 0
-        self._put_str("StringCat", destination, bytes(buf[source:src_end]), at)  # the fault
+        at = end - destination
+        self._put_str("StringCat", destination, bytes(self._buf[source:src_end]), at)  # the fault
         return 0
 
     @builtin()
