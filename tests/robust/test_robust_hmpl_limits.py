@@ -13,11 +13,11 @@ def _main(body: str, pre: str = "") -> str:
     return pre + "void main() {\n    int s = 0;\n" + body + "\n}\n"
 
 
-def _loops(kinds: list[str], inner: str) -> str:
+def _loops(kinds: list[str], inner: str, count: int = 2) -> str:
     opens = closes = ""
     for k, kind in enumerate(kinds):
         if kind == "for":
-            opens += f"for (int i{k} = 0; i{k} < 2; i{k}++) {{ "
+            opens += f"for (int i{k} = 0; i{k} < {count}; i{k}++) {{ "
             closes = "} " + closes
         elif kind == "while":
             opens += f"while (s < {k + 1}) {{ "
@@ -42,7 +42,7 @@ def test_loops_and_switches_nested_to_the_limit_run(cli, kind):
     # Python blocks the function needs besides the loops
     body = (
         "int a[2]; int *p = a; a[0] = 1;\nagain:\n"
-        + _loops(kinds, "s += p[0]; Till(s > 0);")
+        + _loops(kinds, "s += p[0]; Till(s > 0);", count=1)
         + '\nif (s < 0) goto again;\nPrint("%d", s > 0);'
     )
     r = cli("run", "--until", "1s", "a.hmpl", a__hmpl=_main(body))

@@ -25,6 +25,7 @@ from motionvm.lang.hmpl.analysis import walk
 from motionvm.lang.hmpl.lower_expr import SemanticError
 from motionvm.lang.hmpl.lower_util import (
     CHUNK,
+    LOOP_BLOCKS,
     MAX_LOOP_NESTING,
     LoopCtx,
     at,
@@ -38,40 +39,51 @@ from motionvm.lang.hmpl.symbols import Scope, VarSym
 class LoopLowering:
     """Mixin of the function lowerer: loops."""
 
-    def nest(self, pos, blocks: int = 1) -> None:
+    def nest(self, pos, blocks: int = 1) -> bool:
         """Enter a loop or switch taking `blocks` Python blocks; past the limit of nested
-        loops and switches, a compile error at `pos`. Pair with `unnest`."""
+        loops and switches, a compile error at `pos`. True if it must be lowered as a
+        nested function (the generated one has no blocks left for it): `split_off`.
+        Pair with `unnest`."""
         if len(self.loops) >= MAX_LOOP_NESTING:
             raise self.fail(
                 pos,
                 f"loops and switches nested more than {MAX_LOOP_NESTING} deep in one function"
                 " (the limit of HMPL); move the inner ones into a function",
             )
-        self.py_blocks += blocks
+        split = self.py_blocks + blocks > LOOP_BLOCKS
+        self.outer_blocks.append(self.py_blocks)
+        self.py_blocks = blocks if split else self.py_blocks + blocks
+        return split
 
-    def unnest(self, blocks: int = 1) -> None:
-        self.py_blocks -= blocks
+    def unnest(self) -> None:
+        self.py_blocks = self.outer_blocks.pop()
 
     def _room_for_chunks(self, body) -> bool:
         """A counting loop may take two blocks if the deeper loops still find one each."""
-        return self.py_blocks + 2 + _loop_depth(body) <= MAX_LOOP_NESTING
+        return self.py_blocks + 2 + _loop_depth(body) <= LOOP_BLOCKS
 
-    def _loop_body(self, body, cont: list[ast.stmt], blocks: int = 1) -> list[ast.stmt]:
+    def _loop_body(self, body, cont: list[ast.stmt], blocks: int = 1):
+        """The lowered body and the loop's context (split: see `split_off`)."""
         self.has_yield = True  # every loop has a budgeted back-edge
-        self.nest(body.pos, blocks)
-        self.loops.append(LoopCtx("loop", cont))
+        ctx = LoopCtx("loop", cont)
+        ctx.split = self.nest(body.pos, blocks)
+        self.loops.append(ctx)
         try:
-            return self.block(body)
+            return self.block(body), ctx
         finally:
             self.loops.pop()
-            self.unnest(blocks)
+            self.unnest()
+
+    def _placed(self, ctx: LoopCtx, loop: ast.stmt) -> list[ast.stmt]:
+        return self.split_off(ctx, loop) if ctx.split else [loop]
 
     def _s_While(self, s: n.While) -> list[ast.stmt]:
         test = self.cond(s.cond)
         b = self.temp()
         cont = backedge(b) + [ast.Continue()]
-        body = self._loop_body(s.body, cont) + backedge(b)
-        return [countdown_init(b), ast.While(test=test, body=body, orelse=[])]
+        body, ctx = self._loop_body(s.body, cont)
+        loop = ast.While(test=test, body=body + backedge(b), orelse=[])
+        return [countdown_init(b)] + self._placed(ctx, loop)
 
     def _s_DoWhile(self, s: n.DoWhile) -> list[ast.stmt]:
         b = self.temp()
@@ -83,7 +95,7 @@ class LoopLowering:
             )
         ]
         cont = at(exit_, s.cond.pos) + backedge(b) + [ast.Continue()]
-        body = self._loop_body(s.body, cont)
+        body, ctx = self._loop_body(s.body, cont)
         exit2 = [
             ast.If(
                 test=ast.UnaryOp(op=ast.Not(), operand=self.cond(s.cond)),
@@ -94,7 +106,7 @@ class LoopLowering:
         loop = ast.While(
             test=ast.Constant(True), body=body + at(exit2, s.cond.pos) + backedge(b), orelse=[]
         )
-        return [countdown_init(b), loop]
+        return [countdown_init(b)] + self._placed(ctx, loop)
 
     def _s_For(self, s: n.For) -> list[ast.stmt]:
         saved = self.scope
@@ -114,15 +126,15 @@ class LoopLowering:
                 else []
             )
             cont = step + backedge(b) + [ast.Continue()]
-            body = self._loop_body(s.body, cont)
+            body, ctx = self._loop_body(s.body, cont)
             step2 = (
                 at(self._s_ExprStmt(n.ExprStmt(s.step.pos, s.step)), s.step.pos)
                 if s.step is not None
                 else []
             )
             out.append(countdown_init(b))
-            out.append(ast.While(test=test, body=body + step2 + backedge(b), orelse=[]))
-            return out
+            loop = ast.While(test=test, body=body + step2 + backedge(b), orelse=[])
+            return out + self._placed(ctx, loop)
         finally:
             self.scope = saved
 
@@ -205,9 +217,9 @@ class LoopLowering:
         if known is not None:
             self.known_ranges[sym.pyname] = known  # lets indexing skip its bounds check
         try:
-            body = self._loop_body(s.body, cont, 2 if chunked else 1) + (
-                [] if chunked else backedge(b)
-            )
+            body, ctx = self._loop_body(s.body, cont, 2 if chunked else 1)
+            if not chunked:
+                body += backedge(b)
         finally:
             self.known_ranges.pop(sym.pyname, None)
         pre: list[ast.stmt] = []
@@ -220,9 +232,10 @@ class LoopLowering:
         else:
             step_node = const(inc)
         if chunked:
-            return pre + self._chunked_range(
+            loops = self._chunked_range(
                 sym, stop, step_node, body, outlives=not isinstance(s.init, n.DeclStmt)
             )
+            return pre + loops[:-1] + self._placed(ctx, loops[-1])
         pre.append(countdown_init(b))
         rng = call("range", name(sym.pyname), stop, step_node)
         outlives = not isinstance(s.init, n.DeclStmt)
@@ -242,7 +255,7 @@ class LoopLowering:
             )
             orelse = [ast.Assign(targets=[name(sym.pyname, True)], value=final)]
         loop = ast.For(target=name(sym.pyname, True), iter=rng, body=body, orelse=orelse)
-        return pre + [loop]
+        return pre + self._placed(ctx, loop)
 
     def _chunked_range(
         self, sym: VarSym, stop: ast.expr, step: ast.expr, body: list[ast.stmt], outlives: bool
