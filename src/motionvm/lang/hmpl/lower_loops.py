@@ -21,7 +21,7 @@ import ast
 
 from motionvm.lang.hmpl import ctypes_ as ct
 from motionvm.lang.hmpl import nodes as n
-from motionvm.lang.hmpl.analysis import walk
+from motionvm.lang.hmpl.analysis import _children_of, walk
 from motionvm.lang.hmpl.lower_expr import SemanticError
 from motionvm.lang.hmpl.lower_util import (
     CHUNK,
@@ -73,6 +73,16 @@ class LoopLowering:
         finally:
             self.loops.pop()
             self.unnest()
+
+    def _assigned_in(self, body) -> set[str]:
+        """`_assigned_names(body)` of a `for` body, found for every `for` inside it in the
+        same pass (nested counting loops would otherwise walk their bodies again)."""
+        cache = self.__dict__.setdefault("_assigned_cache", {})
+        got = cache.get(id(body))
+        if got is None:
+            _fill_assigned(body, cache)
+            got = cache[id(body)]
+        return got
 
     def _placed(self, ctx: LoopCtx, loop: ast.stmt) -> list[ast.stmt]:
         return self.split_off(ctx, loop) if ctx.split else [loop]
@@ -164,7 +174,7 @@ class LoopLowering:
         ):
             return None
         inc = self._step_of(step, ivar)
-        assigned = _assigned_names(s.body)
+        assigned = self._assigned_in(s.body)
         step_var = None
         if (
             inc is None
@@ -414,6 +424,45 @@ def _assigned_names(body) -> set[str]:
         ):
             out.add(x.operand.id)
     return out
+
+
+def _fill_assigned(root, cache: dict[int, set[str]]) -> None:
+    """`cache[id(b)] = _assigned_names(b)` for `root` and the body `b` of every `for` in it:
+    one walk, each name added to its innermost `for` body, then merged outwards."""
+    sets: list[set[str]] = [set()]
+    parents: list[int] = [-1]
+    keys: list[int] = [id(root)]
+    stack: list = [(root, 0)]
+    children = _children_of
+    while stack:
+        x, frame = stack.pop()
+        t = type(x)
+        if t is tuple or t is list:
+            stack.extend((y, frame) for y in x)
+            continue
+        if x is None:
+            continue
+        if t is n.Assign:
+            if type(x.target) is n.Name:
+                sets[frame].add(x.target.id)
+        elif (t is n.Postfix or t is n.Unary) and x.op in ("++", "--", "&"):
+            if type(x.operand) is n.Name:
+                sets[frame].add(x.operand.id)
+        for fname in children(t):
+            v = getattr(x, fname)
+            if v is None:
+                continue
+            if t is n.For and fname == "body" and id(v) not in cache:
+                sets.append(set())
+                parents.append(frame)
+                keys.append(id(v))
+                stack.append((v, len(sets) - 1))
+            else:
+                stack.append((v, frame))
+    for k in range(len(sets) - 1, 0, -1):
+        sets[parents[k]] |= sets[k]
+    for k, key in enumerate(keys):
+        cache[key] = sets[k]
 
 
 _NESTING = (n.While, n.DoWhile, n.For, n.Switch)

@@ -26,6 +26,7 @@ from __future__ import annotations
 import ast
 
 from motionvm.lang.hmpl import ctypes_ as ct
+from motionvm.lang.hmpl.lower_util import child_fields
 from motionvm.lang.hmpl.lvalues import name
 
 _NO_ARGS = ast.arguments(
@@ -108,24 +109,31 @@ def _scan(body: list[ast.stmt]) -> tuple[set[str], list[ast.FunctionDef]]:
     stores: set[str] = set()
     nested: list[ast.FunctionDef] = []
     stack: list = list(body)
+    pop, push, extend = stack.pop, stack.append, stack.extend
     while stack:
-        x = stack.pop()
+        x = pop()
         t = type(x)
-        if t is ast.FunctionDef:
-            stores.add(x.name)
-            nested.append(x)
-            continue
         if t is ast.Name:
             if type(x.ctx) is ast.Store:
                 stores.add(x.id)
             continue
+        if t is ast.FunctionDef:
+            stores.add(x.name)
+            nested.append(x)
+            continue
         if t is ast.ExceptHandler and x.name:
             stores.add(x.name)
-        for v in x.__dict__.values():
-            if type(v) is list:
-                stack.extend(e for e in v if isinstance(e, ast.AST))
-            elif isinstance(v, ast.AST):
-                stack.append(v)
+        fields = child_fields(t)
+        if not fields:
+            continue
+        d = x.__dict__
+        for f in fields:
+            v = d.get(f)
+            if v is not None:
+                if type(v) is list:
+                    extend(v)
+                else:
+                    push(v)
     return stores, nested
 
 
@@ -137,11 +145,15 @@ def _yields(body: list[ast.stmt]) -> bool:
         t = type(x)
         if t is ast.Yield or t is ast.YieldFrom:
             return True
-        if t is ast.FunctionDef:
+        fields = child_fields(t)
+        if t is ast.FunctionDef or not fields:
             continue
-        for v in x.__dict__.values():
-            if type(v) is list:
-                stack.extend(e for e in v if isinstance(e, ast.AST))
-            elif isinstance(v, ast.AST):
-                stack.append(v)
+        d = x.__dict__
+        for f in fields:
+            v = d.get(f)
+            if v is not None:
+                if type(v) is list:
+                    stack.extend(v)
+                else:
+                    stack.append(v)
     return False

@@ -73,6 +73,12 @@ def _walk_info(cls: type) -> tuple[bool, tuple[str, ...]]:
     return info
 
 
+def child_fields(cls: type) -> tuple[str, ...]:
+    """Fields of a node class that may hold nodes with a location (cached)."""
+    info = _WALK.get(cls)
+    return (info or _walk_info(cls))[1]
+
+
 def at(stmts: list[ast.stmt], pos) -> list[ast.stmt]:
     """Give every generated node without a location the user's position `pos`.
 
