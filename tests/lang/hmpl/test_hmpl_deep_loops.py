@@ -40,7 +40,8 @@ def _nest(depth: int, inner: str, at: dict[int, tuple[str, str]] | None = None, 
     return opens + inner + " " + closes
 
 
-def _run(tmp_path, program: str, *args: str) -> str:
+def _cli(tmp_path, program: str, *args: str) -> tuple[int, str, str]:
+    """`motionvm run ARGS a.hmpl` in-process: (exit code, stdout, stderr)."""
     (tmp_path / "a.hmpl").write_text(program, encoding="utf-8")
     out, err = io.StringIO(), io.StringIO()
     old = os.getcwd()
@@ -50,8 +51,13 @@ def _run(tmp_path, program: str, *args: str) -> str:
             code = main(["run", *args, "a.hmpl"])
     finally:
         os.chdir(old)
-    assert (code, err.getvalue()) == (0, ""), err.getvalue()
-    return out.getvalue()
+    return code, out.getvalue(), err.getvalue()
+
+
+def _run(tmp_path, program: str, *args: str) -> str:
+    code, out, err = _cli(tmp_path, program, *args)
+    assert (code, err) == (0, ""), err
+    return out
 
 
 def test_return_with_a_value_from_deep_inside(tmp_path):
@@ -156,3 +162,17 @@ def test_two_hundred_fifty_six_nested_loops_run(tmp_path, kind):
 void main() {{ int s = 0; {_nest(256, "s += 5;", kinds=(kind,))} Print("%d %d", s, t); }}
 """
     assert _run(tmp_path, prog) == f"5 {0 if kind != 'for' else 256}\n"
+
+
+def test_a_runtime_error_deep_inside_names_its_place(tmp_path):
+    prog = f"""int t;
+void main() {{
+    int z = 0;
+    {_nest(DEEP, "z = 10 / z;")}
+}}
+"""
+    col = prog.splitlines()[3].index("z = 10 / z") + 1  # the statement, as when shallow
+    code, out, err = _cli(tmp_path, prog)
+    assert code == 1
+    assert err.startswith(f"a.hmpl:4:{col}: runtime error in task 0 at t="), err
+    assert "division by zero" in err
