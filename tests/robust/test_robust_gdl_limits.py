@@ -55,8 +55,14 @@ def _run(cli, body: str):
             + "END$WHILE;\n" * 256,
             1,
         ),
+        (
+            "VALUE OF s = 0;\nIF "
+            + "NOT " * 256
+            + "(VALUE OF s = 0) THEN\nVALUE OF s = 7;\nEND$IF;",
+            7,
+        ),
     ],
-    ids=["parens", "plus", "mixed", "minus", "if", "while"],
+    ids=["parens", "plus", "mixed", "minus", "if", "while", "not"],
 )
 def test_deep_programs_run(cli, body, last):
     lines = _run(cli, body)
