@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import pytest
 
+from motionvm.lang.gdl.parser import MAX_NESTING, MAX_OPERATORS
+
 SCENARIO = '[[event]]\nat = 0.010\nset = "STATUS OF go"\nvalue = "ON"\n'
 
 
@@ -36,7 +38,8 @@ def _run(cli, body: str):
     ("body", "last"),
     [
         ("VALUE OF s = " + "(" * 300 + "VALUE OF a" + ")" * 300 + ";", 1),
-        ("VALUE OF s = " + " + ".join(["VALUE OF a"] * 3000) + ";", 3000),
+        ("VALUE OF s = " + " + ".join(["VALUE OF a"] * 10_000) + ";", 10_000),
+        ("VALUE OF s = " + " - ".join(["VALUE OF a * 2"] * 5_000) + ";", -9_996),
         ("VALUE OF s = " + " - ".join(["VALUE OF a"] * 1000) + ";", -998),
         (
             "VALUE OF s = 0;\n"
@@ -47,13 +50,19 @@ def _run(cli, body: str):
         ),
         (
             "VALUE OF s = 0;\n"
-            + "WHILE VALUE OF s < 1 DO\n" * 64
+            + "WHILE VALUE OF s < 1 DO\n" * 256
             + "VALUE OF s = VALUE OF s + 1;\n"
-            + "END$WHILE;\n" * 64,
+            + "END$WHILE;\n" * 256,
             1,
         ),
+        (
+            "VALUE OF s = 0;\nIF "
+            + "NOT " * 256
+            + "(VALUE OF s = 0) THEN\nVALUE OF s = 7;\nEND$IF;",
+            7,
+        ),
     ],
-    ids=["parens", "plus", "minus", "if", "while"],
+    ids=["parens", "plus", "mixed", "minus", "if", "while", "not"],
 )
 def test_deep_programs_run(cli, body, last):
     lines = _run(cli, body)
@@ -70,3 +79,37 @@ def test_return_deep_in_nested_whiles_leaves_the_procedure(cli):
     )
     lines = _run(cli, body)
     assert [x.rsplit("= ", 1)[1] for x in lines] == ["1", "2", "3"]  # and never 99
+
+
+@pytest.mark.parametrize(
+    ("body", "where", "message"),
+    [
+        (
+            "VALUE OF s = 0;\n"
+            + "IF VALUE OF s = 0 THEN\n" * (MAX_NESTING + 1)
+            + "VALUE OF s = 7;\n"
+            + "END$IF;\n" * (MAX_NESTING + 1),
+            f":{9 + MAX_NESTING}:1:",
+            f"nesting deeper than {MAX_NESTING} levels (the limit of GDL); the rest of the file"
+            " is not parsed",
+        ),
+        (
+            "VALUE OF s = " + "(" * (MAX_NESTING + 1) + "1" + ")" * (MAX_NESTING + 1) + ";",
+            f":8:{14 + MAX_NESTING}:",
+            f"nesting deeper than {MAX_NESTING} levels (the limit of GDL); the rest of the file"
+            " is not parsed",
+        ),
+        (
+            "VALUE OF s = " + " + ".join(["1"] * (MAX_OPERATORS + 2)) + ";",
+            f":8:{16 + 4 * MAX_OPERATORS}:",
+            f"more than {MAX_OPERATORS} operators in a row (the limit of GDL)",
+        ),
+    ],
+    ids=["if", "parens", "operators"],
+)
+def test_past_a_limit_is_one_located_error(cli, body, where, message):
+    r = cli("check", "a.gdl", a__gdl=_app(body))
+    assert r.code == 2, r.stderr[:400]
+    assert r.stderr.count("error:") == 1, r.stderr[:400]
+    first = r.stderr.splitlines()[0]
+    assert first.startswith("a.gdl" + where) and first.endswith("error: " + message), first[:300]

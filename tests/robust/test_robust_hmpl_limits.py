@@ -13,11 +13,11 @@ def _main(body: str, pre: str = "") -> str:
     return pre + "void main() {\n    int s = 0;\n" + body + "\n}\n"
 
 
-def _loops(kinds: list[str], inner: str) -> str:
+def _loops(kinds: list[str], inner: str, count: int = 2) -> str:
     opens = closes = ""
     for k, kind in enumerate(kinds):
         if kind == "for":
-            opens += f"for (int i{k} = 0; i{k} < 2; i{k}++) {{ "
+            opens += f"for (int i{k} = 0; i{k} < {count}; i{k}++) {{ "
             closes = "} " + closes
         elif kind == "while":
             opens += f"while (s < {k + 1}) {{ "
@@ -42,7 +42,7 @@ def test_loops_and_switches_nested_to_the_limit_run(cli, kind):
     # Python blocks the function needs besides the loops
     body = (
         "int a[2]; int *p = a; a[0] = 1;\nagain:\n"
-        + _loops(kinds, "s += p[0]; Till(s > 0);")
+        + _loops(kinds, "s += p[0]; Till(s > 0);", count=1)
         + '\nif (s < 0) goto again;\nPrint("%d", s > 0);'
     )
     r = cli("run", "--until", "1s", "a.hmpl", a__hmpl=_main(body))
@@ -57,7 +57,7 @@ def test_eleven_nested_for_loops_run(cli):
 
 @pytest.mark.parametrize("kind", ["for", "while", "do", "switch"])
 def test_one_loop_past_the_limit_is_a_located_error(cli, kind):
-    body = _loops([kind] * (MAX_LOOP_NESTING + 5), "s++;")
+    body = _loops([kind] * (MAX_LOOP_NESTING + 1), "s++;")
     for cmd in ("check", "run"):
         r = cli(cmd, "a.hmpl", a__hmpl=_main(body))
         assert r.code == 2, r.stderr
@@ -77,6 +77,10 @@ def test_ten_thousand_terms(cli):
     body += "    s = " + " - ".join(["1"] * 10_000) + ';\n    Print("%d %g", s, e);'
     r = cli("run", "a.hmpl", a__hmpl=_main(body))
     assert (r.code, r.stdout, r.stderr) == (0, "-9998 0\n", "")
+    body = "int a = 3, b = 2, c = 1;\n    s = " + " - ".join(["a * b - c"] * 3_334) + ";\n"
+    body += "    s = s + " + " + ".join(["-a"] * 10_000) + ';\n    Print("%d", s);'
+    r = cli("run", "a.hmpl", a__hmpl=_main(body))
+    assert (r.code, r.stdout, r.stderr) == (0, f"{6 - 3333 * 7 - 1 - 30_000}\n", "")
 
 
 def test_too_many_operators_is_a_located_error(cli):

@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import pytest
 
+from motionvm.lang.pdl.parser import MAX_COND_OPERATORS, MAX_PAREN_DEPTH
+
 
 def _prog(opener: str, depth: int, closer: str = "end;") -> str:
     return (
@@ -50,3 +52,44 @@ def test_past_the_manual_limit_is_a_located_error(cli):
         "a.pdl:204:1: error: blocks nested more than 200 deep (if/else, while and loop count"
         " together)"
     )
+
+
+def _cond_prog(cond: str) -> str:
+    return f'#long s, a;\n#task/0;\na = 1;\ns = 0;\nif ({cond}) s = 7;\nprintl("%d", s);\nhalt;\n'
+
+
+@pytest.mark.parametrize(
+    "cond",
+    [
+        " & ".join(["a = 1"] * 10_000),
+        " & ".join(["~(a > 1)"] * 5_000),
+        "(" * MAX_PAREN_DEPTH + "a = 1" + ")" * MAX_PAREN_DEPTH,
+    ],
+    ids=["10000-terms", "negations", "parentheses"],
+)
+def test_long_and_deep_conditions_run(cli, cond):
+    r = cli("run", "--until", "0.05s", "a.pdl", a__pdl=_cond_prog(cond))
+    assert (r.code, r.stderr) == (0, ""), r.stderr[:400]
+    assert r.stdout.splitlines()[-1].endswith("7"), r.stdout
+
+
+@pytest.mark.parametrize(
+    ("cond", "message"),
+    [
+        (
+            " & ".join(["a = 1"] * (MAX_COND_OPERATORS + 2)),
+            f"more than {MAX_COND_OPERATORS} '&' and '|' in one condition (the limit of PDL)",
+        ),
+        (
+            "(" * (MAX_PAREN_DEPTH + 1) + "a = 1" + ")" * (MAX_PAREN_DEPTH + 1),
+            f"parentheses nested more than {MAX_PAREN_DEPTH} deep",
+        ),
+    ],
+    ids=["operators", "parentheses"],
+)
+def test_past_a_condition_limit_is_a_located_error(cli, cond, message):
+    r = cli("check", "a.pdl", a__pdl=_cond_prog(cond))
+    assert r.code == 2, r.stderr[:400]
+    assert r.stderr.count("error:") == 1
+    first = r.stderr.splitlines()[0]
+    assert first.startswith("a.pdl:5:") and first.endswith("error: " + message), first[:300]

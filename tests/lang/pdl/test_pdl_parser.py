@@ -11,7 +11,7 @@ from hypothesis import strategies as st
 from motionvm.lang.pdl import compile_front
 from motionvm.lang.pdl import nodes as n
 from motionvm.lang.pdl.dump import dump_ast
-from motionvm.lang.pdl.parser import MAX_NESTING, parse
+from motionvm.lang.pdl.parser import MAX_NESTING, MAX_PAREN_DEPTH, parse
 from motionvm.lang.pdl.preprocess import preprocess
 from motionvm.source import DiagnosticSink
 
@@ -257,12 +257,12 @@ def test_very_deep_nesting_does_not_crash() -> None:
 
 
 def test_deep_parentheses() -> None:
-    ok = "#long a;\ntill (" + "(" * 200 + "a>1" + ")" * 200 + ");"
+    ok = "#long a;\ntill (" + "(" * MAX_PAREN_DEPTH + "a>1" + ")" * MAX_PAREN_DEPTH + ");"
     assert compile_front("mem/par.pdl", sink=DiagnosticSink(), text=ok) is not None
     sink = DiagnosticSink()
     bad = "#long a;\ntill (" + "(" * 5000 + "a>1" + ")" * 5000 + ");"
     assert compile_front("mem/par.pdl", sink=sink, text=bad) is None
-    assert sink.errors()[0].message == "parentheses nested more than 200 deep"
+    assert sink.errors()[0].message == f"parentheses nested more than {MAX_PAREN_DEPTH} deep"
 
 
 def test_long_condition_chain_is_flat() -> None:

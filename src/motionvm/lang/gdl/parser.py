@@ -29,12 +29,23 @@ BLOCK_ENDS = frozenset(
 )
 
 
+MAX_NESTING = 1024
+"""Levels of nesting the parser follows: each IF, WHILE, parenthesis and NOT is one
+(a documented GDL limit; past it the file is not parsed further)."""
+MAX_OPERATORS = 20_000
+"""Binary operators in a row (`a + b + ...`, or `*`, AND, OR), at most (a GDL limit)."""
+
+
 def _article(word: str) -> str:
     return ("an " if word[0] in "aeiou" else "a ") + word
 
 
 class ParseError(Exception):
     """Abandons the current instruction or declaration; the message is already reported."""
+
+
+class _TooDeep(Exception):
+    """A nest past MAX_NESTING: parsing of the file stops (the error is reported)."""
 
 
 class Parser:
@@ -44,6 +55,7 @@ class Parser:
         self.toks = tokens
         self.k = 0
         self.sink = sink
+        self.depth = 0  # levels of nesting entered (MAX_NESTING)
         # Lines with a lexical error: a parse error there would only repeat it.
         self.bad_lines = {(d.pos.file, d.pos.line) for d in sink.errors()}
 
@@ -90,6 +102,23 @@ class Parser:
             raise ParseError(message)
         raise self._fail(message)
 
+    def _enter(self, t: Token) -> None:
+        """One more level of nesting at `t`; past MAX_NESTING, one error and the file stops."""
+        self.depth += 1
+        if self.depth > MAX_NESTING:
+            self._error(
+                t.pos,
+                f"nesting deeper than {MAX_NESTING} levels (the limit of GDL); the rest of the"
+                " file is not parsed",
+            )
+            raise _TooDeep
+
+    def _count(self, count: int, t: Token) -> int:
+        """One more operator in a row at `t`; past MAX_OPERATORS, a located error."""
+        if count >= MAX_OPERATORS:
+            raise self._fail(f"more than {MAX_OPERATORS} operators in a row (the limit of GDL)", t)
+        return count + 1
+
     def _sync(self) -> None:
         """Skip to just after the next ';', or to a block keyword, or to end of file."""
         while self.tok.kind != "eof":
@@ -108,7 +137,10 @@ class Parser:
             self._error(start, f"empty file: a GDL file holds at least one MODULE ({path})")
         while self.tok.kind != "eof":
             if self._is("MODULE"):
-                modules.append(self._parse_module())
+                try:
+                    modules.append(self._parse_module())
+                except _TooDeep:
+                    break
             else:
                 self._error(self.tok.pos, f"expected 'MODULE', found {self.tok.describe()}")
                 self._advance()
@@ -368,6 +400,13 @@ class Parser:
 
     # BNF: if_instr = "IF" expression "THEN" { instruction } [ "ELSE" { instruction } ] "END$IF" ";" ;
     def _parse_if_instr(self) -> n.If:
+        self._enter(self.tok)
+        try:
+            return self._parse_if_body()
+        finally:
+            self.depth -= 1
+
+    def _parse_if_body(self) -> n.If:
         pos = self._advance().pos
         cond = self._parse_expression()
         self._expect("THEN", "after the IF condition")
@@ -381,6 +420,13 @@ class Parser:
 
     # BNF: while_instr = "WHILE" expression "DO" { instruction } "END$WHILE" ";" ;
     def _parse_while_instr(self) -> n.While:
+        self._enter(self.tok)
+        try:
+            return self._parse_while_body()
+        finally:
+            self.depth -= 1
+
+    def _parse_while_body(self) -> n.While:
         pos = self._advance().pos
         cond = self._parse_expression()
         self._expect("DO", "after the WHILE condition")
@@ -404,7 +450,9 @@ class Parser:
     # BNF: disjunction = conjunction { "OR" conjunction } ;
     def _parse_expression(self) -> n.Expr:
         left = self._parse_conjunction()
+        count = 0
         while self._is("OR"):
+            count = self._count(count, self.tok)
             op = self._advance()
             left = n.Binary(op.pos, "OR", left, self._parse_conjunction())
         return left
@@ -412,7 +460,9 @@ class Parser:
     # BNF: conjunction = negation { ( "AND" | "&" ) negation } ;
     def _parse_conjunction(self) -> n.Expr:
         left = self._parse_negation()
+        count = 0
         while self._is("AND") or self._is("&"):
+            count = self._count(count, self.tok)
             op = self._advance()
             left = n.Binary(op.pos, "AND", left, self._parse_negation())
         return left
@@ -420,8 +470,12 @@ class Parser:
     # BNF: negation = "NOT" negation | relation ;
     def _parse_negation(self) -> n.Expr:
         if self._is("NOT"):
-            op = self._advance()
-            return n.Unary(op.pos, "NOT", self._parse_negation())
+            self._enter(self.tok)
+            try:
+                op = self._advance()
+                return n.Unary(op.pos, "NOT", self._parse_negation())
+            finally:
+                self.depth -= 1
         return self._parse_relation()
 
     # BNF: relation = arith [ rel_op arith ] ;
@@ -441,7 +495,9 @@ class Parser:
             left: n.Expr = n.Unary(op.pos, op.text, self._parse_term())
         else:
             left = self._parse_term()
+        count = 0
         while self._is("+") or self._is("-"):
+            count = self._count(count, self.tok)
             op = self._advance()
             left = n.Binary(op.pos, op.text, left, self._parse_term())
         return left
@@ -449,7 +505,9 @@ class Parser:
     # BNF: term = factor { ( "*" | "/" ) factor } ;
     def _parse_term(self) -> n.Expr:
         left = self._parse_factor()
+        count = 0
         while self._is("*") or self._is("/"):
+            count = self._count(count, self.tok)
             op = self._advance()
             left = n.Binary(op.pos, op.text, left, self._parse_factor())
         return left
@@ -470,9 +528,14 @@ class Parser:
                     f"an array element is not a value: write KEYWORD OF {t.text}{{...}}", t
                 )
             return n.NameLit(t.pos, n.Name(t.pos, t.text))
-        if self._accept("("):
-            inner = self._parse_expression()
-            self._expect(")", "to close '('")
+        if self._is("("):
+            self._enter(t)
+            try:
+                self._advance()
+                inner = self._parse_expression()
+                self._expect(")", "to close '('")
+            finally:
+                self.depth -= 1
             return inner
         if t.kind == "keyword":
             if self.toks[self.k + 1].text == "OF":

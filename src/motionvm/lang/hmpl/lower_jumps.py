@@ -87,7 +87,7 @@ class JumpLowering:
             elif not isinstance(it, n.Empty):
                 self.sink.warning(it.pos, "statement before the first case label is never executed")
         ctx = LoopCtx("switch", flag=flag)
-        self.nest(s.pos)
+        ctx.split = self.nest(s.pos)
         self.loops.append(ctx)
         saved = self.scope
         self.scope = Scope(saved, "block")
@@ -131,11 +131,12 @@ class JumpLowering:
             self.loops.pop()
             self.unnest()
         body.append(ast.Break())
+        loop = ast.While(test=ast.Constant(True), body=body, orelse=[])
         if uses_matched:
             out.append(ast.Assign(targets=[name(matched, True)], value=ast.Constant(False)))
         if ctx.flag_used:
             out.append(ast.Assign(targets=[name(flag, True)], value=ast.Constant(False)))
-        out.append(ast.While(test=ast.Constant(True), body=body, orelse=[]))
+        out.extend(self.split_off(ctx, loop) if ctx.split else [loop])
         if ctx.flag_used:
             out.append(
                 ast.If(

@@ -21,10 +21,11 @@ import ast
 
 from motionvm.lang.hmpl import ctypes_ as ct
 from motionvm.lang.hmpl import nodes as n
-from motionvm.lang.hmpl.analysis import walk
+from motionvm.lang.hmpl.analysis import _children_of, walk
 from motionvm.lang.hmpl.lower_expr import SemanticError
 from motionvm.lang.hmpl.lower_util import (
     CHUNK,
+    LOOP_BLOCKS,
     MAX_LOOP_NESTING,
     LoopCtx,
     at,
@@ -38,40 +39,61 @@ from motionvm.lang.hmpl.symbols import Scope, VarSym
 class LoopLowering:
     """Mixin of the function lowerer: loops."""
 
-    def nest(self, pos, blocks: int = 1) -> None:
+    def nest(self, pos, blocks: int = 1) -> bool:
         """Enter a loop or switch taking `blocks` Python blocks; past the limit of nested
-        loops and switches, a compile error at `pos`. Pair with `unnest`."""
+        loops and switches, a compile error at `pos`. True if it must be lowered as a
+        nested function (the generated one has no blocks left for it): `split_off`.
+        Pair with `unnest`."""
         if len(self.loops) >= MAX_LOOP_NESTING:
             raise self.fail(
                 pos,
                 f"loops and switches nested more than {MAX_LOOP_NESTING} deep in one function"
                 " (the limit of HMPL); move the inner ones into a function",
             )
-        self.py_blocks += blocks
+        split = self.py_blocks + blocks > LOOP_BLOCKS
+        self.outer_blocks.append(self.py_blocks)
+        self.py_blocks = blocks if split else self.py_blocks + blocks
+        return split
 
-    def unnest(self, blocks: int = 1) -> None:
-        self.py_blocks -= blocks
+    def unnest(self) -> None:
+        self.py_blocks = self.outer_blocks.pop()
 
     def _room_for_chunks(self, body) -> bool:
         """A counting loop may take two blocks if the deeper loops still find one each."""
-        return self.py_blocks + 2 + _loop_depth(body) <= MAX_LOOP_NESTING
+        return self.py_blocks + 2 + _loop_depth(body) <= LOOP_BLOCKS
 
-    def _loop_body(self, body, cont: list[ast.stmt], blocks: int = 1) -> list[ast.stmt]:
+    def _loop_body(self, body, cont: list[ast.stmt], blocks: int = 1):
+        """The lowered body and the loop's context (split: see `split_off`)."""
         self.has_yield = True  # every loop has a budgeted back-edge
-        self.nest(body.pos, blocks)
-        self.loops.append(LoopCtx("loop", cont))
+        ctx = LoopCtx("loop", cont)
+        ctx.split = self.nest(body.pos, blocks)
+        self.loops.append(ctx)
         try:
-            return self.block(body)
+            return self.block(body), ctx
         finally:
             self.loops.pop()
-            self.unnest(blocks)
+            self.unnest()
+
+    def _assigned_in(self, body) -> set[str]:
+        """`_assigned_names(body)` of a `for` body, found for every `for` inside it in the
+        same pass (nested counting loops would otherwise walk their bodies again)."""
+        cache = self.__dict__.setdefault("_assigned_cache", {})
+        got = cache.get(id(body))
+        if got is None:
+            _fill_assigned(body, cache)
+            got = cache[id(body)]
+        return got
+
+    def _placed(self, ctx: LoopCtx, loop: ast.stmt) -> list[ast.stmt]:
+        return self.split_off(ctx, loop) if ctx.split else [loop]
 
     def _s_While(self, s: n.While) -> list[ast.stmt]:
         test = self.cond(s.cond)
         b = self.temp()
         cont = backedge(b) + [ast.Continue()]
-        body = self._loop_body(s.body, cont) + backedge(b)
-        return [countdown_init(b), ast.While(test=test, body=body, orelse=[])]
+        body, ctx = self._loop_body(s.body, cont)
+        loop = ast.While(test=test, body=body + backedge(b), orelse=[])
+        return [countdown_init(b)] + self._placed(ctx, loop)
 
     def _s_DoWhile(self, s: n.DoWhile) -> list[ast.stmt]:
         b = self.temp()
@@ -83,7 +105,7 @@ class LoopLowering:
             )
         ]
         cont = at(exit_, s.cond.pos) + backedge(b) + [ast.Continue()]
-        body = self._loop_body(s.body, cont)
+        body, ctx = self._loop_body(s.body, cont)
         exit2 = [
             ast.If(
                 test=ast.UnaryOp(op=ast.Not(), operand=self.cond(s.cond)),
@@ -94,7 +116,7 @@ class LoopLowering:
         loop = ast.While(
             test=ast.Constant(True), body=body + at(exit2, s.cond.pos) + backedge(b), orelse=[]
         )
-        return [countdown_init(b), loop]
+        return [countdown_init(b)] + self._placed(ctx, loop)
 
     def _s_For(self, s: n.For) -> list[ast.stmt]:
         saved = self.scope
@@ -114,15 +136,15 @@ class LoopLowering:
                 else []
             )
             cont = step + backedge(b) + [ast.Continue()]
-            body = self._loop_body(s.body, cont)
+            body, ctx = self._loop_body(s.body, cont)
             step2 = (
                 at(self._s_ExprStmt(n.ExprStmt(s.step.pos, s.step)), s.step.pos)
                 if s.step is not None
                 else []
             )
             out.append(countdown_init(b))
-            out.append(ast.While(test=test, body=body + step2 + backedge(b), orelse=[]))
-            return out
+            loop = ast.While(test=test, body=body + step2 + backedge(b), orelse=[])
+            return out + self._placed(ctx, loop)
         finally:
             self.scope = saved
 
@@ -152,7 +174,7 @@ class LoopLowering:
         ):
             return None
         inc = self._step_of(step, ivar)
-        assigned = _assigned_names(s.body)
+        assigned = self._assigned_in(s.body)
         step_var = None
         if (
             inc is None
@@ -205,9 +227,9 @@ class LoopLowering:
         if known is not None:
             self.known_ranges[sym.pyname] = known  # lets indexing skip its bounds check
         try:
-            body = self._loop_body(s.body, cont, 2 if chunked else 1) + (
-                [] if chunked else backedge(b)
-            )
+            body, ctx = self._loop_body(s.body, cont, 2 if chunked else 1)
+            if not chunked:
+                body += backedge(b)
         finally:
             self.known_ranges.pop(sym.pyname, None)
         pre: list[ast.stmt] = []
@@ -220,9 +242,10 @@ class LoopLowering:
         else:
             step_node = const(inc)
         if chunked:
-            return pre + self._chunked_range(
+            loops = self._chunked_range(
                 sym, stop, step_node, body, outlives=not isinstance(s.init, n.DeclStmt)
             )
+            return pre + loops[:-1] + self._placed(ctx, loops[-1])
         pre.append(countdown_init(b))
         rng = call("range", name(sym.pyname), stop, step_node)
         outlives = not isinstance(s.init, n.DeclStmt)
@@ -242,7 +265,7 @@ class LoopLowering:
             )
             orelse = [ast.Assign(targets=[name(sym.pyname, True)], value=final)]
         loop = ast.For(target=name(sym.pyname, True), iter=rng, body=body, orelse=orelse)
-        return pre + [loop]
+        return pre + self._placed(ctx, loop)
 
     def _chunked_range(
         self, sym: VarSym, stop: ast.expr, step: ast.expr, body: list[ast.stmt], outlives: bool
@@ -401,6 +424,45 @@ def _assigned_names(body) -> set[str]:
         ):
             out.add(x.operand.id)
     return out
+
+
+def _fill_assigned(root, cache: dict[int, set[str]]) -> None:
+    """`cache[id(b)] = _assigned_names(b)` for `root` and the body `b` of every `for` in it:
+    one walk, each name added to its innermost `for` body, then merged outwards."""
+    sets: list[set[str]] = [set()]
+    parents: list[int] = [-1]
+    keys: list[int] = [id(root)]
+    stack: list = [(root, 0)]
+    children = _children_of
+    while stack:
+        x, frame = stack.pop()
+        t = type(x)
+        if t is tuple or t is list:
+            stack.extend((y, frame) for y in x)
+            continue
+        if x is None:
+            continue
+        if t is n.Assign:
+            if type(x.target) is n.Name:
+                sets[frame].add(x.target.id)
+        elif (t is n.Postfix or t is n.Unary) and x.op in ("++", "--", "&"):
+            if type(x.operand) is n.Name:
+                sets[frame].add(x.operand.id)
+        for fname in children(t):
+            v = getattr(x, fname)
+            if v is None:
+                continue
+            if t is n.For and fname == "body" and id(v) not in cache:
+                sets.append(set())
+                parents.append(frame)
+                keys.append(id(v))
+                stack.append((v, len(sets) - 1))
+            else:
+                stack.append((v, frame))
+    for k in range(len(sets) - 1, 0, -1):
+        sets[parents[k]] |= sets[k]
+    for k, key in enumerate(keys):
+        cache[key] = sets[k]
 
 
 _NESTING = (n.While, n.DoWhile, n.For, n.Switch)

@@ -18,6 +18,7 @@ from motionvm.lang.hmpl.lower_access import AccessLowering
 from motionvm.lang.hmpl.lower_expr import ExprLowering, SemanticError
 from motionvm.lang.hmpl.lower_jumps import JumpLowering
 from motionvm.lang.hmpl.lower_loops import LoopLowering, _assigned_names
+from motionvm.lang.hmpl.lower_split import SplitLowering, bind_splits
 from motionvm.lang.hmpl.lower_util import LoopCtx, at
 from motionvm.lang.hmpl.lvalues import call, name, view_code
 from motionvm.lang.hmpl.symbols import FuncSym, Scope, VarSym, error_symbol
@@ -28,7 +29,7 @@ from motionvm.runtime.kernel import EVENT_POLL, EVENT_WAIT, STATUS_POLL, STATUS_
 _S_METHODS: dict[type, object] = {}
 
 
-class FunctionLowerer(ExprLowering, AccessLowering, LoopLowering, JumpLowering):
+class FunctionLowerer(ExprLowering, AccessLowering, LoopLowering, JumpLowering, SplitLowering):
     """Lowers one function body (or one task's global initializers) of one task."""
 
     def __init__(
@@ -43,6 +44,8 @@ class FunctionLowerer(ExprLowering, AccessLowering, LoopLowering, JumpLowering):
         self.globals_stored: set[str] = set()
         self.loops: list[LoopCtx] = []
         self.py_blocks = 0  # Python blocks of the enclosing loops and switches
+        self.outer_blocks: list[int] = []  # py_blocks outside each enclosing loop
+        self.has_splits = False  # a loop became a nested function (lower_split.py)
         self.frame_size = 0
         self.frame_valid = bytearray()
         # bytes of the local arrays kept as Python lists: charged to the task's stack
@@ -370,19 +373,16 @@ class FunctionLowerer(ExprLowering, AccessLowering, LoopLowering, JumpLowering):
                     s.pos,
                     f"'return' with no value in function '{self.func.name}' returning '{ret}'",
                 )
-            return [ast.Return(value=None)]
+            return [self.split_return(None) or ast.Return(value=None)]
         v = self.expr(s.value)
         if isinstance(ret, ct.VoidT):
             if not isinstance(v.type, ct.VoidT):
                 raise self.fail(s.pos, f"'return' with a value in void function '{self.func.name}'")
-            return [ast.Expr(value=v.node), ast.Return(value=None)]
-        return [
-            ast.Return(
-                value=self.assign_convert(
-                    v, ret, s.value.pos, f" in the return value of '{self.func.name}'"
-                )
-            )
-        ]
+            return [ast.Expr(value=v.node), self.split_return(None) or ast.Return(value=None)]
+        value = self.assign_convert(
+            v, ret, s.value.pos, f" in the return value of '{self.func.name}'"
+        )
+        return [self.split_return(value) or ast.Return(value=value)]
 
     # ------------------------------------------------------------ constants
 
@@ -470,7 +470,10 @@ class FunctionLowerer(ExprLowering, AccessLowering, LoopLowering, JumpLowering):
             decorator_list=[],
             returns=None,
         )
-        return at([fn], f.pos)[0]
+        fn = at([fn], f.pos)[0]
+        if self.has_splits:
+            bind_splits(fn, set(gl))
+        return fn
 
 
 def _always_leaves(s) -> bool:

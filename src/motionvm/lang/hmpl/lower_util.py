@@ -15,15 +15,20 @@ class LoopCtx:
     cont: list = field(default_factory=list)  # statements a `continue` runs (loops)
     flag: str = ""  # switch: temp set when a `continue` leaves the switch
     flag_used: bool = False
+    split: bool = False  # lowered as a nested Python function of its own (lower_split.py)
+    returns: bool = False  # split: a `return` inside leaves through the nested function
 
 
 # Python allows 20 statically nested blocks (loops, try) in one function. A function
 # lowers with up to 3 of its own (the frame's try/finally, the goto dispatcher's loop and
 # try) and one more may come innermost (the wait loop of a `Till`); the rest hold the
 # user's loops and switches (one block each; a counting loop in chunks takes two while
-# there is room for them).
+# there is room for them). A loop or switch that would pass them is lowered as a nested
+# Python function, which starts with all its blocks free.
 PY_BLOCKS = 20
-MAX_LOOP_NESTING = PY_BLOCKS - 4
+LOOP_BLOCKS = PY_BLOCKS - 4
+"""Python blocks of loops and switches in one generated function, at most."""
+MAX_LOOP_NESTING = 256
 """Loops and switches nested in one function, at most (a documented HMPL limit)."""
 
 
@@ -68,6 +73,12 @@ def _walk_info(cls: type) -> tuple[bool, tuple[str, ...]]:
         fields = tuple(f for f in cls._fields if f not in _LEAF_FIELDS)
     info = _WALK[cls] = ("lineno" in cls._attributes, fields)
     return info
+
+
+def child_fields(cls: type) -> tuple[str, ...]:
+    """Fields of a node class that may hold nodes with a location (cached)."""
+    info = _WALK.get(cls)
+    return (info or _walk_info(cls))[1]
 
 
 def at(stmts: list[ast.stmt], pos) -> list[ast.stmt]:

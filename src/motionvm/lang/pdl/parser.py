@@ -21,7 +21,10 @@ from motionvm.source.files import SourcePos
 MAX_NESTING = 200
 """Combined nesting depth of if/else, while and loop (manual §2.2.8)."""
 
-MAX_PAREN_DEPTH = 200
+MAX_PAREN_DEPTH = 1000
+"""Parentheses nested in one condition, at most."""
+MAX_COND_OPERATORS = 20_000
+"""'&' and '|' in one condition, at most."""
 
 BINOPS = ("+", "-", "*", "/", "%", "&", "|", "@")
 COMPOUND_OPS = ("+=", "-=", "*=", "/=", "%=", "&=", "|=", "@=")
@@ -853,6 +856,11 @@ class Parser:
         ops: list[str] = []
         while self.peek().kind == "punct" and self.peek().text in ("&", "|"):
             op = self.next()
+            if len(ops) >= MAX_COND_OPERATORS:
+                raise self.fail(
+                    op,
+                    f"more than {MAX_COND_OPERATORS} '&' and '|' in one condition (the limit of PDL)",
+                )
             if ops and op.text != ops[-1] and len(set(ops)) == 1:
                 self.sink.warning(
                     op.pos,
@@ -895,7 +903,7 @@ class Parser:
             )
         return n.Not(tilde.pos, n.StateTest(ref.pos, ref))
 
-    # BNF: group = "(" cond ")"    (* at most 200 deep *)
+    # BNF: group = "(" cond ")"    (* at most 1000 deep *)
     def _parse_group(self) -> n.Cond:
         lp = self.next()
         if self.paren_depth >= MAX_PAREN_DEPTH:

@@ -10,11 +10,18 @@ from __future__ import annotations
 
 from motionvm.lang.pdl.front import front_end
 from motionvm.lang.pdl.lower import PdlProgram, lower_program
+from motionvm.source.deep import run_deep
 from motionvm.source.diagnostics import DiagnosticSink
 
 
 def compile_pdl(path: str, *, sink: DiagnosticSink, text: str | None = None) -> PdlProgram | None:
-    """The compiled program of `path` (or of `text` under that name); None on any error."""
+    """The compiled program of `path` (or of `text` under that name); None on any error.
+
+    Runs with room for deep recursion (long conditions, deep nests: `run_deep`)."""
+    return run_deep(_compile_pdl, path, sink, text)
+
+
+def _compile_pdl(path: str, sink: DiagnosticSink, text: str | None) -> PdlProgram | None:
     result = front_end(path, sink=sink, text=text)
     if result is None:
         return None

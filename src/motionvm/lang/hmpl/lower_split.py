@@ -1,0 +1,159 @@
+"""Deep loop nests split into nested Python functions.
+
+Python compiles at most 20 statically nested blocks (loops, try) into one function, far
+fewer than the loops HMPL lets a function nest. A loop or switch that would pass the
+blocks left in the generated function becomes a nested function of its own, called
+where the loop stood:
+
+    def _t9():
+        nonlocal v_i, _t4          # the enclosing locals the loop assigns
+        global _budget
+        while ...:                 # the loop, with all 20 blocks free again
+            ...
+    _t10 = yield from _t9()        # a plain call when nothing inside waits
+    if _t10 is not None:           # only when a `return` stands inside
+        return _t10[0]             # `return _t10` from a split inside another one
+
+Jumps keep their meaning: `break` and `continue` of the loop itself stay inside the
+function; a `continue` that leaves a split switch sets the switch's flag, tested after
+the call as before; a `return` inside returns `(value,)`, handed out level by level; a
+`goto` raises `_Goto`, which passes through the calls. Ordinary programs never nest this
+deep, so their generated code is unchanged.
+"""
+
+from __future__ import annotations
+
+import ast
+
+from motionvm.lang.hmpl import ctypes_ as ct
+from motionvm.lang.hmpl.lower_util import child_fields
+from motionvm.lang.hmpl.lvalues import name
+
+_NO_ARGS = ast.arguments(
+    posonlyargs=[], args=[], vararg=None, kwonlyargs=[], kw_defaults=[], kwarg=None, defaults=[]
+)
+
+
+class SplitLowering:
+    """Mixin of the function lowerer: loops lowered as nested functions."""
+
+    def split_off(self, ctx, loop: ast.stmt) -> list[ast.stmt]:
+        """The call of a new nested function holding `loop` (ctx: the loop's LoopCtx)."""
+        fname = self.temp()
+        fn = ast.FunctionDef(
+            name=fname,
+            args=_NO_ARGS,
+            body=[loop],
+            decorator_list=[],
+            returns=None,
+        )
+        fn._split = True  # bind_splits gives it its nonlocal and global declarations
+        self.has_splits = True
+        fcall = ast.Call(func=name(fname), args=[], keywords=[])
+        if ctx.kind == "loop" or _yields([loop]):
+            fcall = ast.YieldFrom(value=fcall)
+        if not ctx.returns:
+            return [fn, ast.Expr(value=fcall)]
+        code = self.temp()
+        if any(c.split for c in self.loops):
+            out: ast.expr | None = name(code)  # still inside a split: hand the code out
+        elif self.func is not None and isinstance(self.func.type.ret, ct.VoidT):
+            out = None
+        else:
+            out = ast.Subscript(value=name(code), slice=ast.Constant(0), ctx=ast.Load())
+        test = ast.Compare(left=name(code), ops=[ast.IsNot()], comparators=[ast.Constant(None)])
+        return [
+            fn,
+            ast.Assign(targets=[name(code, True)], value=fcall),
+            ast.If(test=test, body=[ast.Return(value=out)], orelse=[]),
+        ]
+
+    def split_return(self, value: ast.expr | None) -> ast.stmt | None:
+        """Inside a split loop, the `return` statement leaving it: `return (value,)`;
+        None outside one."""
+        inside = False
+        for c in self.loops:
+            if c.split:
+                c.returns = inside = True
+        if not inside:
+            return None
+        return ast.Return(value=ast.Tuple(elts=[value or ast.Constant(None)], ctx=ast.Load()))
+
+
+def bind_splits(fn: ast.FunctionDef, declared_global: set[str]) -> None:
+    """Give each split function in `fn` its declarations: `nonlocal` for the names it
+    assigns that an enclosing function binds, `global` for the globals it assigns."""
+    todo: list[tuple[ast.FunctionDef, frozenset[str]]] = [(fn, frozenset())]
+    while todo:
+        f, above = todo.pop()
+        stores, nested = _scan(f.body)
+        if getattr(f, "_split", False):
+            decls: list[ast.stmt] = []
+            glob = sorted(stores & declared_global)
+            if glob:
+                decls.append(ast.Global(names=glob))
+            outer = sorted((stores & above) - declared_global)
+            if outer:
+                decls.append(ast.Nonlocal(names=outer))
+            for d in decls:
+                ast.copy_location(d, f)
+            f.body[:0] = decls
+        else:
+            stores |= {a.arg for a in f.args.args}
+        bound = above | (stores - declared_global)
+        todo.extend((g, bound) for g in nested)
+
+
+def _scan(body: list[ast.stmt]) -> tuple[set[str], list[ast.FunctionDef]]:
+    """Names assigned in `body` (not in nested functions), and those nested functions."""
+    stores: set[str] = set()
+    nested: list[ast.FunctionDef] = []
+    stack: list = list(body)
+    pop, push, extend = stack.pop, stack.append, stack.extend
+    while stack:
+        x = pop()
+        t = type(x)
+        if t is ast.Name:
+            if type(x.ctx) is ast.Store:
+                stores.add(x.id)
+            continue
+        if t is ast.FunctionDef:
+            stores.add(x.name)
+            nested.append(x)
+            continue
+        if t is ast.ExceptHandler and x.name:
+            stores.add(x.name)
+        fields = child_fields(t)
+        if not fields:
+            continue
+        d = x.__dict__
+        for f in fields:
+            v = d.get(f)
+            if v is not None:
+                if type(v) is list:
+                    extend(v)
+                else:
+                    push(v)
+    return stores, nested
+
+
+def _yields(body: list[ast.stmt]) -> bool:
+    """`body` yields (not counting nested functions): its function is a generator."""
+    stack: list = list(body)
+    while stack:
+        x = stack.pop()
+        t = type(x)
+        if t is ast.Yield or t is ast.YieldFrom:
+            return True
+        fields = child_fields(t)
+        if t is ast.FunctionDef or not fields:
+            continue
+        d = x.__dict__
+        for f in fields:
+            v = d.get(f)
+            if v is not None:
+                if type(v) is list:
+                    stack.extend(v)
+                else:
+                    stack.append(v)
+    return False
