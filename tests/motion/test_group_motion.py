@@ -10,6 +10,8 @@ from group_util import Recorder, cycle, grouped, grp_err, until
 
 from motionvm.motion import group as grp
 from motionvm.motion.group_coords import CS_MCS, CS_PCS
+from motionvm.motion.group_motion import TM_CONST_VEL, TM_CORNER_DIST, TM_MAX_CORNER_DEV
+from motionvm.motion.group_path import Line
 from motionvm.motion.group_plan import BM_ABORT, BM_BUFF, BM_LOW
 
 ZERO4 = [0.0] * 4
@@ -171,3 +173,26 @@ def test_3d_line_on_a_2_axis_group_moves_x_and_y():
         grp.CRD_INVALID_LIN_VEL)  # fmt: skip
     assert c.LineAbs(0, [0] * 6, [10, 1000, 1000, 0], CS_MCS, 9, 0, ZERO4) == grp_err(
         grp.CRD_BLEND_MODE_UNKNOWN)  # fmt: skip
+
+
+@pytest.mark.parametrize(
+    "tm, prm",
+    [
+        (TM_CORNER_DIST, [0.0, 1e-100, 0.0, 0.0]),
+        (TM_CONST_VEL, [50.0, 1e-100, 0.0, 0.0]),
+        (TM_MAX_CORNER_DEV, [142.46, 3.3696900149282853e-124, 1.93, 0.0]),  # found by hypothesis
+        (TM_MAX_CORNER_DEV, [0.0, 0.0, 1e-300, 0.0]),
+    ],
+)
+def test_a_trim_below_the_position_resolution_leaves_the_corner(tm, prm):
+    """A corner on y = 0 with a trim of 1e-100 mm: the blend would be rounding noise
+    (a 7e-15 mm polyline whose kinks of 1e-124 mm cap its speed near 1e-62 mm/s, a
+    path that never comes to rest). The corner stays, as with a parameter of 0."""
+    c = grouped(2)
+    prof = [100.0, 10000.0, 10000.0, 0.0]
+    assert c.LineAbs(0, [-4.898, 0.0, 0, 0, 0, 0], prof, CS_MCS, BM_LOW, 0, ZERO4) == 0
+    assert c.LineAbs(0, [-25.065, -33.033, 0, 0, 0, 0], prof, CS_MCS, BM_LOW, tm, prm) == 0
+    assert all(isinstance(s.geom, Line) for s in c.motion.groups[0].planner.queue)
+    rec = Recorder(c)
+    assert rec.run(limit=5_000) < 1_000
+    assert rec.poses[-1] == [-25.065, -33.033]
