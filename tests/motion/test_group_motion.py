@@ -196,3 +196,18 @@ def test_a_trim_below_the_position_resolution_leaves_the_corner(tm, prm):
     rec = Recorder(c)
     assert rec.run(limit=5_000) < 1_000
     assert rec.poses[-1] == [-25.065, -33.033]
+
+
+def test_a_trim_just_above_the_position_resolution_still_blends():
+    c = grouped(2)
+    prof = [100.0, 10000.0, 10000.0, 0.0]
+    assert c.LineAbs(0, [-4.898, 0.0, 0, 0, 0, 0], prof, CS_MCS, BM_LOW, 0, ZERO4) == 0
+    prm = [0.0, 1e-8, 0.0, 0.0]
+    assert (
+        c.LineAbs(0, [-25.065, -33.033, 0, 0, 0, 0], prof, CS_MCS, BM_LOW, TM_CORNER_DIST, prm) == 0
+    )
+    kinds = [type(s.geom).__name__ for s in c.motion.groups[0].planner.queue]
+    assert kinds == ["Line", "Polyline", "Line"]
+    rec = Recorder(c)
+    assert rec.run(limit=5_000) < 1_000
+    assert rec.poses[-1] == [-25.065, -33.033]
