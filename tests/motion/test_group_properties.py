@@ -14,7 +14,7 @@ import math
 import os
 
 from group_util import Recorder, cycle, distance_to_segment, grouped, until
-from hypothesis import HealthCheck, Phase, example, given, settings
+from hypothesis import HealthCheck, Phase, assume, example, given, settings
 from hypothesis import strategies as hs
 
 from motionvm.motion.group_coords import CS_MCS
@@ -121,6 +121,9 @@ def test_random_paths_keep_every_limit(mvs, scale):
         geoms += [s.geom for s in before]  # trimmed in place by a transition
     if last is None:
         return
+    # a path that needs minutes at its programmed feeds (a long blend at trans_vel
+    # 0.02 mm/s) is slow, not creeping: left out; any other comes to rest within 400 s
+    assume(sum(s.length / (s.feed * g.planner.scale) for s in g.planner.queue) <= 200.0)
     rec = Recorder(c)
     rec.run(limit=400_000)
     dt = c.motion.dt
