@@ -10,7 +10,12 @@ from group_util import Recorder, cycle, grouped, grp_err, until
 
 from motionvm.motion import group as grp
 from motionvm.motion.group_coords import CS_MCS, CS_PCS
-from motionvm.motion.group_motion import TM_CONST_VEL, TM_CORNER_DIST, TM_MAX_CORNER_DEV
+from motionvm.motion.group_motion import (
+    TM_CONST_VEL,
+    TM_CORNER_DIST,
+    TM_MAX_CORNER_CURV,
+    TM_MAX_CORNER_DEV,
+)
 from motionvm.motion.group_path import Line
 from motionvm.motion.group_plan import BM_ABORT, BM_BUFF, BM_LOW
 
@@ -211,3 +216,15 @@ def test_a_trim_just_above_the_position_resolution_still_blends():
     rec = Recorder(c)
     assert rec.run(limit=5_000) < 1_000
     assert rec.poses[-1] == [-25.065, -33.033]
+
+
+def test_a_subnormal_curvature_limit_leaves_the_corner():
+    """TM_MAX_CORNER_CURV with trans_curv 5e-324 (found by the property test): the trim
+    is longer than either segment, so the corner stays (was a division by zero)."""
+    c = grouped(2)
+    prof = [100.0, 10000.0, 10000.0, 0.0]
+    assert c.LineAbs(0, [0.0, 1.0, 0, 0, 0, 0], prof, CS_MCS, BM_LOW, 0, ZERO4) == 0
+    prm = [0.0, 0.0, 0.0, 5e-324]
+    assert c.LineAbs(0, [1.0, 0.0, 0, 0, 0, 0], prof, CS_MCS, BM_LOW, TM_MAX_CORNER_CURV, prm) == 0
+    assert all(isinstance(s.geom, Line) for s in c.motion.groups[0].planner.queue)
+    assert ends(c) == [1.0, 0.0]

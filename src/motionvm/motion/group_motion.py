@@ -213,7 +213,8 @@ def _trim_length(group: AxisGroup, tm: int, prm, alpha: float) -> float:
     if tm == TM_MAX_CORNER_CURV:
         if curv <= 0.0:
             return 0.0
-        return 4.0 * math.sin(theta) / (curv * (2.0 - 2.0 * math.cos(theta)) ** 1.5)
+        # the limit divides last: curv * (...) of a subnormal curv is 0 (inf here: no blend)
+        return 4.0 * math.sin(theta) / (2.0 - 2.0 * math.cos(theta)) ** 1.5 / curv
     return 0.0
 
 
