@@ -10,6 +10,13 @@ from group_util import Recorder, cycle, grouped, grp_err, until
 
 from motionvm.motion import group as grp
 from motionvm.motion.group_coords import CS_MCS, CS_PCS
+from motionvm.motion.group_motion import (
+    TM_CONST_VEL,
+    TM_CORNER_DIST,
+    TM_MAX_CORNER_CURV,
+    TM_MAX_CORNER_DEV,
+)
+from motionvm.motion.group_path import Line
 from motionvm.motion.group_plan import BM_ABORT, BM_BUFF, BM_LOW
 
 ZERO4 = [0.0] * 4
@@ -171,3 +178,70 @@ def test_3d_line_on_a_2_axis_group_moves_x_and_y():
         grp.CRD_INVALID_LIN_VEL)  # fmt: skip
     assert c.LineAbs(0, [0] * 6, [10, 1000, 1000, 0], CS_MCS, 9, 0, ZERO4) == grp_err(
         grp.CRD_BLEND_MODE_UNKNOWN)  # fmt: skip
+
+
+@pytest.mark.parametrize(
+    "tm, prm",
+    [
+        (TM_CORNER_DIST, [0.0, 1e-100, 0.0, 0.0]),
+        (TM_CONST_VEL, [50.0, 1e-100, 0.0, 0.0]),
+        (TM_MAX_CORNER_DEV, [142.46, 3.3696900149282853e-124, 1.93, 0.0]),  # found by hypothesis
+        (TM_MAX_CORNER_DEV, [0.0, 0.0, 1e-300, 0.0]),
+    ],
+)
+def test_a_trim_below_the_position_resolution_leaves_the_corner(tm, prm):
+    """A corner on y = 0 with a trim of 1e-100 mm: the blend would be rounding noise
+    (a 7e-15 mm polyline whose kinks of 1e-124 mm cap its speed near 1e-62 mm/s, a
+    path that never comes to rest). The corner stays, as with a parameter of 0."""
+    c = grouped(2)
+    prof = [100.0, 10000.0, 10000.0, 0.0]
+    assert c.LineAbs(0, [-4.898, 0.0, 0, 0, 0, 0], prof, CS_MCS, BM_LOW, 0, ZERO4) == 0
+    assert c.LineAbs(0, [-25.065, -33.033, 0, 0, 0, 0], prof, CS_MCS, BM_LOW, tm, prm) == 0
+    assert all(isinstance(s.geom, Line) for s in c.motion.groups[0].planner.queue)
+    rec = Recorder(c)
+    assert rec.run(limit=5_000) < 1_000
+    assert rec.poses[-1] == [-25.065, -33.033]
+
+
+def test_a_trim_just_above_the_position_resolution_still_blends():
+    c = grouped(2)
+    prof = [100.0, 10000.0, 10000.0, 0.0]
+    assert c.LineAbs(0, [-4.898, 0.0, 0, 0, 0, 0], prof, CS_MCS, BM_LOW, 0, ZERO4) == 0
+    prm = [0.0, 1e-8, 0.0, 0.0]
+    assert (
+        c.LineAbs(0, [-25.065, -33.033, 0, 0, 0, 0], prof, CS_MCS, BM_LOW, TM_CORNER_DIST, prm) == 0
+    )
+    kinds = [type(s.geom).__name__ for s in c.motion.groups[0].planner.queue]
+    assert kinds == ["Line", "Polyline", "Line"]
+    rec = Recorder(c)
+    assert rec.run(limit=5_000) < 1_000
+    assert rec.poses[-1] == [-25.065, -33.033]
+
+
+def test_a_subnormal_curvature_limit_leaves_the_corner():
+    """TM_MAX_CORNER_CURV with trans_curv 5e-324 (found by the property test): the trim
+    is longer than either segment, so the corner stays (was a division by zero)."""
+    c = grouped(2)
+    prof = [100.0, 10000.0, 10000.0, 0.0]
+    assert c.LineAbs(0, [0.0, 1.0, 0, 0, 0, 0], prof, CS_MCS, BM_LOW, 0, ZERO4) == 0
+    prm = [0.0, 0.0, 0.0, 5e-324]
+    assert c.LineAbs(0, [1.0, 0.0, 0, 0, 0, 0], prof, CS_MCS, BM_LOW, TM_MAX_CORNER_CURV, prm) == 0
+    assert all(isinstance(s.geom, Line) for s in c.motion.groups[0].planner.queue)
+    assert ends(c) == [1.0, 0.0]
+
+
+def test_an_arc_whose_end_radius_differs_within_the_tolerance_ends_without_a_jump():
+    """Radii 14.129 at the start and 14.142 at the end (0.09 %, accepted; found by the
+    property test): the radius changes along the arc instead of the path jumping the
+    0.013 mm onto the end in its last cycle (an axis acceleration of 12,900 mm/s^2)."""
+    c = grouped(2)
+    prof = [20.0, 200.0, 200.0, 0.0]
+    assert c.LineAbs(0, [14.0, 1.906, 0, 0, 0, 0], prof, CS_MCS, BM_BUFF, 0, ZERO4) == 0
+    assert c.CircleAbs(0, [0, 0, 0], [0, 0, 1], -2, [2.0, 14.0, 0, 0, 0, 0], prof, CS_MCS,
+                       BM_BUFF, 0, ZERO4) == 0  # fmt: skip
+    rec = Recorder(c)
+    rec.run()
+    steps = [math.dist(p, q) for p, q in zip(rec.poses, rec.poses[1:])]
+    assert max(steps) <= 20.0 * 0.001 * (1 + 1e-6)
+    assert max(abs(a) for acc in rec.axis_acc for a in acc) < 250.0
+    assert rec.poses[-1] == [2.0, 14.0]

@@ -13,9 +13,8 @@ from __future__ import annotations
 import math
 import os
 
-import pytest
 from group_util import Recorder, cycle, distance_to_segment, grouped, until
-from hypothesis import HealthCheck, Phase, given, settings
+from hypothesis import HealthCheck, Phase, assume, example, given, settings
 from hypothesis import strategies as hs
 
 from motionvm.motion.group_coords import CS_MCS
@@ -78,21 +77,31 @@ def _distance_to(p, geom) -> float:
     """Distance from p to a line, a planar arc or a blend polyline."""
     if isinstance(geom, Line):
         return distance_to_segment(p, geom.start, geom.end)
-    if isinstance(geom, Arc):
-        c, r = geom.center, geom.r
-        ends = min(math.dist(p, geom.start), math.dist(p, geom.end))
-        a_p = math.atan2(p[1] - c[1], p[0] - c[0])
-        a_0 = math.atan2(geom.start[1] - c[1], geom.start[0] - c[0])
-        rel = (a_p - a_0) % (2 * math.pi) if geom.phi > 0 else (a_0 - a_p) % (2 * math.pi)
-        if abs(geom.phi) >= 2 * math.pi or rel <= abs(geom.phi):
-            return min(ends, abs(math.dist(p, c[:2]) - r))
-        return ends
+    if isinstance(geom, Arc):  # its radius may change by RADIUS_TOL from start to end
+        return _distance_to_helix(p, geom)
     pts = geom._pts
     return min(distance_to_segment(p, a, b) for a, b in zip(pts, pts[1:]))
 
 
+# found by the property test: a corner on y = 0 trimmed by 3.4e-124 mm made a blend of
+# rounding noise that crept for ever (the arcs are refused: unequal radii)
+_CREEP = [
+    ("line", (-4.898, -0.0), None, 0, [72.5, 5928.9, 3993.0, 0.0], 2, 4, [281.0, 15.7, 2.78, 0.0]),
+    ("arc", (-0.0, -11.297), (-3.01, -19.849), 2, [162.3, 11570.9, 2000.0, 50.0], 4, 2,
+     [244.3, 6.247, 9.5e-106, 0.88]),
+    ("line", (-25.065, -33.033), None, 0, [303.3, 19999.0, 999.05, 0.0], 6, 4,
+     [142.46, 3.3696900149282853e-124, 1.93, 0.2]),
+]  # fmt: skip
+
+
 @PROFILE
 @given(hs.lists(moves(), min_size=1, max_size=5), hs.sampled_from([100.0, 100.0, 60.0]))
+@example(_CREEP, 100.0)
+@example(  # found by the property test: end radius 0.09 % off, the end was a jump
+    [("line", (14.0, 1.906), None, 0, [20.0, 200.0, 200.0, 0.0], 0, 0, [0.0] * 4),
+     ("arc", (2.0, 14.0), (0.0, 0.0), -2, [20.0, 200.0, 200.0, 0.0], 0, 0, [0.0] * 4)],
+    100.0,
+)  # fmt: skip
 def test_random_paths_keep_every_limit(mvs, scale):
     c = grouped(2)
     g = c.motion.groups[0]
@@ -110,15 +119,11 @@ def test_random_paths_keep_every_limit(mvs, scale):
         geoms += [s.geom for s in before]  # trimmed in place by a transition
     if last is None:
         return
+    # a path that needs minutes at its programmed feeds (a long blend at trans_vel
+    # 0.02 mm/s) is slow, not creeping: left out; any other comes to rest within 400 s
+    assume(sum(s.length / (s.feed * g.planner.scale) for s in g.planner.queue) <= 200.0)
     rec = Recorder(c)
-    try:
-        rec.run(limit=400_000)
-    except AssertionError as exc:
-        if "never came to rest" not in str(exc):
-            raise
-        # a known bug, listed in the README's known gaps: some mixes of an arc with
-        # corner transitions creep for millions of cycles instead of ending
-        pytest.xfail("known: a path that creeps instead of coming to rest")
+    rec.run(limit=400_000)
     dt = c.motion.dt
     for speed in rec.speeds:
         assert speed <= feed_max * scale / 100.0 * (1 + 1e-6) + 1e-6

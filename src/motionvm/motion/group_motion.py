@@ -27,7 +27,8 @@ segments; TM_MAX_CORNER_DEV trims at most trans_dis, less if the blend would lea
 corner by more than trans_dev (deviation = d/2 * cos(theta/2), theta the corner angle);
 TM_MAX_CORNER_CURV trims so that the blend's curvature is trans_curv at most
 (kappa = 4 sin(theta) / (d (2 - 2 cos(theta))^1.5)). A trim longer than what is left of
-either segment, or a parameter of 0 that the mode needs, leaves the corner as it is.
+either segment, a parameter of 0 that the mode needs, or a trim below the position
+resolution at the corner (`P_TOL`, `_resolved`) leaves the corner as it is.
 Look-ahead corner speed: V_corner = A_corner * T_w / |t_1 - t_0| (T_w the smoothing
 window, at least one cycle; t the unit directions): the velocity turns over T_w with at
 most A_corner. The manual's table writes the denominator as 1 - cos(theta); this form
@@ -56,6 +57,7 @@ from motionvm.motion.group_plan import (
     Planned,
 )
 from motionvm.motion.tcurve import rest_to_rest_time
+from motionvm.motion.tolerances import P_TOL
 
 TM_NONE, TM_START_VEL, TM_CONST_VEL, TM_CORNER_DIST, TM_MAX_CORNER_DEV, TM_MAX_CORNER_CURV = range(
     6
@@ -211,8 +213,19 @@ def _trim_length(group: AxisGroup, tm: int, prm, alpha: float) -> float:
     if tm == TM_MAX_CORNER_CURV:
         if curv <= 0.0:
             return 0.0
-        return 4.0 * math.sin(theta) / (curv * (2.0 - 2.0 * math.cos(theta)) ** 1.5)
+        # the limit divides last: curv * (...) of a subnormal curv is 0 (inf here: no blend)
+        return 4.0 * math.sin(theta) / (2.0 - 2.0 * math.cos(theta)) ** 1.5 / curv
     return 0.0
+
+
+def _resolved(d: float, corner) -> bool:
+    """True if a trim of d [mm] at `corner` is above the position resolution there
+    (`P_TOL`, relative to the corner's coordinates beyond 1 mm). A smaller trim would
+    make a blend of rounding noise: points that differ by the rounding of the
+    coordinates, a length of noise (7e-15 mm from a 1e-100 mm trim) and kinks whose
+    radius (1e-127 mm next to a zero coordinate) caps its speed near zero, a path that
+    never ends. Such a trim rounds the corner by less than `P_TOL`: the corner stays."""
+    return d > P_TOL * max(1.0, max(abs(x) for x in corner[:3]))
 
 
 def _transition(group: AxisGroup, prev: Planned, new_geom, tm: int, prm):
@@ -228,7 +241,7 @@ def _transition(group: AxisGroup, prev: Planned, new_geom, tm: int, prm):
         return None
     d = _trim_length(group, tm, prm, alpha)
     left = prev.length - (group.planner.u if running else 0.0)
-    if not (0.0 < d <= left and d <= new_geom.lt):
+    if not (_resolved(d, prev.geom.end) and d <= left and d <= new_geom.lt):
         return None
     f_cut = 1.0 - d / prev.length
     p_geom = prev.geom.sub(0.0, f_cut)

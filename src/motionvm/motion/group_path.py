@@ -124,15 +124,19 @@ class Line(Segment):
 
 
 class Arc(Segment):
-    """A circular arc or helix about `center` [mm] with axis `normal` (unit, right hand)."""
+    """A circular arc or helix about `center` [mm] with axis `normal` (unit, right hand).
 
-    __slots__ = ("_e1", "_e2", "_h", "_rot0", "_rotd", "center", "normal", "phi", "r")
+    `r` is the radius at the start; the end's radius may differ by up to `RADIUS_TOL`
+    (`_dr`): the radius then changes linearly with f, so the arc ends on its end point
+    instead of jumping onto it in the last cycle."""
+
+    __slots__ = ("_dr", "_e1", "_e2", "_h", "_rot0", "_rotd", "center", "normal", "phi", "r")
 
     def __init__(self, start, end, center, normal, phi: float, _trimmed=None):
         super().__init__(start, end)
         n = self.n
         if _trimmed is not None:
-            (self.center, self.normal, self._e1, self._e2, self.r, self._h) = _trimmed
+            (self.center, self.normal, self._e1, self._e2, self.r, self._h, self._dr) = _trimmed
         else:
             c = _pad3(center)
             nn = _unit(_pad3(normal))
@@ -154,13 +158,15 @@ class Arc(Segment):
             # the circle's centre in the plane of the start point (the given centre may
             # lie anywhere on the axis)
             self.center = [x + hs * y for x, y in zip(c, nn)]
-            self.normal, self.r, self._h = nn, rad0, he - hs
+            self.normal, self.r, self._h, self._dr = nn, rad0, he - hs, rad1 - rad0
             self._e1 = [x / rad0 for x in r0]
             self._e2 = _cross(nn, self._e1)
         self.phi = phi
         self._rot0 = list(self.start[3:])
         self._rotd = _sub(self.end[3:], self.start[3:])
-        self.lt = math.hypot(self.r * phi, self._h)
+        # with a changing radius, the length at the larger one: the speed along the arc
+        # never exceeds the planned path speed
+        self.lt = math.hypot(max(self.r, self.r + self._dr) * phi, self._h, self._dr)
         self.lr = _norm(self._rotd)
         if n < 3 and abs(self._h) > 1e-9:
             raise PathError(0x028A, "a helix needs a Z axis in the group")
@@ -168,7 +174,7 @@ class Arc(Segment):
     def _xyz(self, f: float) -> list[float]:
         a = f * self.phi
         ca, sa = math.cos(a), math.sin(a)
-        r, h = self.r, f * self._h
+        r, h = self.r + f * self._dr, f * self._h
         return [c + r * (ca * e1 + sa * e2) + h * nv
                 for c, e1, e2, nv in zip(self.center, self._e1, self._e2, self.normal)]  # fmt: skip
 
@@ -181,14 +187,14 @@ class Arc(Segment):
     def tangent(self, f: float) -> list[float]:
         a = f * self.phi
         ca, sa = math.cos(a), math.sin(a)
-        rp = self.r * self.phi
-        t = [rp * (-sa * e1 + ca * e2) + self._h * nv
+        rp, dr = (self.r + f * self._dr) * self.phi, self._dr
+        t = [rp * (-sa * e1 + ca * e2) + dr * (ca * e1 + sa * e2) + self._h * nv
              for e1, e2, nv in zip(self._e1, self._e2, self.normal)]  # fmt: skip
         return _unit(t[: min(self.n, 3)])
 
     @property
     def radius(self) -> float:
-        return self.r
+        return min(self.r, self.r + self._dr)
 
     def sub(self, f_0: float, f_1: float) -> Arc:
         a0 = f_0 * self.phi
@@ -197,7 +203,8 @@ class Arc(Segment):
         e2 = _cross(self.normal, e1)
         c = [cc + f_0 * self._h * nv for cc, nv in zip(self.center, self.normal)]
         return Arc(self.point(f_0), self.point(f_1), None, None, (f_1 - f_0) * self.phi,
-                   _trimmed=(c, self.normal, e1, e2, self.r, (f_1 - f_0) * self._h))  # fmt: skip
+                   _trimmed=(c, self.normal, e1, e2, self.r + f_0 * self._dr,
+                             (f_1 - f_0) * self._h, (f_1 - f_0) * self._dr))  # fmt: skip
 
 
 class Polyline(Segment):
