@@ -32,7 +32,7 @@ from motionvm.motion.axis_config import AxisConfig
 from motionvm.motion.config_vars import ConfigVarTable
 from motionvm.motion.gantry import GantrySet
 from motionvm.motion.gear import GearBox
-from motionvm.motion.group import DISABLED, GroupSet
+from motionvm.motion.group import GroupSet
 from motionvm.motion.homing import AxisHoming
 from motionvm.motion.inshape import InShapeSettings
 from motionvm.motion.touchprobe import TouchProbe
@@ -134,8 +134,8 @@ class MotionKernel:
 
     def groups_moving(self) -> bool:
         """`groups.busy()`: a group moves (only an enabled group's planner is asked)."""
-        for g in self.groups.groups:
-            if g.state != DISABLED and g.moving:
+        for g in self.groups.enabled:
+            if g.moving:
                 return True
         return False
 
