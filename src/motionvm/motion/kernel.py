@@ -113,7 +113,9 @@ class MotionKernel:
         """The motion phase of one cycle: the bus, then every axis in `step_order`."""
         if self._bus_steps:
             self.ecat_state = self._bus_steps.pop(0)
-        self.groups.step()
+        groups = self.groups
+        if groups.enabled:  # most cycles no group is enabled: no call
+            groups.step()
         for a in self.step_order:
             a.step()
 
