@@ -63,6 +63,24 @@ def test_enable_needs_enabled_axes_and_at_most_six_for_cartesian():
     assert c.AddAxisToGrp(0, 7) == grp_err(grp.CRD_INVALID_STATE)
 
 
+def test_a_cycle_visits_the_enabled_groups_only():
+    """The group set keeps the list of enabled groups, by id, as groups are enabled and
+    disabled (directly, by UngrpAllAxes): a cycle steps those and no other."""
+    c = grouped(2, gid=5)
+    groups = c.motion.groups
+    assert groups.enabled == [groups[5]]
+    assert c.Enable(2) == 0
+    until(c, lambda: c.IsEnabled(2))
+    assert c.AddAxisToGrp(1, 2) == 0 and c.EnableGroup(1) == 0
+    assert groups.enabled == [groups[1], groups[5]]
+    assert c.LineAbs2D(5, 3.0, 4.0) == 0
+    until(c, lambda: c.IsGrpInPos(5))
+    assert [a.ref_pos for a in groups[5].axes] == [3.0, 4.0]
+    assert c.DisableGroup(5) == 0 and groups.enabled == [groups[1]]
+    assert c.UngrpAllAxes(1) == 0 and groups.enabled == []
+    assert not c.motion.groups_moving()
+
+
 def test_grouped_axis_refuses_single_axis_moves():
     c = grouped(2)
     code = st.axis_error(st.CMD_INVALID_GROUPED, 1)

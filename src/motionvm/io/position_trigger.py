@@ -50,6 +50,7 @@ from collections.abc import Callable, Iterable, Sequence
 
 from motionvm.motion import axis_status as st
 from motionvm.motion.axis_status import AxisCommandError
+from motionvm.runtime.clients import PassiveClient
 from motionvm.runtime.scope import BIT_UNIT, RAW_UNIT, ScopeError
 from motionvm.runtime.waits import Waiting
 
@@ -335,8 +336,9 @@ class _Output:
 CHANNELS = ("pt_count", "pt_out", "pt_enabled")
 
 
-class PositionTriggers:
-    """The PT of every axis: a cycle client of the controller and a scope source."""
+class PositionTriggers(PassiveClient):
+    """The PT of every axis: a cycle client of the controller and a scope source
+    (nothing before the tasks: `begin_cycle` is `PassiveClient`'s)."""
 
     def __init__(self, motion, clock) -> None:
         self.clock = clock
@@ -359,9 +361,6 @@ class PositionTriggers:
         return self.triggers[axis_id]
 
     # ---- cycle client ---------------------------------------------------------------
-
-    def begin_cycle(self) -> None:
-        """Nothing before the tasks."""
 
     def end_cycle(self) -> None:
         """After the motion step: every armed PT takes its axis's position sample."""

@@ -81,12 +81,13 @@ class AxisCycle:
             self.ref_vel = v
             self.ref_acc = a
             # the stop positions are +-inf while the software limits are off
-            if p >= self._sw_stop_right and v > 0.0:
-                if self._reference_source != TORQUE:
-                    self._limit_stop(st.SWRL, st.FS_SW_RIGHT)
-            elif p <= self._sw_stop_left and v < 0.0:
-                if self._reference_source != TORQUE:
-                    self._limit_stop(st.SWLL, st.FS_SW_LEFT)
+            if not self._sw_stop_left < p < self._sw_stop_right:
+                if p >= self._sw_stop_right and v > 0.0:
+                    if self._reference_source != TORQUE:
+                        self._limit_stop(st.SWRL, st.FS_SW_RIGHT)
+                elif p <= self._sw_stop_left and v < 0.0:
+                    if self._reference_source != TORQUE:
+                        self._limit_stop(st.SWLL, st.FS_SW_LEFT)
             mode = self.op_mode
             if mode == MODE_CSP:
                 # x.__round__() is round(x) without the built-in's method lookup

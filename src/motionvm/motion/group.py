@@ -157,6 +157,9 @@ class AxisGroup:
         """End pose [MCS] of the last queued segment: where a relative move starts from."""
         self.jogging = False
         self.link = GroupLink(self)
+        self.group_set: GroupSet | None = None
+        """The set that steps this group (it sets this); told when the group is enabled
+        or disabled, so a cycle visits the enabled groups only."""
 
     def __repr__(self) -> str:
         return f"axis group {self.group_id}"
@@ -238,6 +241,8 @@ class AxisGroup:
         self._attach()
         self.state = STANDBY
         self.fault_status = 0
+        if self.group_set is not None:
+            self.group_set.power_changed()
 
     def _attach(self) -> None:
         self._index = {a.axis_id: i for i, a in enumerate(self.axes)}
@@ -267,6 +272,8 @@ class AxisGroup:
             raise self.fail(CRD_INVALID_MOVING, "is moving (call StopGroup first)")
         self._detach()
         self.state = DISABLED
+        if self.group_set is not None:
+            self.group_set.power_changed()
 
     def _detach(self) -> None:
         for a in self.axes:
@@ -466,6 +473,14 @@ class GroupSet:
     def __init__(self, kernel, n_groups: int, dt: float) -> None:
         self.kernel = kernel
         self.groups = [AxisGroup(g, dt, kernel) for g in range(n_groups)]
+        self.enabled: list[AxisGroup] = []
+        """The enabled groups, by group id (`power_changed` keeps it)."""
+        for g in self.groups:
+            g.group_set = self
+
+    def power_changed(self) -> None:
+        """A group was enabled or disabled (only `enable` and `disable` cross DISABLED)."""
+        self.enabled = [g for g in self.groups if g.state != DISABLED]
 
     def __getitem__(self, group_id: int) -> AxisGroup:
         return self.groups[group_id]
@@ -487,9 +502,8 @@ class GroupSet:
         return None
 
     def step(self) -> None:
-        for g in self.groups:
-            if g.state != DISABLED:
-                g.step()
+        for g in self.enabled:
+            g.step()
 
     def busy(self) -> bool:
         return any(g.moving for g in self.groups)

@@ -32,7 +32,7 @@ from motionvm.motion.axis_config import AxisConfig
 from motionvm.motion.config_vars import ConfigVarTable
 from motionvm.motion.gantry import GantrySet
 from motionvm.motion.gear import GearBox
-from motionvm.motion.group import DISABLED, GroupSet
+from motionvm.motion.group import GroupSet
 from motionvm.motion.homing import AxisHoming
 from motionvm.motion.inshape import InShapeSettings
 from motionvm.motion.touchprobe import TouchProbe
@@ -113,7 +113,9 @@ class MotionKernel:
         """The motion phase of one cycle: the bus, then every axis in `step_order`."""
         if self._bus_steps:
             self.ecat_state = self._bus_steps.pop(0)
-        self.groups.step()
+        groups = self.groups
+        if groups.enabled:  # most cycles no group is enabled: no call
+            groups.step()
         for a in self.step_order:
             a.step()
 
@@ -134,8 +136,8 @@ class MotionKernel:
 
     def groups_moving(self) -> bool:
         """`groups.busy()`: a group moves (only an enabled group's planner is asked)."""
-        for g in self.groups.groups:
-            if g.state != DISABLED and g.moving:
+        for g in self.groups.enabled:
+            if g.moving:
                 return True
         return False
 

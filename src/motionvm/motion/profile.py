@@ -299,13 +299,14 @@ class ProfileGenerator:
 
     def step(self) -> tuple[float, float, float]:
         """Advance one cycle; return (ref_pos [mm], ref_vel [mm/s], ref_acc [mm/s^2])."""
-        if self._idle:
-            return self._out
-        n = self._n + 1
-        self._n = n
-        if self._tc_done:
+        if self._tc_done:  # idle implies done: one test while the T-curve runs
+            if self._idle:
+                return self._out
+            self._n += 1
             p = self._p_f
         else:
+            n = self._n + 1
+            self._n = n
             tau = n * self.dt
             if tau >= self._seg_t_1 and self._segment_at(tau):
                 p = self._p_f

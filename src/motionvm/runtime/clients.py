@@ -77,3 +77,15 @@ class PassiveClient:
 
     def still_running(self) -> list:
         return []
+
+
+def active_hooks(clients: list, name: str) -> list:
+    """The bound `name` methods ("begin_cycle" or "end_cycle") of `clients`, in order,
+    leaving out a `PassiveClient`'s inherited no-op: what the cycle must call."""
+    noop = getattr(PassiveClient, name)
+    hooks = []
+    for c in clients:
+        hook = getattr(c, name)
+        if getattr(hook, "__func__", None) is not noop:
+            hooks.append(hook)
+    return hooks

@@ -23,7 +23,7 @@ from motionvm.comm.hub import CommHub
 from motionvm.io.position_trigger import PositionTriggers
 from motionvm.io.system import IOSystem
 from motionvm.motion.kernel import MotionKernel
-from motionvm.runtime.clients import CycleClient
+from motionvm.runtime.clients import CycleClient, active_hooks
 from motionvm.runtime.clock import Clock
 from motionvm.runtime.kernel import Kernel
 from motionvm.runtime.waits import Waiting
@@ -67,6 +67,11 @@ class Controller:
         self.clients: list[CycleClient] = [self.io]
         """Run sides stepped each cycle, in the order added (runtime/clients.py); the I/O
         system comes first, so the inputs are latched before any language's cycle."""
+        self._hooked: list = []
+        """The clients `_begin_hooks` and `_end_hooks` were taken from (`step` takes them
+        again when `clients` changed)."""
+        self._begin_hooks: list = []
+        self._end_hooks: list = []
         self.comm = CommHub(self.clock, self.io.gpio, self.motion)
         """Servers' requests and client sockets (comm/hub.py), right after the inputs."""
         self.add_client(self.comm)
@@ -103,18 +108,28 @@ class Controller:
 
     def step(self) -> None:
         """Run exactly one controller cycle."""
-        clients = self.clients
-        for c in clients:
-            c.begin_cycle()
+        if self.clients != self._hooked:  # a client came (or went)
+            self._take_hooks()
+        for hook in self._begin_hooks:
+            hook()
         self.motion.begin_cycle()
         self.kernel.run_cycle()
         if self.skip:
             self.jumps.after_tasks()
         self.motion.step()
-        for c in clients:
-            c.end_cycle()
+        if self.clients != self._hooked:  # a task added a client: it ends this cycle
+            self._take_hooks()
+        for hook in self._end_hooks:
+            hook()
         self.clock.cycle += 1
         self.cycles_computed += 1
+
+    def _take_hooks(self) -> None:
+        """The hooks of the clients as they are now: a client's begin_cycle and end_cycle
+        unless it is `PassiveClient`'s no-op (runtime/clients.py)."""
+        self._hooked = list(self.clients)
+        self._begin_hooks = active_hooks(self._hooked, "begin_cycle")
+        self._end_hooks = active_hooks(self._hooked, "end_cycle")
 
     def busy(self) -> bool:
         """True while any task runs, any axis moves, enables or settles, or a client is busy."""
