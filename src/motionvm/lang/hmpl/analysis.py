@@ -68,7 +68,8 @@ class FuncFacts:
     addr_taken: set[str] = field(default_factory=set)
 
 
-_LOOPS_AND_JUMPS = frozenset((n.While, n.DoWhile, n.For, n.Goto))
+# a label alone makes the function lower to the goto loop, whose budget may yield
+_LOOPS_AND_JUMPS = frozenset((n.While, n.DoWhile, n.For, n.Goto, n.Label))
 
 
 def scan(root, uses: dict[str, set], facts: FuncFacts | None, blocking: dict[str, bool]) -> None:
