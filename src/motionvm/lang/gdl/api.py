@@ -29,16 +29,33 @@ class ProcedureApi:
         self._rts = rts
         self._proc = proc
         self._iterations = 0
+        self._objects: dict[str, tuple[ObjectInfo, int | None]] = {}
+
+    def _object(self, key: str) -> tuple[ObjectInfo, int | None]:
+        """The object and its ARRAY$SIZE, looked up once per run of the application
+        (a procedure may read the same variable millions of times)."""
+        hit = self._objects.get(key)
+        if hit is None:
+            obj = self._rts.app.objects[key]
+            hit = self._objects[key] = (obj, obj.size)
+        return hit
+
+    def _element(self, key: str, index: object) -> tuple[ObjectInfo, int]:
+        """The object and the element `KW OF obj{index}` names (no index: the first)."""
+        obj, size = self._object(key)
+        if index is None:
+            return obj, 0 if size is None else 1
+        assert isinstance(index, int)
+        if not 1 <= index <= (size or 0):
+            raise GdlFault(f"index {index} of {obj.name} is outside 1..{size or 0} (ARRAY$SIZE)")
+        return obj, index
 
     def _elements(self, key: str, index: object) -> tuple[ObjectInfo, list[int]]:
-        obj = self._rts.app.objects[key]
         if index is None:
+            obj, _ = self._object(key)
             return obj, list(obj.elements)
-        assert isinstance(index, int)
-        size = obj.size or 0
-        if not 1 <= index <= size:
-            raise GdlFault(f"index {index} of {obj.name} is outside 1..{size} (ARRAY$SIZE)")
-        return obj, [index]
+        obj, element = self._element(key, index)
+        return obj, [element]
 
     def at(self, line: int) -> None:
         """An instruction boundary: scenario events may be injected here."""
@@ -55,8 +72,8 @@ class ProcedureApi:
 
     def read(self, key: str, keyword: str, index: object) -> object:
         """The value of `KW OF obj{index}` (index None: a scalar)."""
-        obj, elements = self._elements(key, index)
-        return self._rts.read(obj, keyword, elements[0])
+        obj, element = self._element(key, index)
+        return self._rts.read(obj, keyword, element)
 
     def assign(self, key: str, keyword: str, index: object, value: object) -> None:
         """`KW OF obj{index} = value`; index None on an array assigns every element."""

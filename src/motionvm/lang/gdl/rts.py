@@ -140,10 +140,12 @@ class Rts:
 
     def read(self, obj: ObjectInfo, keyword: str, element: int) -> object:
         """The value a procedure sees: the forced one if forced."""
-        forced = self.forced.get((obj.key, keyword, element), self)
-        if forced is not self:
-            return forced
-        return self.values[(obj.key, keyword)][self._slot(obj, element)]
+        key = obj.key
+        if self.forced:
+            forced = self.forced.get((key, keyword, element), self)
+            if forced is not self:
+                return forced
+        return self.values[(key, keyword)][self._slot(obj, element)]
 
     def init_value(self, obj: ObjectInfo, keyword: str, element: int, value: object) -> None:
         """Set a value before the run starts: not an event, nothing printed."""
