@@ -19,7 +19,7 @@ PROGRAMS = {
 
 
 def live_memories() -> int:
-    return sum(1 for o in gc.get_objects() if isinstance(o, Memory) and len(o.buf))
+    return sum(1 for o in gc.get_objects() if isinstance(o, Memory) and not o.buf.closed)
 
 
 @pytest.mark.parametrize("cmd", ["run", "scope"])

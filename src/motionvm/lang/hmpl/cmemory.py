@@ -17,6 +17,7 @@ owns a stack region for the memory-resident locals of its function frames.
 
 from __future__ import annotations
 
+import mmap
 import struct
 
 from motionvm.runtime.errors import RuntimeFault
@@ -88,8 +89,10 @@ class Memory:
     def __init__(self, size: int) -> None:
         size = _round_up(max(size, NULL_GUARD + ALIGN), ALIGN)
         self.size = size
-        self.buf = bytearray(size)
-        self.shadow = bytearray(max(size, SHADOW_SPAN))
+        # anonymous maps: the kernel hands out zeroed pages on first touch, so a program
+        # pays only for the pages it uses (a bytearray would zero all 28 MB up front)
+        self.buf = mmap.mmap(-1, size)
+        self.shadow = mmap.mmap(-1, max(size, SHADOW_SPAN))
         mv = memoryview(self.buf)
         for kind, (fmt, _) in SCALAR_FORMATS.items():
             setattr(self, kind, mv.cast(fmt))
@@ -104,9 +107,9 @@ class Memory:
         taken elsewhere and still held keeps the buffer until it goes."""
         for kind in SCALAR_FORMATS:
             getattr(self, kind).release()
-        self.shadow.clear()
+        self.shadow.close()
         try:
-            self.buf.clear()
+            self.buf.close()
         except BufferError:
             pass
         self.size = 0
@@ -144,7 +147,7 @@ class Memory:
         left = self.shadow[addr]
         if left < SHADOW_CAP:
             return left
-        end = self.shadow.find(0, addr)
+        end = self.shadow.find(b"\0", addr)
         return (self.size if end < 0 else end) - addr
 
     def check(self, addr: int, n: int, what: str = "pointer") -> None:
@@ -201,7 +204,7 @@ class Memory:
         room = self.extent(addr)
         if room == 0:
             raise RuntimeFault(f"{what} pointer 0x{addr:x} points outside any object")
-        end = self.buf.find(0, addr, addr + room)
+        end = self.buf.find(b"\0", addr, addr + room)
         if end < 0:
             raise RuntimeFault(f"{what} is not terminated by '\\0' within its {room} bytes")
         return bytes(self.buf[addr:end])

@@ -8,7 +8,7 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from motionvm.lang.hmpl import nodes as n
-from motionvm.lang.hmpl.analysis import walk
+from motionvm.lang.hmpl.analysis import _CHILDREN, _children_of, walk
 from motionvm.source.files import SourcePos
 
 Warn = Callable[[SourcePos, str], None]
@@ -107,15 +107,35 @@ class _Unused:
         self.block(s.items if type(s) is n.Block else (s,))
 
     def uses(self, e) -> None:
+        """Mark every variable named in expression `e` used (one walk, names only)."""
         if e is None:
             return
-        for x in walk(e):
-            if type(x) is n.Name:
-                for scope in reversed(self.scopes):
+        scopes = self.scopes
+        Name, children = n.Name, _CHILDREN
+        stack = [e]
+        pop, push, extend = stack.pop, stack.append, stack.extend
+        while stack:
+            x = pop()
+            t = type(x)
+            if t is Name:
+                for scope in reversed(scopes):
                     entry = scope.get(x.id)
                     if entry is not None:
                         entry[1] = True
                         break
+                continue
+            if t is tuple or t is list:
+                extend(x)
+                continue
+            if x is None:
+                continue
+            fields = children.get(t)
+            if fields is None:
+                fields = _children_of(t)
+            for fname in fields:
+                v = getattr(x, fname)
+                if v is not None:
+                    push(v)
 
     def declare(self, d: n.VarDecl) -> None:
         if type(d) is n.FuncDef:  # a prototype: no variable

@@ -17,7 +17,7 @@ from motionvm.lang.hmpl.cmemory import RED_ZONE, shadow_pattern
 from motionvm.lang.hmpl.lower_access import AccessLowering
 from motionvm.lang.hmpl.lower_expr import ExprLowering, SemanticError
 from motionvm.lang.hmpl.lower_jumps import JumpLowering
-from motionvm.lang.hmpl.lower_loops import LoopLowering, _assigned_names
+from motionvm.lang.hmpl.lower_loops import LoopLowering
 from motionvm.lang.hmpl.lower_split import SplitLowering, bind_splits
 from motionvm.lang.hmpl.lower_util import LoopCtx, at
 from motionvm.lang.hmpl.lvalues import call, name, view_code
@@ -398,7 +398,7 @@ class FunctionLowerer(ExprLowering, AccessLowering, LoopLowering, JumpLowering, 
     # ------------------------------------------------------------ functions
 
     def function(self, f: n.FuncDef, sym: FuncSym) -> ast.FunctionDef:
-        self.func_assigned = _assigned_names(f.body)
+        self.func_assigned = self._assigned_in(f.body)  # fills every inner `for` too
         params: list[ast.arg] = []
         copies: list[ast.stmt] = []
         for p, pt in zip(f.params, sym.type.params):

@@ -248,7 +248,7 @@ def _read_bounded(mem: Memory, addr: int, limit: int) -> bytes:
     if room == 0:
         raise RuntimeFault(f"%s argument pointer 0x{addr:x} points outside any object")
     n = min(room, limit)
-    end = mem.buf.find(0, addr, addr + n)
+    end = mem.buf.find(b"\0", addr, addr + n)
     if end >= 0:
         return bytes(mem.buf[addr:end])
     if n < limit:

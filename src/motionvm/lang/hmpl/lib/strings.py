@@ -138,7 +138,7 @@ class StringLib(Library):
             # a format seen at this address before: still there, still in a live object?
             if (
                 entry is not None
-                and self._buf.startswith(entry[0], fmt)
+                and self._buf.find(entry[0], fmt, fmt + entry[1]) == fmt
                 and self._shadow[fmt] >= entry[1]
             ):
                 prog = entry[2]
@@ -161,7 +161,7 @@ class StringLib(Library):
         if 0 < dest < mem.size:  # the common case, checked in place
             end = dest + at + len(text)
             left = self._shadow[dest]
-            if end < dest + left or (left == SHADOW_CAP and end < self._shadow.find(0, dest)):
+            if end < dest + left or (left == SHADOW_CAP and end < self._shadow.find(b"\0", dest)):
                 buf = self._buf
                 buf[dest + at : end] = text
                 buf[end] = 0
@@ -187,8 +187,8 @@ class StringLib(Library):
         if 0 < addr < self.mem.size:
             left = self._shadow[addr]
             if left:
-                lim = addr + left if left < SHADOW_CAP else self._shadow.find(0, addr)
-                end = self._buf.find(0, addr, lim)
+                lim = addr + left if left < SHADOW_CAP else self._shadow.find(b"\0", addr)
+                end = self._buf.find(b"\0", addr, lim)
                 if end >= 0:
                     return end
         self.mem.read_cstr(addr, f"{func} {what}")  # raises the fault that says why
@@ -197,7 +197,7 @@ class StringLib(Library):
     def _room_end(self, addr: int) -> int:
         """The end of the live object holding `addr` (a valid address)."""
         left = self._shadow[addr]
-        return addr + left if left < SHADOW_CAP else self._shadow.find(0, addr)
+        return addr + left if left < SHADOW_CAP else self._shadow.find(b"\0", addr)
 
     def _substring(self, func: str, source: int, start_pos: int, copy_len: int) -> bytes | None:
         src = self._str(func, source, "source")
@@ -232,7 +232,8 @@ class StringLib(Library):
         # the fast path, with _format's and _put_str's checks in place
         entry = self._formats.get(format)
         if entry is not None and (
-            self._buf.startswith(entry[0], format) and self._shadow[format] >= entry[1]
+            self._buf.find(entry[0], format, format + entry[1]) == format
+            and self._shadow[format] >= entry[1]
         ):
             one_int = entry[3]
             if (
@@ -259,7 +260,7 @@ class StringLib(Library):
             end = destination + n
             left = self._shadow[destination]
             if end < destination + left or (
-                left == SHADOW_CAP and end < self._shadow.find(0, destination)
+                left == SHADOW_CAP and end < self._shadow.find(b"\0", destination)
             ):
                 buf = self._buf
                 buf[destination:end] = text
@@ -296,7 +297,7 @@ class StringLib(Library):
     @builtin()
     def StringLen(self, str: int) -> int:
         if 0 < str < self.mem.size:  # _str_end in place, within what the shadow byte vouches for
-            end = self._buf.find(0, str, str + self._shadow[str])
+            end = self._buf.find(b"\0", str, str + self._shadow[str])
             if end >= 0:
                 return end - str
         return self._str_end("StringLen", str, "string") - str
@@ -352,8 +353,8 @@ class StringLib(Library):
             ld = sh[destination]
             if ls and ld:
                 buf = self._buf
-                src_end = buf.find(0, source, source + ls)
-                end = buf.find(0, destination, destination + ld)
+                src_end = buf.find(b"\0", source, source + ls)
+                end = buf.find(b"\0", destination, destination + ld)
                 if src_end >= 0 and end >= 0 and src_end - source < sh[end]:  # fits with its NUL
                     buf[end : end + (src_end - source) + 1] = buf[source : src_end + 1]
                     return 0
