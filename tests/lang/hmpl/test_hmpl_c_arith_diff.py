@@ -20,13 +20,9 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from motionvm.lang.hmpl.compiler import TaskFile, compile_tasks
-from motionvm.lang.hmpl.rtapi import HmplRuntime
-from motionvm.sim.controller import Controller
-from motionvm.source.diagnostics import DiagnosticSink
-
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from c_arith_gen import C_FIRST_LINE, c_program, hmpl_program, make_batch  # noqa: E402
+from hmpl_run import run_hmpl  # noqa: E402
 
 settings.register_profile(
     "carith-ci", max_examples=20, derandomize=True, deadline=None,
@@ -42,24 +38,6 @@ PROFILE = settings.get_profile(
 BATCH = 250
 GCC = shutil.which("gcc")
 _UB = re.compile(r":(\d+):\d+: runtime error: ")
-
-
-def run_hmpl(src: str) -> list[str]:
-    sink = DiagnosticSink()
-    prog, mem = compile_tasks([TaskFile(0, "<diff>.hmpl", src)], sink)
-    assert prog is not None, [d.headline() for d in sink.items][:5]
-    ctl = Controller(0.001)
-    lines: list[str] = []
-    faults: list[str] = []
-    rt = HmplRuntime(
-        ctl, prog, mem, emit=lines.append, report=lambda s: faults.append(str(s)), data_dir="."
-    )
-    ctl.clients.append(rt)
-    rt.boot()
-    ctl.run()
-    rt.close()
-    assert not faults, faults
-    return lines
 
 
 def run_gcc(src: str, tmp: Path) -> tuple[list[str], set[int]]:

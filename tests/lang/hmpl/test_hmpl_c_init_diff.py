@@ -13,6 +13,7 @@ import os
 import random
 import shutil
 import subprocess
+import sys
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -20,10 +21,8 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from motionvm.lang.hmpl.compiler import TaskFile, compile_tasks
-from motionvm.lang.hmpl.rtapi import HmplRuntime
-from motionvm.sim.controller import Controller
-from motionvm.source.diagnostics import DiagnosticSink
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from hmpl_run import run_hmpl  # noqa: E402
 
 settings.register_profile(
     "cinit-ci", max_examples=8, derandomize=True, deadline=None,
@@ -164,24 +163,6 @@ def make_batch(seed: int) -> tuple[str, str, list[int]]:
         + text.replace("void main()", "int main(void)")
     )
     return text, c_text, expected
-
-
-def run_hmpl(src: str) -> list[str]:
-    sink = DiagnosticSink()
-    prog, mem = compile_tasks([TaskFile(0, "<init>.hmpl", src)], sink)
-    assert prog is not None, [d.headline() for d in sink.items][:5]
-    ctl = Controller(0.001)
-    lines: list[str] = []
-    faults: list[str] = []
-    rt = HmplRuntime(
-        ctl, prog, mem, emit=lines.append, report=lambda s: faults.append(str(s)), data_dir="."
-    )
-    ctl.clients.append(rt)
-    rt.boot()
-    ctl.run()
-    rt.close()
-    assert not faults, faults
-    return lines
 
 
 def run_gcc(src: str, tmp: Path) -> list[str]:

@@ -46,10 +46,9 @@ when the task asks (motion/homing.py)."""
 _PURE_UNARY = frozenset({"-", "+", "!", "~"})
 
 
-def waits_on_event(expr, resolve) -> bool:
-    """True if `expr` tests only what changes in computed cycles (see the module
-    docstring); `resolve(name)` gives a name's symbol, None for a built-in function,
-    False for an unknown name."""
+def _pure(expr, resolve, storages: tuple[str, ...], builtins: frozenset[str]) -> bool:
+    """True if `expr` is built of literals, constants, names of a storage class in
+    `storages`, pure operators and calls of `builtins` with such arguments."""
     if isinstance(expr, (n.IntLit, n.FloatLit, n.CharLit)):
         return True
     if isinstance(expr, n.Name):
@@ -58,19 +57,30 @@ def waits_on_event(expr, resolve) -> bool:
             return False
         if getattr(sym, "const_value", None) is not None:
             return True
-        # plain scalar variables (static storage holds the system variables and arrays)
-        return getattr(sym, "storage", None) in ("local", "pyglobal", "frame")
+        return getattr(sym, "storage", None) in storages
     if isinstance(expr, n.Unary):
-        return expr.op in _PURE_UNARY and waits_on_event(expr.operand, resolve)
+        return expr.op in _PURE_UNARY and _pure(expr.operand, resolve, storages, builtins)
     if isinstance(expr, n.Binary):
-        return waits_on_event(expr.left, resolve) and waits_on_event(expr.right, resolve)
+        return _pure(expr.left, resolve, storages, builtins) and _pure(
+            expr.right, resolve, storages, builtins
+        )
     if isinstance(expr, n.Cond):
-        return all(waits_on_event(x, resolve) for x in (expr.cond, expr.then, expr.else_))
+        return all(
+            _pure(x, resolve, storages, builtins) for x in (expr.cond, expr.then, expr.else_)
+        )
     if isinstance(expr, n.Call):
         f = expr.func
-        return (isinstance(f, n.Name) and f.id in EVENT_BUILTINS and resolve(f.id) is None
-                and all(waits_on_event(x, resolve) for x in expr.args))  # fmt: skip
+        return (isinstance(f, n.Name) and f.id in builtins and resolve(f.id) is None
+                and all(_pure(x, resolve, storages, builtins) for x in expr.args))  # fmt: skip
     return False
+
+
+def waits_on_event(expr, resolve) -> bool:
+    """True if `expr` tests only what changes in computed cycles (see the module
+    docstring); `resolve(name)` gives a name's symbol, None for a built-in function,
+    False for an unknown name. Names: plain scalar variables (static storage holds the
+    system variables and arrays)."""
+    return _pure(expr, resolve, ("local", "pyglobal", "frame"), EVENT_BUILTINS)
 
 
 def status_only(expr, resolve) -> bool:
@@ -78,26 +88,7 @@ def status_only(expr, resolve) -> bool:
     but the answers of `STATUS_BUILTINS` calls: its names are constants or plain local
     variables of the task (no global, no variable in the task's memory), so that the
     same answers give the same value."""
-    if isinstance(expr, (n.IntLit, n.FloatLit, n.CharLit)):
-        return True
-    if isinstance(expr, n.Name):
-        sym = resolve(expr.id)
-        if not sym:
-            return False
-        if getattr(sym, "const_value", None) is not None:
-            return True
-        return getattr(sym, "storage", None) == "local"
-    if isinstance(expr, n.Unary):
-        return expr.op in _PURE_UNARY and status_only(expr.operand, resolve)
-    if isinstance(expr, n.Binary):
-        return status_only(expr.left, resolve) and status_only(expr.right, resolve)
-    if isinstance(expr, n.Cond):
-        return all(status_only(x, resolve) for x in (expr.cond, expr.then, expr.else_))
-    if isinstance(expr, n.Call):
-        f = expr.func
-        return (isinstance(f, n.Name) and f.id in STATUS_BUILTINS and resolve(f.id) is None
-                and all(status_only(x, resolve) for x in expr.args))  # fmt: skip
-    return False
+    return _pure(expr, resolve, ("local",), STATUS_BUILTINS)
 
 
 _TIME = "system_timeInMs"
