@@ -56,7 +56,7 @@ class Cia402Drive:
     """One servo drive: object dictionary, power state machine, modes, mechanics, sensors."""
 
     __slots__ = (  # the object dictionary and the drive's state, all set up in __init__
-        "_controlword_prev", "_demand", "_encoder", "_encoder_lost", "_fault", "_forced",
+        "_controlword_prev", "_csp_ready", "_demand", "_encoder", "_encoder_lost", "_fault", "_forced",
         "_following_error", "_max_torque", "_mode_prev", "_motor_position_prev",
         "_per_mille_per_nm", "_position_demand", "_ramp_vel", "_settled", "_stopped",
         "_target_prev", "_timer", "_torque_actual", "_torque_quiet_neg_nm", "_torque_quiet_nm",
@@ -121,6 +121,10 @@ class Cia402Drive:
         self.state = State.NOT_READY_TO_SWITCH_ON
         """The power drive state (what the statusword shows)."""
         self._controlword_prev = 0
+        self._csp_ready = False
+        """True if the last step was the common one (see `step`) and nothing since then
+        (a fault, local control) keeps the next from being it too, under the same
+        controlword and mode."""
         self._settled: State | None = None
         self._timer = 0
         self._fault: int | None = None
@@ -285,6 +289,7 @@ class Cia402Drive:
         """Raise a drive fault with error code `code`: fault reaction, then Fault."""
         if self._fault is None:
             self._fault = code
+            self._csp_ready = False  # the next step runs the state machine
 
     def encoder_loss(self) -> None:
         """Lose the encoder: the actual position freezes and the drive faults (0x7305)."""
@@ -307,6 +312,7 @@ class Cia402Drive:
         controlword and targets; position_demand (0x6062) is the local demand. None hands
         the drive back to the master, in Switch on disabled.
         """
+        self._csp_ready = False  # the next step goes through `_prepare`
         if counts is None:
             if self.local_demand is not None:
                 self.local_demand = None
@@ -325,48 +331,37 @@ class Cia402Drive:
     def step(self, dt: float) -> None:
         """Advance one bus cycle of `dt` [s]: state machine, motion, feedback objects.
 
-        A drive that repeats its last controlword in a state that command already
-        settled skips the state machine; in Operation enabled CSP the motion is the
-        demand following the target's change (the common cycle, taken inline). Three
-        checks are skipped where their outcome is known: the sensors while the motor
-        stays in their quiet interval, the following error where its window exceeds any
-        int32 error, the internal limit where the torque is well below max_torque.
-        Under local control (`follow_local_demand`) the motor follows the drive's own
-        demand as in CSP and the master's controlword and targets are not processed."""
+        The common cycle, Operation enabled in CSP under a settled controlword that is
+        repeated, is known from one flag (`_csp_ready`, set by the cycle before) and two
+        comparisons; its motion is the demand following the target's change. Every other
+        cycle goes through `_prepare` (state machine, local control, the other modes).
+        Three checks are skipped where their outcome is known: the sensors while the
+        motor stays in their quiet interval, the following error where its window
+        exceeds any int32 error, the internal limit where the torque is well below
+        max_torque. Under local control (`follow_local_demand`) the motor follows the
+        drive's own demand as in CSP and the master's controlword and targets are not
+        processed."""
         if self._forced:  # ForceWritePDO: forced outputs win over the master's
             self.objects.apply_forced()
-        state = self.state
         m = self.mechanics
-        mode = self.mode
-        local = self.local_demand is not None
-        if local:  # the drive's own firmware commands the motor
-            self._demand = demand = self.local_demand
-            m.step_position(demand, dt)
-            self.mode_display = mode
-            self._settled = state  # only a new demand moves the motor again
-            sw = _SW_LOCAL
+        if self._csp_ready and self.controlword == self._controlword_prev and self.mode == _CSP:
+            sw = None
+            state = _OPERATION_ENABLED
         else:
-            if (self.controlword != self._controlword_prev or state is not self._settled
-                    or self._fault is not None):  # fmt: skip
-                state = self._power_state_machine(state)
-            if state is _OPERATION_ENABLED and mode == _CSP:
-                if self._mode_prev != _CSP:
-                    self._take_target()
-                    self._mode_prev = self.mode_display = _CSP
-                target = self.target_position
-                change = target - self._target_prev
-                if (change + 0x80000000) >> 32:  # beyond int32: the target wrapped
-                    change = ((change + 0x80000000) & 0xFFFFFFFF) - 0x80000000
-                self._demand = demand = self._demand + change
-                self._target_prev = target
-                m.step_position(demand, dt)
-                sw = _SW_CYCLIC
-            else:
-                self._move(state, dt)
-                state = self.state
-                sw = _SW_CYCLIC if mode in _CYCLIC_MODES else _SW_OPERATION_ENABLED
+            sw = self._prepare(dt)
+            state = self.state
+        if sw is None:  # CSP in Operation enabled: the demand follows the target
+            target = self.target_position
+            change = target - self._target_prev
+            if (change + 0x80000000) >> 32:  # beyond int32: the target wrapped
+                change = ((change + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+            self._demand = demand = self._demand + change
+            self._target_prev = target
+            x = m.step_position(demand, dt)
+            sw = _SW_CYCLIC
+        else:
+            x = m.position
         # feedback
-        x = m.position
         if self._encoder_lost:
             enc = self._encoder
         else:
@@ -380,15 +375,16 @@ class Cia402Drive:
         # only caller), so that position lies in their quiet interval if it is not empty
         if s.quiet_low < x < s.quiet_high:
             self.digital_inputs = s.quiet_inputs
-        elif s.has_switches or s.tp_function or s.tp_status:
+        elif s.has_switches or s._tp_function or s.tp_status:
             self.digital_inputs = s.update(self._motor_position_prev, x)
         else:
-            self.digital_inputs = s.external
+            self.digital_inputs = s._external
         self._motor_position_prev = x
         if state is not _OPERATION_ENABLED:
             self.statusword = self._feedback_off(state, enc)
             return
-        if self.following_error_window < 0x80000000 and mode == _CSP and not local:
+        if (self.following_error_window < 0x80000000 and self.mode == _CSP
+                and self.local_demand is None):  # fmt: skip
             fe = round(self._demand) - enc
             fe = ((fe + 0x80000000) & 0xFFFFFFFF) - 0x80000000
             if abs(fe) > self.following_error_window:
@@ -400,6 +396,35 @@ class Cia402Drive:
         ) >= self._max_torque:
             sw |= od.SW_INTERNAL_LIMIT
         self.statusword = sw
+
+    def _prepare(self, dt: float) -> int | None:
+        """The part of a cycle other than the common one (see `step`) before the feedback:
+        the state machine, local control, the motion of the other modes and states.
+        Returns the statusword's mode bits, or None for CSP in Operation enabled, whose
+        motion `step` makes. Sets `_csp_ready` for the next cycle: True if it is the
+        common one unless the controlword or the mode change."""
+        state = self.state
+        mode = self.mode
+        if self.local_demand is not None:  # the drive's own firmware commands the motor
+            self._csp_ready = False
+            self._demand = demand = self.local_demand
+            self.mechanics.step_position(demand, dt)
+            self.mode_display = mode
+            self._settled = state  # only a new demand moves the motor again
+            return _SW_LOCAL
+        if (self.controlword != self._controlword_prev or state is not self._settled
+                or self._fault is not None):  # fmt: skip
+            state = self._power_state_machine(state)
+        if state is _OPERATION_ENABLED and mode == _CSP:
+            if self._mode_prev != _CSP:
+                self._take_target()
+                self._mode_prev = self.mode_display = _CSP
+            # a later fault, local control or state change clears the flag at once
+            self._csp_ready = state is self._settled and self._fault is None
+            return None
+        self._csp_ready = False
+        self._move(state, dt)
+        return _SW_CYCLIC if mode in _CYCLIC_MODES else _SW_OPERATION_ENABLED
 
     def _feedback_off(self, state: State, enc: int) -> int:
         """The feedback objects outside Operation enabled; returns the statusword."""

@@ -5,7 +5,8 @@ A model works in motor units: position [counts] (float, not wrapped), velocity
 The drive calls exactly one `step_*` method per cycle:
 
     step_position(r, dt)     CSP: demand r [counts] at the end of the cycle, reached
-                             linearly over it (the drive's fine interpolation)
+                             linearly over it (the drive's fine interpolation);
+                             returns the new position
     step_velocity(v_ref, dt) CSV: velocity demand [counts/s], held over the cycle
     step_torque(tau, dt)     CST: torque demand [N*m], held over the cycle
     step_free(dt)            power stage off: no torque
@@ -150,9 +151,9 @@ class IdealMechanics(_Motor):
         self.velocity = self._demand_vel = self.torque = 0.0
         self._line = deque([self.position] * self.delay_cycles)
 
-    def step_position(self, r: float, dt: float) -> None:
+    def step_position(self, r: float, dt: float) -> float:
         """The motor reaches demand r [counts] `delay_cycles` cycles later; the other
-        modes are a demand computed from theirs."""
+        modes are a demand computed from theirs. Returns the new position."""
         r_0 = self._demand
         self._demand_vel = (r - r_0) / dt
         self._demand = r
@@ -166,6 +167,7 @@ class IdealMechanics(_Motor):
         self.torque = self.inertia * (v - self.velocity) / dt * TWO_PI / self.counts_per_rev
         self.velocity = v
         self.position = x
+        return x
 
     def step_velocity(self, v_ref: float, dt: float) -> None:
         self.step_position(self._demand + v_ref * dt, dt)
@@ -303,7 +305,8 @@ class ServoMechanics(_Motor):
         alpha = self._kv * (self._kp * (r - x) + self.velocity_feedforward * r_dot - v)
         return self.tuned_inertia * alpha * self._rad
 
-    def step_position(self, r: float, dt: float) -> None:
+    def step_position(self, r: float, dt: float) -> float:
+        """Follow demand r [counts]; returns the new position."""
         r_0 = self._demand
         self._demand = r
         r_dot = (r - r_0) / dt
@@ -317,8 +320,9 @@ class ServoMechanics(_Motor):
         tau = tau_0 if abs(tau_0) > abs(tau_1) else tau_1
         if abs(tau) > self.max_torque:
             self.step_torque(tau, dt)  # clipped to max_torque
-            return
+            return self.position
         self.position, self.velocity, self.torque = x_1, v_1, tau_1
+        return x_1
 
     def step_velocity(self, v_ref: float, dt: float) -> None:
         _, (x_row, v_row), _ = self._matrices(dt)
