@@ -353,7 +353,7 @@ class Cia402Drive:
         if sw is None:  # CSP in Operation enabled: the demand follows the target
             target = self.target_position
             change = target - self._target_prev
-            if (change + 0x80000000) >> 32:  # beyond int32: the target wrapped
+            if change > 0x7FFFFFFF or change < -0x80000000:  # beyond int32: the target wrapped
                 change = ((change + 0x80000000) & 0xFFFFFFFF) - 0x80000000
             self._demand = demand = self._demand + change
             self._target_prev = target
@@ -366,7 +366,7 @@ class Cia402Drive:
             enc = self._encoder
         else:
             self._encoder = enc = x.__round__()  # round(x) without the built-in's lookup
-            if (enc + 0x80000000) >> 32:  # beyond int32: the counter wraps
+            if enc > 0x7FFFFFFF or enc < -0x80000000:  # beyond int32: the counter wraps
                 self.position_actual = ((enc + 0x80000000) & 0xFFFFFFFF) - 0x80000000
             else:
                 self.position_actual = enc

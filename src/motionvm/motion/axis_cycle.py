@@ -92,7 +92,7 @@ class AxisCycle:
             if mode == MODE_CSP:
                 # x.__round__() is round(x) without the built-in's method lookup
                 counts = ((p + self._slave_offset) * self.cpu).__round__()
-                if (counts + 0x80000000) >> 32:  # beyond int32: the target wraps
+                if counts > 0x7FFFFFFF or counts < -0x80000000:  # beyond int32: the target wraps
                     counts = ((counts + 0x80000000) & 0xFFFFFFFF) - 0x80000000
                 drive.target_position = counts
             elif mode == MODE_CSV:
@@ -110,7 +110,7 @@ class AxisCycle:
         position_actual = drive.position_actual
         delta = position_actual - self._position_actual
         if delta:
-            if (delta + 0x80000000) >> 32:  # beyond int32: the counter wrapped
+            if delta > 0x7FFFFFFF or delta < -0x80000000:  # beyond int32: the counter wrapped
                 delta = ((delta + 0x80000000) & 0xFFFFFFFF) - 0x80000000
             self._feedback_counts = counts = self._feedback_counts + delta
             self._position_actual = position_actual
