@@ -56,12 +56,12 @@ class Cia402Drive:
     """One servo drive: object dictionary, power state machine, modes, mechanics, sensors."""
 
     __slots__ = (  # the object dictionary and the drive's state, all set up in __init__
-        "_controlword_prev", "_csp_ready", "_demand", "_encoder", "_encoder_lost", "_fault", "_forced",
+        "_controlword_prev", "_csp_ready", "_demand", "_fe_checked", "_fe_window", "_encoder", "_encoder_lost", "_fault", "_forced",
         "_following_error", "_max_torque", "_mode_prev", "_motor_position_prev",
         "_per_mille_per_nm", "_position_demand", "_ramp_vel", "_settled", "_stopped",
         "_target_prev", "_timer", "_torque_actual", "_torque_quiet_neg_nm", "_torque_quiet_nm",
         "_velocity_actual", "boot_cycles", "controlword", "device_type", "digital_inputs",
-        "digital_output_mask", "digital_outputs", "objects", "pt_sample_rate", "enable_cycles", "error_code", "following_error_window", "local_demand", "mechanics", "mode",
+        "digital_output_mask", "digital_outputs", "objects", "pt_sample_rate", "enable_cycles", "error_code", "local_demand", "mechanics", "mode",
         "mode_display", "position_actual", "quick_stop_decel", "quick_stop_option",
         "rated_torque", "rated_torque_nm", "sensors", "state", "statusword", "supported_modes",
         "switch_on_cycles", "target_position", "target_torque", "target_velocity", "__weakref__"
@@ -257,6 +257,17 @@ class Cia402Drive:
         self._following_error = value
 
     @property
+    def following_error_window(self) -> int:
+        """0x6065 [counts]: a CSP following error beyond it faults the drive (0x8611)."""
+        return self._fe_window
+
+    @following_error_window.setter
+    def following_error_window(self, value: int) -> None:
+        self._fe_window = value
+        # a window of 2**31 or more exceeds any int32 error: no check
+        self._fe_checked = value < 0x80000000
+
+    @property
     def max_torque(self) -> int:
         """0x6072 [per mille of the rated torque]: the internal limit bit's threshold."""
         return self._max_torque
@@ -383,8 +394,7 @@ class Cia402Drive:
         if state is not _OPERATION_ENABLED:
             self.statusword = self._feedback_off(state, enc)
             return
-        if (self.following_error_window < 0x80000000 and self.mode == _CSP
-                and self.local_demand is None):  # fmt: skip
+        if self._fe_checked and self.mode == _CSP and self.local_demand is None:
             fe = round(self._demand) - enc
             fe = ((fe + 0x80000000) & 0xFFFFFFFF) - 0x80000000
             if abs(fe) > self.following_error_window:

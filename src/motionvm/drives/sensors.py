@@ -164,13 +164,14 @@ class Sensors:
         Within the switch band of the last evaluation (same external inputs, no probe)
         only the index pulse can change: it is found from the index numbers alone. A
         motor standing on an edge (an empty band at x_0 == x_1) changes nothing either."""
+        # the slots behind `external` and `tp_function`: no property call per update
         if x_1 == x_0 == self._switch_low == self._switch_high and not (
-            self.external != self._switch_external or self.tp_function or self.tp_status
+            self._external != self._switch_external or self._tp_function or self.tp_status
         ):
             return self._switch_inputs  # what `_evaluate` would return, and leave as it is
         if not (self._switch_low < x_1 < self._switch_high
-                and self.external == self._switch_external
-                and not (self.tp_function or self.tp_status)):  # fmt: skip
+                and self._external == self._switch_external
+                and not (self._tp_function or self.tp_status)):  # fmt: skip
             return self._evaluate(x_0, x_1)
         inputs = self._switch_inputs
         low, high = self._switch_low, self._switch_high
