@@ -119,7 +119,7 @@ class IdealMechanics(_Motor):
     """
 
     __slots__ = (  # set up in __init__
-        "_demand", "_demand_vel", "_line", "counts_per_rev", "delay_cycles", "inertia",
+        "_counts_per_rev_f", "_demand", "_demand_vel", "_line", "counts_per_rev", "delay_cycles", "inertia",
         "position", "torque", "velocity"
     )  # fmt: skip
 
@@ -130,6 +130,7 @@ class IdealMechanics(_Motor):
         self.inertia = inertia
         """Load inertia [kg*m^2] seen by the motor (CST and the reported torque)."""
         self._at_rest(counts_per_rev)
+        self._counts_per_rev_f = float(counts_per_rev)
         self._line: deque[float] = deque([0.0] * delay_cycles)
         self._demand = 0.0
         """The last position demand [counts]."""
@@ -164,7 +165,9 @@ class IdealMechanics(_Motor):
             line.append(r)
             x = line.popleft()
         v = (x - self.position) / dt
-        self.torque = self.inertia * (v - self.velocity) / dt * TWO_PI / self.counts_per_rev
+        # / float(counts_per_rev) is / counts_per_rev (exact below 2**53) without the
+        # int's conversion in every cycle
+        self.torque = self.inertia * (v - self.velocity) / dt * TWO_PI / self._counts_per_rev_f
         self.velocity = v
         self.position = x
         return x

@@ -62,6 +62,7 @@ class ProfileGenerator:
         "_seg_t_1",
         "_seg_v_0",
         "_segs",
+        "_smoothing",
         "_sum",
         "_tc_done",
         "_v_cmd",
@@ -94,6 +95,7 @@ class ProfileGenerator:
         self.mode = IDLE
         """IDLE, POSITION (move_to), VELOCITY (move_velocity) or STOP."""
         self._n_avg = 1
+        self._smoothing = False
         self.set_smooth_time(t_smooth)
         self.reset(position)
 
@@ -176,6 +178,7 @@ class ProfileGenerator:
         if hasattr(self, "_out") and not self.is_done and (not self._idle or self.mode != IDLE):
             raise RuntimeError("the smooth time cannot change while the axis moves or is halted")
         self._n_avg = max(1, round(t_smooth / self.dt))
+        self._smoothing = self._n_avg > 1
         if hasattr(self, "_out"):
             self.reset(self._out[0])
 
@@ -313,7 +316,7 @@ class ProfileGenerator:
             else:
                 x = tau - self._seg_t_0
                 p = self._seg_p_0 + (self._seg_v_0 + self._seg_half_a * x) * x
-        if self._n_avg > 1:
+        if self._smoothing:  # _n_avg > 1
             n_avg = self._n_avg
             r = p - self._base
             buf = self._buf
