@@ -56,15 +56,17 @@ class Cia402Drive:
     """One servo drive: object dictionary, power state machine, modes, mechanics, sensors."""
 
     __slots__ = (  # the object dictionary and the drive's state, all set up in __init__
-        "_controlword_prev", "_csp_ready", "_demand", "_fe_checked", "_fe_window", "_encoder", "_encoder_lost", "_fault", "_forced",
-        "_following_error", "_max_torque", "_mode_prev", "_motor_position_prev",
-        "_per_mille_per_nm", "_position_demand", "_ramp_vel", "_settled", "_stopped",
-        "_target_prev", "_timer", "_torque_actual", "_torque_quiet_neg_nm", "_torque_quiet_nm",
-        "_velocity_actual", "boot_cycles", "controlword", "device_type", "digital_inputs",
-        "digital_output_mask", "digital_outputs", "objects", "pt_sample_rate", "enable_cycles", "error_code", "local_demand", "mechanics", "mode",
-        "mode_display", "position_actual", "quick_stop_decel", "quick_stop_option",
-        "rated_torque", "rated_torque_nm", "sensors", "state", "statusword", "supported_modes",
-        "switch_on_cycles", "target_position", "target_torque", "target_velocity", "__weakref__"
+        "_controlword_prev", "_csp_ready", "_demand", "_encoder", "_encoder_lost", "_fault",
+        "_fe_checked", "_fe_window", "_following_error", "_forced", "_max_torque",
+        "_mode_prev", "_motor_position_prev", "_per_mille_per_nm", "_position_demand",
+        "_ramp_vel", "_settled", "_stopped", "_target_prev", "_timer", "_torque_actual",
+        "_torque_quiet_neg_nm", "_torque_quiet_nm", "_velocity_actual", "boot_cycles",
+        "controlword", "device_type", "digital_inputs", "digital_output_mask",
+        "digital_outputs", "enable_cycles", "error_code", "local_demand", "mechanics",
+        "mode", "mode_display", "objects", "position_actual", "pt_sample_rate",
+        "quick_stop_decel", "quick_stop_option", "rated_torque", "rated_torque_nm",
+        "sensors", "state", "statusword", "supported_modes", "switch_on_cycles",
+        "target_position", "target_torque", "target_velocity", "__weakref__"
     )  # fmt: skip
 
     KEYS = frozenset({
