@@ -22,6 +22,7 @@ re-enabling the probe, clears the stored flag and re-arms a first-event probe.
 from __future__ import annotations
 
 import math
+from math import floor
 
 from motionvm.drives.mechanics import Config
 from motionvm.drives.objects import (
@@ -241,11 +242,18 @@ class Sensors:
         if self._index_low <= x <= self._index_high:
             return self._index_n
         offset, spacing = self.index_offset, self.index_spacing
-        n = math.floor((x - offset) / spacing)
+        n = floor((x - offset) / spacing)
         lo, hi = offset + n * spacing, offset + (n + 1) * spacing
-        margin = 1e-6 * max(1.0, abs(lo), abs(hi))
-        lo, hi = min(lo + margin, x), max(hi - margin, x)  # x itself gives n
-        if math.floor((lo - offset) / spacing) == n == math.floor((hi - offset) / spacing):
+        # max(1.0, abs(lo), abs(hi)) and the min/max below, as comparisons (lo <= hi)
+        size = hi if hi > -lo else -lo
+        margin = 1e-6 * (size if size > 1.0 else 1.0)
+        lo += margin
+        hi -= margin
+        if lo > x:  # x itself gives n
+            lo = x
+        if hi < x:
+            hi = x
+        if floor((lo - offset) / spacing) == n == floor((hi - offset) / spacing):
             self._index_low, self._index_high, self._index_n = lo, hi, n
         else:  # a spacing too fine for the margin: no interval
             self._index_low, self._index_high, self._index_n = math.inf, -math.inf, n
