@@ -119,8 +119,8 @@ class IdealMechanics(_Motor):
     """
 
     __slots__ = (  # set up in __init__
-        "_counts_per_rev_f", "_demand", "_demand_vel", "_line", "counts_per_rev", "delay_cycles", "inertia",
-        "position", "torque", "velocity"
+        "_counts_per_rev_f", "_demand", "_demand_vel", "_line", "counts_per_rev",
+        "delay_cycles", "inertia", "position", "torque", "velocity"
     )  # fmt: skip
 
     KEYS = frozenset({"delay_cycles", "inertia", "counts_per_rev"})
