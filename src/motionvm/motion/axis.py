@@ -91,6 +91,7 @@ class Axis(AxisSettings, AxisCycle, AxisFollow):
         "settling_time_ms", "stopping", "vel_scale", "__weakref__",
         # filters and compensation (axis_filters.py)
         "_cmd_path", "_comp_dependents", "_pos_offset", "_slave_offset", "comp_pos", "filters",
+        "_on_hw_limit",  # fault_status has a hardware limit bit (axis_cycle.py)
     )  # fmt: skip
 
     def __init__(self, axis_id: int, config: AxisConfig, dt: float, drive=None):
@@ -158,6 +159,7 @@ class Axis(AxisSettings, AxisCycle, AxisFollow):
         self._position_actual = self.drive.position_actual
         self._feedback_counts = self._position_actual
         self._digital_inputs = -1  # the 0x60FD value last seen (-1: none yet)
+        self._on_hw_limit = False  # a hardware limit bit is on in fault_status
         self.pos_fb_raw = self.pos_fb = self._feedback_counts / self.cpu
         self.ref_pos, self.ref_vel, self.ref_acc = self.pos_fb, 0.0, 0.0
         # resting (axis_cycle.py)

@@ -126,7 +126,7 @@ class AxisCycle:
         if digital_inputs != self._digital_inputs:
             self._hw_inputs(digital_inputs)
         if enabled:
-            if self.fault_status & _FS_HW_LIMITS:
+            if self._on_hw_limit:  # fault_status & _FS_HW_LIMITS, kept by `_hw_inputs`
                 self._hw_limit_stop()
             err = self.ref_pos - self.pos_fb
             if (err > self._max_pos_err or err < self._min_pos_err) and not self.ignore_pe:
@@ -360,6 +360,8 @@ class AxisCycle:
         if digital_inputs & DI_NEGATIVE_LIMIT:
             fs |= st.FS_HW_LEFT
         self.fault_status = fs
+        # only this method changes the two bits: the cycle tests this flag instead
+        self._on_hw_limit = bool(fs & _FS_HW_LIMITS)
 
     def _hw_limit_stop(self) -> None:
         """A hardware limit switch is on: kill stop if the reference moves into it."""
