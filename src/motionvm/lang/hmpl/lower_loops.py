@@ -32,11 +32,12 @@ from motionvm.lang.hmpl.lower_util import (
     backedge,
     countdown_init,
 )
+from motionvm.lang.hmpl.lower_walk import PointerWalkLowering
 from motionvm.lang.hmpl.lvalues import call, const, name
 from motionvm.lang.hmpl.symbols import Scope, VarSym
 
 
-class LoopLowering:
+class LoopLowering(PointerWalkLowering):
     """Mixin of the function lowerer: loops."""
 
     def nest(self, pos, blocks: int = 1) -> bool:
@@ -88,6 +89,11 @@ class LoopLowering:
         return self.split_off(ctx, loop) if ctx.split else [loop]
 
     def _s_While(self, s: n.While) -> list[ast.stmt]:
+        body = s.body
+        if type(body) is n.Block and len(body.items) > 1 and type(body.items[-1]) is n.ExprStmt:
+            fast = self._pointer_walk(s.cond, body.items[-1].expr, body, body.items[:-1], s.pos)
+            if fast is not None:
+                return fast
         test = self.cond(s.cond)
         b = self.temp()
         cont = backedge(b) + [ast.Continue()]
@@ -126,6 +132,8 @@ class LoopLowering:
             if s.init is not None:
                 out.extend(at(self.stmt(s.init), s.init.pos))
             fast = self._range_for(s)
+            if fast is None and s.cond is not None and s.step is not None:
+                fast = self._pointer_walk(s.cond, s.step, s.body, None, s.pos)
             if fast is not None:
                 return out + fast
             b = self.temp()
