@@ -7,12 +7,13 @@ the body leaves alone become `range` loops, in chunks of CHUNK values:
     for (int i = 0; i < n; i++) s += a[i];
 becomes
     _t1 = range(v_i, v_n, 1)
-    for _t2 in range(0, len(_t1), 64):
-        for v_i in _t1[_t2:_t2 + 64]:
-            v_s = ...
-        _budget -= 64
-        if _budget < 0:
-            yield
+    if _t1:
+        for _t2 in range(0, len(_t1), 64):
+            for v_i in (_t1[_t2:_t2 + 64] if _t2 or len(_t1) > 64 else _t1):
+                v_s = ...
+            _budget -= 64
+            if _budget < 0:
+                yield
 """
 
 from __future__ import annotations
@@ -281,26 +282,34 @@ class LoopLowering(PointerWalkLowering):
         """The counting loop in chunks of CHUNK values, charging the budget once per chunk:
 
         _r = range(v_i, STOP, STEP)
-        for _k in range(0, len(_r), 64):
-            for v_i in _r[_k:_k + 64]:
-                BODY
-            _budget -= 64
-            if _budget < 0:
-                yield
-        else:
-            v_i = _r.start + len(_r) * _r.step   # C's value after the loop, if i outlives it
+        if _r:
+            for _k in range(0, len(_r), 64):
+                for v_i in (_r[_k:_k + 64] if _k or len(_r) > 64 else _r):
+                    BODY
+                _budget -= 64
+                if _budget < 0:
+                    yield
+            else:
+                v_i = _r.start + len(_r) * _r.step   # C's value after the loop, if i outlives it
         """
         r, k = self.temp(), self.temp()
         pre = [
             ast.Assign(targets=[name(r, True)], value=call("range", name(sym.pyname), stop, step))
         ]
-        chunk = ast.Subscript(
+        sliced = ast.Subscript(
             value=name(r),
             slice=ast.Slice(
                 lower=name(k),
                 upper=ast.BinOp(left=name(k), op=ast.Add(), right=ast.Constant(CHUNK)),
             ),
             ctx=ast.Load(),
+        )
+        # a range of one chunk runs as it is, without a slice (the common short loop)
+        more = ast.Compare(
+            left=call("len", name(r)), ops=[ast.Gt()], comparators=[ast.Constant(CHUNK)]
+        )
+        chunk = ast.IfExp(
+            test=ast.BoolOp(op=ast.Or(), values=[name(k), more]), body=sliced, orelse=name(r)
         )
         inner = ast.For(
             target=name(sym.pyname, True), iter=chunk, body=body or [ast.Pass()], orelse=[]
@@ -328,7 +337,8 @@ class LoopLowering(PointerWalkLowering):
             body=[inner] + charge,
             orelse=orelse,
         )
-        return pre + [outer]
+        # an empty range skips the set-up of the chunks (the counter keeps its start value)
+        return pre + [ast.If(test=name(r), body=[outer], orelse=[])]
 
     def _start_range(self, s: n.For) -> tuple[int, int] | None:
         """Known bounds of a range-for counter's start value."""
