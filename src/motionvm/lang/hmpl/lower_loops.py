@@ -185,6 +185,7 @@ class LoopLowering(PointerWalkLowering):
         inc = self._step_of(step, ivar)
         assigned = self._assigned_in(s.body)
         step_var = None
+        step_rng = None
         if (
             inc is None
             and isinstance(step, n.Assign)
@@ -201,6 +202,7 @@ class LoopLowering(PointerWalkLowering):
             if not sv.type.is_integer or ct.common_arith(sym.type, sv.type) != sym.type:
                 return None
             step_var = self.convert(sv, sym.type, step.pos)
+            step_rng = sv.rng
             inc = "var"
         if inc is None:
             return None
@@ -242,7 +244,9 @@ class LoopLowering(PointerWalkLowering):
         finally:
             self.known_ranges.pop(sym.pyname, None)
         pre: list[ast.stmt] = []
-        if inc == "var":
+        if inc == "var" and step_rng is not None and step_rng[0] > 0:
+            step_node = step_var  # known positive (range analysis): nothing to check
+        elif inc == "var":
             # a run-time step must be positive (0 or less would never reach the bound)
             st = self.temp()
             pre.append(ast.Assign(targets=[name(st, True)], value=step_var))
