@@ -33,7 +33,7 @@ from motionvm.lang.hmpl.lower_util import (
     backedge,
     countdown_init,
 )
-from motionvm.lang.hmpl.lower_walk import PointerWalkLowering
+from motionvm.lang.hmpl.lower_walk import PointerWalkLowering, alias_globals
 from motionvm.lang.hmpl.lvalues import call, const, name
 from motionvm.lang.hmpl.symbols import Scope, VarSym
 
@@ -342,7 +342,8 @@ class LoopLowering(PointerWalkLowering):
             orelse=orelse,
         )
         # an empty range skips the set-up of the chunks (the counter keeps its start value)
-        return pre + [ast.If(test=name(r), body=[outer], orelse=[])]
+        aliases = alias_globals(inner.body, self.temp)
+        return pre + [ast.If(test=name(r), body=aliases + [outer], orelse=[])]
 
     def _start_range(self, s: n.For) -> tuple[int, int] | None:
         """Known bounds of a range-for counter's start value."""

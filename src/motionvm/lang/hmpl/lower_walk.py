@@ -44,7 +44,7 @@ from motionvm.lang.hmpl import nodes as n
 from motionvm.lang.hmpl.analysis import walk
 from motionvm.lang.hmpl.lower_expr import wrap_node
 from motionvm.lang.hmpl.lower_util import CHUNK, LOOP_BLOCKS
-from motionvm.lang.hmpl.lvalues import call, name
+from motionvm.lang.hmpl.lvalues import VIEW_NAMES, call, name
 from motionvm.lang.hmpl.symbols import VarSym
 
 _STRAIGHT = (n.Block, n.ExprStmt, n.If, n.Empty, n.DeclStmt)
@@ -219,6 +219,11 @@ def _chunked_walk(low, pvar, stop, stride, size, checked, fast, sums) -> list[as
         ctx=ast.Load(),
     )
 
+    made: dict[str, str] = {}
+    for body in (checked, fast):
+        if body is not None:
+            pre += alias_globals(body, low.temp, made)
+
     def over(body):
         return ast.For(target=name(pvar, True), iter=name(c), body=body or [ast.Pass()], orelse=[])
 
@@ -263,3 +268,40 @@ def _chunked_walk(low, pvar, stop, stride, size, checked, fast, sums) -> list[as
         right=ast.BinOp(left=call("len", name(r)), op=ast.Mult(), right=ast.Constant(stride)),
     )
     return pre + [loop, ast.Assign(targets=[name(pvar, True)], value=final)]
+
+
+_VIEWS = frozenset(VIEW_NAMES.values()) | {"_SH"}
+
+
+def alias_globals(body: list[ast.stmt], temp, made: dict[str, str] | None = None) -> list[ast.stmt]:
+    """Read the arrays a loop body indexes through locals: `_t5 = g_a` before the loop
+    and `_t5[i]` in it (a local is cheaper to load than a module global). Only for the
+    memory views and list-backed arrays, which are bound once before any task runs
+    (global initializers run no loop) and never rebound; `body` is changed in place.
+    The statements that bind the locals are returned, to stand before the loop; `made`
+    (global -> local) lets several bodies share them (then only new ones are returned)."""
+    if made is None:
+        made = {}
+    seen: dict[str, list[ast.Subscript]] = {}
+    stored: set[str] = set()
+    for node in ast.walk(ast.Module(body=body, type_ignores=[])):
+        t = type(node)
+        if t is ast.Subscript:
+            v = node.value
+            if type(v) is ast.Name and (v.id in _VIEWS or v.id.startswith("g_")):
+                seen.setdefault(v.id, []).append(node)
+        elif t is ast.Name and type(node.ctx) is not ast.Load:
+            stored.add(node.id)
+        elif t is ast.Global or t is ast.Nonlocal:
+            stored.update(node.names)
+    out: list[ast.stmt] = []
+    for gname, uses in seen.items():
+        if gname in stored:
+            continue
+        local = made.get(gname)
+        if local is None:
+            local = made[gname] = temp()
+            out.append(ast.Assign(targets=[name(local, True)], value=name(gname)))
+        for sub in uses:
+            sub.value = ast.copy_location(name(local), sub.value)
+    return out
