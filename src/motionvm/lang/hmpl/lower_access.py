@@ -134,6 +134,13 @@ class AccessLowering:
             if isinstance(t, ct.VoidT):
                 raise self.fail(e.pos, "cannot dereference a 'void *' pointer (cast it first)")
             if t.is_scalar:
+                if (
+                    type(p.node) is ast.Name
+                    and self.trusted_ptrs.get(p.node.id, 0) >= t.size
+                    and type(e.operand) is n.Name
+                ):
+                    # a pointer walk's chunk checked in advance (lower_walk.py)
+                    return MemLV(t, _scaled_index(p.node, t.size))
                 return PtrLV(t, p.node, self.temp())
             return AggLV(
                 t, call("_chkp", p.node, ast.Constant(max(t.size, 1)), ast.Constant(t.align))
@@ -357,6 +364,15 @@ class AccessLowering:
         if isinstance(lv.type, ct.StructT):
             raise self.fail(e.pos, f"invalid operands to '{e.op}' ('{lv.type}')")
         res = self.binary(op, cur, self.expr(e.value), e.pos)
+        if (
+            as_stmt
+            and type(blv) is NameLV
+            and blv.pyname in self.lazy_sums
+            and res.type == ct.INT
+            and op in ("+", "-")
+        ):
+            # a pointer walk's sum, wrapped once per chunk (lower_walk.py)
+            return blv.store(res.node)
         node = self.convert(res, lv.type, e.pos)
         if as_stmt:
             return [ast.Expr(value=p) for p in pre] + blv.store(node)

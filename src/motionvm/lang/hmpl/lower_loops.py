@@ -7,12 +7,13 @@ the body leaves alone become `range` loops, in chunks of CHUNK values:
     for (int i = 0; i < n; i++) s += a[i];
 becomes
     _t1 = range(v_i, v_n, 1)
-    for _t2 in range(0, len(_t1), 64):
-        for v_i in _t1[_t2:_t2 + 64]:
-            v_s = ...
-        _budget -= 64
-        if _budget < 0:
-            yield
+    if _t1:
+        for _t2 in range(0, len(_t1), 64):
+            for v_i in (_t1[_t2:_t2 + 64] if _t2 or len(_t1) > 64 else _t1):
+                v_s = ...
+            _budget -= 64
+            if _budget < 0:
+                yield
 """
 
 from __future__ import annotations
@@ -32,11 +33,12 @@ from motionvm.lang.hmpl.lower_util import (
     backedge,
     countdown_init,
 )
+from motionvm.lang.hmpl.lower_walk import PointerWalkLowering, alias_globals
 from motionvm.lang.hmpl.lvalues import call, const, name
 from motionvm.lang.hmpl.symbols import Scope, VarSym
 
 
-class LoopLowering:
+class LoopLowering(PointerWalkLowering):
     """Mixin of the function lowerer: loops."""
 
     def nest(self, pos, blocks: int = 1) -> bool:
@@ -88,6 +90,11 @@ class LoopLowering:
         return self.split_off(ctx, loop) if ctx.split else [loop]
 
     def _s_While(self, s: n.While) -> list[ast.stmt]:
+        body = s.body
+        if type(body) is n.Block and len(body.items) > 1 and type(body.items[-1]) is n.ExprStmt:
+            fast = self._pointer_walk(s.cond, body.items[-1].expr, body, body.items[:-1], s.pos)
+            if fast is not None:
+                return fast
         test = self.cond(s.cond)
         b = self.temp()
         cont = backedge(b) + [ast.Continue()]
@@ -126,6 +133,8 @@ class LoopLowering:
             if s.init is not None:
                 out.extend(at(self.stmt(s.init), s.init.pos))
             fast = self._range_for(s)
+            if fast is None and s.cond is not None and s.step is not None:
+                fast = self._pointer_walk(s.cond, s.step, s.body, None, s.pos)
             if fast is not None:
                 return out + fast
             b = self.temp()
@@ -176,6 +185,7 @@ class LoopLowering:
         inc = self._step_of(step, ivar)
         assigned = self._assigned_in(s.body)
         step_var = None
+        step_rng = None
         if (
             inc is None
             and isinstance(step, n.Assign)
@@ -192,6 +202,7 @@ class LoopLowering:
             if not sv.type.is_integer or ct.common_arith(sym.type, sv.type) != sym.type:
                 return None
             step_var = self.convert(sv, sym.type, step.pos)
+            step_rng = sv.rng
             inc = "var"
         if inc is None:
             return None
@@ -233,7 +244,9 @@ class LoopLowering:
         finally:
             self.known_ranges.pop(sym.pyname, None)
         pre: list[ast.stmt] = []
-        if inc == "var":
+        if inc == "var" and step_rng is not None and step_rng[0] > 0:
+            step_node = step_var  # known positive (range analysis): nothing to check
+        elif inc == "var":
             # a run-time step must be positive (0 or less would never reach the bound)
             st = self.temp()
             pre.append(ast.Assign(targets=[name(st, True)], value=step_var))
@@ -273,26 +286,34 @@ class LoopLowering:
         """The counting loop in chunks of CHUNK values, charging the budget once per chunk:
 
         _r = range(v_i, STOP, STEP)
-        for _k in range(0, len(_r), 64):
-            for v_i in _r[_k:_k + 64]:
-                BODY
-            _budget -= 64
-            if _budget < 0:
-                yield
-        else:
-            v_i = _r.start + len(_r) * _r.step   # C's value after the loop, if i outlives it
+        if _r:
+            for _k in range(0, len(_r), 64):
+                for v_i in (_r[_k:_k + 64] if _k or len(_r) > 64 else _r):
+                    BODY
+                _budget -= 64
+                if _budget < 0:
+                    yield
+            else:
+                v_i = _r.start + len(_r) * _r.step   # C's value after the loop, if i outlives it
         """
         r, k = self.temp(), self.temp()
         pre = [
             ast.Assign(targets=[name(r, True)], value=call("range", name(sym.pyname), stop, step))
         ]
-        chunk = ast.Subscript(
+        sliced = ast.Subscript(
             value=name(r),
             slice=ast.Slice(
                 lower=name(k),
                 upper=ast.BinOp(left=name(k), op=ast.Add(), right=ast.Constant(CHUNK)),
             ),
             ctx=ast.Load(),
+        )
+        # a range of one chunk runs as it is, without a slice (the common short loop)
+        more = ast.Compare(
+            left=call("len", name(r)), ops=[ast.Gt()], comparators=[ast.Constant(CHUNK)]
+        )
+        chunk = ast.IfExp(
+            test=ast.BoolOp(op=ast.Or(), values=[name(k), more]), body=sliced, orelse=name(r)
         )
         inner = ast.For(
             target=name(sym.pyname, True), iter=chunk, body=body or [ast.Pass()], orelse=[]
@@ -320,7 +341,9 @@ class LoopLowering:
             body=[inner] + charge,
             orelse=orelse,
         )
-        return pre + [outer]
+        # an empty range skips the set-up of the chunks (the counter keeps its start value)
+        aliases = alias_globals(inner.body, self.temp)
+        return pre + [ast.If(test=name(r), body=aliases + [outer], orelse=[])]
 
     def _start_range(self, s: n.For) -> tuple[int, int] | None:
         """Known bounds of a range-for counter's start value."""

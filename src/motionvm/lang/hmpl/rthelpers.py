@@ -12,6 +12,7 @@ import math
 from motionvm.lang.hmpl.cmemory import (
     ADDRESS_SIGN_MASK,
     SCALAR_FORMATS,
+    SHADOW_CAP,
     Memory,
     to_f32,
     wrap_scalar,
@@ -184,7 +185,26 @@ def make_helpers(mem: Memory) -> dict[str, object]:
         mem.buf[dst : dst + n] = mem.buf[src : src + n]
         return dst
 
+    def _inobj(c, size):
+        """True if the `size` bytes at each address of the range `c` (non-empty, its
+        step a multiple of `size`) lie inside one live object, aligned for `size`."""
+        a = c.start
+        if a & (ADDRESS_SIGN_MASK | (size - 1)):
+            return False
+        left = c[-1] + size - a
+        try:
+            while left > SHADOW_CAP:
+                if sh[a] != SHADOW_CAP:
+                    return False
+                # bytes a .. a + SHADOW_CAP - 1 are the object's: go on from the last
+                a += SHADOW_CAP - 1
+                left -= SHADOW_CAP - 1
+            return sh[a] >= left
+        except IndexError:
+            return False
+
     ns["_chkp"] = _chkp
+    ns["_inobj"] = _inobj
     ns["_fill"] = _fill
     ns["_copy"] = _copy
     ns["_wrap"] = wrap_scalar
