@@ -26,29 +26,37 @@ def lint_function(f: n.FuncDef, warn: Warn) -> None:
     def add(pos: SourcePos, message: str) -> None:
         found.append((pos, message))
 
-    _check_tree(f.body, add)
-    _Unused(add).function(f)
+    _Lint(add).function(f)
     for pos, message in sorted(found, key=lambda w: (w[0].file, w[0].line, w[0].col)):
         warn(pos, message)
 
 
-def _check_tree(body: n.Block, warn: Warn) -> None:
-    """One walk over a body: -Wparentheses at each condition, unreachable code per block."""
-    for x in walk(body):
+def _check_tree(tree, warn: Warn) -> None:
+    """-Wparentheses at each condition and unreachable code per block, in a subtree the
+    statement walk of `_Lint` does not enter (a prototype, a struct spelled out in a
+    declaration's type)."""
+    for x in walk(tree):
         t = type(x)
         if t is n.Block:
             _check_unreachable(x, warn)
-            continue
-        if t in _CONDITIONAL:
-            c = x.cond
-        elif t is n.Call and type(x.func) is n.Name and x.func.id == "Till" and x.args:
-            c = x.args[0]
-        else:
-            continue
-        if type(c) is n.Unary and c.op == "!" and t is n.While:
-            c = c.operand  # `Till (cond) { ... }` is parsed as `while (!cond) { ... }`
-        if type(c) is n.Assign and c.op == "=" and not c.parenthesized:
-            warn(c.pos, "suggest parentheses around assignment used as truth value")
+        elif t in _CONDITIONAL:
+            _check_condition(x.cond, t, warn)
+        elif t is n.Call:
+            _check_till(x, warn)
+
+
+def _check_condition(c, t: type, warn: Warn) -> None:
+    """-Wparentheses: an unparenthesized `=` as the condition `c` of a node of class `t`."""
+    if type(c) is n.Unary and c.op == "!" and t is n.While:
+        c = c.operand  # `Till (cond) { ... }` is parsed as `while (!cond) { ... }`
+    if type(c) is n.Assign and c.op == "=" and not c.parenthesized:
+        warn(c.pos, "suggest parentheses around assignment used as truth value")
+
+
+def _check_till(x: n.Call, warn: Warn) -> None:
+    """-Wparentheses on the condition of a `Till(cond)` call."""
+    if type(x.func) is n.Name and x.func.id == "Till" and x.args:
+        _check_condition(x.args[0], n.Call, warn)
 
 
 _CONDITIONAL = frozenset((n.If, n.While, n.DoWhile, n.For, n.Cond))
@@ -79,8 +87,9 @@ def _check_unreachable(blk: n.Block, warn: Warn) -> None:
 _REPORTED = object()  # a stretch of dead code already reported
 
 
-class _Unused:
-    """Block-scoped use tracking of one function's local variables."""
+class _Lint:
+    """One walk over a function: block-scoped use tracking of its local variables, and
+    at the same time -Wparentheses at each condition and unreachable code per block."""
 
     def __init__(self, warn: Warn) -> None:
         self.warn = warn
@@ -88,6 +97,7 @@ class _Unused:
 
     def function(self, f: n.FuncDef) -> None:
         self.scopes.append({p.name: [p.pos, True] for p in f.params if p.name})
+        _check_unreachable(f.body, self.warn)  # type: ignore[arg-type]
         self.block(f.body.items)  # type: ignore[union-attr]
         self.scopes.pop()
 
@@ -104,14 +114,19 @@ class _Unused:
 
     def sub(self, s) -> None:
         """A statement that is a scope of its own (a loop's or an if's body)."""
-        self.block(s.items if type(s) is n.Block else (s,))
+        if type(s) is n.Block:
+            _check_unreachable(s, self.warn)
+            self.block(s.items)
+        else:
+            self.block((s,))
 
     def uses(self, e) -> None:
-        """Mark every variable named in expression `e` used (one walk, names only)."""
+        """Mark every variable named in expression `e` used (one walk); check the
+        conditions of `?:` and `Till` on the way."""
         if e is None:
             return
         scopes = self.scopes
-        Name, children = n.Name, _CHILDREN
+        Name, Cond, Call, children = n.Name, n.Cond, n.Call, _CHILDREN
         stack = [e]
         pop, push, extend = stack.pop, stack.append, stack.extend
         while stack:
@@ -129,6 +144,10 @@ class _Unused:
                 continue
             if x is None:
                 continue
+            if t is Cond:
+                _check_condition(x.cond, t, self.warn)
+            elif t is Call:
+                _check_till(x, self.warn)
             fields = children.get(t)
             if fields is None:
                 fields = _children_of(t)
@@ -139,7 +158,10 @@ class _Unused:
 
     def declare(self, d: n.VarDecl) -> None:
         if type(d) is n.FuncDef:  # a prototype: no variable
+            _check_tree(d, self.warn)
             return
+        if d.type.struct_def is not None:
+            _check_tree(d.type.struct_def, self.warn)
         if type(d) is n.Typedef:  # a type name, not a variable
             self.uses(d.dims)
             return
@@ -150,21 +172,27 @@ class _Unused:
     def stmt(self, s) -> None:
         t = type(s)
         if t is n.Block:
+            _check_unreachable(s, self.warn)
             self.block(s.items)
         elif t is n.DeclStmt:
             for d in s.decls:
                 self.declare(d)
         elif t is n.VarDecl:
             self.declare(s)
+        elif t is n.ExprStmt:
+            self.uses(s.expr)
         elif t is n.If:
+            _check_condition(s.cond, t, self.warn)
             self.uses(s.cond)
             self.sub(s.then)
             if s.else_ is not None:
                 self.sub(s.else_)
         elif t is n.While or t is n.DoWhile:
+            _check_condition(s.cond, t, self.warn)
             self.uses(s.cond)
             self.sub(s.body)
         elif t is n.For:
+            _check_condition(s.cond, t, self.warn)
             self.scopes.append({})
             if s.init is not None:
                 self.stmt(s.init)
@@ -174,8 +202,6 @@ class _Unused:
         elif t is n.Switch:
             self.uses(s.expr)
             self.sub(s.body)
-        elif t is n.ExprStmt:
-            self.uses(s.expr)
         elif t is n.Return:
             self.uses(s.value)
         else:  # case labels; statements without names (break, goto, ...)

@@ -85,33 +85,50 @@ def at(stmts: list[ast.stmt], pos) -> list[ast.stmt]:
     """Give every generated node without a location the user's position `pos`.
 
     Subtrees that already carry a location were placed by an inner statement and are
-    skipped, so each node is visited about once however deep the nesting.
+    skipped, so each node is visited about once however deep the nesting. Only `lineno`
+    and `col_offset` are set: `compile()` takes a missing end as the start, which is the
+    place every node gets. Names and constants (most of the nodes) are stamped where
+    their parent finds them, without a trip through the stack.
     """
     line, col = pos.line, max(0, pos.col - 1)
-    loc = {"lineno": line, "col_offset": col, "end_lineno": line, "end_col_offset": col}
     walk_info = _WALK
+    leaves = _LEAVES
     stack: list[ast.AST] = list(stmts)
-    pop, push, extend = stack.pop, stack.append, stack.extend
+    pop, push = stack.pop, stack.append
     while stack:
         node = pop()
+        d = node.__dict__
+        if "lineno" in d:
+            continue
         info = walk_info.get(type(node))
         if info is None:
             info = _walk_info(type(node))
-        located, fields = info
-        if located:
-            d = node.__dict__
-            if "lineno" in d:
-                continue
-            d.update(loc)
-        elif fields:
-            d = node.__dict__
-        else:
-            continue
-        for f in fields:
+        if info[0]:
+            d["lineno"] = line
+            d["col_offset"] = col
+        for f in info[1]:
             v = d.get(f)
-            if v is not None:
-                if type(v) is list:
-                    extend(v)
-                else:
-                    push(v)
+            if v is None:
+                continue
+            tv = type(v)
+            if tv is list:
+                for x in v:
+                    if type(x) in leaves:
+                        xd = x.__dict__
+                        if "lineno" not in xd:
+                            xd["lineno"] = line
+                            xd["col_offset"] = col
+                    elif x is not None:  # a dict's `**` key, a missing default
+                        push(x)
+            elif tv in leaves:
+                vd = v.__dict__
+                if "lineno" not in vd:
+                    vd["lineno"] = line
+                    vd["col_offset"] = col
+            else:
+                push(v)
     return stmts
+
+
+_LEAVES = frozenset((ast.Name, ast.Constant))
+"""Located node classes without located children."""
