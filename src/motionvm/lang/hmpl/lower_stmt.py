@@ -33,8 +33,18 @@ class FunctionLowerer(ExprLowering, AccessLowering, LoopLowering, JumpLowering, 
     """Lowers one function body (or one task's global initializers) of one task."""
 
     def __init__(
-        self, prog, task: int, scope: Scope, func: FuncSym | None, addr_taken: set[str]
+        self,
+        prog,
+        task: int,
+        scope: Scope,
+        func: FuncSym | None,
+        addr_taken: set[str],
+        assigned: dict[int, set[str]] | None = None,
     ) -> None:
+        """`assigned`: the names assigned in the body and in each `for` body, by `id` of
+        the body, when the analysis already found them (`analysis.FuncFacts`)."""
+        if assigned is not None:
+            self._assigned_cache = assigned  # read by LoopLowering._assigned_in
         self.prog = prog
         self.sink = prog.sink
         self.task = task

@@ -658,12 +658,14 @@ class ProgramCompiler:
                         if not isinstance(sym, FuncSym) or sym.node is not item:
                             continue
                         lint_function(item, self.warn)
+                        facts = self.facts[id(item)]
                         lw = FunctionLowerer(
                             self,
                             u.task,
                             Scope(scope, "function"),
                             sym,
-                            self.facts[id(item)].addr_taken,
+                            facts.addr_taken,
+                            facts.assigned,
                         )
                         try:
                             fn = lw.function(item, sym)
