@@ -87,11 +87,12 @@ def at(stmts: list[ast.stmt], pos) -> list[ast.stmt]:
     Subtrees that already carry a location were placed by an inner statement and are
     skipped, so each node is visited about once however deep the nesting. Only `lineno`
     and `col_offset` are set: `compile()` takes a missing end as the start, which is the
-    place every node gets. Names and constants (most of the nodes) are stamped where
-    their parent finds them, without a trip through the stack.
+    place every node gets (a node class without a location, such as `arguments`, gets
+    them too and `compile()` ignores them). Names and constants (most of the nodes) are
+    stamped where their parent finds them, without a trip through the stack.
     """
     line, col = pos.line, max(0, pos.col - 1)
-    walk_info = _WALK
+    fields_of = _FIELDS
     leaves = _LEAVES
     stack: list[ast.AST] = list(stmts)
     pop, push = stack.pop, stack.append
@@ -100,13 +101,13 @@ def at(stmts: list[ast.stmt], pos) -> list[ast.stmt]:
         d = node.__dict__
         if "lineno" in d:
             continue
-        info = walk_info.get(type(node))
-        if info is None:
-            info = _walk_info(type(node))
-        if info[0]:
-            d["lineno"] = line
-            d["col_offset"] = col
-        for f in info[1]:
+        d["lineno"] = line
+        d["col_offset"] = col
+        try:
+            fields = fields_of[type(node)]
+        except KeyError:
+            fields = fields_of[type(node)] = child_fields(type(node))
+        for f in fields:
             v = d.get(f)
             if v is None:
                 continue
@@ -132,3 +133,5 @@ def at(stmts: list[ast.stmt], pos) -> list[ast.stmt]:
 
 _LEAVES = frozenset((ast.Name, ast.Constant))
 """Located node classes without located children."""
+_FIELDS: dict[type, tuple[str, ...]] = {}
+"""`child_fields` of the node classes `at` has met."""
