@@ -40,21 +40,21 @@ CHUNK = 64
 
 
 def countdown_init(counter: str) -> ast.stmt:
-    return ast.Assign(targets=[name(counter, True)], value=ast.Constant(CHUNK + 1))
+    return ast.Assign([name(counter, True)], ast.Constant(CHUNK + 1))
 
 
 def backedge(counter: str) -> list[ast.stmt]:
     """`counter -= 1; if not counter: counter = CHUNK + 1; _budget -= CHUNK; if _budget < 0: yield`."""
-    dec = ast.AugAssign(target=name(counter, True), op=ast.Sub(), value=ast.Constant(1))
-    charge = ast.AugAssign(target=name("_budget", True), op=ast.Sub(), value=ast.Constant(CHUNK))
-    over = ast.Compare(left=name("_budget"), ops=[ast.Lt()], comparators=[ast.Constant(0)])
+    dec = ast.AugAssign(name(counter, True), ast.Sub(), ast.Constant(1))
+    charge = ast.AugAssign(name("_budget", True), ast.Sub(), ast.Constant(CHUNK))
+    over = ast.Compare(name("_budget"), [ast.Lt()], [ast.Constant(0)])
     refill = [
-        ast.Assign(targets=[name(counter, True)], value=ast.Constant(CHUNK + 1)),
+        ast.Assign([name(counter, True)], ast.Constant(CHUNK + 1)),
         charge,
-        ast.If(test=over, body=[ast.Expr(value=ast.Yield(value=None))], orelse=[]),
+        ast.If(over, [ast.Expr(ast.Yield(None))], []),
     ]
-    test = ast.UnaryOp(op=ast.Not(), operand=name(counter))
-    return [dec, ast.If(test=test, body=refill, orelse=[])]
+    test = ast.UnaryOp(ast.Not(), name(counter))
+    return [dec, ast.If(test, refill, [])]
 
 
 # Fields that never hold a node with a location: names, flags, contexts and operators.
