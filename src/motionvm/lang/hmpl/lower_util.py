@@ -91,10 +91,12 @@ def at(stmts: list[ast.stmt], pos) -> list[ast.stmt]:
     them too and `compile()` ignores them). Names and constants (most of the nodes) are
     stamped where their parent finds them, without a trip through the stack.
     """
-    line, col = pos.line, max(0, pos.col - 1)
+    line, col = pos.line, pos.col - 1
+    if col < 0:
+        col = 0
     fields_of = _FIELDS
     leaves = _LEAVES
-    stack: list[ast.AST] = list(stmts)
+    stack: list[ast.AST] = stmts.copy()
     pop, push = stack.pop, stack.append
     while stack:
         node = pop()
