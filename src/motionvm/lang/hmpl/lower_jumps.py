@@ -68,6 +68,7 @@ class JumpLowering:
                 )
         groups: list[tuple[list, list]] = []  # (labels, statements)
         values: dict[int, object] = {}
+        label_value: dict[int, int] = {}  # id(case label) -> its value, once lowered
         for it in items:
             if isinstance(it, (n.Case, n.Default)):
                 if groups and not groups[-1][1]:
@@ -79,6 +80,7 @@ class JumpLowering:
                         cv = ct.wrap_int(self.const_int(it.value), t)
                     except SemanticError:
                         continue
+                    label_value[id(it)] = cv
                     if cv in values:
                         self.sink.error(it.pos, f"duplicate case value {cv}")
                     values[cv] = it
@@ -105,10 +107,12 @@ class JumpLowering:
                         others = ast.Tuple([const(k) for k in values], ast.Load())
                         tests.append(ast.Compare(name(sw), [ast.NotIn()], [others]))
                     else:
-                        try:
-                            cv = ct.wrap_int(self.const_int(lab.value), t)
-                        except SemanticError:
-                            continue
+                        cv = label_value.get(id(lab))
+                        if cv is None:
+                            try:
+                                cv = ct.wrap_int(self.const_int(lab.value), t)
+                            except SemanticError:
+                                continue
                         tests.append(ast.Compare(name(sw), [ast.Eq()], [const(cv)]))
                 if not tests:
                     continue  # its labels failed (reported)
