@@ -93,19 +93,35 @@ class _Lint:
 
     def __init__(self, warn: Warn) -> None:
         self.warn = warn
-        self.scopes: list[dict[str, list]] = []  # name -> [pos, used]
+        self.scopes: list[dict[str, list]] = []  # name -> [pos, used], one per open block
+        # name -> the entries of the open blocks that declare it, innermost last: a use
+        # finds its variable with one look-up
+        self.live: dict[str, list[list]] = {}
 
     def function(self, f: n.FuncDef) -> None:
-        self.scopes.append({p.name: [p.pos, True] for p in f.params if p.name})
+        self.enter({p.name: [p.pos, True] for p in f.params if p.name})
         _check_unreachable(f.body, self.warn)  # type: ignore[arg-type]
         self.block(f.body.items)  # type: ignore[union-attr]
-        self.scopes.pop()
+        self.leave()
+
+    def enter(self, scope: dict[str, list]) -> None:
+        self.scopes.append(scope)
+        live = self.live
+        for name, entry in scope.items():
+            live.setdefault(name, []).append(entry)
+
+    def leave(self) -> dict[str, list]:
+        scope = self.scopes.pop()
+        live = self.live
+        for name in scope:
+            live[name].pop()
+        return scope
 
     def block(self, items) -> None:
-        self.scopes.append({})
+        self.enter({})
         for s in items:
             self.stmt(s)
-        self.report(self.scopes.pop())
+        self.report(self.leave())
 
     def report(self, scope: dict[str, list]) -> None:
         for name, (pos, used) in scope.items():
@@ -125,7 +141,7 @@ class _Lint:
         conditions of `?:` and `Till` on the way."""
         if e is None:
             return
-        scopes = self.scopes
+        live = self.live
         Name, Cond, Call, children = n.Name, n.Cond, n.Call, _CHILDREN
         stack = [e]
         pop, push, extend = stack.pop, stack.append, stack.extend
@@ -133,11 +149,9 @@ class _Lint:
             x = pop()
             t = type(x)
             if t is Name:
-                for scope in reversed(scopes):
-                    entry = scope.get(x.id)
-                    if entry is not None:
-                        entry[1] = True
-                        break
+                entries = live.get(x.id)
+                if entries:
+                    entries[-1][1] = True
                 continue
             if t is tuple or t is list:
                 extend(x)
@@ -167,7 +181,9 @@ class _Lint:
             return
         self.uses((d.dims, d.init))
         if d.name and d.name not in self.scopes[-1]:  # a redefinition is an error already
-            self.scopes[-1][d.name] = [d.pos, False]
+            entry = [d.pos, False]
+            self.scopes[-1][d.name] = entry
+            self.live.setdefault(d.name, []).append(entry)
 
     def stmt(self, s) -> None:
         t = type(s)
@@ -193,12 +209,12 @@ class _Lint:
             self.sub(s.body)
         elif t is n.For:
             _check_condition(s.cond, t, self.warn)
-            self.scopes.append({})
+            self.enter({})
             if s.init is not None:
                 self.stmt(s.init)
             self.uses((s.cond, s.step))
             self.sub(s.body)
-            self.report(self.scopes.pop())
+            self.report(self.leave())
         elif t is n.Switch:
             self.uses(s.expr)
             self.sub(s.body)
