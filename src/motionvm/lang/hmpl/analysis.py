@@ -61,30 +61,69 @@ def walk(node) -> list:
 
 @dataclass
 class FuncFacts:
-    """What one pass over a function body finds: waits, callees, address-taken names."""
+    """What one pass over a function body finds: waits, callees, address-taken names,
+    and the names assigned (`=`, `++`, `--`, `&`) in the body and in each `for` body in
+    it (by `id` of the body; a `for` body's set holds its inner loops' names too)."""
 
     waits: bool = False
     callees: list[str] = field(default_factory=list)
     addr_taken: set[str] = field(default_factory=set)
+    assigned: dict[int, set[str]] = field(default_factory=dict)
 
 
 # a label alone makes the function lower to the goto loop, whose budget may yield
 _LOOPS_AND_JUMPS = frozenset((n.While, n.DoWhile, n.For, n.Goto, n.Label))
 
 
+class _ForBody:
+    """On the scan's stack: the body of a `for`, whose assigned names start a set."""
+
+    __slots__ = ("body",)
+
+    def __init__(self, body) -> None:
+        self.body = body
+
+
+class _LeaveFor:
+    """On the scan's stack under a `for` body's nodes: back to the enclosing set."""
+
+    __slots__ = ("outer",)
+
+    def __init__(self, outer: int) -> None:
+        self.outer = outer
+
+
+_COUNTS = frozenset(("++", "--", "&"))
+
+
 def scan(root, uses: dict[str, set], facts: FuncFacts | None, blocking: dict[str, bool]) -> None:
     """One pass over `root`: how names are used as arrays (into `uses`) and, if `facts` is
-    given, what the code waits on, calls and takes the address of.
+    given, what the code waits on, calls, assigns and takes the address of.
 
     Array uses: the depth of each full `a[i][j]` chain, or 'escape' (any other use:
     decays to a pointer, `&a[i]`, passed to a function, ...); `sizeof` operands are not
     uses. Facts count everything, `sizeof` operands included.
     """
+    sets: list[set[str]] = [set()]
+    parents = [-1]
+    keys = [id(root)]
+    _scan(root, uses, facts, blocking, sets, parents, keys, 0)
+    if facts is not None:
+        for k in range(len(sets) - 1, 0, -1):
+            sets[parents[k]] |= sets[k]
+        for k, key in enumerate(keys):
+            facts.assigned[key] = sets[k]
+
+
+def _scan(root, uses, facts, blocking, sets, parents, keys, frame: int) -> None:
     stack = [root]
     pop, push, extend = stack.pop, stack.append, stack.extend
     children = _CHILDREN
     Index, Name, Unary, Call, SizeOf = n.Index, n.Name, n.Unary, n.Call, n.SizeOf
+    Assign, Postfix, For = n.Assign, n.Postfix, n.For
     loops = _LOOPS_AND_JUMPS
+    counts = _COUNTS
+    assigned = sets[frame]
     while stack:
         x = pop()
         t = type(x)
@@ -106,24 +145,43 @@ def scan(root, uses: dict[str, set], facts: FuncFacts | None, blocking: dict[str
             else:
                 push(r)
             continue
-        if t is Unary and x.op == "&":
+        if t is Assign:
+            if type(x.target) is Name:
+                assigned.add(x.target.id)
+        elif (t is Unary or t is Postfix) and x.op in counts:
             r = x.operand
             if type(r) is Name:
-                uses.setdefault(r.id, set()).add("escape")
-                if facts is not None:
-                    facts.addr_taken.add(r.id)
-                continue
-            while type(r) is Index:
-                push(r.index)
-                r = r.base
-            if type(r) is Name:
-                uses.setdefault(r.id, set()).add("escape")
-                continue
+                assigned.add(r.id)
+            if x.op == "&":
+                if type(r) is Name:
+                    uses.setdefault(r.id, set()).add("escape")
+                    if facts is not None:
+                        facts.addr_taken.add(r.id)
+                    continue
+                while type(r) is Index:
+                    push(r.index)
+                    r = r.base
+                if type(r) is Name:
+                    uses.setdefault(r.id, set()).add("escape")
+                    continue
         elif t is SizeOf:
-            if facts is not None:
-                scan((x.target, x.dims), {}, facts, blocking)  # facts only
+            if facts is not None:  # facts only
+                _scan((x.target, x.dims), {}, facts, blocking, sets, parents, keys, frame)
             continue
-        elif facts is not None:
+        elif t is _ForBody:
+            sets.append(set())
+            parents.append(frame)
+            keys.append(id(x.body))
+            push(_LeaveFor(frame))
+            push(x.body)
+            frame = len(sets) - 1
+            assigned = sets[frame]
+            continue
+        elif t is _LeaveFor:
+            frame = x.outer
+            assigned = sets[frame]
+            continue
+        if facts is not None:
             if t is Call:
                 if type(x.func) is Name:
                     cname = x.func.id
@@ -132,6 +190,12 @@ def scan(root, uses: dict[str, set], facts: FuncFacts | None, blocking: dict[str
                     facts.callees.append(cname)
             elif t in loops:
                 facts.waits = True
+                if t is For:
+                    push(x.init)
+                    push(x.cond)
+                    push(x.step)
+                    push(_ForBody(x.body))
+                    continue
         fields = children.get(t)
         if fields is None:
             fields = _children_of(t)

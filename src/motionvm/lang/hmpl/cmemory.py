@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import mmap
 import struct
+from functools import lru_cache
 
 from motionvm.runtime.errors import RuntimeFault
 
@@ -55,9 +56,12 @@ _F32 = struct.Struct("<f")
 _CAP_RUN = bytes([SHADOW_CAP]) * 4096
 
 
+@lru_cache(maxsize=256)
 def shadow_pattern(size: int) -> bytes:
     """The shadow bytes of a live object of `size` bytes: the bytes left in the object
-    from each byte on, capped at SHADOW_CAP (all nonzero: every byte is valid)."""
+    from each byte on, capped at SHADOW_CAP (all nonzero: every byte is valid). Kept per
+    size: every compile allocates the same system variables (a 4 MB user table) and
+    frames of a few sizes."""
     tail = bytes(range(min(size, SHADOW_CAP), 0, -1))
     head = size - len(tail)
     if head <= 0:

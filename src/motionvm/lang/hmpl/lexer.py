@@ -131,11 +131,6 @@ UINT64_MAX = (1 << 64) - 1
 _set_file = SourcePos.file.__set__  # type: ignore[attr-defined]
 _set_line = SourcePos.line.__set__  # type: ignore[attr-defined]
 _set_col = SourcePos.col.__set__  # type: ignore[attr-defined]
-_set_kind = Token.kind.__set__  # type: ignore[attr-defined]
-_set_text = Token.text.__set__  # type: ignore[attr-defined]
-_set_pos = Token.pos.__set__  # type: ignore[attr-defined]
-_set_value = Token.value.__set__  # type: ignore[attr-defined]
-_set_suffix = Token.suffix.__set__  # type: ignore[attr-defined]
 
 
 @dataclass(slots=True)
@@ -203,43 +198,29 @@ def scan(sf: SourceFile) -> Scan:
     bol = True  # no token yet on this logical line
     directive_start = -1
     new = object.__new__
+    tnew = tuple.__new__
     set_file, set_line, set_col = _set_file, _set_line, _set_col
-    set_kind, set_text, set_pos, set_value, set_suffix = (
-        _set_kind,
-        _set_text,
-        _set_pos,
-        _set_value,
-        _set_suffix,
-    )
     for m in _MASTER.finditer(text):
         kind = m.lastgroup
-        if kind == "tail":
-            continue
         if kind == "name" or kind == "punct" or kind == "dec":
-            # the hot path: build the frozen Token/SourcePos through their slot
-            # descriptors, about twice as fast as the dataclass __init__
+            # the hot path: build the frozen SourcePos through its slot descriptors and
+            # the Token as a plain tuple, about twice as fast as their constructors
             s = m.group(kind)
             pos = new(SourcePos)
             set_file(pos, path)
             set_line(pos, line)
             set_col(pos, m.end() - len(s) - line_start + 1)
-            t = new(Token)
-            if kind == "punct":
-                set_kind(t, "punct")
-                set_value(t, None)
+            if kind == "name":
+                append(tnew(Token, ("keyword" if s in keywords else "name", s, pos, None, "")))
+            elif kind == "punct":
                 if bol and s == "#":
                     directive_start = len(toks)
-            elif kind == "name":
-                set_kind(t, "keyword" if s in keywords else "name")
-                set_value(t, None)
+                append(tnew(Token, ("punct", s, pos, None, "")))
             else:
-                set_kind(t, "int")
-                set_value(t, int(s))
-            set_text(t, s)
-            set_pos(t, pos)
-            set_suffix(t, "")
-            append(t)
+                append(tnew(Token, ("int", s, pos, int(s), "")))
             bol = False
+            continue
+        if kind == "tail":
             continue
         if kind == "nl":
             line += 1

@@ -26,29 +26,37 @@ def lint_function(f: n.FuncDef, warn: Warn) -> None:
     def add(pos: SourcePos, message: str) -> None:
         found.append((pos, message))
 
-    _check_tree(f.body, add)
-    _Unused(add).function(f)
+    _Lint(add).function(f)
     for pos, message in sorted(found, key=lambda w: (w[0].file, w[0].line, w[0].col)):
         warn(pos, message)
 
 
-def _check_tree(body: n.Block, warn: Warn) -> None:
-    """One walk over a body: -Wparentheses at each condition, unreachable code per block."""
-    for x in walk(body):
+def _check_tree(tree, warn: Warn) -> None:
+    """-Wparentheses at each condition and unreachable code per block, in a subtree the
+    statement walk of `_Lint` does not enter (a prototype, a struct spelled out in a
+    declaration's type)."""
+    for x in walk(tree):
         t = type(x)
         if t is n.Block:
             _check_unreachable(x, warn)
-            continue
-        if t in _CONDITIONAL:
-            c = x.cond
-        elif t is n.Call and type(x.func) is n.Name and x.func.id == "Till" and x.args:
-            c = x.args[0]
-        else:
-            continue
-        if type(c) is n.Unary and c.op == "!" and t is n.While:
-            c = c.operand  # `Till (cond) { ... }` is parsed as `while (!cond) { ... }`
-        if type(c) is n.Assign and c.op == "=" and not c.parenthesized:
-            warn(c.pos, "suggest parentheses around assignment used as truth value")
+        elif t in _CONDITIONAL:
+            _check_condition(x.cond, t, warn)
+        elif t is n.Call:
+            _check_till(x, warn)
+
+
+def _check_condition(c, t: type, warn: Warn) -> None:
+    """-Wparentheses: an unparenthesized `=` as the condition `c` of a node of class `t`."""
+    if type(c) is n.Unary and c.op == "!" and t is n.While:
+        c = c.operand  # `Till (cond) { ... }` is parsed as `while (!cond) { ... }`
+    if type(c) is n.Assign and c.op == "=" and not c.parenthesized:
+        warn(c.pos, "suggest parentheses around assignment used as truth value")
+
+
+def _check_till(x: n.Call, warn: Warn) -> None:
+    """-Wparentheses on the condition of a `Till(cond)` call."""
+    if type(x.func) is n.Name and x.func.id == "Till" and x.args:
+        _check_condition(x.args[0], n.Call, warn)
 
 
 _CONDITIONAL = frozenset((n.If, n.While, n.DoWhile, n.For, n.Cond))
@@ -79,23 +87,41 @@ def _check_unreachable(blk: n.Block, warn: Warn) -> None:
 _REPORTED = object()  # a stretch of dead code already reported
 
 
-class _Unused:
-    """Block-scoped use tracking of one function's local variables."""
+class _Lint:
+    """One walk over a function: block-scoped use tracking of its local variables, and
+    at the same time -Wparentheses at each condition and unreachable code per block."""
 
     def __init__(self, warn: Warn) -> None:
         self.warn = warn
-        self.scopes: list[dict[str, list]] = []  # name -> [pos, used]
+        self.scopes: list[dict[str, list]] = []  # name -> [pos, used], one per open block
+        # name -> the entries of the open blocks that declare it, innermost last: a use
+        # finds its variable with one look-up
+        self.live: dict[str, list[list]] = {}
 
     def function(self, f: n.FuncDef) -> None:
-        self.scopes.append({p.name: [p.pos, True] for p in f.params if p.name})
+        self.enter({p.name: [p.pos, True] for p in f.params if p.name})
+        _check_unreachable(f.body, self.warn)  # type: ignore[arg-type]
         self.block(f.body.items)  # type: ignore[union-attr]
-        self.scopes.pop()
+        self.leave()
+
+    def enter(self, scope: dict[str, list]) -> None:
+        self.scopes.append(scope)
+        live = self.live
+        for name, entry in scope.items():
+            live.setdefault(name, []).append(entry)
+
+    def leave(self) -> dict[str, list]:
+        scope = self.scopes.pop()
+        live = self.live
+        for name in scope:
+            live[name].pop()
+        return scope
 
     def block(self, items) -> None:
-        self.scopes.append({})
+        self.enter({})
         for s in items:
             self.stmt(s)
-        self.report(self.scopes.pop())
+        self.report(self.leave())
 
     def report(self, scope: dict[str, list]) -> None:
         for name, (pos, used) in scope.items():
@@ -104,31 +130,38 @@ class _Unused:
 
     def sub(self, s) -> None:
         """A statement that is a scope of its own (a loop's or an if's body)."""
-        self.block(s.items if type(s) is n.Block else (s,))
+        if type(s) is n.Block:
+            _check_unreachable(s, self.warn)
+            self.block(s.items)
+        else:
+            self.block((s,))
 
     def uses(self, e) -> None:
-        """Mark every variable named in expression `e` used (one walk, names only)."""
+        """Mark every variable named in expression `e` used (one walk); check the
+        conditions of `?:` and `Till` on the way."""
         if e is None:
             return
-        scopes = self.scopes
-        Name, children = n.Name, _CHILDREN
+        live = self.live
+        Name, Cond, Call, children = n.Name, n.Cond, n.Call, _CHILDREN
         stack = [e]
         pop, push, extend = stack.pop, stack.append, stack.extend
         while stack:
             x = pop()
             t = type(x)
             if t is Name:
-                for scope in reversed(scopes):
-                    entry = scope.get(x.id)
-                    if entry is not None:
-                        entry[1] = True
-                        break
+                entries = live.get(x.id)
+                if entries:
+                    entries[-1][1] = True
                 continue
             if t is tuple or t is list:
                 extend(x)
                 continue
             if x is None:
                 continue
+            if t is Cond:
+                _check_condition(x.cond, t, self.warn)
+            elif t is Call:
+                _check_till(x, self.warn)
             fields = children.get(t)
             if fields is None:
                 fields = _children_of(t)
@@ -139,43 +172,52 @@ class _Unused:
 
     def declare(self, d: n.VarDecl) -> None:
         if type(d) is n.FuncDef:  # a prototype: no variable
+            _check_tree(d, self.warn)
             return
+        if d.type.struct_def is not None:
+            _check_tree(d.type.struct_def, self.warn)
         if type(d) is n.Typedef:  # a type name, not a variable
             self.uses(d.dims)
             return
         self.uses((d.dims, d.init))
         if d.name and d.name not in self.scopes[-1]:  # a redefinition is an error already
-            self.scopes[-1][d.name] = [d.pos, False]
+            entry = [d.pos, False]
+            self.scopes[-1][d.name] = entry
+            self.live.setdefault(d.name, []).append(entry)
 
     def stmt(self, s) -> None:
         t = type(s)
         if t is n.Block:
+            _check_unreachable(s, self.warn)
             self.block(s.items)
         elif t is n.DeclStmt:
             for d in s.decls:
                 self.declare(d)
         elif t is n.VarDecl:
             self.declare(s)
+        elif t is n.ExprStmt:
+            self.uses(s.expr)
         elif t is n.If:
+            _check_condition(s.cond, t, self.warn)
             self.uses(s.cond)
             self.sub(s.then)
             if s.else_ is not None:
                 self.sub(s.else_)
         elif t is n.While or t is n.DoWhile:
+            _check_condition(s.cond, t, self.warn)
             self.uses(s.cond)
             self.sub(s.body)
         elif t is n.For:
-            self.scopes.append({})
+            _check_condition(s.cond, t, self.warn)
+            self.enter({})
             if s.init is not None:
                 self.stmt(s.init)
             self.uses((s.cond, s.step))
             self.sub(s.body)
-            self.report(self.scopes.pop())
+            self.report(self.leave())
         elif t is n.Switch:
             self.uses(s.expr)
             self.sub(s.body)
-        elif t is n.ExprStmt:
-            self.uses(s.expr)
         elif t is n.Return:
             self.uses(s.value)
         else:  # case labels; statements without names (break, goto, ...)

@@ -36,7 +36,7 @@ class JumpLowering:
             sw = self.loops[level]
             sw.flag_used = True
             return [
-                ast.Assign(targets=[name(sw.flag, True)], value=ast.Constant(True)),
+                ast.Assign([name(sw.flag, True)], ast.Constant(True)),
                 ast.Break(),
             ]
         if level < 0:
@@ -54,7 +54,7 @@ class JumpLowering:
         t = ct.promote(v.type)
         sw, matched, flag = self.temp(), self.temp(), self.temp()
         out: list[ast.stmt] = [
-            ast.Assign(targets=[name(sw, True)], value=self.convert(v, t, s.pos)),
+            ast.Assign([name(sw, True)], self.convert(v, t, s.pos)),
         ]
         items = s.body.items if isinstance(s.body, n.Block) else (s.body,)
         for it in items:
@@ -68,6 +68,7 @@ class JumpLowering:
                 )
         groups: list[tuple[list, list]] = []  # (labels, statements)
         values: dict[int, object] = {}
+        label_value: dict[int, int] = {}  # id(case label) -> its value, once lowered
         for it in items:
             if isinstance(it, (n.Case, n.Default)):
                 if groups and not groups[-1][1]:
@@ -79,6 +80,7 @@ class JumpLowering:
                         cv = ct.wrap_int(self.const_int(it.value), t)
                     except SemanticError:
                         continue
+                    label_value[id(it)] = cv
                     if cv in values:
                         self.sink.error(it.pos, f"duplicate case value {cv}")
                     values[cv] = it
@@ -102,47 +104,37 @@ class JumpLowering:
                 tests: list[ast.expr] = [name(matched)] if entered else []
                 for lab in labels:
                     if isinstance(lab, n.Default):
-                        others = ast.Tuple(elts=[const(k) for k in values], ctx=ast.Load())
-                        tests.append(
-                            ast.Compare(left=name(sw), ops=[ast.NotIn()], comparators=[others])
-                        )
+                        others = ast.Tuple([const(k) for k in values], ast.Load())
+                        tests.append(ast.Compare(name(sw), [ast.NotIn()], [others]))
                     else:
-                        try:
-                            cv = ct.wrap_int(self.const_int(lab.value), t)
-                        except SemanticError:
-                            continue
-                        tests.append(
-                            ast.Compare(left=name(sw), ops=[ast.Eq()], comparators=[const(cv)])
-                        )
+                        cv = label_value.get(id(lab))
+                        if cv is None:
+                            try:
+                                cv = ct.wrap_int(self.const_int(lab.value), t)
+                            except SemanticError:
+                                continue
+                        tests.append(ast.Compare(name(sw), [ast.Eq()], [const(cv)]))
                 if not tests:
                     continue  # its labels failed (reported)
                 inner: list[ast.stmt] = []
                 if falls[g] and g + 1 < len(groups):
-                    inner.append(
-                        ast.Assign(targets=[name(matched, True)], value=ast.Constant(True))
-                    )
+                    inner.append(ast.Assign([name(matched, True)], ast.Constant(True)))
                 inner += self.stmts(stmts)
-                test = tests[0] if len(tests) == 1 else ast.BoolOp(op=ast.Or(), values=tests)
-                body.extend(
-                    at([ast.If(test=test, body=inner or [ast.Pass()], orelse=[])], labels[0].pos)
-                )
+                test = tests[0] if len(tests) == 1 else ast.BoolOp(ast.Or(), tests)
+                body.extend(at([ast.If(test, inner or [ast.Pass()], [])], labels[0].pos))
         finally:
             self.scope = saved
             self.loops.pop()
             self.unnest()
         body.append(ast.Break())
-        loop = ast.While(test=ast.Constant(True), body=body, orelse=[])
+        loop = ast.While(ast.Constant(True), body, [])
         if uses_matched:
-            out.append(ast.Assign(targets=[name(matched, True)], value=ast.Constant(False)))
+            out.append(ast.Assign([name(matched, True)], ast.Constant(False)))
         if ctx.flag_used:
-            out.append(ast.Assign(targets=[name(flag, True)], value=ast.Constant(False)))
+            out.append(ast.Assign([name(flag, True)], ast.Constant(False)))
         out.extend(self.split_off(ctx, loop) if ctx.split else [loop])
         if ctx.flag_used:
-            out.append(
-                ast.If(
-                    test=name(flag), body=self._continue_from(len(self.loops) - 1, s.pos), orelse=[]
-                )
-            )
+            out.append(ast.If(name(flag), self._continue_from(len(self.loops) - 1, s.pos), []))
         return out
 
     def _s_Case(self, s: n.Case) -> list[ast.stmt]:
@@ -191,30 +183,24 @@ class JumpLowering:
         self.has_yield = True
         tries: list[ast.stmt] = []
         for k, seg in enumerate(segments):
-            test = ast.Compare(left=name(lbl), ops=[ast.LtE()], comparators=[ast.Constant(k)])
-            tries.append(ast.If(test=test, body=seg or [ast.Pass()], orelse=[]))
+            test = ast.Compare(name(lbl), [ast.LtE()], [ast.Constant(k)])
+            tries.append(ast.If(test, seg or [ast.Pass()], []))
         tries.append(ast.Break())
         handler = ast.ExceptHandler(
-            type=name("_Goto"),
-            name=g,
-            body=[
+            name("_Goto"),
+            g,
+            [
                 ast.Assign(
-                    targets=[name(lbl, True)],
-                    value=ast.Subscript(
-                        value=ast.Attribute(value=name(g), attr="args", ctx=ast.Load()),
-                        slice=ast.Constant(0),
-                        ctx=ast.Load(),
+                    [name(lbl, True)],
+                    ast.Subscript(
+                        ast.Attribute(name(g), "args", ast.Load()), ast.Constant(0), ast.Load()
                     ),
                 ),
             ]
             + backedge(b),
         )
-        loop = ast.While(
-            test=ast.Constant(True),
-            body=[ast.Try(body=tries, handlers=[handler], orelse=[], finalbody=[])],
-            orelse=[],
-        )
-        pre = [ast.Assign(targets=[name(lbl, True)], value=ast.Constant(0)), countdown_init(b)]
+        loop = ast.While(ast.Constant(True), [ast.Try(tries, [handler], [], [])], [])
+        pre = [ast.Assign([name(lbl, True)], ast.Constant(0)), countdown_init(b)]
         return at(pre + [loop], body.pos)
 
     def _s_Goto(self, s: n.Goto) -> list[ast.stmt]:
@@ -226,7 +212,7 @@ class JumpLowering:
                 s.pos,
                 f"label '{s.label}' used but not defined{did_you_mean(s.label, list(getattr(self, 'labels', {})))}",
             )
-        return [ast.Raise(exc=call("_Goto", ast.Constant(k)), cause=None)]
+        return [ast.Raise(call("_Goto", ast.Constant(k)), None)]
 
     def _s_Label(self, s: n.Label) -> list[ast.stmt]:
         raise self.fail(s.pos, f"label '{s.name}' must stand at the top level of the function body")

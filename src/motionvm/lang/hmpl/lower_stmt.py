@@ -3,7 +3,9 @@
 Declarations, expression statements, `if`, `return`, and whole functions live here; loops
 are in `lower_loops.py`, jumps (switch, break, continue, goto) in `lower_jumps.py`. Locals
 whose address is taken live in a stack frame pushed on entry and popped in a `finally`;
-arrays that never decay to a pointer are Python lists.
+arrays that never decay to a pointer are Python lists. Python `ast` nodes are built with
+positional arguments (in the order of the class's `_fields`): a keyword call costs about
+twice as much, and a compile builds tens of thousands of nodes.
 """
 
 from __future__ import annotations
@@ -33,8 +35,18 @@ class FunctionLowerer(ExprLowering, AccessLowering, LoopLowering, JumpLowering, 
     """Lowers one function body (or one task's global initializers) of one task."""
 
     def __init__(
-        self, prog, task: int, scope: Scope, func: FuncSym | None, addr_taken: set[str]
+        self,
+        prog,
+        task: int,
+        scope: Scope,
+        func: FuncSym | None,
+        addr_taken: set[str],
+        assigned: dict[int, set[str]] | None = None,
     ) -> None:
+        """`assigned`: the names assigned in the body and in each `for` body, by `id` of
+        the body, when the analysis already found them (`analysis.FuncFacts`)."""
+        if assigned is not None:
+            self._assigned_cache = assigned  # read by LoopLowering._assigned_in
         self.prog = prog
         self.sink = prog.sink
         self.task = task
@@ -173,7 +185,7 @@ class FunctionLowerer(ExprLowering, AccessLowering, LoopLowering, JumpLowering, 
             )
         addr = lv.addr()
         image, stores = self.prog.aggregate_init(self, t, init, addr, sym.name)
-        out: list[ast.stmt] = [ast.Expr(value=call("_fill", addr, ast.Constant(bytes(image))))]
+        out: list[ast.stmt] = [ast.Expr(call("_fill", addr, ast.Constant(bytes(image))))]
         return out + stores
 
     def _init_list(self, sym: VarSym, init, pos) -> list[ast.stmt]:
@@ -184,16 +196,14 @@ class FunctionLowerer(ExprLowering, AccessLowering, LoopLowering, JumpLowering, 
             count, elem = count * (elem.n or 0), elem.elem
         zero = ast.Constant(0.0 if elem.is_float else 0)
         if init is None:
-            value = ast.BinOp(
-                left=ast.List(elts=[zero], ctx=ast.Load()), op=ast.Mult(), right=ast.Constant(count)
-            )
+            value = ast.BinOp(ast.List([zero], ast.Load()), ast.Mult(), ast.Constant(count))
         else:
             image, stores = self.prog.aggregate_init(self, t, init, ast.Constant(0), sym.name)
             assert not stores  # list_backed() admits constant initializers only
             value = call("_mklist", ast.Constant(bytes(image)), ast.Constant(view_code(elem)))
         if sym.storage == "pylist" and self.func is None:
             self.globals_stored.add(sym.pyname)
-        return [ast.Assign(targets=[name(sym.pyname, True)], value=value)]
+        return [ast.Assign([name(sym.pyname, True)], value)]
 
     # ------------------------------------------------------------ statements
 
@@ -323,7 +333,7 @@ class FunctionLowerer(ExprLowering, AccessLowering, LoopLowering, JumpLowering, 
         if isinstance(e, n.Call) and isinstance(e.func, n.Name) and e.func.id == "Till":
             return self._till(e)
         v = self.expr(e)
-        return [ast.Expr(value=v.node)]
+        return [ast.Expr(v.node)]
 
     def _till(self, e: n.Call) -> list[ast.stmt]:
         if len(e.args) != 1:
@@ -334,20 +344,18 @@ class FunctionLowerer(ExprLowering, AccessLowering, LoopLowering, JumpLowering, 
         self.has_yield = True
         if waits_on_event(e.args[0], self._event_symbol):  # till_events.py
             status = status_only(e.args[0], self._event_symbol)
-            again = ast.UnaryOp(op=ast.Not(), operand=copy.deepcopy(cond))
-            poll = ast.While(
-                test=again, body=[_yield(STATUS_POLL if status else EVENT_POLL)], orelse=[]
-            )
-            test = ast.UnaryOp(op=ast.Not(), operand=cond)
+            again = ast.UnaryOp(ast.Not(), copy.deepcopy(cond))
+            poll = ast.While(again, [_yield(STATUS_POLL if status else EVENT_POLL)], [])
+            test = ast.UnaryOp(ast.Not(), cond)
             wait = _yield(STATUS_WAIT if status else EVENT_WAIT)
-            return [ast.If(test=test, body=[wait, poll], orelse=[])]
-        test = ast.UnaryOp(op=ast.Not(), operand=cond)
+            return [ast.If(test, [wait, poll], [])]
+        test = ast.UnaryOp(ast.Not(), cond)
         timed = time_wait(e.args[0], self._event_symbol)
         if timed is not None:  # sleep until the first cycle whose time passes X
             limit = self.expr(timed[0]).node
             wake = call("_till_ms", limit, ast.Constant(timed[1]))
-            return [ast.While(test=test, body=[ast.Expr(value=ast.Yield(value=wake))], orelse=[])]
-        return [ast.While(test=test, body=[ast.Expr(value=ast.Yield(value=None))], orelse=[])]
+            return [ast.While(test, [ast.Expr(ast.Yield(wake))], [])]
+        return [ast.While(test, [ast.Expr(ast.Yield(None))], [])]
 
     def _event_symbol(self, ident: str):
         """The symbol of `ident` for `waits_on_event`: a variable's, or None for a
@@ -361,7 +369,7 @@ class FunctionLowerer(ExprLowering, AccessLowering, LoopLowering, JumpLowering, 
         test = self.cond(s.cond)
         body = self.block(s.then) or [ast.Pass()]
         orelse = self.block(s.else_) if s.else_ is not None else []
-        return [ast.If(test=test, body=body, orelse=orelse)]
+        return [ast.If(test, body, orelse)]
 
     def _s_Return(self, s: n.Return) -> list[ast.stmt]:
         if self.func is None:
@@ -373,16 +381,16 @@ class FunctionLowerer(ExprLowering, AccessLowering, LoopLowering, JumpLowering, 
                     s.pos,
                     f"'return' with no value in function '{self.func.name}' returning '{ret}'",
                 )
-            return [self.split_return(None) or ast.Return(value=None)]
+            return [self.split_return(None) or ast.Return(None)]
         v = self.expr(s.value)
         if isinstance(ret, ct.VoidT):
             if not isinstance(v.type, ct.VoidT):
                 raise self.fail(s.pos, f"'return' with a value in void function '{self.func.name}'")
-            return [ast.Expr(value=v.node), self.split_return(None) or ast.Return(value=None)]
+            return [ast.Expr(v.node), self.split_return(None) or ast.Return(None)]
         value = self.assign_convert(
             v, ret, s.value.pos, f" in the return value of '{self.func.name}'"
         )
-        return [self.split_return(value) or ast.Return(value=value)]
+        return [self.split_return(value) or ast.Return(value)]
 
     # ------------------------------------------------------------ constants
 
@@ -408,7 +416,7 @@ class FunctionLowerer(ExprLowering, AccessLowering, LoopLowering, JumpLowering, 
                 self.sink.error(p.pos, f"redefinition of parameter '{p.name}'")
                 continue
             pyname = self.unique_local(p.name)
-            params.append(ast.arg(arg=pyname))
+            params.append(ast.arg(pyname))
             if p.name in self.addr_taken and pt.is_scalar:
                 sym_p = VarSym(p.name, pt, "frame", p.pos, offset=self.frame_alloc(pt))
                 copies.extend(at(self.var_lvalue(sym_p).store(name(pyname)), p.pos))
@@ -418,57 +426,37 @@ class FunctionLowerer(ExprLowering, AccessLowering, LoopLowering, JumpLowering, 
         body = copies + self.function_body(f.body)
         if not isinstance(sym.type.ret, ct.VoidT):
             zero = ast.Constant(0.0 if sym.type.ret.is_float else 0)
-            body.append(at([ast.Return(value=zero)], f.pos)[0])
+            body.append(at([ast.Return(zero)], f.pos)[0])
         if self.frame_size or self.list_bytes:
             push = [
-                ast.Assign(targets=[name("_s", True)], value=name("_stack")),
+                ast.Assign([name("_s", True)], name("_stack")),
                 ast.Assign(
-                    targets=[name("_fp", True)],
-                    value=ast.Call(
-                        func=ast.Attribute(value=name("_s"), attr="push", ctx=ast.Load()),
-                        args=[
+                    [name("_fp", True)],
+                    ast.Call(
+                        ast.Attribute(name("_s"), "push", ast.Load()),
+                        [
                             ast.Constant(self.frame_size + self.list_bytes),
                             ast.Constant(bytes(self.frame_valid)),
                         ],
-                        keywords=[],
+                        [],
                     ),
                 ),
             ]
             pop = ast.Expr(
-                value=ast.Call(
-                    func=ast.Attribute(value=name("_s"), attr="pop", ctx=ast.Load()),
-                    args=[name("_fp")],
-                    keywords=[],
-                )
+                ast.Call(ast.Attribute(name("_s"), "pop", ast.Load()), [name("_fp")], [])
             )
-            body = push + [
-                ast.Try(body=body or [ast.Pass()], handlers=[], orelse=[], finalbody=[pop])
-            ]
+            body = push + [ast.Try(body or [ast.Pass()], [], [], [pop])]
         gl = sorted(self.globals_stored | ({"_budget"} if self.has_yield else set()))
         if gl:
-            body.insert(0, ast.Global(names=gl))
+            body.insert(0, ast.Global(gl))
         if sym.is_generator and not self.has_yield:
-            body.append(
-                ast.If(
-                    test=ast.Constant(False),
-                    body=[ast.Expr(value=ast.Yield(value=None))],
-                    orelse=[],
-                )
-            )
+            body.append(ast.If(ast.Constant(False), [ast.Expr(ast.Yield(None))], []))
         fn = ast.FunctionDef(
-            name=sym.pyname,
-            args=ast.arguments(
-                posonlyargs=[],
-                args=params,
-                vararg=None,
-                kwonlyargs=[],
-                kw_defaults=[],
-                kwarg=None,
-                defaults=[],
-            ),
-            body=at(body or [ast.Pass()], f.pos),
-            decorator_list=[],
-            returns=None,
+            sym.pyname,
+            ast.arguments([], params, None, [], [], None, []),
+            at(body or [ast.Pass()], f.pos),
+            [],
+            None,
         )
         fn = at([fn], f.pos)[0]
         if self.has_splits:
@@ -494,4 +482,4 @@ def _contains_yield(body: list[ast.stmt]) -> bool:
 
 def _yield(value: int) -> ast.stmt:
     """`yield value` as a statement (a task's wait, runtime/kernel.py)."""
-    return ast.Expr(value=ast.Yield(value=ast.Constant(value)))
+    return ast.Expr(ast.Yield(ast.Constant(value)))

@@ -40,21 +40,21 @@ CHUNK = 64
 
 
 def countdown_init(counter: str) -> ast.stmt:
-    return ast.Assign(targets=[name(counter, True)], value=ast.Constant(CHUNK + 1))
+    return ast.Assign([name(counter, True)], ast.Constant(CHUNK + 1))
 
 
 def backedge(counter: str) -> list[ast.stmt]:
     """`counter -= 1; if not counter: counter = CHUNK + 1; _budget -= CHUNK; if _budget < 0: yield`."""
-    dec = ast.AugAssign(target=name(counter, True), op=ast.Sub(), value=ast.Constant(1))
-    charge = ast.AugAssign(target=name("_budget", True), op=ast.Sub(), value=ast.Constant(CHUNK))
-    over = ast.Compare(left=name("_budget"), ops=[ast.Lt()], comparators=[ast.Constant(0)])
+    dec = ast.AugAssign(name(counter, True), ast.Sub(), ast.Constant(1))
+    charge = ast.AugAssign(name("_budget", True), ast.Sub(), ast.Constant(CHUNK))
+    over = ast.Compare(name("_budget"), [ast.Lt()], [ast.Constant(0)])
     refill = [
-        ast.Assign(targets=[name(counter, True)], value=ast.Constant(CHUNK + 1)),
+        ast.Assign([name(counter, True)], ast.Constant(CHUNK + 1)),
         charge,
-        ast.If(test=over, body=[ast.Expr(value=ast.Yield(value=None))], orelse=[]),
+        ast.If(over, [ast.Expr(ast.Yield(None))], []),
     ]
-    test = ast.UnaryOp(op=ast.Not(), operand=name(counter))
-    return [dec, ast.If(test=test, body=refill, orelse=[])]
+    test = ast.UnaryOp(ast.Not(), name(counter))
+    return [dec, ast.If(test, refill, [])]
 
 
 # Fields that never hold a node with a location: names, flags, contexts and operators.
@@ -85,33 +85,55 @@ def at(stmts: list[ast.stmt], pos) -> list[ast.stmt]:
     """Give every generated node without a location the user's position `pos`.
 
     Subtrees that already carry a location were placed by an inner statement and are
-    skipped, so each node is visited about once however deep the nesting.
+    skipped, so each node is visited about once however deep the nesting. Only `lineno`
+    and `col_offset` are set: `compile()` takes a missing end as the start, which is the
+    place every node gets (a node class without a location, such as `arguments`, gets
+    them too and `compile()` ignores them). Names and constants (most of the nodes) are
+    stamped where their parent finds them, without a trip through the stack.
     """
-    line, col = pos.line, max(0, pos.col - 1)
-    loc = {"lineno": line, "col_offset": col, "end_lineno": line, "end_col_offset": col}
-    walk_info = _WALK
-    stack: list[ast.AST] = list(stmts)
-    pop, push, extend = stack.pop, stack.append, stack.extend
+    line, col = pos.line, pos.col - 1
+    if col < 0:
+        col = 0
+    fields_of = _FIELDS
+    leaves = _LEAVES
+    stack: list[ast.AST] = stmts.copy()
+    pop, push = stack.pop, stack.append
     while stack:
         node = pop()
-        info = walk_info.get(type(node))
-        if info is None:
-            info = _walk_info(type(node))
-        located, fields = info
-        if located:
-            d = node.__dict__
-            if "lineno" in d:
-                continue
-            d.update(loc)
-        elif fields:
-            d = node.__dict__
-        else:
+        d = node.__dict__
+        if "lineno" in d:
             continue
+        d["lineno"] = line
+        d["col_offset"] = col
+        try:
+            fields = fields_of[type(node)]
+        except KeyError:
+            fields = fields_of[type(node)] = child_fields(type(node))
         for f in fields:
             v = d.get(f)
-            if v is not None:
-                if type(v) is list:
-                    extend(v)
-                else:
-                    push(v)
+            if v is None:
+                continue
+            tv = type(v)
+            if tv is list:
+                for x in v:
+                    if type(x) in leaves:
+                        xd = x.__dict__
+                        if "lineno" not in xd:
+                            xd["lineno"] = line
+                            xd["col_offset"] = col
+                    elif x is not None:  # a dict's `**` key, a missing default
+                        push(x)
+            elif tv in leaves:
+                vd = v.__dict__
+                if "lineno" not in vd:
+                    vd["lineno"] = line
+                    vd["col_offset"] = col
+            else:
+                push(v)
     return stmts
+
+
+_LEAVES = frozenset((ast.Name, ast.Constant))
+"""Located node classes without located children."""
+_FIELDS: dict[type, tuple[str, ...]] = {}
+"""`child_fields` of the node classes `at` has met."""

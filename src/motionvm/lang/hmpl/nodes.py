@@ -1,4 +1,8 @@
-"""The HMPL abstract syntax tree: frozen, slotted dataclasses, a `pos` on every node.
+"""The HMPL abstract syntax tree: slotted dataclasses, a `pos` on every node.
+
+Nodes are never changed once the parser has built them (`dataclasses.replace` makes a
+changed copy), but they are not frozen: a frozen dataclass's constructor costs twice as
+much, and a compile builds some 20,000 of them. They hash by value, as frozen ones did.
 
 The parser builds these; the checker annotates them in side tables keyed by node
 identity; the lowering turns them into Python `ast`. Nothing else lives here.
@@ -13,7 +17,7 @@ from motionvm.source.files import SourcePos
 # ---------------------------------------------------------------- types
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True, unsafe_hash=True)
 class TypeRef:
     """A written type: base name plus pointer depth.
 
@@ -30,7 +34,7 @@ class TypeRef:
     struct_def: StructDef | None = None  # set when the type spells out `struct {...}`
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True, unsafe_hash=True)
 class StructDef:
     """`struct TAG { fields }` or `union TAG { fields }`; tag may be '' (anonymous)."""
 
@@ -40,7 +44,7 @@ class StructDef:
     fields: tuple[VarDecl, ...]
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True, unsafe_hash=True)
 class Typedef:
     """`typedef TYPE NAME[dims];`"""
 
@@ -53,7 +57,7 @@ class Typedef:
 # ---------------------------------------------------------------- declarations
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True, unsafe_hash=True)
 class InitList:
     """A brace initializer `{a, b, {c, d}}`."""
 
@@ -61,7 +65,7 @@ class InitList:
     items: tuple[Expr | InitList | Designated, ...]
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True, unsafe_hash=True)
 class Designated:
     """`.field = value` or `[index] = value` inside a brace initializer (C99)."""
 
@@ -71,7 +75,7 @@ class Designated:
     value: Expr | InitList
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True, unsafe_hash=True)
 class VarDecl:
     """One declared variable; `dims` holds one entry per `[...]`, None for `[]`.
     `is_static`: a `static` local (one object for the whole run)."""
@@ -84,7 +88,7 @@ class VarDecl:
     is_static: bool = False
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True, unsafe_hash=True)
 class Param:
     """A function parameter; `int a[]` arrives with dims=(None,) and decays to a pointer."""
 
@@ -94,7 +98,7 @@ class Param:
     dims: tuple[Expr | None, ...] = ()
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True, unsafe_hash=True)
 class FuncDef:
     """A function definition (body) or prototype (body None); `autorun` marks `_AUTORUN_`.
     `block_scope`: a prototype inside a function (its name is visible in its block only;
@@ -110,7 +114,7 @@ class FuncDef:
     block_scope: bool = False
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True, unsafe_hash=True)
 class TranslationUnit:
     """One task's program after preprocessing: declarations and functions in order."""
 
@@ -121,13 +125,13 @@ class TranslationUnit:
 # ---------------------------------------------------------------- statements
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True, unsafe_hash=True)
 class Block:
     pos: SourcePos
     items: tuple[Stmt, ...]
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True, unsafe_hash=True)
 class DeclStmt:
     """`int a = 1, b[3];` — one statement declaring several variables (and, inside a
     function, the prototypes of `int f(int);` as block-scope FuncDefs, and typedefs)."""
@@ -136,13 +140,13 @@ class DeclStmt:
     decls: tuple[VarDecl | FuncDef | Typedef, ...]
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True, unsafe_hash=True)
 class ExprStmt:
     pos: SourcePos
     expr: Expr
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True, unsafe_hash=True)
 class If:
     pos: SourcePos
     cond: Expr
@@ -150,21 +154,21 @@ class If:
     else_: Stmt | None = None
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True, unsafe_hash=True)
 class While:
     pos: SourcePos
     cond: Expr
     body: Stmt
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True, unsafe_hash=True)
 class DoWhile:
     pos: SourcePos
     body: Stmt
     cond: Expr
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True, unsafe_hash=True)
 class For:
     """`for (init; cond; step) body`; init is a DeclStmt, ExprStmt or None."""
 
@@ -175,14 +179,14 @@ class For:
     body: Stmt
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True, unsafe_hash=True)
 class Switch:
     pos: SourcePos
     expr: Expr
     body: Stmt
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True, unsafe_hash=True)
 class Case:
     """`case VALUE:` label; the statements after it are siblings in the enclosing block."""
 
@@ -190,33 +194,33 @@ class Case:
     value: Expr
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True, unsafe_hash=True)
 class Default:
     pos: SourcePos
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True, unsafe_hash=True)
 class Break:
     pos: SourcePos
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True, unsafe_hash=True)
 class Continue:
     pos: SourcePos
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True, unsafe_hash=True)
 class Return:
     pos: SourcePos
     value: Expr | None = None
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True, unsafe_hash=True)
 class Empty:
     pos: SourcePos
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True, unsafe_hash=True)
 class Goto:
     """`goto LABEL;` to a label of the same function (the manual's homing examples use it)."""
 
@@ -224,7 +228,7 @@ class Goto:
     label: str
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True, unsafe_hash=True)
 class Label:
     """`LABEL:`; like Case, the statements after it are siblings in the enclosing block."""
 
@@ -254,7 +258,7 @@ Stmt = (
 # ---------------------------------------------------------------- expressions
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True, unsafe_hash=True)
 class IntLit:
     """Integer constant; `suffix` is the lower-cased C suffix ('', 'u', 'l', 'ul', 'll', 'ull');
     `decimal` is False for a hexadecimal, octal or binary one (C gives those the unsigned
@@ -266,7 +270,7 @@ class IntLit:
     decimal: bool = True
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True, unsafe_hash=True)
 class FloatLit:
     """Floating constant; `is_float` for an `f` suffix."""
 
@@ -275,7 +279,7 @@ class FloatLit:
     is_float: bool = False
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True, unsafe_hash=True)
 class CharLit:
     """Character constant 'a', already converted to its (signed char) int value."""
 
@@ -283,7 +287,7 @@ class CharLit:
     value: int
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True, unsafe_hash=True)
 class StrLit:
     """String literal; adjacent literals are concatenated; escapes decoded; no trailing NUL."""
 
@@ -291,13 +295,13 @@ class StrLit:
     value: bytes
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True, unsafe_hash=True)
 class Name:
     pos: SourcePos
     id: str
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True, unsafe_hash=True)
 class Unary:
     """Prefix operator: '-', '+', '!', '~', '*' (deref), '&' (address), '++', '--'."""
 
@@ -306,7 +310,7 @@ class Unary:
     operand: Expr
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True, unsafe_hash=True)
 class Postfix:
     """Postfix '++' or '--'."""
 
@@ -315,7 +319,7 @@ class Postfix:
     operand: Expr
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True, unsafe_hash=True)
 class Binary:
     """Binary operator incl. '&&' and '||': + - * / % << >> < > <= >= == != & | ^ && ||."""
 
@@ -325,7 +329,7 @@ class Binary:
     right: Expr
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True, unsafe_hash=True)
 class Assign:
     """'=' or a compound '+=', '-=', '*=', '/=', '%=', '<<=', '>>=', '&=', '|=', '^='."""
 
@@ -336,7 +340,7 @@ class Assign:
     parenthesized: bool = False  # written inside extra parentheses: `if ((n = f()))`
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True, unsafe_hash=True)
 class Cond:
     """`cond ? then : else_`."""
 
@@ -346,13 +350,13 @@ class Cond:
     else_: Expr
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True, unsafe_hash=True)
 class Comma:
     pos: SourcePos
     items: tuple[Expr, ...]
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True, unsafe_hash=True)
 class Call:
     """`func(args)`; `func` is a Name for every call HMPL allows."""
 
@@ -361,14 +365,14 @@ class Call:
     args: tuple[Expr, ...]
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True, unsafe_hash=True)
 class Index:
     pos: SourcePos
     base: Expr
     index: Expr
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True, unsafe_hash=True)
 class Member:
     """`base.name` or, with arrow, `base->name`."""
 
@@ -378,14 +382,14 @@ class Member:
     arrow: bool = False
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True, unsafe_hash=True)
 class Cast:
     pos: SourcePos
     type: TypeRef
     expr: Expr
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True, unsafe_hash=True)
 class SizeOf:
     """`sizeof(TYPE)` (target is a TypeRef, dims for `sizeof(int[3])`) or `sizeof expr`."""
 
@@ -394,7 +398,7 @@ class SizeOf:
     dims: tuple[Expr, ...] = ()
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True, unsafe_hash=True)
 class CompoundLit:
     """`(TYPE){ initializers }` (C99): an unnamed object, an lvalue. `dims` as in VarDecl
     (`(int[]){1, 2}`: the first is None). Inside a function it is automatic (a local of

@@ -484,12 +484,18 @@ class Parser:
     # BNF:     | TYPEDEF_NAME
     def _parse_declaration_specifiers(self, scope: str) -> tuple[n.TypeRef, str | None]:
         start = self._tok()
+        keys = self.keys
+        k = keys[self.i]
+        if k in BASIC_WORDS and keys[self.i + 1] not in DECL_START:
+            base = CANONICAL.get((k,))  # the common case: one word (`int`, `double`, ...)
+            if base is not None:
+                self.i += 1
+                return n.TypeRef(start.pos, base, 0, False, None), None
         words: list[str] = []
         named: str | None = None
         struct_def: n.StructDef | None = None
         is_const = False
         storage: str | None = None
-        keys = self.keys
         while True:
             k = keys[self.i]
             if k in BASIC_WORDS:

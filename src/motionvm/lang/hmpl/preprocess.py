@@ -480,9 +480,9 @@ class Preprocessor:
         macro names and what their expansions rescan go through the token loop.
         """
         macros = self.macros
-        starts = [i for i, s in enumerate(map(_text, toks)) if s in macros]
-        if not starts:
+        if macros.keys().isdisjoint(map(_text, toks)):  # the common case, at C speed
             return list(toks)
+        starts = [i for i, s in enumerate(map(_text, toks)) if s in macros]
         if self._tokens_made > MAX_TOKENS:
             return list(toks)  # over the budget (reported): the rest stays unexpanded
         top = hs_map is None

@@ -339,13 +339,7 @@ class ProgramCompiler:
                     raise self._fail(init.pos, f"cannot initialize '{t}' from '{v.type}'")
                 stores.append(
                     _at(
-                        [
-                            ast.Expr(
-                                value=call(
-                                    "_copy", _offset(addr, off), v.node, ast.Constant(t.size)
-                                )
-                            )
-                        ],
+                        [ast.Expr(call("_copy", _offset(addr, off), v.node, ast.Constant(t.size)))],
                         init.pos,
                     )[0]
                 )
@@ -387,10 +381,8 @@ class ProgramCompiler:
             value = node.value if isinstance(node, ast.Constant) else -node.operand.value
             struct.pack_into("<" + _PACK[code], image, off, value)
             return
-        target = ast.Subscript(
-            value=name(VIEW_NAMES[code]), slice=_scaled(addr, off, t.size), ctx=ast.Store()
-        )
-        stores.append(_at([ast.Assign(targets=[target], value=node)], init.pos)[0])
+        target = ast.Subscript(name(VIEW_NAMES[code]), _scaled(addr, off, t.size), ast.Store())
+        stores.append(_at([ast.Assign([target], node)], init.pos)[0])
 
     # ------------------------------------------------------------ declarations
 
@@ -658,12 +650,14 @@ class ProgramCompiler:
                         if not isinstance(sym, FuncSym) or sym.node is not item:
                             continue
                         lint_function(item, self.warn)
+                        facts = self.facts[id(item)]
                         lw = FunctionLowerer(
                             self,
                             u.task,
                             Scope(scope, "function"),
                             sym,
-                            self.facts[id(item)].addr_taken,
+                            facts.addr_taken,
+                            facts.assigned,
                         )
                         try:
                             fn = lw.function(item, sym)
@@ -677,7 +671,7 @@ class ProgramCompiler:
             return None
         modules, codes = [], []
         for fname, body in per_file.items():
-            mod = ast.Module(body=body, type_ignores=[])
+            mod = ast.Module(body, [])
             modules.append((fname, mod))
             if bytecode:
                 codes.append((fname, compile(mod, fname, "exec")))
@@ -701,21 +695,13 @@ class ProgramCompiler:
             except SemanticError:
                 pass
         if lw.globals_stored:
-            body.insert(0, ast.Global(names=sorted(lw.globals_stored)))
+            body.insert(0, ast.Global(sorted(lw.globals_stored)))
         fn = ast.FunctionDef(
-            name=f"_init_t{u.task}",
-            args=ast.arguments(
-                posonlyargs=[],
-                args=[],
-                vararg=None,
-                kwonlyargs=[],
-                kw_defaults=[],
-                kwarg=None,
-                defaults=[],
-            ),
-            body=body or [ast.Pass()],
-            decorator_list=[],
-            returns=None,
+            f"_init_t{u.task}",
+            ast.arguments([], [], None, [], [], None, []),
+            body or [ast.Pass()],
+            [],
+            None,
         )
         return _at([fn], u.tu.pos)[0]
 
@@ -725,11 +711,11 @@ def _offset(addr: ast.expr, off: int) -> ast.expr:
         return addr
     if isinstance(addr, ast.Constant):
         return ast.Constant(addr.value + off)
-    return ast.BinOp(left=addr, op=ast.Add(), right=ast.Constant(off))
+    return ast.BinOp(addr, ast.Add(), ast.Constant(off))
 
 
 def _scaled(addr: ast.expr, off: int, size: int) -> ast.expr:
     a = _offset(addr, off)
     if isinstance(a, ast.Constant):
         return ast.Constant(a.value // size)
-    return ast.BinOp(left=a, op=ast.FloorDiv(), right=ast.Constant(size))
+    return ast.BinOp(a, ast.FloorDiv(), ast.Constant(size))

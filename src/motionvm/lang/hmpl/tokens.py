@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from typing import NamedTuple
 
 from motionvm.source.files import SourcePos
 
@@ -73,9 +73,9 @@ BINARY_PREC = {
 }
 
 
-@dataclass(frozen=True, slots=True)
-class Token:
-    """One token.
+class Token(NamedTuple):
+    """One token (a named tuple: the lexer makes one per token, and a tuple is the
+    cheapest object to make).
 
     kind: 'name' | 'keyword' | 'int' | 'float' | 'char' | 'string' | 'punct' | 'eof'.
     value: int for 'int' (and 'char', already the signed char value), float for 'float',
