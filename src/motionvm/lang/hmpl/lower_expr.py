@@ -56,6 +56,7 @@ class Val:
     rng: tuple[int, int] | None = None  # known bounds of an integer value (range analysis)
     listy: str = ""  # a list-backed array (or row of one): the list's Python name
     loff: ast.expr | None = None  # ... and the flattened offset of this row
+    step: tuple[str, int] | None = None  # `x + k` of an exact signed name x: (x, k)
 
 
 _LE_LE = [ast.LtE(), ast.LtE()]  # operator objects are immutable and may be shared
@@ -75,6 +76,30 @@ def wrap_node(node: ast.expr, t: ct.IntT) -> ast.expr:
         slow = call("_wrapi", name("_w"), ast.Constant(bits))
         return ast.IfExp(test=test, body=name("_w"), orelse=slow)
     return ast.BinOp(left=node, op=ast.BitAnd(), right=ast.Constant((1 << bits) - 1))
+
+
+def step_node(var: str, k: int, t: ct.IntT) -> ast.expr:
+    """`x + k` in signed type t (x exact, 0 < |k| <= t.max) without a temporary: the sum
+    leaves t's range only past one end, and then by less than 2**bits.
+
+    before: `x + 1`    after: `(x + 1 if x != 2147483647 else -2147483648)`
+    before: `x - 5`    after: `(x - 5 if x >= -2147483643 else x + 4294967291)`
+    """
+    if k == 1 or k == -1:
+        edge = t.max if k == 1 else t.min
+        test = ast.Compare(name(var), [ast.NotEq()], [ast.Constant(edge)])
+        body = ast.BinOp(name(var), ast.Add() if k == 1 else ast.Sub(), ast.Constant(1))
+        return ast.IfExp(test, body, const(t.min if k == 1 else t.max))
+    m = 1 << t.bits
+    if k > 0:
+        test = ast.Compare(name(var), [ast.LtE()], [const(t.max - k)])
+        body = ast.BinOp(name(var), ast.Add(), ast.Constant(k))
+        over = ast.BinOp(name(var), ast.Sub(), ast.Constant(m - k))
+    else:
+        test = ast.Compare(name(var), [ast.GtE()], [const(t.min - k)])
+        body = ast.BinOp(name(var), ast.Sub(), ast.Constant(-k))
+        over = ast.BinOp(name(var), ast.Add(), ast.Constant(m + k))
+    return ast.IfExp(test, body, over)
 
 
 def _fold_int(v: int, t: ct.CType) -> int:
@@ -101,6 +126,8 @@ class ExprLowering:
         """The value's Python expression reduced to the range of its type."""
         if v.exact or not isinstance(v.type, ct.IntT):
             return v.node
+        if v.step is not None:
+            return step_node(*v.step, v.type)
         return wrap_node(v.node, v.type)
 
     def convert(self, v: Val, to: ct.CType, pos=None, what: str = "") -> ast.expr:
@@ -117,6 +144,8 @@ class ExprLowering:
             if isinstance(src, ct.IntT):
                 if v.exact and src.min >= to.min and src.max <= to.max:
                     return v.node
+                if v.step is not None and src == to:
+                    return step_node(*v.step, to)
                 if v.exact or src.size >= to.size:
                     return wrap_node(v.node, to)  # a modular reduction suffices
                 exact = self.exact(v)  # sign- or zero-extend the narrower value first
@@ -437,7 +466,22 @@ class ExprLowering:
                 )
                 if t.min <= lo and hi <= t.max:
                     rng, exact = (lo, hi), True  # cannot overflow: no wrap needed
-            return Val(ast.BinOp(left=an, op=_BINOPS[op](), right=bn), t, exact, None, rng)
+            step = None
+            if op in ("+", "-") and not exact and t.signed and a_ok and b_ok:
+                if isinstance(b.const, int) and type(an) is ast.Name:
+                    k = ct.wrap_int(b.const, t)
+                    if k != t.min:
+                        step = (an.id, k if op == "+" else -k)
+                elif op == "+" and isinstance(a.const, int) and type(bn) is ast.Name:
+                    k = ct.wrap_int(a.const, t)
+                    if k != t.min:
+                        step = (bn.id, k)
+                if step is not None and step[1] == 0:  # `x + 0`: x itself
+                    return Val(
+                        name(step[0]), t, True, None, a.rng if b.const is not None else b.rng
+                    )
+            node = ast.BinOp(left=an, op=_BINOPS[op](), right=bn)
+            return Val(node, t, exact, None, rng, step=step)
         an, bn = self.convert(a, t, pos), self.convert(b, t, pos)
         if isinstance(b.const, int) and ct.wrap_int(b.const, t) == 0:
             raise self.fail(pos, "division by zero" if op == "/" else "modulo by zero")
@@ -446,6 +490,20 @@ class ExprLowering:
             q = abs(x) // abs(y) * (1 if (x >= 0) == (y >= 0) else -1)
             c = ct.wrap_int(q if op == "/" else x - q * y, t)
             return Val(const(c), t, True, c)
+        if isinstance(b.const, int) and (k := ct.wrap_int(b.const, t)) > 0:
+            # a dividend known not negative: C's truncating division is Python's floor
+            if a.rng is not None and 0 <= a.rng[0] and a.rng[1] <= t.max:
+                lo, hi = a.rng
+            elif not t.signed:
+                lo, hi = 0, t.max
+            else:
+                lo = None
+            if lo is not None:
+                if op == "/":
+                    node, rng = ast.BinOp(an, ast.FloorDiv(), bn), (lo // k, hi // k)
+                else:
+                    node, rng = ast.BinOp(an, ast.Mod(), bn), (0, min(k - 1, hi))
+                return Val(node, t, True, None, rng)
         fn = "_idiv" if op == "/" else "_imod"
         return Val(call(fn, an, bn), t, op == "%")
 

@@ -24,6 +24,7 @@ class JumpLowering:
     def _s_Break(self, s: n.Break) -> list[ast.stmt]:
         if not self.loops:
             raise self.fail(s.pos, "'break' outside a loop or switch")
+        self.loops[-1].breaks += 1
         return [ast.Break()]
 
     def _s_Continue(self, s: n.Continue) -> list[ast.stmt]:
@@ -53,9 +54,8 @@ class JumpLowering:
             raise self.fail(s.expr.pos, f"switch quantity is not an integer (it is '{v.type}')")
         t = ct.promote(v.type)
         sw, matched, flag = self.temp(), self.temp(), self.temp()
-        out: list[ast.stmt] = [
-            ast.Assign([name(sw, True)], self.convert(v, t, s.pos)),
-        ]
+        subject = self.convert(v, t, s.pos)
+        out: list[ast.stmt] = [ast.Assign([name(sw, True)], subject)]
         items = s.body.items if isinstance(s.body, n.Block) else (s.body,)
         for it in items:
             nested = _nested_label(it)
@@ -95,6 +95,8 @@ class JumpLowering:
         self.scope = Scope(saved, "block")
         try:
             body: list[ast.stmt] = []
+            chain: list[tuple[ast.expr | None, list[ast.stmt], object]] = []  # the if-chain
+            stripped = 0  # groups whose final `break` the if-chain form leaves out
             # `matched` carries a fall-through into the next group; a group after one that
             # ends in a jump is entered only by its own labels
             falls = [not _ends_in_jump(stmts) for _, stmts in groups]
@@ -121,11 +123,22 @@ class JumpLowering:
                     inner.append(ast.Assign([name(matched, True)], ast.Constant(True)))
                 inner += self.stmts(stmts)
                 test = tests[0] if len(tests) == 1 else ast.BoolOp(ast.Or(), tests)
-                body.extend(at([ast.If(test, inner or [ast.Pass()], [])], labels[0].pos))
+                is_default = any(isinstance(lab, n.Default) for lab in labels)
+                chain.append((None if is_default else test, inner, labels[0].pos))
+                body.extend(at([ast.If(test, inner, [])], labels[0].pos))
+                if inner and type(inner[-1]) is ast.Break:
+                    stripped += 1
         finally:
             self.scope = saved
             self.loops.pop()
             self.unnest()
+        if not (ctx.split or ctx.flag_used or any(falls[:-1]) or stripped != ctx.breaks):
+            # no group falls into the next and every `break` ends a group: the groups'
+            # tests exclude each other, so an if-chain without the loop does the same
+            return self._switch_chain(out, subject, sw, chain)
+        for stmt in body:
+            if not stmt.body:
+                stmt.body = [ast.Pass()]
         body.append(ast.Break())
         loop = ast.While(ast.Constant(True), body, [])
         if uses_matched:
@@ -136,6 +149,32 @@ class JumpLowering:
         if ctx.flag_used:
             out.append(ast.If(name(flag), self._continue_from(len(self.loops) - 1, s.pos), []))
         return out
+
+    def _switch_chain(self, out: list[ast.stmt], subject: ast.expr, sw: str, chain) -> list:
+        """`if sw == 1: ... elif sw == 2: ... else: <default>` without the groups' final
+        `break`s; a subject that is a plain name is tested without the temporary.
+
+        before: `switch (a) { case 1: s++; break; default: s = 0; }`
+        after:  `if v_a == 1: v_s = ... else: v_s = 0`
+        """
+        if type(subject) is ast.Name:
+            out = []
+            for test, _, _ in chain:
+                if test is not None:
+                    for cmp in test.values if type(test) is ast.BoolOp else [test]:
+                        cmp.left = ast.copy_location(name(subject.id), cmp)
+        rest: list[ast.stmt] = []
+        for test, inner, _ in chain:
+            if test is None:  # the default group, exclusive of the others: the last `else`
+                if inner and type(inner[-1]) is ast.Break:
+                    inner.pop()
+                rest = inner
+        for test, inner, pos in reversed(chain):
+            if test is not None:
+                if inner and type(inner[-1]) is ast.Break:
+                    inner.pop()
+                rest = [_restamped(ast.If(test, inner or [ast.Pass()], rest), pos)]
+        return out + rest
 
     def _s_Case(self, s: n.Case) -> list[ast.stmt]:
         raise self.fail(s.pos, "'case' label not directly inside a switch")
@@ -242,6 +281,12 @@ def _nested_label(s) -> n.Case | n.Default | None:
             return s.body
         return _nested_label(s.body)
     return None
+
+
+def _restamped(stmt: ast.If, pos) -> ast.If:
+    """The if statement placed at `pos` (its test and body already were)."""
+    stmt.lineno, stmt.col_offset = pos.line, max(pos.col - 1, 0)
+    return stmt
 
 
 def _copy_tree(node: ast.AST) -> ast.AST:

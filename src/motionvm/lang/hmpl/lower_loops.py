@@ -136,7 +136,7 @@ class LoopLowering(PointerWalkLowering):
             if fast is None and s.cond is not None and s.step is not None:
                 fast = self._pointer_walk(s.cond, s.step, s.body, None, s.pos)
             if fast is not None:
-                return out + fast
+                return _start_in_range(out, fast) if isinstance(s.init, n.DeclStmt) else out + fast
             b = self.temp()
             test = self.cond(s.cond) if s.cond is not None else ast.Constant(True)
             step = (
@@ -220,21 +220,29 @@ class LoopLowering(PointerWalkLowering):
             return None
         stop = self.convert(bound, sym.type, cond.pos)
         if cond.op in ("<=", ">="):
-            stop = ast.BinOp(
-                left=stop,
-                op=ast.Add() if inc == "var" or inc > 0 else ast.Sub(),
-                right=ast.Constant(1),
-            )
+            up = inc == "var" or inc > 0
+            if type(stop) is ast.Constant:
+                stop = const(stop.value + (1 if up else -1))
+            else:
+                stop = ast.BinOp(
+                    left=stop, op=ast.Add() if up else ast.Sub(), right=ast.Constant(1)
+                )
         chunked = not _breaks_out(s.body) and self._room_for_chunks(s.body)
         b = self.temp()
         cont = [ast.Continue()] if chunked else backedge(b) + [ast.Continue()]
         start = self._start_range(s)
         known = None
-        if start is not None and bound.rng is not None:
+        tmin, tmax = sym.type.min, sym.type.max
+        if start is not None and tmin <= start[0] and start[1] <= tmax:
+            # the counter runs from its start towards the bound: a bound of unknown value
+            # (or one that converts) is still in the counter's type
+            b_lo, b_hi = bound.rng or (tmin, tmax)
+            if b_lo < tmin or b_hi > tmax:
+                b_lo, b_hi = tmin, tmax
             if inc == "var" or inc > 0:
-                known = (start[0], max(start[0], bound.rng[1] - (1 if cond.op == "<" else 0)))
+                known = (start[0], max(start[0], b_hi - (1 if cond.op == "<" else 0)))
             else:
-                known = (min(start[1], bound.rng[0] + (1 if cond.op == ">" else 0)), start[1])
+                known = (min(start[1], b_lo + (1 if cond.op == ">" else 0)), start[1])
         if known is not None:
             self.known_ranges[sym.pyname] = known  # lets indexing skip its bounds check
         try:
@@ -260,7 +268,7 @@ class LoopLowering(PointerWalkLowering):
             )
             return pre + loops[:-1] + self._placed(ctx, loops[-1])
         pre.append(countdown_init(b))
-        rng = call("range", name(sym.pyname), stop, step_node)
+        rng = _range_call(name(sym.pyname), stop, step_node)
         outlives = not isinstance(s.init, n.DeclStmt)
         orelse: list[ast.stmt] = []
         if outlives:
@@ -283,48 +291,27 @@ class LoopLowering(PointerWalkLowering):
     def _chunked_range(
         self, sym: VarSym, stop: ast.expr, step: ast.expr, body: list[ast.stmt], outlives: bool
     ) -> list[ast.stmt]:
-        """The counting loop in chunks of CHUNK values, charging the budget once per chunk:
+        """The counting loop in chunks of CHUNK values, charging the budget once per chunk
+        (`_chunks` gives none for an empty range, the range itself for a short one):
 
-        _r = range(v_i, STOP, STEP)
-        if _r:
-            for _k in range(0, len(_r), 64):
-                for v_i in (_r[_k:_k + 64] if _k or len(_r) > 64 else _r):
-                    BODY
-                _budget -= 64
-                if _budget < 0:
-                    yield
-            else:
-                v_i = _r.start + len(_r) * _r.step   # C's value after the loop, if i outlives it
+        for _k in _chunks(range(v_i, STOP, STEP)):
+            for v_i in _k:
+                BODY
+            _budget -= 64
+            if _budget < 0:
+                yield
+
+        When i outlives the loop, the range is kept (`_r = range(...)`) and the loop's
+        `else` sets C's value after it: `v_i = _r.start + len(_r) * _r.step`.
         """
-        r, k = self.temp(), self.temp()
-        pre = [
-            ast.Assign(targets=[name(r, True)], value=call("range", name(sym.pyname), stop, step))
-        ]
-        sliced = ast.Subscript(
-            value=name(r),
-            slice=ast.Slice(
-                lower=name(k),
-                upper=ast.BinOp(left=name(k), op=ast.Add(), right=ast.Constant(CHUNK)),
-            ),
-            ctx=ast.Load(),
-        )
-        # a range of one chunk runs as it is, without a slice (the common short loop)
-        more = ast.Compare(
-            left=call("len", name(r)), ops=[ast.Gt()], comparators=[ast.Constant(CHUNK)]
-        )
-        chunk = ast.IfExp(
-            test=ast.BoolOp(op=ast.Or(), values=[name(k), more]), body=sliced, orelse=name(r)
-        )
-        inner = ast.For(
-            target=name(sym.pyname, True), iter=chunk, body=body or [ast.Pass()], orelse=[]
-        )
-        over = ast.Compare(left=name("_budget"), ops=[ast.Lt()], comparators=[ast.Constant(0)])
-        charge = [
-            ast.AugAssign(target=name("_budget", True), op=ast.Sub(), value=ast.Constant(CHUNK)),
-            ast.If(test=over, body=[ast.Expr(value=ast.Yield(value=None))], orelse=[]),
-        ]
+        k = self.temp()
+        rng: ast.expr = _range_call(name(sym.pyname), stop, step)
+        pre: list[ast.stmt] = []
         orelse: list[ast.stmt] = []
         if outlives:
+            r = self.temp()
+            pre.append(ast.Assign(targets=[name(r, True)], value=rng))
+            rng = name(r)
             final = ast.BinOp(
                 left=ast.Attribute(value=name(r), attr="start", ctx=ast.Load()),
                 op=ast.Add(),
@@ -335,15 +322,24 @@ class LoopLowering(PointerWalkLowering):
                 ),
             )
             orelse = [ast.Assign(targets=[name(sym.pyname, True)], value=final)]
+        inner = ast.For(
+            target=name(sym.pyname, True), iter=name(k), body=body or [ast.Pass()], orelse=[]
+        )
+        over = ast.Compare(left=name("_budget"), ops=[ast.Lt()], comparators=[ast.Constant(0)])
+        charge = [
+            ast.AugAssign(target=name("_budget", True), op=ast.Sub(), value=ast.Constant(CHUNK)),
+            ast.If(test=over, body=[ast.Expr(value=ast.Yield(value=None))], orelse=[]),
+        ]
+        # the arrays' local names are bound once a chunk, inside the loop (and so inside
+        # its split function, if it has one)
+        aliases = alias_globals(inner.body, self.temp)
         outer = ast.For(
             target=name(k, True),
-            iter=call("range", ast.Constant(0), call("len", name(r)), ast.Constant(CHUNK)),
-            body=[inner] + charge,
+            iter=call("_chunks", rng),
+            body=aliases + [inner] + charge,
             orelse=orelse,
         )
-        # an empty range skips the set-up of the chunks (the counter keeps its start value)
-        aliases = alias_globals(inner.body, self.temp)
-        return pre + [ast.If(test=name(r), body=aliases + [outer], orelse=[])]
+        return pre + [outer]
 
     def _start_range(self, s: n.For) -> tuple[int, int] | None:
         """Known bounds of a range-for counter's start value."""
@@ -509,3 +505,39 @@ def _loop_depth(stmt) -> int:
             if x.else_ is not None:
                 stack.append((x.else_, d))
     return deepest
+
+
+def _range_call(start: ast.expr, stop: ast.expr, step: ast.expr) -> ast.Call:
+    """`range(start, stop, step)`, without a step of 1."""
+    if type(step) is ast.Constant and step.value == 1:
+        return call("range", start, stop)
+    return call("range", start, stop, step)
+
+
+def _start_in_range(init: list[ast.stmt], loop: list[ast.stmt]) -> list[ast.stmt]:
+    """A counter declared by the loop with a constant start needs no assignment before it:
+    the constant starts the range. `int i = 0; ... range(v_i, n)` -> `range(0, n)`.
+    Not when the loop is a split function (its `nonlocal` wants the outer binding)."""
+    if not (
+        len(init) == 1
+        and type(init[0]) is ast.Assign
+        and type(init[0].value) is ast.Constant
+        and type(init[0].targets[0]) is ast.Name
+        and not any(type(x) is ast.FunctionDef for x in loop)
+    ):
+        return init + loop
+    var = init[0].targets[0].id
+    for stmt in loop:
+        node = stmt.iter if type(stmt) is ast.For else None
+        if type(node) is ast.Call and type(node.func) is ast.Name and node.func.id == "_chunks":
+            node = node.args[0]
+        if (
+            type(node) is ast.Call
+            and type(node.func) is ast.Name
+            and node.func.id == "range"
+            and type(node.args[0]) is ast.Name
+            and node.args[0].id == var
+        ):
+            node.args[0] = ast.copy_location(const(init[0].value.value), node.args[0])
+            return loop
+    return init + loop

@@ -424,7 +424,7 @@ class FunctionLowerer(ExprLowering, AccessLowering, LoopLowering, JumpLowering, 
                 sym_p = VarSym(p.name, pt, "local", p.pos, pyname=pyname, is_const=p.type.is_const)
             self.scope.names[p.name] = sym_p
         body = copies + self.function_body(f.body)
-        if not isinstance(sym.type.ret, ct.VoidT):
+        if not isinstance(sym.type.ret, ct.VoidT) and not _always_returns(f.body):
             zero = ast.Constant(0.0 if sym.type.ret.is_float else 0)
             body.append(at([ast.Return(zero)], f.pos)[0])
         if self.frame_size or self.list_bytes:
@@ -462,6 +462,19 @@ class FunctionLowerer(ExprLowering, AccessLowering, LoopLowering, JumpLowering, 
         if self.has_splits:
             bind_splits(fn, set(gl))
         return fn
+
+
+def _always_returns(s) -> bool:
+    """True if statement `s` never falls through: every path ends in a `return` (a
+    function whose body always returns needs no `return 0` after it)."""
+    t = type(s)
+    if t is n.Return:
+        return True
+    if t is n.Block:
+        return bool(s.items) and _always_returns(s.items[-1])
+    if t is n.If:
+        return s.else_ is not None and _always_returns(s.then) and _always_returns(s.else_)
+    return False
 
 
 def _always_leaves(s) -> bool:

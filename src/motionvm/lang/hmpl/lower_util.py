@@ -17,6 +17,7 @@ class LoopCtx:
     flag_used: bool = False
     split: bool = False  # lowered as a nested Python function of its own (lower_split.py)
     returns: bool = False  # split: a `return` inside leaves through the nested function
+    breaks: int = 0  # `break` statements that leave this loop or switch
 
 
 # Python allows 20 statically nested blocks (loops, try) in one function. A function
@@ -79,6 +80,32 @@ def child_fields(cls: type) -> tuple[str, ...]:
     """Fields of a node class that may hold nodes with a location (cached)."""
     info = _WALK.get(cls)
     return (info or _walk_info(cls))[1]
+
+
+def walk_generated(nodes: list[ast.AST]):
+    """Every node of the generated trees `nodes`, in no set order: `ast.walk` without its
+    per-node generator, and skipping names, operators and contexts' fields."""
+    fields_of = _FIELDS
+    stack = list(nodes)
+    pop, push = stack.pop, stack.append
+    while stack:
+        node = pop()
+        yield node
+        d = node.__dict__
+        try:
+            fields = fields_of[type(node)]
+        except KeyError:
+            fields = fields_of[type(node)] = child_fields(type(node))
+        for f in fields:
+            v = d.get(f)
+            if v is None:
+                continue
+            if type(v) is list:
+                for x in v:
+                    if x is not None:
+                        push(x)
+            else:
+                push(v)
 
 
 def at(stmts: list[ast.stmt], pos) -> list[ast.stmt]:

@@ -43,7 +43,7 @@ from motionvm.lang.hmpl import ctypes_ as ct
 from motionvm.lang.hmpl import nodes as n
 from motionvm.lang.hmpl.analysis import walk
 from motionvm.lang.hmpl.lower_expr import wrap_node
-from motionvm.lang.hmpl.lower_util import CHUNK, LOOP_BLOCKS
+from motionvm.lang.hmpl.lower_util import CHUNK, LOOP_BLOCKS, walk_generated
 from motionvm.lang.hmpl.lvalues import VIEW_NAMES, call, name
 from motionvm.lang.hmpl.symbols import VarSym
 
@@ -284,7 +284,7 @@ def alias_globals(body: list[ast.stmt], temp, made: dict[str, str] | None = None
         made = {}
     seen: dict[str, list[ast.Subscript]] = {}
     stored: set[str] = set()
-    for node in ast.walk(ast.Module(body=body, type_ignores=[])):
+    for node in walk_generated(body):
         t = type(node)
         if t is ast.Subscript:
             v = node.value

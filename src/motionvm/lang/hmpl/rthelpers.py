@@ -17,6 +17,7 @@ from motionvm.lang.hmpl.cmemory import (
     to_f32,
     wrap_scalar,
 )
+from motionvm.lang.hmpl.lower_util import CHUNK
 from motionvm.lang.hmpl.lvalues import VIEW_NAMES
 from motionvm.runtime.errors import RuntimeFault
 
@@ -77,6 +78,15 @@ def _wrapi(x: int, bits: int) -> int:
     return ((x + half) & ((1 << bits) - 1)) - half
 
 
+def _chunks(r: range):
+    """The chunks of CHUNK values a counting loop runs between budget charges: nothing for
+    an empty range, the range itself when it is one chunk (the common short loop)."""
+    n = len(r)
+    if n <= CHUNK:
+        return (r,) if n else ()
+    return (r[k : k + CHUNK] for k in range(0, n, CHUNK))
+
+
 def _bad_step(step: int) -> int:
     """A counting loop whose run-time step is not positive would never reach its bound."""
     raise RuntimeFault(
@@ -125,6 +135,7 @@ def make_helpers(mem: Memory) -> dict[str, object]:
         "_oob": _oob,
         "_wrapi": _wrapi,
         "_bad_step": _bad_step,
+        "_chunks": _chunks,
         "_ck": _ck,
         "_stv": _stv,
         "_notimpl": _notimpl,
