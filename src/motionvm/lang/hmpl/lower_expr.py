@@ -367,8 +367,10 @@ class ExprLowering:
         if op == "+":
             return Val(node, t, True, v.const)
         if v.const is not None:
-            c = _fold_int(-v.const, t) if t.is_integer else -v.const
-            return Val(const(c), t, True, c)
+            if t.is_integer:
+                c = _fold_int(-v.const, t)
+                return Val(const(c), t, True, c, (c, c))
+            return Val(const(-v.const), t, True, -v.const)
         return Val(ast.UnaryOp(op=ast.USub(), operand=node), t, not t.is_integer)
 
     def _x_Postfix(self, e: n.Postfix) -> Val:
@@ -453,7 +455,7 @@ class ExprLowering:
                     "^": int.__xor__,
                 }[op]
                 c = ct.wrap_int(pyop(ct.wrap_int(a.const, t), ct.wrap_int(b.const, t)), t)
-                return Val(const(c), t, True, c)
+                return Val(const(c), t, True, c, (c, c))
             an, a_ok = self._ring_operand(a, t)
             bn, b_ok = self._ring_operand(b, t)
             exact = op in ("&", "|", "^") and a_ok and b_ok
@@ -505,7 +507,9 @@ class ExprLowering:
                     node, rng = ast.BinOp(an, ast.Mod(), bn), (0, min(k - 1, hi))
                 return Val(node, t, True, None, rng)
         fn = "_idiv" if op == "/" else "_imod"
-        return Val(call(fn, an, bn), t, op == "%")
+        # only INT_MIN / -1 leaves the type: a quotient by any other constant is in range
+        exact = op == "%" or isinstance(b.const, int) and ct.wrap_int(b.const, t) != -1
+        return Val(call(fn, an, bn), t, exact)
 
     def _float_op(self, op: str, a: Val, b: Val, t: ct.FloatT, pos) -> Val:
         an, bn = self.convert(a, t, pos), self.convert(b, t, pos)

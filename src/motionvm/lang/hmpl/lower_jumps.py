@@ -173,7 +173,7 @@ class JumpLowering:
             if test is not None:
                 if inner and type(inner[-1]) is ast.Break:
                     inner.pop()
-                rest = [_restamped(ast.If(test, inner or [ast.Pass()], rest), pos)]
+                rest = [_restamped(ast.If(test, inner or [_restamped(ast.Pass(), pos)], rest), pos)]
         return out + rest
 
     def _s_Case(self, s: n.Case) -> list[ast.stmt]:
@@ -283,8 +283,8 @@ def _nested_label(s) -> n.Case | n.Default | None:
     return None
 
 
-def _restamped(stmt: ast.If, pos) -> ast.If:
-    """The if statement placed at `pos` (its test and body already were)."""
+def _restamped(stmt: ast.stmt, pos) -> ast.stmt:
+    """The statement placed at `pos` (its parts already were)."""
     stmt.lineno, stmt.col_offset = pos.line, max(pos.col - 1, 0)
     return stmt
 
