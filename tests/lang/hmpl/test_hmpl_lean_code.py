@@ -222,3 +222,20 @@ void main() { Print("%d %d %d %d", both(1), both(0), maybe(1), maybe(0)); }
     maybe = py.split("def g_maybe")[1].split("def ")[0]
     assert "return 0" not in both and "return 0" in maybe
     assert run_hmpl(src) == ["5 6 5 0"]
+
+
+def test_an_int_operand_of_a_double_operation_converts_as_float_does():
+    # Python converts the int of `int * float` as float() does (to nearest, ties to even)
+    src = """
+void main() {
+    long long big = 9007199254740993LL; int m = -2147483648; int i = 3;
+    double h = 0.5;
+    Print("%.1f %.1f %.1f %.3f %.3f", big * 1.0, big + h, m * h, h - i, i * h);
+}
+"""
+    assert "float(" not in _python_of(src)
+    big = 9007199254740993
+    assert run_hmpl(src) == [
+        f"{float(big) * 1.0:.1f} {float(big) + 0.5:.1f} {-(2.0**31) * 0.5:.1f} {0.5 - 3:.3f}"
+        f" {3 * 0.5:.3f}"
+    ]

@@ -513,6 +513,13 @@ class ExprLowering:
 
     def _float_op(self, op: str, a: Val, b: Val, t: ct.FloatT, pos) -> Val:
         an, bn = self.convert(a, t, pos), self.convert(b, t, pos)
+        if t == ct.DOUBLE and op != "/":
+            # Python converts an int operand of a float operation as `float()` does:
+            # `float(v_i) * 0.5` is `v_i * 0.5`
+            if a.type.is_integer and a.const is None and b.type.is_float:
+                an = self.exact(a)
+            elif b.type.is_integer and b.const is None and a.type.is_float:
+                bn = self.exact(b)
         if a.const is not None and b.const is not None and op != "/":
             pyop = {"+": float.__add__, "-": float.__sub__, "*": float.__mul__}[op]
             c = pyop(float(a.const), float(b.const))

@@ -516,7 +516,7 @@ def _range_call(start: ast.expr, stop: ast.expr, step: ast.expr) -> ast.Call:
 
 def _start_in_range(init: list[ast.stmt], loop: list[ast.stmt]) -> list[ast.stmt]:
     """A counter declared by the loop with a constant start needs no assignment before it:
-    the constant starts the range. `int i = 0; ... range(v_i, n)` -> `range(0, n)`.
+    the constant starts the range. `int i = 0; ... range(v_i, n)` -> `range(n)`.
     Not when the loop is a split function (its `nonlocal` wants the outer binding)."""
     if not (
         len(init) == 1
@@ -538,6 +538,10 @@ def _start_in_range(init: list[ast.stmt], loop: list[ast.stmt]) -> list[ast.stmt
             and type(node.args[0]) is ast.Name
             and node.args[0].id == var
         ):
-            node.args[0] = ast.copy_location(const(init[0].value.value), node.args[0])
+            start = init[0].value.value
+            if start == 0 and len(node.args) == 2:
+                del node.args[0]  # `range(n)`
+            else:
+                node.args[0] = ast.copy_location(const(start), node.args[0])
             return loop
     return init + loop
