@@ -73,7 +73,11 @@ def wrap_node(node: ast.expr, t: ct.IntT) -> ast.expr:
         lo, hi = -(1 << (bits - 1)), (1 << (bits - 1)) - 1
         grab = ast.NamedExpr(target=name("_w", True), value=node)
         test = ast.Compare(left=ast.Constant(lo), ops=_LE_LE, comparators=[grab, ast.Constant(hi)])
-        slow = call("_wrapi", name("_w"), ast.Constant(bits))
+        slow = (
+            call("_wrapi", name("_w"), ast.Constant(bits))
+            if bits != 32
+            else call("_wrapi", name("_w"))
+        )
         return ast.IfExp(test=test, body=name("_w"), orelse=slow)
     return ast.BinOp(left=node, op=ast.BitAnd(), right=ast.Constant((1 << bits) - 1))
 
@@ -151,6 +155,8 @@ class ExprLowering:
                 exact = self.exact(v)  # sign- or zero-extend the narrower value first
                 return exact if src.min >= to.min and src.max <= to.max else wrap_node(exact, to)
             if isinstance(src, ct.FloatT):
+                if to.bits == 32 and to.signed:  # the helper's defaults
+                    return call("_f2i", v.node)
                 return call("_f2i", v.node, ast.Constant(to.bits), ast.Constant(to.signed))
             if isinstance(src, ct.PtrT):
                 return wrap_node(v.node, to) if to.size < 8 else v.node
