@@ -500,7 +500,7 @@ class ExprLowering:
             return Val(const(c), t, True, c)
         if isinstance(b.const, int) and (k := ct.wrap_int(b.const, t)) > 0:
             # a dividend known not negative: C's truncating division is Python's floor
-            if a.rng is not None and 0 <= a.rng[0] and a.rng[1] <= t.max:
+            if a.exact and a.rng is not None and 0 <= a.rng[0] and a.rng[1] <= t.max:
                 lo, hi = a.rng
             elif not t.signed:
                 lo, hi = 0, t.max
