@@ -302,7 +302,8 @@ class LoopLowering(PointerWalkLowering):
                 yield
 
         When i outlives the loop, the range is kept (`_r = range(...)`) and the loop's
-        `else` sets C's value after it: `v_i = _r.start + len(_r) * _r.step`.
+        `else` sets C's value after it: `v_i = _r.start + len(_r) * _r.step`. A loop
+        inside another loop takes its chunks inline (`_inline_chunks`).
         """
         k = self.temp()
         rng: ast.expr = _range_call(name(sym.pyname), stop, step)
@@ -333,6 +334,8 @@ class LoopLowering(PointerWalkLowering):
         # the arrays' local names are bound once a chunk, inside the loop (and so inside
         # its split function, if it has one)
         aliases = alias_globals(inner.body, self.temp)
+        if any(c.kind == "loop" for c in self.loops):
+            return pre + self._inline_chunks(k, rng, inner, aliases, [inner] + charge, orelse)
         outer = ast.For(
             target=name(k, True),
             iter=call("_chunks", rng),
@@ -340,6 +343,47 @@ class LoopLowering(PointerWalkLowering):
             orelse=orelse,
         )
         return pre + [outer]
+
+    def _inline_chunks(
+        self, k: str, rng: ast.expr, inner: ast.For, aliases: list, body: list, orelse: list
+    ) -> list[ast.stmt]:
+        """The chunks of a loop inside another loop, entered once per outer iteration:
+        without the call of `_chunks` (a short range runs as it is, an empty one skips
+        the set-up)
+
+        _r = range(...)
+        if _r:
+            for _k in range(0, len(_r), 64):
+                for v_i in (_r[_k:_k + 64] if _k or len(_r) > 64 else _r):
+                    BODY
+                ...   # the budget charge
+        """
+        if type(rng) is ast.Name:
+            r, pre = rng.id, []
+        else:
+            r = self.temp()
+            pre = [ast.Assign(targets=[name(r, True)], value=rng)]
+        sliced = ast.Subscript(
+            value=name(r),
+            slice=ast.Slice(
+                lower=name(k),
+                upper=ast.BinOp(left=name(k), op=ast.Add(), right=ast.Constant(CHUNK)),
+            ),
+            ctx=ast.Load(),
+        )
+        more = ast.Compare(
+            left=call("len", name(r)), ops=[ast.Gt()], comparators=[ast.Constant(CHUNK)]
+        )
+        inner.iter = ast.IfExp(
+            test=ast.BoolOp(op=ast.Or(), values=[name(k), more]), body=sliced, orelse=name(r)
+        )
+        outer = ast.For(
+            target=name(k, True),
+            iter=call("range", ast.Constant(0), call("len", name(r)), ast.Constant(CHUNK)),
+            body=body,
+            orelse=orelse,
+        )
+        return pre + [ast.If(test=name(r), body=aliases + [outer], orelse=[])]
 
     def _start_range(self, s: n.For) -> tuple[int, int] | None:
         """Known bounds of a range-for counter's start value."""
@@ -529,7 +573,9 @@ def _start_in_range(init: list[ast.stmt], loop: list[ast.stmt]) -> list[ast.stmt
     var = init[0].targets[0].id
     for stmt in loop:
         node = stmt.iter if type(stmt) is ast.For else None
-        if type(node) is ast.Call and type(node.func) is ast.Name and node.func.id == "_chunks":
+        if type(stmt) is ast.Assign and type(stmt.targets[0]) is ast.Name:
+            node = stmt.value  # `_r = range(...)` before the chunks of a nested loop
+        elif type(node) is ast.Call and type(node.func) is ast.Name and node.func.id == "_chunks":
             node = node.args[0]
         if (
             type(node) is ast.Call
