@@ -205,10 +205,15 @@ void main() {{
     for (int i = 0; i < {n}; i++) {{ g[i] = i; s += i; }}
     int t = 0;
     for (int j = 1; j <= {n}; j++) t += g[j - 1];
-    Print("%d %d", s, t);
+    int u = 0;
+    for (int r = 0; r < 3; r++)
+        for (int k = r; k < {n}; k++) u += g[k];   // a loop in a loop: chunks inline
+    Print("%d %d %d", s, t, u);
 }}
 """
-    assert run_hmpl(src) == [f"{n * (n - 1) // 2} {n * (n - 1) // 2}"]
+    tri = n * (n - 1) // 2
+    u = sum(sum(range(r, n)) for r in range(3))
+    assert run_hmpl(src) == [f"{tri} {tri} {u}"]
 
 
 def test_a_trailing_return_only_where_the_end_is_reachable():
