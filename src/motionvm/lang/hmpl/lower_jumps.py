@@ -135,7 +135,7 @@ class JumpLowering:
         if not (ctx.split or ctx.flag_used or any(falls[:-1]) or stripped != ctx.breaks):
             # no group falls into the next and every `break` ends a group: the groups'
             # tests exclude each other, so an if-chain without the loop does the same
-            return self._switch_chain(out, subject, sw, chain)
+            return self._switch_chain(out, subject, chain)
         for stmt in body:
             if not stmt.body:
                 stmt.body = [ast.Pass()]
@@ -150,7 +150,7 @@ class JumpLowering:
             out.append(ast.If(name(flag), self._continue_from(len(self.loops) - 1, s.pos), []))
         return out
 
-    def _switch_chain(self, out: list[ast.stmt], subject: ast.expr, sw: str, chain) -> list:
+    def _switch_chain(self, out: list[ast.stmt], subject: ast.expr, chain) -> list[ast.stmt]:
         """`if sw == 1: ... elif sw == 2: ... else: <default>` without the groups' final
         `break`s; a subject that is a plain name is tested without the temporary.
 
