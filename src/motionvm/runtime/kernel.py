@@ -176,13 +176,14 @@ class Kernel:
         cycle = self.clock.cycle
         polled = stale = False  # a task polled an event; a task acted after that
         recorder = self.recorder
+        before_resume = self.before_resume
         reads = None
         for t in tuple(self._active):  # a task started in this cycle runs from the next one
             gen = t.gen
             if gen is None or t.wake_cycle > cycle:
                 continue
             self.current = t
-            self.before_resume(t)
+            before_resume(t)
             if recorder is not None:
                 recorder.reads = reads = []
             t.record = None
@@ -201,11 +202,13 @@ class Kernel:
                 self.on_fault(t, exc)
                 stale = stale or polled
             else:
-                if t.gen is not gen:  # stopped or restarted itself
-                    stale = stale or polled
-                elif y is None:
-                    t.wake_cycle = cycle + 1
-                    t.event_wait = False
+                if y is None:  # the common case first: resume me next cycle
+                    if t.gen is gen:
+                        t.wake_cycle = cycle + 1
+                        t.event_wait = False
+                    if polled:
+                        stale = True
+                elif t.gen is not gen:  # stopped or restarted itself
                     stale = stale or polled
                 elif y < 0:  # EVENT_POLL (only polled) or EVENT_WAIT (acted, then polled)
                     t.wake_cycle = cycle + 1

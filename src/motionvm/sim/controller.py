@@ -133,7 +133,10 @@ class Controller:
 
     def busy(self) -> bool:
         """True while any task runs, any axis moves, enables or settles, or a client is busy."""
-        return self.kernel.any_running or self.motion.busy() or any(c.busy() for c in self.clients)
+        # the kernel's running tasks read without its property: a call less per cycle
+        return (
+            bool(self.kernel._active) or self.motion.busy() or any(c.busy() for c in self.clients)
+        )
 
     def next_event(self) -> int | None:
         """The earliest cycle a task or client wants to be stepped at (None: none)."""
