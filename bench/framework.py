@@ -1,15 +1,15 @@
 """Benchmark: the controller's per-cycle framework cost and the task side of stepping.
 
-Two cases, time skipping off (every cycle is computed), default machine axes:
-1. `idle`: one HMPL task in `for (;;) RunScheduler();`, no axis moving: what one
-   controller cycle costs when nothing happens (the run loop, `Controller.step`, the
-   clients' hooks, the task kernel's visit and resume of the task, the motion kernel's
-   pass over resting axes): `framework_us_per_cycle`.
-2. `poll<N>`: the task side of bench/motion.py's stepping case: two HMPL tasks loop
-   over N enabled axes (half each) calling `IsInPos(i)` every cycle, then
-   `RunScheduler()`; no axis is moved (every axis rests in position, its target being
-   where it is), so what grows with N beyond the idle cycle is the tasks' status
-   queries: `task_us_per_axis_cycle` = (poll cycle - idle cycle) / N.
+Time skipping off (every cycle is computed), default machine axes:
+1. `idle`: one HMPL task in `for (;;) RunScheduler();` on a machine without axes: what
+   one controller cycle costs when nothing happens (the run loop, `Controller.step`, the
+   clients' hooks, the task kernel's visit and resume of the task):
+   `framework_us_per_cycle`.
+2. `poll<N>` against `rest<N>`: the task side of bench/motion.py's stepping case. Two
+   HMPL tasks share N enabled axes (half each); in `poll<N>` each loops over its axes
+   calling `IsInPos(i)` every cycle, then `RunScheduler()`; in `rest<N>` it only calls
+   `RunScheduler()`. No axis moves in either, so the difference is the tasks' loops and
+   status queries: `task_us_per_axis_cycle` = (poll<N> - rest<N>) / N.
 
 Timing: CPU seconds of this process (`time.process_time`), the median of 5 repeats
 after one untimed warm-up, the repeats of all cases interleaved; every repeat of a case
@@ -34,7 +34,7 @@ import time
 from pathlib import Path
 
 IDLE = "void main() { for (;;) RunScheduler(); }"
-POLL = """
+TASK = """
 int hits;
 void main() {
     int i;
@@ -42,14 +42,13 @@ void main() {
     for (i = FIRST; i < LAST; i++) Enable(i);
     for (i = FIRST; i < LAST; i++) Till(IsEnabled(i));
     for (;;) {
-        for (i = FIRST; i < LAST; i++) {
-            if (IsInPos(i)) hits++;
-        }
+        POLL
         RunScheduler();
     }
 }
 """
-POLL_AXES = (1, 8)
+LOOP = "for (i = FIRST; i < LAST; i++) { if (IsInPos(i)) hits++; }"
+AXES = (1, 8)
 WARM = 0.1
 """Simulated seconds before the timed part (the axes enabled and settled)."""
 
@@ -61,12 +60,13 @@ def simulation(case: str):
     from motionvm.sim.machine import MachineConfig, default_axes
 
     if case == "idle":
-        tasks, n_axes = [TaskFile(0, "idle.hmpl", IDLE)], 1
+        tasks, n_axes = [TaskFile(0, "idle.hmpl", IDLE)], 0
     else:
-        n_axes = int(case.removeprefix("poll"))
+        n_axes = int(case[4:])
         half = (n_axes + 1) // 2
+        text = TASK.replace("POLL", LOOP if case.startswith("poll") else "")
         tasks = [
-            TaskFile(k, f"poll{k}.hmpl", POLL.replace("FIRST", str(a)).replace("LAST", str(b))
+            TaskFile(k, f"task{k}.hmpl", text.replace("FIRST", str(a)).replace("LAST", str(b))
                      .replace("START", "StartTask(1);" if k == 0 else ""))
             for k, (a, b) in enumerate([(0, half), (half, n_axes)])
         ]  # fmt: skip
@@ -88,7 +88,7 @@ def once(case: str, cycles: int) -> tuple[float, list]:
 
 
 def cases() -> list[str]:
-    return ["idle", *(f"poll{n}" for n in POLL_AXES)]
+    return ["idle", *(f"{kind}{n}" for n in AXES for kind in ("rest", "poll"))]
 
 
 def count(case: str, cycles: int) -> tuple[int, collections.Counter, collections.Counter]:
@@ -116,8 +116,6 @@ def count(case: str, cycles: int) -> tuple[int, collections.Counter, collections
         controller.run(until=end * 0.001)
     finally:
         sys.settrace(None)
-    for key in [k for k in calls if k[1] in ("run", "settrace")][:0]:
-        del calls[key]
     return sum(ops.values()), calls, ops
 
 
@@ -137,10 +135,10 @@ def run_child(src: str, case: str, cycles: int) -> tuple[float, list]:
 
 
 def report(name: str, us: dict[str, float]) -> None:
-    idle = us["idle"]
-    print(f"{name}: idle cycle {idle:.2f} us; " + ", ".join(
-        f"{n} axes polled: {us[f'poll{n}']:.2f} us/cycle, "
-        f"{(us[f'poll{n}'] - idle) / n:.2f} us per axis-cycle" for n in POLL_AXES))  # fmt: skip
+    print(f"{name}: idle cycle {us['idle']:.2f} us; " + ", ".join(
+        f"{n} axes: {us[f'rest{n}']:.2f} us/cycle resting, {us[f'poll{n}']:.2f} polled, "
+        f"{(us[f'poll{n}'] - us[f'rest{n}']) / n:.2f} us per axis-cycle polled"
+        for n in AXES))  # fmt: skip
 
 
 def main() -> None:
@@ -188,8 +186,8 @@ def main() -> None:
         for case in cases():
             print(f"RESULT {case}_old_over_new={us['old', case] / us['new', case]:.2f}")
     print(f"RESULT framework_us_per_cycle={us['new', 'idle']:.2f}")
-    for n in POLL_AXES:
-        per_axis = (us["new", f"poll{n}"] - us["new", "idle"]) / n
+    for n in AXES:
+        per_axis = (us["new", f"poll{n}"] - us["new", f"rest{n}"]) / n
         print(f"RESULT task_us_per_axis_cycle_{n}axes={per_axis:.2f}")
 
 

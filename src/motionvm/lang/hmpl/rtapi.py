@@ -91,6 +91,7 @@ class HmplRuntime(PassiveClient):
         self._clock = controller.clock
         self._i32 = mem.i32
         self._cycle_ms = controller.cycle_time * 1000.0
+        self._whole_ms = self._cycle_ms == 1.0
         """What `begin_cycle` reads each cycle, looked up once."""
         self.ns = make_helpers(mem)
         self.ns["__name__"] = "hmpl_program"
@@ -151,7 +152,10 @@ class HmplRuntime(PassiveClient):
         # time_ms inlined (the same arithmetic; round of a float is an int)
         cycle = self._clock.cycle
         i32 = self._i32
-        i32[self._time_addr] = round(cycle * self._cycle_ms) & 0x7FFFFFFF
+        if self._whole_ms and cycle < 0x20000000000000:  # round(cycle * 1.0) is the cycle
+            i32[self._time_addr] = cycle & 0x7FFFFFFF
+        else:
+            i32[self._time_addr] = round(cycle * self._cycle_ms) & 0x7FFFFFFF
         # system_fclk: +1 per controller cycle (22.2), wrapping as a signed 32-bit int
         i32[self._fclk_addr] = ((cycle + 0x80000000) & 0xFFFFFFFF) - 0x80000000
 
