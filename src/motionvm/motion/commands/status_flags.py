@@ -17,7 +17,7 @@ from __future__ import annotations
 from collections.abc import Callable
 
 _QUERY = """
-def query(axis_id):
+def NAME(axis_id):
     if axis_id >= 0:
         try:
             a = axes[axis_id]
@@ -44,10 +44,11 @@ class StatusFlag:
         if not flag.isidentifier():
             raise ValueError(f"not an axis attribute: {flag!r}")
         self.flag = flag
-        self._code = compile(_QUERY.replace("FLAG", flag), f"<{flag} status query>", "exec")
 
     def __set_name__(self, owner: type, name: str) -> None:
         self.name = name
+        source = _QUERY.replace("FLAG", self.flag).replace("NAME", name)
+        self._code = compile(source, "<status flag query>", "exec")
 
         def method(commands, axis_id: int) -> int:
             return getattr(commands, name)(axis_id)
@@ -62,7 +63,6 @@ class StatusFlag:
         motion = commands.motion
         ns = {"axes": motion.axes, "motion": motion, "bad_id": commands._status_of_bad_id}
         exec(self._code, ns)
-        query = ns["query"]
-        query.__name__ = query.__qualname__ = self.name
+        query = ns[self.name]
         commands.__dict__[self.name] = query
         return query
