@@ -149,13 +149,19 @@ class HmplRuntime(PassiveClient):
 
     def begin_cycle(self) -> None:
         """Update the system variables of manual 22.2 for this cycle."""
-        # time_ms inlined (the same arithmetic; round of a float is an int)
         cycle = self._clock.cycle
         i32 = self._i32
-        if self._whole_ms and cycle < 0x20000000000000:  # round(cycle * 1.0) is the cycle
-            i32[self._time_addr] = cycle & 0x7FFFFFFF
-        else:
-            i32[self._time_addr] = round(cycle * self._cycle_ms) & 0x7FFFFFFF
+        if cycle <= 0x7FFFFFFF:  # neither value wrapped yet (24 days of 1 ms cycles)
+            # 1 ms cycles: no arithmetic (round(cycle * 1.0) is the cycle); an operation on
+            # an int wider than 30 bits costs an allocation
+            if self._whole_ms:
+                i32[self._time_addr] = cycle
+            else:
+                i32[self._time_addr] = round(cycle * self._cycle_ms) & 0x7FFFFFFF
+            i32[self._fclk_addr] = cycle
+            return
+        # time_ms inlined (the same arithmetic; round of a float is an int)
+        i32[self._time_addr] = round(cycle * self._cycle_ms) & 0x7FFFFFFF
         # system_fclk: +1 per controller cycle (22.2), wrapping as a signed 32-bit int
         i32[self._fclk_addr] = ((cycle + 0x80000000) & 0xFFFFFFFF) - 0x80000000
 
