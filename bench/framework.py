@@ -84,7 +84,9 @@ def once(case: str, cycles: int) -> tuple[float, list]:
     if sim.faults or any(a.moving or not a.in_pos for a in axes if a.enabled):
         raise SystemExit(f"benchmark broken: a task faulted or an axis moves {sim.faults}")
     hits = sim.read("hits") if case != "idle" else 0
-    return cpu, [sim.controller.clock.cycle, hits, [a.pos_fb for a in axes]]
+    end = [sim.controller.clock.cycle, hits, [a.pos_fb for a in axes]]
+    sim.close()
+    return cpu, end
 
 
 def cases() -> list[str]:
@@ -116,6 +118,7 @@ def count(case: str, cycles: int) -> tuple[int, collections.Counter, collections
         controller.run(until=end * 0.001)
     finally:
         sys.settrace(None)
+    sim.close()
     return sum(ops.values()), calls, ops
 
 
