@@ -73,3 +73,20 @@ def test_a_client_added_between_or_within_cycles_is_called_as_in_the_list():
     ctl.clients.remove(ctl.clients[-3])  # Logger a leaves
     ctl.step()
     assert calls == [("begin", "b"), ("end", "b")]
+
+
+def test_a_run_asks_no_busy_while_a_task_runs_and_the_task_is_resumed_each_cycle():
+    from motionvm.api import Simulation
+
+    sim = Simulation.from_source("void main() { for (;;) RunScheduler(); }", skip=False)
+    ctl = sim.controller
+    asked = []
+    real_busy = ctl.busy
+    ctl.busy = lambda: asked.append(ctl.cycle) or real_busy()
+    resumed = []
+    before_resume = ctl.kernel.before_resume
+    ctl.kernel.before_resume = lambda t: resumed.append(ctl.cycle) or before_resume(t)
+    sim.run(until=0.05)
+    assert asked == []  # the running task keeps the run going: nothing else is asked
+    assert resumed == list(range(50))
+    sim.close()

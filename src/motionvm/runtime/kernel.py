@@ -76,6 +76,7 @@ class Kernel:
         """The controller's clock; the kernel reads the cycle from it."""
         self.tasks = [Task(i) for i in range(n_tasks)]
         self._active: list[Task] = []  # running tasks in id order: a cycle visits only these
+        self._visits: tuple[Task, ...] = ()  # `_active` as of its last change, for run_cycle
         self.current: Task | None = None
         self.on_fault: Callable[[Task, BaseException], None] = lambda task, exc: None
         self.before_resume: Callable[[Task], None] = lambda task: None
@@ -107,6 +108,7 @@ class Kernel:
         if t not in self._active:
             self._active.append(t)
             self._active.sort(key=lambda x: x.id)
+            self._visits = tuple(self._active)
 
     def stop(self, task_id: int) -> None:
         """Stop a task: close its generator; `on_stop` then releases what it held."""
@@ -140,6 +142,7 @@ class Kernel:
         self._changed = True
         if t in self._active:
             self._active.remove(t)
+            self._visits = tuple(self._active)
         self.on_stop(t)
 
     @property
@@ -176,13 +179,14 @@ class Kernel:
         cycle = self.clock.cycle
         polled = stale = False  # a task polled an event; a task acted after that
         recorder = self.recorder
+        before_resume = self.before_resume
         reads = None
-        for t in tuple(self._active):  # a task started in this cycle runs from the next one
+        for t in self._visits:  # a task started in this cycle runs from the next one
             gen = t.gen
             if gen is None or t.wake_cycle > cycle:
                 continue
             self.current = t
-            self.before_resume(t)
+            before_resume(t)
             if recorder is not None:
                 recorder.reads = reads = []
             t.record = None
@@ -201,11 +205,13 @@ class Kernel:
                 self.on_fault(t, exc)
                 stale = stale or polled
             else:
-                if t.gen is not gen:  # stopped or restarted itself
-                    stale = stale or polled
-                elif y is None:
-                    t.wake_cycle = cycle + 1
-                    t.event_wait = False
+                if y is None:  # the common case first: resume me next cycle
+                    if t.gen is gen:
+                        t.wake_cycle = cycle + 1
+                        t.event_wait = False
+                    if polled:
+                        stale = True
+                elif t.gen is not gen:  # stopped or restarted itself
                     stale = stale or polled
                 elif y < 0:  # EVENT_POLL (only polled) or EVENT_WAIT (acted, then polled)
                     t.wake_cycle = cycle + 1

@@ -108,16 +108,18 @@ class Controller:
 
     def step(self) -> None:
         """Run exactly one controller cycle."""
-        if self.clients != self._hooked:  # a client came (or went)
+        clients = self.clients
+        if clients != self._hooked:  # a client came (or went)
             self._take_hooks()
         for hook in self._begin_hooks:
             hook()
-        self.motion.begin_cycle()
+        motion = self.motion
+        motion.begin_cycle()
         self.kernel.run_cycle()
         if self.skip:
             self.jumps.after_tasks()
-        self.motion.step()
-        if self.clients != self._hooked:  # a task added a client: it ends this cycle
+        motion.step()
+        if clients != self._hooked:  # a task added a client: it ends this cycle
             self._take_hooks()
         for hook in self._end_hooks:
             hook()
@@ -168,7 +170,8 @@ class Controller:
         # while skipping, a task's status wait records the flags it read (sim/jumps.py)
         self.kernel.recorder = self.motion if self.skip else None
         next_report = _NEVER if progress is None else clock.cycle
-        while self.busy():
+        active = self.kernel._active  # a running task keeps the run busy: no call
+        while active or self.busy():
             if self.stop_requested:
                 return STOPPED
             if clock.cycle >= next_report and progress is not None:

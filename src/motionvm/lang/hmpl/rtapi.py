@@ -88,6 +88,11 @@ class HmplRuntime(PassiveClient):
         self.user_table_addr = program.sysvars["system_user_table"].addr
         self._time_addr = program.sysvars["system_timeInMs"].addr // 4
         self._fclk_addr = program.sysvars["system_fclk"].addr // 4
+        self._clock = controller.clock
+        self._i32 = mem.i32
+        self._cycle_ms = controller.cycle_time * 1000.0
+        self._whole_ms = self._cycle_ms == 1.0
+        """What `begin_cycle` reads each cycle, looked up once."""
         self.ns = make_helpers(mem)
         self.ns["__name__"] = "hmpl_program"
         self.ns["_gpi"] = self._gpi
@@ -100,7 +105,7 @@ class HmplRuntime(PassiveClient):
                 self.ns["b_" + hname] = getattr(lib, attr)
         for _fname, code in program.codes:
             exec(code, self.ns)
-        self.kernel.before_resume = self._before_resume
+        self.kernel.before_resume = self._resume_hook()
         self.kernel.on_fault = self._on_fault
         self.kernel.on_stop = self._on_stop
         if sys.getrecursionlimit() < RECURSION_LIMIT:
@@ -144,13 +149,21 @@ class HmplRuntime(PassiveClient):
 
     def begin_cycle(self) -> None:
         """Update the system variables of manual 22.2 for this cycle."""
-        controller = self.controller
+        cycle = self._clock.cycle
+        i32 = self._i32
+        if cycle <= 0x7FFFFFFF:  # neither value wrapped yet (24 days of 1 ms cycles)
+            # 1 ms cycles: no arithmetic (round(cycle * 1.0) is the cycle); an operation on
+            # an int wider than 30 bits costs an allocation
+            if self._whole_ms:
+                i32[self._time_addr] = cycle
+            else:
+                i32[self._time_addr] = round(cycle * self._cycle_ms) & 0x7FFFFFFF
+            i32[self._fclk_addr] = cycle
+            return
         # time_ms inlined (the same arithmetic; round of a float is an int)
-        cycle = self.kernel.cycle
-        i32 = self.mem.i32
-        i32[self._time_addr] = round(cycle * (controller.cycle_time * 1000.0)) & 0x7FFFFFFF
+        i32[self._time_addr] = round(cycle * self._cycle_ms) & 0x7FFFFFFF
         # system_fclk: +1 per controller cycle (22.2), wrapping as a signed 32-bit int
-        i32[self._fclk_addr] = ((cycle + 2**31) & 0xFFFFFFFF) - 2**31
+        i32[self._fclk_addr] = ((cycle + 0x80000000) & 0xFFFFFFFF) - 0x80000000
 
     def estop_input(self, n: int) -> None:
         """The E-stop input `n` rose (io/gpio.py): every task stops, the calling one
@@ -276,10 +289,16 @@ class HmplRuntime(PassiveClient):
         self.kernel.start(task_id, gen, func_name or "main")
         return 0
 
-    def _before_resume(self, t: Task) -> None:
-        ns = self.ns
-        ns["_budget"] = self.task_slice
-        ns["_stack"] = self.stacks[t.id]
+    def _resume_hook(self) -> Callable[[Task], None]:
+        """The kernel's `before_resume`: a task's slice budget and memory stack are the
+        generated code's `_budget` and `_stack` while it runs (what it needs bound once)."""
+        ns, stacks, budget = self.ns, self.stacks, self.task_slice
+
+        def before_resume(t: Task) -> None:
+            ns["_budget"] = budget
+            ns["_stack"] = stacks[t.id]
+
+        return before_resume
 
     def _on_stop(self, t: Task) -> None:
         self.stacks[t.id].reset()

@@ -19,6 +19,7 @@ from collections.abc import Sequence
 
 from motionvm.motion import axis_status as st
 from motionvm.motion.commands.base import CommandBase
+from motionvm.motion.commands.status_flags import StatusFlag
 from motionvm.motion.commands.touchprobe import NO_SPECIFIC_PDO
 from motionvm.motion.gantry import from_axes
 from motionvm.motion.kernel import ECAT_OP
@@ -281,47 +282,18 @@ class AxisCommands(CommandBase):
 
     # ------------------------------------------------------------ 5.4 status
 
-    # the three the manual's idioms poll every cycle (Till(IsInPos(a))) take a short path;
-    # while a task runs, the four flags of a status wait record what they answered
-    # (`MotionKernel.reads`, runtime/kernel.py)
+    # the four status flags (one owner of their rule: status_flags.py)
+    IsEnabled = StatusFlag("enabled")
+    IsMoving = StatusFlag("moving")
+    IsInPos = StatusFlag("in_pos")
+    IsErrorStop = StatusFlag("error_stop")
 
-    def IsEnabled(self, axis_id: int) -> int:
-        return self._status_flag(axis_id, "enabled")
-
-    def IsMoving(self, axis_id: int) -> int:
-        return self._status_flag(axis_id, "moving")
-
-    def IsInPos(self, axis_id: int) -> int:
-        motion = self.motion
-        if axis_id >= 0:
-            try:
-                a = motion.axes[axis_id]
-            except IndexError:
-                pass
-            else:
-                reads = motion.reads
-                if reads is None:
-                    return 1 if a.in_pos else 0
-                flag = a.in_pos
-                reads.append((a, "in_pos", flag))
-                return 1 if flag else 0
-        return self._status_flag(axis_id, "in_pos")
-
-    def IsErrorStop(self, axis_id: int) -> int:
-        return self._status_flag(axis_id, "error_stop")
-
-    def _status_flag(self, axis_id: int, attr: str) -> int:
-        motion = self.motion
-        reads = motion.reads
-        axes = motion.axes
-        if 0 <= axis_id < len(axes):
-            a = axes[axis_id]
-            flag = getattr(a, attr)
-            if reads is not None:
-                reads.append((a, attr, flag))
-            return 1 if flag else 0
+    def _status_of_bad_id(self, axis_id: int, attr: str) -> int:
+        """A status flag's answer for a bad axis id (0, the system's error stored), not
+        replayable by a status wait's record."""
+        reads = self.motion.reads
         if reads is not None:
-            reads.append(None)  # a bad id: not replayable (it sets the system's error)
+            reads.append(None)
         return self._flag(axis_id, attr)
 
     def IsGantry(self, axis_id: int) -> int:

@@ -1,0 +1,68 @@
+"""The Is* commands of manual 5.4 that answer one status flag of an axis (IsEnabled,
+IsMoving, IsInPos, IsErrorStop): the one place that owns their rule.
+
+The rule: axis `axis_id` answers 1 if its flag is set, else 0; while a task runs with a
+recorder (`MotionKernel.reads` is a list, runtime/kernel.py), the answer is recorded
+as (axis, flag name, value) so a status wait need not be polled while its flags answer
+the same. A bad axis id answers 0, stores eERR_HMPL_ARG_OUT_OF_RANGE as the system's
+last error and records None (not replayable).
+
+The manual's idioms poll these every cycle (`Till(IsInPos(a))`, a loop over the axes),
+so each is built per commands object as a plain function of `axis_id` with the motion
+kernel and its axes bound in (`StatusFlag`): one call, no method or flag-name look-up.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+_QUERY = """
+def NAME(axis_id):
+    if axis_id >= 0:
+        try:
+            a = axes[axis_id]
+        except IndexError:
+            pass
+        else:
+            reads = motion.reads
+            if reads is None:
+                return 1 if a.FLAG else 0
+            flag = a.FLAG
+            reads.append((a, "FLAG", flag))
+            return 1 if flag else 0
+    return bad_id(axis_id, "FLAG")
+"""
+
+
+class StatusFlag:
+    """Declares (`IsInPos = StatusFlag("in_pos")`, in a commands class) the command that
+    answers axis attribute `flag`. On a commands object it is that object's query
+    function (made on first use, then kept as the object's attribute); on the class, a
+    method that calls it (for `inspect.signature` and documentation)."""
+
+    def __init__(self, flag: str) -> None:
+        if not flag.isidentifier():
+            raise ValueError(f"not an axis attribute: {flag!r}")
+        self.flag = flag
+
+    def __set_name__(self, owner: type, name: str) -> None:
+        self.name = name
+        source = _QUERY.replace("FLAG", self.flag).replace("NAME", name)
+        self._code = compile(source, "<status flag query>", "exec")
+
+        def method(commands, axis_id: int) -> int:
+            return getattr(commands, name)(axis_id)
+
+        method.__name__ = method.__qualname__ = name
+        method.__doc__ = f"1 if the `{self.flag}` flag of axis `axis_id` is set, else 0."
+        self.method = method
+
+    def __get__(self, commands, owner: type | None = None) -> Callable[[int], int]:
+        if commands is None:
+            return self.method
+        motion = commands.motion
+        ns = {"axes": motion.axes, "motion": motion, "bad_id": commands._status_of_bad_id}
+        exec(self._code, ns)
+        query = ns[self.name]
+        commands.__dict__[self.name] = query
+        return query
