@@ -30,6 +30,7 @@ from motionvm.drives.cia402 import _SW_CYCLIC, Cia402Drive
 from motionvm.drives.mechanics import TWO_PI, IdealMechanics
 from motionvm.drives.objects import MODE_CSP, SW_INTERNAL_LIMIT, State
 from motionvm.motion import axis_status as st
+from motionvm.motion.profile import IDLE
 
 NEVER = 1 << 62
 """Coast horizon of an axis that rests: it never needs stepping by itself."""
@@ -53,15 +54,17 @@ _PG = 0  # axis_cycle.PG
 _FS_HW_LIMITS = st.FS_HW_RIGHT | st.FS_HW_LEFT
 
 
-def _plain(a) -> bool:
-    """True if axis `a` is on the common path that `coast` computes in closed form."""
-    if not (a.enabled and a.moving and a._reference_source == _PG and a._provider is None):
+def _common(a) -> bool:
+    """True if axis `a` is on the common path that `coast` computes in closed form,
+    whatever the phase of its move: enabled, not in position, fed by its profile
+    generator alone, on a plain CSP drive with an ideal motor (see the module docstring)."""
+    if not (a.enabled and a._reference_source == _PG and a._provider is None) or a.in_pos:
         return False
-    if getattr(a, "_cmd_path", None) is not None:  # a filter or compensation on the command
+    if a._cmd_path is not None:  # a filter or compensation on the command
         return False
     if (a._enabling or a._fault_reset_cycles is not None or a._command_queue
-            or a._deferred_move is not None or a.op_mode != MODE_CSP or a.fault_status & _FS_HW_LIMITS
-            or a.in_pos):  # fmt: skip
+            or a._deferred_move is not None or a.op_mode != MODE_CSP
+            or a.fault_status & _FS_HW_LIMITS):  # fmt: skip
         return False
     d = a.drive
     if type(d) is not Cia402Drive or type(d.mechanics) is not IdealMechanics:
@@ -69,22 +72,35 @@ def _plain(a) -> bool:
     if (d.state is not _OPERATION_ENABLED or d.mode != MODE_CSP or d._mode_prev != MODE_CSP
             or d.controlword != _CW_ENABLE or d._controlword_prev != _CW_ENABLE
             or d._settled is not d.state or d._fault is not None or d.local_demand is not None
-            or d._encoder_lost or d.following_error_window < 0x80000000):  # fmt: skip
+            or d._encoder_lost or d._forced
+            or d.following_error_window < 0x80000000):  # fmt: skip
         return False
     s = d.sensors
     if s.tp_function or s.tp_status:
         return False
     pg = a.pg
     m = d.mechanics
-    if pg._idle or pg._tc_done or pg._nseg == 0:
-        return False
     # the samples the next outputs average (and the motor's delay) lie in this plan
-    if pg._n < m.delay_cycles + (pg._n_avg + 1 if pg._n_avg > 1 else 0):
+    if pg._nseg == 0 or pg._n < m.delay_cycles + (pg._n_avg + 1 if pg._n_avg > 1 else 0):
         return False
     demand = d._demand
     if not (abs(demand) < _EXACT and demand == int(demand) and m._demand == demand):
         return False
     return all(x == int(x) and abs(x) < _EXACT for x in m._line) and m.position == int(m.position)
+
+
+def _on_tcurve(a) -> bool:
+    """True if axis `a` is on the common path (`_common`) in region I of a move whose
+    T-curve runs."""
+    pg = a.pg
+    return a.moving and not (pg._idle or pg._tc_done) and _common(a)
+
+
+def _holds_target(pg) -> bool:
+    """True if every output of generator `pg` from its next sample on is its final
+    position: the T-curve is done, the moving average (if any) flushed, no move waits."""
+    return (pg._tc_done and (pg._n_avg == 1 or pg._flush >= pg._n_avg - 1)
+            and not pg._pending())  # fmt: skip
 
 
 def _sample(pg, n: int) -> float:
@@ -142,33 +158,111 @@ def _tcurve_at(pg, t: float) -> float:
     return pg._p_f
 
 
-def coast_cycles(a, wanted: int) -> int:
+def coast_cycles(a, wanted: int, past_moving: bool = False) -> int:
     """How many cycles (at most `wanted`) axis `a` can be advanced from now without an
     observer missing a change: 0 if it must be stepped, `wanted` if it rests.
 
-    The cycles before the end of the T-curve are computed in closed form; after them the
-    axis steps itself (`coast`) through the cycle in which its reference comes to rest
-    (region I ends: `moving` falls), the first status change, which ends the advance."""
+    The advance ends with the first status change: the cycle in which region I ends
+    (`moving` falls), or with `past_moving` (nobody watches this axis's `moving`) the
+    cycle in which the axis comes into position (`in_pos` rises)."""
     if a.resting:
         return wanted
-    if not _plain(a):
-        return 0
     pg = a.pg
-    n_0 = pg._n
-    n_last = _last_sample(pg)
-    to_end = n_last - n_0
-    finite = pg._plan.duration != math.inf and pg._n_avg == 1  # (smoothing: stepped out)
-    if to_end < wanted and finite and _safe(a, n_0, n_last + 2):
-        # sample n_last + 1 holds p_f; the velocity is 0 there (region I ends) if the
-        # last sample was on p_f already, else one sample later
-        return min(wanted, to_end + (1 if _sample(pg, n_last) == pg._p_f else 2))
-    k = min(wanted, to_end, MAX_COAST)
-    shortest = max(MIN_COAST, a.drive.mechanics.delay_cycles + 3)
-    while k >= shortest:
-        if _safe(a, n_0, n_0 + k):
-            return k
-        k //= 2
-    return 0
+    if not pg._tc_done:
+        if not _on_tcurve(a):
+            return 0
+        n_0 = pg._n
+        n_last = _last_sample(pg)
+        to_end = n_last - n_0
+        if (to_end < wanted and pg._n_avg == 1 and n_last != NEVER and not pg._pending()
+                and _safe(a, n_0, n_last + 2)):  # fmt: skip
+            return _settle_horizon(a, wanted, to_end + 1, past_moving)
+        k = min(wanted, to_end, MAX_COAST)
+        shortest = max(MIN_COAST, a.drive.mechanics.delay_cycles + 3)
+        while k >= shortest:
+            if _safe(a, n_0, n_0 + k):
+                return k
+            k //= 2
+        return 0
+    # the T-curve is done: the output comes to rest on the target, the axis settles
+    if pg._n_avg != 1 or not (_holds_target(pg) and _common(a) and _safe(a, pg._n, pg._n + 2)):
+        return 0
+    return _settle_horizon(a, wanted, 1, past_moving)
+
+
+def _settle_horizon(a, wanted: int, s: int, past_moving: bool) -> int:
+    """`coast_cycles` of an axis whose output is its generator's target from cycle `s`
+    on (counted from now, 1 the next cycle)."""
+    e, feedback = _end(a, s)
+    if not past_moving and a.moving:
+        return min(wanted, e)
+    # the debounce count of cycles e .. e + len(feedback) - 1, then on alike
+    pg = a.pg
+    p_f, radius, debounce = pg._p_f, a.inpos_radius, a._in_pos_debounce_cycles
+    count = 0 if a.moving else a._in_pos_cycles
+    for i, fb in enumerate(feedback, e):
+        err = p_f - fb
+        if -radius <= err <= radius:
+            count += 1
+            if count > debounce:
+                return min(wanted, i)
+        else:
+            count = 0
+    if not count:  # never in position: nothing changes any more
+        return min(wanted, MAX_COAST)
+    return min(wanted, e + len(feedback) + debounce - count)
+
+
+def _end(a, s: int) -> tuple[int, list[float]]:
+    """(e, feedback) of an axis whose output is its generator's target from cycle `s`
+    on (counted from now, 1 the next cycle): e is the first cycle whose status tests the
+    in-position radius (region I ends in it, or 1 if it has ended), `feedback` the
+    position feedback [mm] of cycles e .. max(e, s + delay), as `step` leaves it (from
+    the last on it stays the same: the motor stands on the last demand)."""
+    pg, d = a.pg, a.drive
+    delay = d.mechanics.delay_cycles
+    if a.moving:  # region I ends when the output repeats the target: velocity 0
+        p = pg._out[0] if s == 1 else _sample(pg, pg._n + s - 1)
+        e = s if (pg._p_f - p) * pg._inv_dt == 0.0 else s + 1
+    else:
+        e = 1
+    demands = _demands(a, s, e - delay, max(e, s + delay) - delay)
+    cpu, off = a.cpu, a._slave_offset
+    pa, fc, fb = a._position_actual, a._feedback_counts, a.pos_fb
+    feedback = []
+    for x in demands:  # the motor follows the demand `delay` cycles later
+        enc = x.__round__()
+        feedback.append(fb if enc == pa else (fc + (enc - pa)) / cpu - off)
+    return e, feedback
+
+
+def _demands(a, s: int, i_lo: int, i_hi: int) -> list[float]:
+    """The drive's demands [counts] of cycles i_lo .. i_hi (counted from now: 0 is this
+    cycle, back to -delay_cycles) of an axis on the common path whose output is its
+    generator's target from cycle `s` on: what the motor holds for the cycles up to now,
+    then the demand of each output's rounded target counts."""
+    d = a.drive
+    m = d.mechanics
+    delay = m.delay_cycles
+    out = []
+    if i_lo <= 0:
+        if delay == 0:
+            known = [m.position]
+        elif delay == 1:
+            known = [m.position, m._demand]
+        else:
+            known = [m.position, *m._line]
+        out = known[i_lo + delay : i_hi + delay + 1]
+        i_lo = 1
+    if i_lo <= i_hi:
+        pg = a.pg
+        cpu, off = a.cpu, a._slave_offset
+        t_0, demand_0 = d._target_prev, d._demand
+        n_0 = pg._n
+        for i in range(i_lo, i_hi + 1):
+            p = pg._p_f if i >= s else _sample(pg, n_0 + i)
+            out.append(demand_0 + (((p + off) * cpu).__round__() - t_0))
+    return out
 
 
 def _safe(a, n_0: int, n_e: int) -> bool:
@@ -206,23 +300,152 @@ def _safe(a, n_0: int, n_e: int) -> bool:
 
 
 def coast(a, k: int) -> None:
-    """Advance axis `a` by `k` cycles (k <= `coast_cycles(a, k)`), exactly as k steps."""
+    """Advance axis `a` by `k` cycles (k <= `coast_cycles(a, k, ...)`), exactly as k steps."""
     if a.resting:
         return
+    if a.pg._n_avg == 1:
+        _advance(a, k)
+    elif k >= max(MIN_COAST, a.drive.mechanics.delay_cycles + 3):
+        _advance_smoothed(a, k)
+    else:  # too short for the moving average's formulas
+        for _ in range(k):
+            a.step()
+
+
+def _advance(a, k: int) -> None:
+    """Advance axis `a` (no smoothing) by `k` cycles in closed form: samples of its
+    T-curve, then cycles in which the output holds the target, region I ends and the
+    axis settles (`AxisCycle._settle` of each cycle whose feedback differs, the cycles in
+    between counted at once)."""
     d = a.drive
     m = d.mechanics
     pg = a.pg
     n_0 = pg._n
-    to_end = _last_sample(pg) - n_0
-    # the sample after the T-curve's end holds p_f; without smoothing it is closed form
-    # too when the axis still moves in it (region I ends one cycle later: k = to_end + 2)
-    closed = to_end + 1 if k >= to_end + 2 and pg._n_avg == 1 else min(k, to_end)
-    if closed < max(MIN_COAST, m.delay_cycles + 3):  # too short for the formulas
-        closed = 0
-    if closed:
-        _advance(a, closed)
-    for _ in range(k - closed):  # the end of the move: stepped
-        a.step()
+    delay = m.delay_cycles
+    p_f = pg._p_f
+    inv_dt = pg._inv_dt
+    s = 1 if pg._tc_done else _last_sample(pg) - n_0 + 1  # the first output on p_f
+    # the generator's output of cycle k (0 is now), as `ProfileGenerator.step`
+    p_0, v_0, _ = out_0 = pg._out
+    was_idle = pg._idle
+    idle = 0  # the cycle in which the generator turns idle (0: not in this advance)
+    if was_idle:  # it repeats its output
+        p, v, acc = out_0
+    else:
+        p = p_f if k >= s else _sample(pg, n_0 + k)
+        p_1 = p_0 if k == 1 else p_f if k > s else _sample(pg, n_0 + k - 1)
+        if k == 1:
+            v_1 = v_0
+        else:
+            p_2 = p_0 if k == 2 else p_f if k > s + 1 else _sample(pg, n_0 + k - 2)
+            v_1 = (p_1 - p_2) * inv_dt
+        v = (p - p_1) * inv_dt
+        acc = (v - v_1) * inv_dt
+        if k >= s and v == 0.0 and acc == 0.0:  # at rest on the target: the sample it
+            v_s = (p_f - (p_0 if s == 1 else _sample(pg, n_0 + s - 1))) * inv_dt  # idles
+            if v_s != 0.0:
+                idle = s + 2
+            else:
+                if s == 1:
+                    v_last = v_0
+                else:
+                    p_2 = p_0 if s == 2 else _sample(pg, n_0 + s - 2)
+                    v_last = (_sample(pg, n_0 + s - 1) - p_2) * inv_dt
+                idle = s if v_last == 0.0 else s + 1
+    # the drive's demands of cycles k - delay - 2 .. k (the motor's of k - 2 .. k)
+    demands = _demands(a, s, max(k - delay - 2, -delay), k)
+    # the status of the cycles from the first that tests the in-position radius
+    moving = a.moving
+    status = (not moving or k >= s) and not (moving and pg._pending())
+    if status:
+        e, feedback = _end(a, s)
+        status = k >= e
+    if status:
+        _settle_cycles(a, k, e, feedback)
+    # the generator after cycle k
+    if not was_idle:
+        pg._out = (p, v, acc)
+        if k < s:
+            pg._n = n_0 + k
+            i = _segment(pg, n_0 + k)
+            if i != pg._seg_i:
+                pg._enter_segment(i)
+        else:
+            if not pg._tc_done:  # the segment of the T-curve's last sample, then past
+                i = _segment(pg, n_0 + s - 1)  # the last segment: the plan holds p_f
+                if i != pg._seg_i:
+                    pg._enter_segment(i)
+                pg._enter_segment(pg._nseg)
+            if idle:
+                pg._idle = True
+                if not pg._pending():
+                    pg.mode = IDLE
+                pg._n = n_0 + idle
+            else:
+                pg._n = n_0 + k
+    # the reference, the drive's target and demand, the motor
+    a._cycle += k
+    a.ref_pos, a.ref_vel, a.ref_acc = p, v, acc
+    target = ((p + a._slave_offset) * a.cpu).__round__()
+    d.target_position = target
+    d._target_prev = target
+    demand = demands[-1]
+    d._demand = demand
+    dt = a.dt
+    m._demand_vel = (demand - demands[-2]) / dt
+    m._demand = demand
+    if delay > 1:
+        m._line.clear()
+        m._line.extend(demands[-delay:])
+    x_1 = demands[-2 - delay]
+    v_m_1 = m.velocity if k == 1 else (x_1 - demands[-3 - delay]) / dt
+    _motor_to(a, x_1, demands[-1 - delay], v_m_1)
+    if status:  # the end of `step`: an axis in position watches for rest
+        if a._idle_candidate():
+            a._watch_rest()
+        else:
+            a._still_cycles = 0
+
+
+def _settle_cycles(a, k: int, e: int, feedback: list[float]) -> None:
+    """The status of axis `a` over cycles e .. k of an advance (`_end`): its reference
+    on the target, `AxisCycle._settle` of each, with that cycle's feedback."""
+    cycle = a._cycle
+    fb_0 = a.pos_fb
+    p_f = a.ref_pos = a.pg._p_f
+    last = e + len(feedback) - 1
+    for i in range(e, min(k, last) + 1):
+        a.pos_fb = feedback[i - e]
+        a._cycle = cycle + i
+        a._settle()
+    if k > last:  # the feedback and the test stay the same from cycle `last` on
+        a.pos_fb = fb = feedback[-1]
+        err = p_f - fb
+        if -a.inpos_radius <= err <= a.inpos_radius:
+            # the count grows; only where it passes the debounce time is more done
+            same = k - last - 1
+            if not a.in_pos:
+                same = min(same, max(0, a._in_pos_debounce_cycles - a._in_pos_cycles))
+            a._in_pos_cycles += same
+            first = last + same + 1
+        else:  # each cycle clears the count alike
+            first = k
+        for i in range(first, k + 1):
+            a._cycle = cycle + i
+            a._settle()
+    a.pos_fb = fb_0
+    a._cycle = cycle
+
+
+def _segment(pg, n: int) -> int:
+    """The T-curve segment of generator `pg` that holds its sample n (from the current
+    segment on, as `ProfileGenerator._segment_at` finds it)."""
+    tau = n * pg.dt
+    segs = pg._segs
+    i = pg._seg_i
+    while tau >= segs[i][1]:
+        i += 1
+    return i
 
 
 def _outputs(pg, n_0: int, n_lo: int, n_e: int):
@@ -281,14 +504,14 @@ def _outputs(pg, n_0: int, n_lo: int, n_e: int):
     return ps, seg, (buf, j, s)
 
 
-def _advance(a, k: int) -> None:
-    """Advance axis `a` by `k` samples of its T-curve in closed form."""
+def _advance_smoothed(a, k: int) -> None:
+    """Advance axis `a` (with smoothing) by `k` samples of its T-curve in closed form."""
     d = a.drive
     m = d.mechanics
     pg = a.pg
     n_0 = pg._n
     n_e = n_0 + k
-    cpu, off = a.cpu, a.pos_offset
+    cpu, off = a.cpu, a._slave_offset
     delay = m.delay_cycles
     t_0 = d._target_prev  # == target_position: no wrap on the common path
     demand_0 = d._demand
@@ -321,16 +544,24 @@ def _advance(a, k: int) -> None:
     d._demand = demand
     # the ideal motor, delay_cycles behind the demand: x = demand of sample n_e - delay
     dt = a.dt
-    x_2, x_1, x = demands[0], demands[1], demands[2]
     m._demand_vel = (demand - demands[-2]) / dt
     m._demand = demand
     if delay != 1:
         m._line.clear()
         m._line.extend(demands[3:])
-    v_m_1 = (x_1 - x_2) / dt
-    v_m = (x - x_1) / dt
-    m.torque = m.inertia * (v_m - v_m_1) / dt * TWO_PI / m.counts_per_rev
-    m.velocity = v_m
+    x_2, x_1 = demands[0], demands[1]
+    _motor_to(a, x_1, demands[2], (x_1 - x_2) / dt)
+
+
+def _motor_to(a, x_1: float, x: float, v_1: float) -> None:
+    """The ideal motor of axis `a` moves from x_1 to x [counts] in this cycle (v_1: its
+    velocity [counts/s] of the cycle before); the drive's and the axis's feedback."""
+    d = a.drive
+    m = d.mechanics
+    dt = a.dt
+    v = (x - x_1) / dt
+    m.torque = m.inertia * (v - v_1) / dt * TWO_PI / m.counts_per_rev
+    m.velocity = v
     m.position = x
     # the drive's feedback
     d._encoder = enc = x.__round__()
@@ -348,7 +579,7 @@ def _advance(a, k: int) -> None:
     if enc != a._position_actual:
         a._feedback_counts = counts = a._feedback_counts + (enc - a._position_actual)
         a._position_actual = enc
-        a.pos_fb_raw = raw = counts / cpu
-        a.pos_fb = raw - off
+        a.pos_fb_raw = raw = counts / a.cpu
+        a.pos_fb = raw - a._slave_offset
     if di != a._digital_inputs:
         a._hw_inputs(di)

@@ -164,28 +164,26 @@ class MotionKernel:
 
     # ---- time skipping (motion/axis_coast.py) ----------------------------------------
 
-    def coast_horizon(self, wanted: int) -> int:
+    def coast_horizon(self, wanted: int, watched=None) -> int:
         """How many cycles (at most `wanted`) every axis can be advanced in closed form
         from now: 0 if one must be stepped. Gears, gantry pairs, busy axis groups and a
-        starting bus are stepped."""
-        groups = getattr(self, "groups", None)  # axis groups plan for several axes
-        if (
-            self._bus_steps
-            or self.gantries.pairs
-            or self.gears.gears
-            or (groups is not None and self.groups_moving())
-        ):
+        starting bus are stepped. The advance ends with the first status change of an
+        axis, unless `watched` (not None) holds the axes whose `moving` flag someone
+        reads: the others may end region I inside it and stop where they come into
+        position (motion/axis_coast.py)."""
+        if self._bus_steps or self.gantries.pairs or self.gears.gears or self.groups_moving():
             return 0 if not self.at_rest() else wanted
         k = wanted
         for a in self.axes:
             if not a.resting:
-                k = axis_coast.coast_cycles(a, k)
+                k = axis_coast.coast_cycles(a, k, watched is not None and a not in watched)
                 if not k:
                     return 0
         return k
 
     def coast(self, k: int) -> None:
-        """Advance every axis by `k` cycles (k <= `coast_horizon(k)`), as k `step`s would."""
+        """Advance every axis by `k` cycles (k <= `coast_horizon(k, ...)`), as k `step`s
+        would."""
         for a in self.step_order:
             if not a.resting:
                 axis_coast.coast(a, k)

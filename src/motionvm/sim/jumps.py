@@ -33,6 +33,9 @@ from __future__ import annotations
 
 from motionvm.motion.axis_coast import NEVER
 
+_NOBODY: frozenset = frozenset()
+"""No task reads an axis's `moving` flag (none is due before the jump's end)."""
+
 
 class JumpPlanner:
     """Decides, between two cycles of one controller, whether and how far to jump."""
@@ -67,8 +70,9 @@ class JumpPlanner:
             return False
         kernel = ctl.kernel
         wake = kernel.next_wake()
+        watched = _NOBODY  # the axes whose `moving` a task passed over reads (None: all)
         if wake is not None and wake <= cycle:
-            wake = self._wake_past_polls(cycle)
+            wake, watched = self._wake_past_polls(cycle)
             if wake is not None and wake <= cycle:
                 return False
         clients = ctl.clients
@@ -89,7 +93,7 @@ class JumpPlanner:
         elif any(getattr(c, "observes_motion", True) for c in clients):
             return False
         else:
-            k = motion.coast_horizon(limit)
+            k = motion.coast_horizon(limit, watched)
             if not k:
                 return self._motion_cycle(cycle, clients)
         samplers = [c for c in clients if getattr(c, "samples_skipped_cycles", False)]
@@ -101,12 +105,14 @@ class JumpPlanner:
         self.jumps += 1
         return True
 
-    def _wake_past_polls(self, cycle: int) -> int | None:
+    def _wake_past_polls(self, cycle: int) -> tuple[int | None, set | None]:
         """The earliest wake cycle of the running tasks, leaving out those waiting on an
-        event that would find their condition false again if polled now."""
+        event that would find their condition false again if polled now; and the axes
+        whose `moving` flag the tasks left out read (None: they test the whole status)."""
         kernel = self.controller.kernel
         old_ok = None  # the tasks without a record: the whole status as after_tasks saw it
         wake = None
+        watched: set | None = set()
         for t in kernel._active:
             w = t.wake_cycle
             if w <= cycle and t.event_wait:
@@ -116,6 +122,10 @@ class JumpPlanner:
                         if read is None or getattr(read[0], read[1]) != read[2]:
                             break
                     else:
+                        if watched is not None:
+                            for read in record:
+                                if read[1] == "moving":
+                                    watched.add(read[0])
                         continue
                 else:
                     if old_ok is None:
@@ -123,10 +133,11 @@ class JumpPlanner:
                         old_ok = (seen is not None and kernel.quiet and not kernel._changed
                                   and seen == self._status())  # fmt: skip
                     if old_ok:
+                        watched = None
                         continue
             if wake is None or w < wake:
                 wake = w
-        return wake
+        return wake, watched
 
     def _motion_cycle(self, cycle: int, clients: list) -> bool:
         """Jump over cycle `cycle` stepping only the motion kernel (no task, no client
