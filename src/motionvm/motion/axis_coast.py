@@ -44,6 +44,9 @@ MAX_COAST = 1 << 20
 _EXACT = 2.0**50
 """Counts below this stay exact integers in float arithmetic, with room for sums."""
 
+_INT32 = 2.0**31 - 2.0
+"""Counts [counts] beyond which the int32 target or position could wrap."""
+
 _V_ZERO = 1e-9
 """Velocity [mm/s] below which a segment end counts as rest in the monotony check: it
 moves the position by far less than the range margin (1e-9 * position)."""
@@ -84,9 +87,11 @@ def _common(a) -> bool:
     if pg._nseg == 0 or pg._n < m.delay_cycles + (pg._n_avg + 1 if pg._n_avg > 1 else 0):
         return False
     demand = d._demand
-    if not (abs(demand) < _EXACT and demand == int(demand) and m._demand == demand):
+    if not (-_EXACT < demand < _EXACT and demand == int(demand) and m._demand == demand):
         return False
-    return all(x == int(x) and abs(x) < _EXACT for x in m._line) and m.position == int(m.position)
+    if m.delay_cycles > 1 and not all(x == int(x) and abs(x) < _EXACT for x in m._line):
+        return False  # (with one cycle of delay the line is not used)
+    return m.position == int(m.position)
 
 
 def _on_tcurve(a) -> bool:
@@ -139,15 +144,24 @@ def _range(pg, t_a: float, t_b: float) -> tuple[float, float, float] | None:
         if t_1 <= t_a or t_0 > t_b:
             continue
         v_1 = v_0 + a * (t_1 - t_0) if t_1 != math.inf else v_0
-        for v in (v_0, v_1):
-            if abs(v) > _V_ZERO:  # (a braking segment may end a rounding below zero)
-                if sign and (v > 0.0) != (sign > 0.0):
-                    return None
-                sign = v
-            v_top = max(v_top, abs(v))
+        # (a segment's end below _V_ZERO counts as rest: a braking segment may end a
+        # rounding below zero)
+        size = v_0 if v_0 >= 0.0 else -v_0
+        if size > _V_ZERO:
+            if sign and (v_0 > 0.0) != (sign > 0.0):
+                return None
+            sign = v_0
+        if size > v_top:
+            v_top = size
+        size = v_1 if v_1 >= 0.0 else -v_1
+        if size > _V_ZERO:
+            if sign and (v_1 > 0.0) != (sign > 0.0):
+                return None
+            sign = v_1
+        if size > v_top:
+            v_top = size
     p_a, p_b = _tcurve_at(pg, t_a), _tcurve_at(pg, t_b)
-    lo, hi = min(p_a, p_b), max(p_a, p_b)
-    return lo, hi, v_top
+    return (p_a, p_b, v_top) if p_a <= p_b else (p_b, p_a, v_top)
 
 
 def _tcurve_at(pg, t: float) -> float:
@@ -158,13 +172,14 @@ def _tcurve_at(pg, t: float) -> float:
     return pg._p_f
 
 
-def coast_cycles(a, wanted: int, past_moving: bool = False) -> int:
+def coast_cycles(a, wanted: int, past_moving: bool = False, memo: dict | None = None) -> int:
     """How many cycles (at most `wanted`) axis `a` can be advanced from now without an
     observer missing a change: 0 if it must be stepped, `wanted` if it rests.
 
     The advance ends with the first status change: the cycle in which region I ends
     (`moving` falls), or with `past_moving` (nobody watches this axis's `moving`) the
-    cycle in which the axis comes into position (`in_pos` rises)."""
+    cycle in which the axis comes into position (`in_pos` rises). `memo` (a dict) keeps
+    what `coast` can reuse of the work."""
     if a.resting:
         return wanted
     pg = a.pg
@@ -176,7 +191,7 @@ def coast_cycles(a, wanted: int, past_moving: bool = False) -> int:
         to_end = n_last - n_0
         if (to_end < wanted and pg._n_avg == 1 and n_last != NEVER and not pg._pending()
                 and _safe(a, n_0, n_last + 2)):  # fmt: skip
-            return _settle_horizon(a, wanted, to_end + 1, past_moving)
+            return _settle_horizon(a, wanted, to_end + 1, past_moving, memo)
         k = min(wanted, to_end, MAX_COAST)
         shortest = max(MIN_COAST, a.drive.mechanics.delay_cycles + 3)
         while k >= shortest:
@@ -187,18 +202,20 @@ def coast_cycles(a, wanted: int, past_moving: bool = False) -> int:
     # the T-curve is done: the output comes to rest on the target, the axis settles
     if pg._n_avg != 1 or not (_holds_target(pg) and _common(a) and _safe(a, pg._n, pg._n + 2)):
         return 0
-    return _settle_horizon(a, wanted, 1, past_moving)
+    return _settle_horizon(a, wanted, 1, past_moving, memo)
 
 
-def _settle_horizon(a, wanted: int, s: int, past_moving: bool) -> int:
+def _settle_horizon(a, wanted: int, s: int, past_moving: bool, memo: dict | None) -> int:
     """`coast_cycles` of an axis whose output is its generator's target from cycle `s`
     on (counted from now, 1 the next cycle)."""
-    e, feedback = _end(a, s)
+    end = _end(a, s)
+    if memo is not None:
+        memo[a] = end
+    _, _, e, feedback, _ = end
     if not past_moving and a.moving:
         return min(wanted, e)
     # the debounce count of cycles e .. e + len(feedback) - 1, then on alike
-    pg = a.pg
-    p_f, radius, debounce = pg._p_f, a.inpos_radius, a._in_pos_debounce_cycles
+    p_f, radius, debounce = a.pg._p_f, a.inpos_radius, a._in_pos_debounce_cycles
     count = 0 if a.moving else a._in_pos_cycles
     for i, fb in enumerate(feedback, e):
         err = p_f - fb
@@ -213,16 +230,17 @@ def _settle_horizon(a, wanted: int, s: int, past_moving: bool) -> int:
     return min(wanted, e + len(feedback) + debounce - count)
 
 
-def _end(a, s: int) -> tuple[int, list[float]]:
-    """(e, feedback) of an axis whose output is its generator's target from cycle `s`
-    on (counted from now, 1 the next cycle): e is the first cycle whose status tests the
-    in-position radius (region I ends in it, or 1 if it has ended), `feedback` the
-    position feedback [mm] of cycles e .. max(e, s + delay), as `step` leaves it (from
-    the last on it stays the same: the motor stands on the last demand)."""
+def _end(a, s: int) -> tuple[int, int, int, list[float], float]:
+    """(a._cycle, s, e, feedback, p) of an axis whose output is its generator's target
+    from cycle `s` on (counted from now, 1 the next cycle): e is the first cycle whose
+    status tests the in-position radius (region I ends in it, or 1 if it has ended),
+    `feedback` the position feedback [mm] of cycles e .. max(e, s + delay) as `step`
+    leaves it (from the last on it stays the same: the motor stands on the last
+    demand), p the output [mm] of cycle s - 1."""
     pg, d = a.pg, a.drive
     delay = d.mechanics.delay_cycles
+    p = pg._out[0] if s == 1 else _sample(pg, pg._n + s - 1)
     if a.moving:  # region I ends when the output repeats the target: velocity 0
-        p = pg._out[0] if s == 1 else _sample(pg, pg._n + s - 1)
         e = s if (pg._p_f - p) * pg._inv_dt == 0.0 else s + 1
     else:
         e = 1
@@ -233,7 +251,7 @@ def _end(a, s: int) -> tuple[int, list[float]]:
     for x in demands:  # the motor follows the demand `delay` cycles later
         enc = x.__round__()
         feedback.append(fb if enc == pa else (fc + (enc - pa)) / cpu - off)
-    return e, feedback
+    return a._cycle, s, e, feedback, p
 
 
 def _demands(a, s: int, i_lo: int, i_hi: int) -> list[float]:
@@ -259,9 +277,11 @@ def _demands(a, s: int, i_lo: int, i_hi: int) -> list[float]:
         cpu, off = a.cpu, a._slave_offset
         t_0, demand_0 = d._target_prev, d._demand
         n_0 = pg._n
-        for i in range(i_lo, i_hi + 1):
-            p = pg._p_f if i >= s else _sample(pg, n_0 + i)
-            out.append(demand_0 + (((p + off) * cpu).__round__() - t_0))
+        for i in range(i_lo, min(i_hi, s - 1) + 1):
+            out.append(demand_0 + (((_sample(pg, n_0 + i) + off) * cpu).__round__() - t_0))
+        if i_hi >= s:  # the target's demand from cycle s on
+            d_f = demand_0 + (((pg._p_f + off) * cpu).__round__() - t_0)
+            out += [d_f] * (i_hi - max(i_lo, s) + 1)
     return out
 
 
@@ -270,41 +290,45 @@ def _safe(a, n_0: int, n_e: int) -> bool:
     pg = a.pg
     dt = pg.dt
     d = a.drive
-    delay = d.mechanics.delay_cycles
+    m = d.mechanics
+    delay = m.delay_cycles
     window = pg._n_avg if pg._n_avg > 1 else 0  # the moving average looks back N samples
     r = _range(pg, (n_0 - delay - window) * dt, n_e * dt)  # (it holds p_f past its end)
     if r is None:
         return False
     lo, hi, v_top = r
-    margin = 1e-9 * max(1.0, abs(lo), abs(hi)) + 1e-12
+    size = hi if hi >= -lo else -lo
+    margin = (1e-9 * size if size > 1.0 else 1e-9) + 1e-12
     lo, hi = lo - margin, hi + margin
     if not (a._sw_stop_left < lo and hi < a._sw_stop_right):
         return False
     cpu, off = a.cpu, a.pos_offset
     shift = d._demand - d._target_prev  # motor counts minus target counts
     x_lo, x_hi = (lo + off) * cpu + shift - 2.0, (hi + off) * cpu + shift + 2.0
-    if max(abs(x_lo), abs(x_hi)) >= 2.0**31 - 2.0:
+    if not (-_INT32 < x_lo and x_hi < _INT32):
         return False  # the int32 target and position would wrap
     s = d.sensors
-    if s.negative_limit is not None and not s.negative_limit < min(x_lo, d.mechanics.position):
+    x = m.position
+    if s.negative_limit is not None and not s.negative_limit < (x_lo if x_lo < x else x):
         return False
-    if s.positive_limit is not None and not max(x_hi, d.mechanics.position) < s.positive_limit:
+    if s.positive_limit is not None and not (x_hi if x_hi > x else x) < s.positive_limit:
         return False
     if not a.ignore_pe:
         # err = p(n) - p(n - delay) - c / cpu up to the rounding of the counts
         c = shift + a._feedback_counts - a._position_actual
-        err = v_top * delay * dt + (abs(c) + 2.0) / cpu
+        err = v_top * delay * dt + ((c if c >= 0 else -c) + 2.0) / cpu
         if err * 1.01 + 1e-9 >= a._max_pos_err:
             return False
     return True
 
 
-def coast(a, k: int) -> None:
-    """Advance axis `a` by `k` cycles (k <= `coast_cycles(a, k, ...)`), exactly as k steps."""
+def coast(a, k: int, memo: dict | None = None) -> None:
+    """Advance axis `a` by `k` cycles (k <= `coast_cycles(a, k, ...)`), exactly as k steps;
+    `memo`: the one `coast_cycles` filled."""
     if a.resting:
         return
     if a.pg._n_avg == 1:
-        _advance(a, k)
+        _advance(a, k, memo.get(a) if memo else None)
     elif k >= max(MIN_COAST, a.drive.mechanics.delay_cycles + 3):
         _advance_smoothed(a, k)
     else:  # too short for the moving average's formulas
@@ -312,11 +336,11 @@ def coast(a, k: int) -> None:
             a.step()
 
 
-def _advance(a, k: int) -> None:
+def _advance(a, k: int, end: tuple | None = None) -> None:
     """Advance axis `a` (no smoothing) by `k` cycles in closed form: samples of its
     T-curve, then cycles in which the output holds the target, region I ends and the
     axis settles (`AxisCycle._settle` of each cycle whose feedback differs, the cycles in
-    between counted at once)."""
+    between counted at once). `end`: `_end` of the axis as it is, if known."""
     d = a.drive
     m = d.mechanics
     pg = a.pg
@@ -324,7 +348,11 @@ def _advance(a, k: int) -> None:
     delay = m.delay_cycles
     p_f = pg._p_f
     inv_dt = pg._inv_dt
-    s = 1 if pg._tc_done else _last_sample(pg) - n_0 + 1  # the first output on p_f
+    if end is not None and end[0] == a._cycle:
+        s = end[1]
+    else:
+        end = None
+        s = 1 if pg._tc_done else _last_sample(pg) - n_0 + 1  # the first output on p_f
     # the generator's output of cycle k (0 is now), as `ProfileGenerator.step`
     p_0, v_0, _ = out_0 = pg._out
     was_idle = pg._idle
@@ -342,7 +370,9 @@ def _advance(a, k: int) -> None:
         v = (p - p_1) * inv_dt
         acc = (v - v_1) * inv_dt
         if k >= s and v == 0.0 and acc == 0.0:  # at rest on the target: the sample it
-            v_s = (p_f - (p_0 if s == 1 else _sample(pg, n_0 + s - 1))) * inv_dt  # idles
+            if end is None:  # (the same for any advance of the axis as it is)
+                end = _end(a, s)
+            v_s = (p_f - end[4]) * inv_dt  # idles
             if v_s != 0.0:
                 idle = s + 2
             else:
@@ -350,7 +380,7 @@ def _advance(a, k: int) -> None:
                     v_last = v_0
                 else:
                     p_2 = p_0 if s == 2 else _sample(pg, n_0 + s - 2)
-                    v_last = (_sample(pg, n_0 + s - 1) - p_2) * inv_dt
+                    v_last = (end[4] - p_2) * inv_dt
                 idle = s if v_last == 0.0 else s + 1
     # the drive's demands of cycles k - delay - 2 .. k (the motor's of k - 2 .. k)
     demands = _demands(a, s, max(k - delay - 2, -delay), k)
@@ -358,10 +388,12 @@ def _advance(a, k: int) -> None:
     moving = a.moving
     status = (not moving or k >= s) and not (moving and pg._pending())
     if status:
-        e, feedback = _end(a, s)
+        if end is None:
+            end = _end(a, s)
+        e = end[2]
         status = k >= e
     if status:
-        _settle_cycles(a, k, e, feedback)
+        _settle_cycles(a, k, e, end[3])
     # the generator after cycle k
     if not was_idle:
         pg._out = (p, v, acc)
