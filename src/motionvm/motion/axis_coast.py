@@ -94,13 +94,6 @@ def _common(a) -> bool:
     return m.position == int(m.position)
 
 
-def _on_tcurve(a) -> bool:
-    """True if axis `a` is on the common path (`_common`) in region I of a move whose
-    T-curve runs."""
-    pg = a.pg
-    return a.moving and not (pg._idle or pg._tc_done) and _common(a)
-
-
 def _holds_target(pg) -> bool:
     """True if every output of generator `pg` from its next sample on is its final
     position: the T-curve is done, the moving average (if any) flushed, no move waits."""
@@ -184,7 +177,7 @@ def coast_cycles(a, wanted: int, past_moving: bool = False, memo: dict | None = 
         return wanted
     pg = a.pg
     if not pg._tc_done:
-        if not _on_tcurve(a):
+        if not (a.moving and not pg._idle and _common(a)):  # on the T-curve of a move
             return 0
         n_0 = pg._n
         n_last = _last_sample(pg)
@@ -254,11 +247,12 @@ def _end(a, s: int) -> tuple[int, int, int, list[float], float]:
     return a._cycle, s, e, feedback, p
 
 
-def _demands(a, s: int, i_lo: int, i_hi: int) -> list[float]:
+def _demands(a, s: int, i_lo: int, i_hi: int, p_last: float | None = None) -> list[float]:
     """The drive's demands [counts] of cycles i_lo .. i_hi (counted from now: 0 is this
     cycle, back to -delay_cycles) of an axis on the common path whose output is its
     generator's target from cycle `s` on: what the motor holds for the cycles up to now,
-    then the demand of each output's rounded target counts."""
+    then the demand of each output's rounded target counts. `p_last`: the output of
+    cycle s - 1, if known."""
     d = a.drive
     m = d.mechanics
     delay = m.delay_cycles
@@ -278,7 +272,8 @@ def _demands(a, s: int, i_lo: int, i_hi: int) -> list[float]:
         t_0, demand_0 = d._target_prev, d._demand
         n_0 = pg._n
         for i in range(i_lo, min(i_hi, s - 1) + 1):
-            out.append(demand_0 + (((_sample(pg, n_0 + i) + off) * cpu).__round__() - t_0))
+            p = p_last if i == s - 1 and p_last is not None else _sample(pg, n_0 + i)
+            out.append(demand_0 + (((p + off) * cpu).__round__() - t_0))
         if i_hi >= s:  # the target's demand from cycle s on
             d_f = demand_0 + (((pg._p_f + off) * cpu).__round__() - t_0)
             out += [d_f] * (i_hi - max(i_lo, s) + 1)
@@ -383,7 +378,7 @@ def _advance(a, k: int, end: tuple | None = None) -> None:
                     v_last = (end[4] - p_2) * inv_dt
                 idle = s if v_last == 0.0 else s + 1
     # the drive's demands of cycles k - delay - 2 .. k (the motor's of k - 2 .. k)
-    demands = _demands(a, s, max(k - delay - 2, -delay), k)
+    demands = _demands(a, s, max(k - delay - 2, -delay), k, None if end is None else end[4])
     # the status of the cycles from the first that tests the in-position radius
     moving = a.moving
     status = (not moving or k >= s) and not (moving and pg._pending())
