@@ -35,8 +35,11 @@ def _print(a: int) -> str:
 
 
 statement = st.one_of(
-    st.builds(lambda a, p: f"MoveAbs({a}, {p});", axis,
-              st.floats(-300.0, 300.0).map(lambda x: round(x, 4))),  # fmt: skip
+    st.builds(
+        lambda a, p: f"MoveAbs({a}, {p});",
+        axis,
+        st.floats(-300.0, 300.0).map(lambda x: round(x, 4)),
+    ),  # fmt: skip
     st.builds(lambda a, d: f"MoveRel({a}, {d});", axis, st.sampled_from([0.0001, 2.5, -40.0])),
     st.builds(lambda a: f"Till(IsInPos({a}));", axis),
     st.builds(lambda a: f"Till(!IsMoving({a}));", axis),
@@ -102,9 +105,7 @@ def test_random_settles_give_the_same_run(tmp_path_factory, spec, body_0, body_1
     tmp = tmp_path_factory.mktemp("settle")
     machine_file = _machine_file(tmp, spec)
     sources = [_task(body_0, True), _task(body_1, False)]
-    assert _outcome(tmp, sources, True, machine_file) == _outcome(
-        tmp, sources, False, machine_file
-    )
+    assert _outcome(tmp, sources, True, machine_file) == _outcome(tmp, sources, False, machine_file)
 
 
 MOVER = """
