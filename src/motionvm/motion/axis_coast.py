@@ -6,11 +6,20 @@ moving average replayed from its last exact sum, `_outputs`), the rounded target
 counts, the drive's demand (integer counts added to an integer demand: exact in
 floating point), an ideal motor `delay_cycles` behind the demand, the encoder count,
 the feedback. Nothing of the axis's status changes (moving, not in position, no limit,
-no fault) until the T-curve reaches its end. `coast_cycles` tells how many cycles the
-axis can be advanced from now; `coast` advances it, leaving every field exactly as `k`
-calls of `Axis.step` would: the same float operations on the same operands, evaluated
-for the last cycles only, then (without smoothing) the few cycles from the end of the
-T-curve to the one in which region I ends, stepped.
+no fault) until the T-curve reaches its end. Without smoothing the advance goes on past
+it: the output then holds the target, the demand stands still, the motor reaches it
+`delay_cycles` later; region I ends in the cycle whose output repeats the target
+(`moving` falls), and the axis comes into position once its feedback has been inside
+the radius for the debounce time (`in_pos` rises). The status of those cycles is
+`AxisCycle._settle` itself, called with each cycle's feedback (`_end`); the cycles in
+which only the debounce count grows are counted at once.
+
+`coast_cycles` tells how many cycles the axis can be advanced from now: to its first
+status change (the cycle region I ends in) or, when nobody watches its `moving`, to the
+cycle it comes into position, the first cycle a wait on `IsInPos` can see; `coast`
+advances it, leaving every field exactly as `k` calls of `Axis.step` would: the same
+float operations on the same operands, evaluated for the last cycles only (the sensors'
+cached switch bands aside, which only spare the drive work).
 
 An axis coasts only on the common path: enabled, profile generator (no PVT, no ramp,
 no gear, gantry, group or homing provider, nothing buffered, no filter or compensation
@@ -153,7 +162,8 @@ def _range(pg, t_a: float, t_b: float) -> tuple[float, float, float] | None:
             sign = v_1
         if size > v_top:
             v_top = size
-    p_a, p_b = _tcurve_at(pg, t_a), _tcurve_at(pg, t_b)
+    p_a = _tcurve_at(pg, t_a)
+    p_b = pg._p_f if t_b >= pg._plan.duration else _tcurve_at(pg, t_b)
     return (p_a, p_b, v_top) if p_a <= p_b else (p_b, p_a, v_top)
 
 
@@ -254,6 +264,10 @@ def _demands(a, s: int, i_lo: int, i_hi: int, p_last: float | None = None) -> li
     then the demand of each output's rounded target counts. `p_last`: the output of
     cycle s - 1, if known."""
     d = a.drive
+    if i_lo >= s:  # all of them the target's
+        pg = a.pg
+        target = ((pg._p_f + a._slave_offset) * a.cpu).__round__()
+        return [d._demand + (target - d._target_prev)] * (i_hi - i_lo + 1)
     m = d.mechanics
     delay = m.delay_cycles
     out = []

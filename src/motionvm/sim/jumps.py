@@ -6,7 +6,8 @@ are never computed. A task reports its wake cycle (Sleep), or nothing while it w
 an event (a Till whose condition only a computed cycle can change: `runtime/kernel.py`
 EVENT_WAIT); a client its `next_event`; the motion kernel how far its axes can be
 advanced in closed form (`MotionKernel.coast_horizon`: a resting axis forever, an axis
-on a plain profile move until its T-curve ends, any other axis not at all). Axes are
+on a plain profile move until region I ends, or, when no task passed over reads its
+`IsMoving`, until it comes into position; any other axis not at all). Axes are
 advanced over the jumped cycles by `MotionKernel.coast`, which leaves every value as
 stepping would; a client that reads moving axes in its hooks (`observes_motion`)
 keeps the clock from jumping while an axis moves. A client that samples every cycle
@@ -17,16 +18,17 @@ the moving axes one cycle at a time, with no task, no other client run.
 A task waiting on an event is passed over only if nothing it tests changed since it
 polled: no task acted after it in its cycle (`Kernel.quiet`), and the status it tests
 (every axis's flags, the digital inputs and outputs) is now what it was right after
-the tasks of the last computed cycle (`after_tasks`). Otherwise that task is stepped
+the tasks of the last computed cycle (`after_tasks`); a jump then ends at the first
+change of any axis's status. Otherwise that task is stepped
 once more, and polls again. Each `Controller.run` starts without that record, as the
 host may have changed a variable between runs. A task waiting on a condition of status
 flags alone (STATUS_WAIT) is passed over while the flags its poll read answer the same
 (`Task.record_holds`), whatever the other tasks did.
 
 When no task and no client is due but an axis can be advanced neither by coasting nor
-by resting (it settles into position, or it ends a move), the jump is a single cycle
-of the motion kernel alone (`_motion_cycle`): the cycle stepping computes, minus tasks
-that would only poll and clients that have nothing to do in it.
+by resting (the end of a smoothed move, an axis that is not on the common path), the
+jump is a single cycle of the motion kernel alone (`_motion_cycle`): the cycle stepping
+computes, minus tasks that would only poll and clients that have nothing to do in it.
 """
 
 from __future__ import annotations
