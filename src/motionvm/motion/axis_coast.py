@@ -88,7 +88,7 @@ def _common(a) -> bool:
             or d.following_error_window < 0x80000000):  # fmt: skip
         return False
     s = d.sensors
-    if s.tp_function or s.tp_status:
+    if s._tp_function or s.tp_status:
         return False
     pg = a.pg
     m = d.mechanics
