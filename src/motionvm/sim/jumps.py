@@ -146,14 +146,15 @@ class JumpPlanner:
             record = t.record
             if record is not None:
                 for read in record:  # `Task.record_holds`, inline
-                    if read is None or getattr(read[0], read[1]) != read[2]:
+                    if read is None:
                         return cycle, None
-                if watched is not None:
-                    for read in record:
-                        if read[1] == "moving":
-                            if watched is _NOBODY:
-                                watched = set()
-                            watched.add(read[0])
+                    obj, attr, value = read
+                    if getattr(obj, attr) != value:
+                        return cycle, None
+                    if attr == "moving" and watched is not None:
+                        if watched is _NOBODY:
+                            watched = set()
+                        watched.add(obj)
             else:
                 if old_ok is None:
                     seen = self._signature
