@@ -17,7 +17,9 @@ Timing: CPU seconds of this process (`time.process_time`: other load on a busy m
 does not count), the median of 5 repeats after one untimed warm-up run; the repeats of
 all cases are interleaved, so a slow spell of the machine hits every case alike. Every
 repeat of a case must end in the same state.
-Run: python bench/motion.py [--seconds S] [--repeat R]
+Run: python bench/motion.py [--seconds S] [--repeat R] [--only wait|stepped]
+(`--only wait` runs just the wait program, skipping and stepping; `--only stepped` just
+the stepping cases; the default runs every case.)
 """
 
 from __future__ import annotations
@@ -124,12 +126,15 @@ def main() -> None:
         "--seconds", type=float, default=2.0, help="simulated seconds per stepping case"
     )
     ap.add_argument("--repeat", type=int, default=5, help="timed repeats per case (median)")
+    ap.add_argument("--only", choices=("wait", "stepped"), help="run only these cases")
     args = ap.parse_args()
     times: dict[object, list[float]] = {}
     ends: dict[object, set] = {}
     with tempfile.TemporaryDirectory() as tmp:
         paths = wait_program(Path(tmp))
-        cases = [*AXIS_COUNTS, "wait", "wait-stepped"]
+        counts = () if args.only == "wait" else AXIS_COUNTS
+        waits = () if args.only == "stepped" else ("wait", "wait-stepped")
+        cases = [*counts, *waits]
         for k in range(args.repeat + 1):  # the first round warms up, untimed
             for case in cases:
                 if case in ("wait", "wait-stepped"):
@@ -146,20 +151,23 @@ def main() -> None:
     for case, found in ends.items():
         if len(found) != 1:
             raise SystemExit(f"benchmark broken: runs of case {case} ended in different states")
-    if ends["wait"] != ends["wait-stepped"]:
+    if waits and ends["wait"] != ends["wait-stepped"]:
         raise SystemExit("benchmark broken: skipping and stepping ended differently")
     factor = {case: statistics.median(v) for case, v in times.items()}
-    print(f"{'axes':>5} {'x real time':>12} {'us per cycle':>13} {'us per axis-cycle':>18}")
-    for n in AXIS_COUNTS:
+    if counts:
+        print(f"{'axes':>5} {'x real time':>12} {'us per cycle':>13} {'us per axis-cycle':>18}")
+    for n in counts:
         us = 1e3 / factor[n]  # 1 ms of simulated time per cycle
         print(f"{n:>5} {factor[n]:>12.1f} {us:>13.1f} {us / n:>18.2f}")
-    print(f"wait program: {factor['wait']:.1f}x real time skipping, "
-          f"{factor['wait-stepped']:.1f}x stepping; {computed_ratio:.4f} of its cycles computed")  # fmt: skip
-    for n in AXIS_COUNTS:
+    if waits:
+        print(f"wait program: {factor['wait']:.1f}x real time skipping, "
+              f"{factor['wait-stepped']:.1f}x stepping; {computed_ratio:.4f} of its cycles computed")  # fmt: skip
+    for n in counts:
         print(f"RESULT realtime_factor_{n}axes={factor[n]:.1f}")
-    print(f"RESULT wait_program_realtime_factor={factor['wait']:.1f}")
-    print(f"RESULT wait_program_stepped_realtime_factor={factor['wait-stepped']:.1f}")
-    print(f"RESULT cycles_computed_ratio={computed_ratio:.4f}")
+    if waits:
+        print(f"RESULT wait_program_realtime_factor={factor['wait']:.1f}")
+        print(f"RESULT wait_program_stepped_realtime_factor={factor['wait-stepped']:.1f}")
+        print(f"RESULT cycles_computed_ratio={computed_ratio:.4f}")
 
 
 if __name__ == "__main__":

@@ -6,11 +6,20 @@ moving average replayed from its last exact sum, `_outputs`), the rounded target
 counts, the drive's demand (integer counts added to an integer demand: exact in
 floating point), an ideal motor `delay_cycles` behind the demand, the encoder count,
 the feedback. Nothing of the axis's status changes (moving, not in position, no limit,
-no fault) until the T-curve reaches its end. `coast_cycles` tells how many cycles the
-axis can be advanced from now; `coast` advances it, leaving every field exactly as `k`
-calls of `Axis.step` would: the same float operations on the same operands, evaluated
-for the last cycles only, then (without smoothing) the few cycles from the end of the
-T-curve to the one in which region I ends, stepped.
+no fault) until the T-curve reaches its end. Without smoothing the advance goes on past
+it: the output then holds the target, the demand stands still, the motor reaches it
+`delay_cycles` later; region I ends in the cycle whose output repeats the target
+(`moving` falls), and the axis comes into position once its feedback has been inside
+the radius for the debounce time (`in_pos` rises). The status of those cycles is
+`AxisCycle._settle` itself, called with each cycle's feedback (`_end`); the cycles in
+which only the debounce count grows are counted at once.
+
+`coast_cycles` tells how many cycles the axis can be advanced from now: to its first
+status change (the cycle region I ends in) or, when nobody watches its `moving`, to the
+cycle it comes into position, the first cycle a wait on `IsInPos` can see; `coast`
+advances it, leaving every field exactly as `k` calls of `Axis.step` would: the same
+float operations on the same operands, evaluated for the last cycles only (the sensors'
+cached switch bands aside, which only spare the drive work).
 
 An axis coasts only on the common path: enabled, profile generator (no PVT, no ramp,
 no gear, gantry, group or homing provider, nothing buffered, no filter or compensation
@@ -30,6 +39,7 @@ from motionvm.drives.cia402 import _SW_CYCLIC, Cia402Drive
 from motionvm.drives.mechanics import TWO_PI, IdealMechanics
 from motionvm.drives.objects import MODE_CSP, SW_INTERNAL_LIMIT, State
 from motionvm.motion import axis_status as st
+from motionvm.motion.profile import IDLE
 
 NEVER = 1 << 62
 """Coast horizon of an axis that rests: it never needs stepping by itself."""
@@ -43,6 +53,9 @@ MAX_COAST = 1 << 20
 _EXACT = 2.0**50
 """Counts below this stay exact integers in float arithmetic, with room for sums."""
 
+_INT32 = 2.0**31 - 2.0
+"""Counts [counts] beyond which the int32 target or position could wrap."""
+
 _V_ZERO = 1e-9
 """Velocity [mm/s] below which a segment end counts as rest in the monotony check: it
 moves the position by far less than the range margin (1e-9 * position)."""
@@ -53,15 +66,17 @@ _PG = 0  # axis_cycle.PG
 _FS_HW_LIMITS = st.FS_HW_RIGHT | st.FS_HW_LEFT
 
 
-def _plain(a) -> bool:
-    """True if axis `a` is on the common path that `coast` computes in closed form."""
-    if not (a.enabled and a.moving and a._reference_source == _PG and a._provider is None):
+def _common(a) -> bool:
+    """True if axis `a` is on the common path that `coast` computes in closed form,
+    whatever the phase of its move: enabled, not in position, fed by its profile
+    generator alone, on a plain CSP drive with an ideal motor (see the module docstring)."""
+    if not (a.enabled and a._reference_source == _PG and a._provider is None) or a.in_pos:
         return False
-    if getattr(a, "_cmd_path", None) is not None:  # a filter or compensation on the command
+    if a._cmd_path is not None:  # a filter or compensation on the command
         return False
     if (a._enabling or a._fault_reset_cycles is not None or a._command_queue
-            or a._deferred_move is not None or a.op_mode != MODE_CSP or a.fault_status & _FS_HW_LIMITS
-            or a.in_pos):  # fmt: skip
+            or a._deferred_move is not None or a.op_mode != MODE_CSP
+            or a.fault_status & _FS_HW_LIMITS):  # fmt: skip
         return False
     d = a.drive
     if type(d) is not Cia402Drive or type(d.mechanics) is not IdealMechanics:
@@ -69,22 +84,30 @@ def _plain(a) -> bool:
     if (d.state is not _OPERATION_ENABLED or d.mode != MODE_CSP or d._mode_prev != MODE_CSP
             or d.controlword != _CW_ENABLE or d._controlword_prev != _CW_ENABLE
             or d._settled is not d.state or d._fault is not None or d.local_demand is not None
-            or d._encoder_lost or d.following_error_window < 0x80000000):  # fmt: skip
+            or d._encoder_lost or d._forced
+            or d.following_error_window < 0x80000000):  # fmt: skip
         return False
     s = d.sensors
-    if s.tp_function or s.tp_status:
+    if s._tp_function or s.tp_status:
         return False
     pg = a.pg
     m = d.mechanics
-    if pg._idle or pg._tc_done or pg._nseg == 0:
-        return False
     # the samples the next outputs average (and the motor's delay) lie in this plan
-    if pg._n < m.delay_cycles + (pg._n_avg + 1 if pg._n_avg > 1 else 0):
+    if pg._nseg == 0 or pg._n < m.delay_cycles + (pg._n_avg + 1 if pg._n_avg > 1 else 0):
         return False
     demand = d._demand
-    if not (abs(demand) < _EXACT and demand == int(demand) and m._demand == demand):
+    if not (-_EXACT < demand < _EXACT and demand == int(demand) and m._demand == demand):
         return False
-    return all(x == int(x) and abs(x) < _EXACT for x in m._line) and m.position == int(m.position)
+    if m.delay_cycles > 1 and not all(x == int(x) and abs(x) < _EXACT for x in m._line):
+        return False  # (with one cycle of delay the line is not used)
+    return m.position == int(m.position)
+
+
+def _holds_target(pg) -> bool:
+    """True if every output of generator `pg` from its next sample on is its final
+    position: the T-curve is done, the moving average (if any) flushed, no move waits."""
+    return (pg._tc_done and (pg._n_avg == 1 or pg._flush >= pg._n_avg - 1)
+            and not pg._pending())  # fmt: skip
 
 
 def _sample(pg, n: int) -> float:
@@ -123,15 +146,25 @@ def _range(pg, t_a: float, t_b: float) -> tuple[float, float, float] | None:
         if t_1 <= t_a or t_0 > t_b:
             continue
         v_1 = v_0 + a * (t_1 - t_0) if t_1 != math.inf else v_0
-        for v in (v_0, v_1):
-            if abs(v) > _V_ZERO:  # (a braking segment may end a rounding below zero)
-                if sign and (v > 0.0) != (sign > 0.0):
-                    return None
-                sign = v
-            v_top = max(v_top, abs(v))
-    p_a, p_b = _tcurve_at(pg, t_a), _tcurve_at(pg, t_b)
-    lo, hi = min(p_a, p_b), max(p_a, p_b)
-    return lo, hi, v_top
+        # (a segment's end below _V_ZERO counts as rest: a braking segment may end a
+        # rounding below zero)
+        size = v_0 if v_0 >= 0.0 else -v_0
+        if size > _V_ZERO:
+            if sign and (v_0 > 0.0) != (sign > 0.0):
+                return None
+            sign = v_0
+        if size > v_top:
+            v_top = size
+        size = v_1 if v_1 >= 0.0 else -v_1
+        if size > _V_ZERO:
+            if sign and (v_1 > 0.0) != (sign > 0.0):
+                return None
+            sign = v_1
+        if size > v_top:
+            v_top = size
+    p_a = _tcurve_at(pg, t_a)
+    p_b = pg._p_f if t_b >= pg._plan.duration else _tcurve_at(pg, t_b)
+    return (p_a, p_b, v_top) if p_a <= p_b else (p_b, p_a, v_top)
 
 
 def _tcurve_at(pg, t: float) -> float:
@@ -142,33 +175,123 @@ def _tcurve_at(pg, t: float) -> float:
     return pg._p_f
 
 
-def coast_cycles(a, wanted: int) -> int:
+def coast_cycles(a, wanted: int, past_moving: bool = False, memo: dict | None = None) -> int:
     """How many cycles (at most `wanted`) axis `a` can be advanced from now without an
     observer missing a change: 0 if it must be stepped, `wanted` if it rests.
 
-    The cycles before the end of the T-curve are computed in closed form; after them the
-    axis steps itself (`coast`) through the cycle in which its reference comes to rest
-    (region I ends: `moving` falls), the first status change, which ends the advance."""
+    The advance ends with the first status change: the cycle in which region I ends
+    (`moving` falls), or with `past_moving` (nobody watches this axis's `moving`) the
+    cycle in which the axis comes into position (`in_pos` rises). `memo` (a dict) keeps
+    what `coast` can reuse of the work."""
     if a.resting:
         return wanted
-    if not _plain(a):
-        return 0
     pg = a.pg
-    n_0 = pg._n
-    n_last = _last_sample(pg)
-    to_end = n_last - n_0
-    finite = pg._plan.duration != math.inf and pg._n_avg == 1  # (smoothing: stepped out)
-    if to_end < wanted and finite and _safe(a, n_0, n_last + 2):
-        # sample n_last + 1 holds p_f; the velocity is 0 there (region I ends) if the
-        # last sample was on p_f already, else one sample later
-        return min(wanted, to_end + (1 if _sample(pg, n_last) == pg._p_f else 2))
-    k = min(wanted, to_end, MAX_COAST)
-    shortest = max(MIN_COAST, a.drive.mechanics.delay_cycles + 3)
-    while k >= shortest:
-        if _safe(a, n_0, n_0 + k):
-            return k
-        k //= 2
-    return 0
+    if not pg._tc_done:
+        if not (a.moving and not pg._idle and _common(a)):  # on the T-curve of a move
+            return 0
+        n_0 = pg._n
+        n_last = _last_sample(pg)
+        to_end = n_last - n_0
+        if (to_end < wanted and pg._n_avg == 1 and n_last != NEVER and not pg._pending()
+                and _safe(a, n_0, n_last + 2)):  # fmt: skip
+            return _settle_horizon(a, wanted, to_end + 1, past_moving, memo)
+        k = min(wanted, to_end, MAX_COAST)
+        shortest = max(MIN_COAST, a.drive.mechanics.delay_cycles + 3)
+        while k >= shortest:
+            if _safe(a, n_0, n_0 + k):
+                return k
+            k //= 2
+        return 0
+    # the T-curve is done: the output comes to rest on the target, the axis settles
+    if pg._n_avg != 1 or not (_holds_target(pg) and _common(a) and _safe(a, pg._n, pg._n + 2)):
+        return 0
+    return _settle_horizon(a, wanted, 1, past_moving, memo)
+
+
+def _settle_horizon(a, wanted: int, s: int, past_moving: bool, memo: dict | None) -> int:
+    """`coast_cycles` of an axis whose output is its generator's target from cycle `s`
+    on (counted from now, 1 the next cycle)."""
+    end = _end(a, s)
+    if memo is not None:
+        memo[a] = end
+    _, _, e, feedback, _ = end
+    if not past_moving and a.moving:
+        return min(wanted, e)
+    # the debounce count of cycles e .. e + len(feedback) - 1, then on alike
+    p_f, radius, debounce = a.pg._p_f, a.inpos_radius, a._in_pos_debounce_cycles
+    count = 0 if a.moving else a._in_pos_cycles
+    for i, fb in enumerate(feedback, e):
+        err = p_f - fb
+        if -radius <= err <= radius:
+            count += 1
+            if count > debounce:
+                return min(wanted, i)
+        else:
+            count = 0
+    if not count:  # never in position: nothing changes any more
+        return min(wanted, MAX_COAST)
+    return min(wanted, e + len(feedback) + debounce - count)
+
+
+def _end(a, s: int) -> tuple[int, int, int, list[float], float]:
+    """(a._cycle, s, e, feedback, p) of an axis whose output is its generator's target
+    from cycle `s` on (counted from now, 1 the next cycle): e is the first cycle whose
+    status tests the in-position radius (region I ends in it, or 1 if it has ended),
+    `feedback` the position feedback [mm] of cycles e .. max(e, s + delay) as `step`
+    leaves it (from the last on it stays the same: the motor stands on the last
+    demand), p the output [mm] of cycle s - 1."""
+    pg, d = a.pg, a.drive
+    delay = d.mechanics.delay_cycles
+    p = pg._out[0] if s == 1 else _sample(pg, pg._n + s - 1)
+    if a.moving:  # region I ends when the output repeats the target: velocity 0
+        e = s if (pg._p_f - p) * pg._inv_dt == 0.0 else s + 1
+    else:
+        e = 1
+    demands = _demands(a, s, e - delay, max(e, s + delay) - delay)
+    cpu, off = a.cpu, a._slave_offset
+    pa, fc, fb = a._position_actual, a._feedback_counts, a.pos_fb
+    feedback = []
+    for x in demands:  # the motor follows the demand `delay` cycles later
+        enc = x.__round__()
+        feedback.append(fb if enc == pa else (fc + (enc - pa)) / cpu - off)
+    return a._cycle, s, e, feedback, p
+
+
+def _demands(a, s: int, i_lo: int, i_hi: int, p_last: float | None = None) -> list[float]:
+    """The drive's demands [counts] of cycles i_lo .. i_hi (counted from now: 0 is this
+    cycle, back to -delay_cycles) of an axis on the common path whose output is its
+    generator's target from cycle `s` on: what the motor holds for the cycles up to now,
+    then the demand of each output's rounded target counts. `p_last`: the output of
+    cycle s - 1, if known."""
+    d = a.drive
+    if i_lo >= s:  # all of them the target's
+        pg = a.pg
+        target = ((pg._p_f + a._slave_offset) * a.cpu).__round__()
+        return [d._demand + (target - d._target_prev)] * (i_hi - i_lo + 1)
+    m = d.mechanics
+    delay = m.delay_cycles
+    out = []
+    if i_lo <= 0:
+        if delay == 0:
+            known = [m.position]
+        elif delay == 1:
+            known = [m.position, m._demand]
+        else:
+            known = [m.position, *m._line]
+        out = known[i_lo + delay : i_hi + delay + 1]
+        i_lo = 1
+    if i_lo <= i_hi:
+        pg = a.pg
+        cpu, off = a.cpu, a._slave_offset
+        t_0, demand_0 = d._target_prev, d._demand
+        n_0 = pg._n
+        for i in range(i_lo, min(i_hi, s - 1) + 1):
+            p = p_last if i == s - 1 and p_last is not None else _sample(pg, n_0 + i)
+            out.append(demand_0 + (((p + off) * cpu).__round__() - t_0))
+        if i_hi >= s:  # the target's demand from cycle s on
+            d_f = demand_0 + (((pg._p_f + off) * cpu).__round__() - t_0)
+            out += [d_f] * (i_hi - max(i_lo, s) + 1)
+    return out
 
 
 def _safe(a, n_0: int, n_e: int) -> bool:
@@ -176,53 +299,194 @@ def _safe(a, n_0: int, n_e: int) -> bool:
     pg = a.pg
     dt = pg.dt
     d = a.drive
-    delay = d.mechanics.delay_cycles
+    m = d.mechanics
+    delay = m.delay_cycles
     window = pg._n_avg if pg._n_avg > 1 else 0  # the moving average looks back N samples
     r = _range(pg, (n_0 - delay - window) * dt, n_e * dt)  # (it holds p_f past its end)
     if r is None:
         return False
     lo, hi, v_top = r
-    margin = 1e-9 * max(1.0, abs(lo), abs(hi)) + 1e-12
+    size = hi if hi >= -lo else -lo
+    margin = (1e-9 * size if size > 1.0 else 1e-9) + 1e-12
     lo, hi = lo - margin, hi + margin
     if not (a._sw_stop_left < lo and hi < a._sw_stop_right):
         return False
     cpu, off = a.cpu, a.pos_offset
     shift = d._demand - d._target_prev  # motor counts minus target counts
     x_lo, x_hi = (lo + off) * cpu + shift - 2.0, (hi + off) * cpu + shift + 2.0
-    if max(abs(x_lo), abs(x_hi)) >= 2.0**31 - 2.0:
+    if not (-_INT32 < x_lo and x_hi < _INT32):
         return False  # the int32 target and position would wrap
     s = d.sensors
-    if s.negative_limit is not None and not s.negative_limit < min(x_lo, d.mechanics.position):
+    x = m.position
+    if s.negative_limit is not None and not s.negative_limit < (x_lo if x_lo < x else x):
         return False
-    if s.positive_limit is not None and not max(x_hi, d.mechanics.position) < s.positive_limit:
+    if s.positive_limit is not None and not (x_hi if x_hi > x else x) < s.positive_limit:
         return False
     if not a.ignore_pe:
         # err = p(n) - p(n - delay) - c / cpu up to the rounding of the counts
         c = shift + a._feedback_counts - a._position_actual
-        err = v_top * delay * dt + (abs(c) + 2.0) / cpu
+        err = v_top * delay * dt + ((c if c >= 0 else -c) + 2.0) / cpu
         if err * 1.01 + 1e-9 >= a._max_pos_err:
             return False
     return True
 
 
-def coast(a, k: int) -> None:
-    """Advance axis `a` by `k` cycles (k <= `coast_cycles(a, k)`), exactly as k steps."""
+def coast(a, k: int, memo: dict | None = None) -> None:
+    """Advance axis `a` by `k` cycles (k <= `coast_cycles(a, k, ...)`), exactly as k steps;
+    `memo`: the one `coast_cycles` filled."""
     if a.resting:
         return
+    if a.pg._n_avg == 1:
+        _advance(a, k, memo.get(a) if memo else None)
+    elif k >= max(MIN_COAST, a.drive.mechanics.delay_cycles + 3):
+        _advance_smoothed(a, k)
+    else:  # too short for the moving average's formulas
+        for _ in range(k):
+            a.step()
+
+
+def _advance(a, k: int, end: tuple | None = None) -> None:
+    """Advance axis `a` (no smoothing) by `k` cycles in closed form: samples of its
+    T-curve, then cycles in which the output holds the target, region I ends and the
+    axis settles (`AxisCycle._settle` of each cycle whose feedback differs, the cycles in
+    between counted at once). `end`: `_end` of the axis as it is, if known."""
     d = a.drive
     m = d.mechanics
     pg = a.pg
     n_0 = pg._n
-    to_end = _last_sample(pg) - n_0
-    # the sample after the T-curve's end holds p_f; without smoothing it is closed form
-    # too when the axis still moves in it (region I ends one cycle later: k = to_end + 2)
-    closed = to_end + 1 if k >= to_end + 2 and pg._n_avg == 1 else min(k, to_end)
-    if closed < max(MIN_COAST, m.delay_cycles + 3):  # too short for the formulas
-        closed = 0
-    if closed:
-        _advance(a, closed)
-    for _ in range(k - closed):  # the end of the move: stepped
-        a.step()
+    delay = m.delay_cycles
+    p_f = pg._p_f
+    inv_dt = pg._inv_dt
+    if end is not None and end[0] == a._cycle:
+        s = end[1]
+    else:
+        end = None
+        s = 1 if pg._tc_done else _last_sample(pg) - n_0 + 1  # the first output on p_f
+    # the generator's output of cycle k (0 is now), as `ProfileGenerator.step`
+    p_0, v_0, _ = out_0 = pg._out
+    was_idle = pg._idle
+    idle = 0  # the cycle in which the generator turns idle (0: not in this advance)
+    if was_idle:  # it repeats its output
+        p, v, acc = out_0
+    else:
+        p = p_f if k >= s else _sample(pg, n_0 + k)
+        p_1 = p_0 if k == 1 else p_f if k > s else _sample(pg, n_0 + k - 1)
+        if k == 1:
+            v_1 = v_0
+        else:
+            p_2 = p_0 if k == 2 else p_f if k > s + 1 else _sample(pg, n_0 + k - 2)
+            v_1 = (p_1 - p_2) * inv_dt
+        v = (p - p_1) * inv_dt
+        acc = (v - v_1) * inv_dt
+        if k >= s and v == 0.0 and acc == 0.0:  # at rest on the target: the sample it
+            if end is None:  # (the same for any advance of the axis as it is)
+                end = _end(a, s)
+            v_s = (p_f - end[4]) * inv_dt  # idles
+            if v_s != 0.0:
+                idle = s + 2
+            else:
+                if s == 1:
+                    v_last = v_0
+                else:
+                    p_2 = p_0 if s == 2 else _sample(pg, n_0 + s - 2)
+                    v_last = (end[4] - p_2) * inv_dt
+                idle = s if v_last == 0.0 else s + 1
+    # the drive's demands of cycles k - delay - 2 .. k (the motor's of k - 2 .. k)
+    demands = _demands(a, s, max(k - delay - 2, -delay), k, None if end is None else end[4])
+    # the status of the cycles from the first that tests the in-position radius
+    moving = a.moving
+    status = (not moving or k >= s) and not (moving and pg._pending())
+    if status:
+        if end is None:
+            end = _end(a, s)
+        e = end[2]
+        status = k >= e
+    if status:
+        _settle_cycles(a, k, e, end[3])
+    # the generator after cycle k
+    if not was_idle:
+        pg._out = (p, v, acc)
+        if k < s:
+            pg._n = n_0 + k
+            i = _segment(pg, n_0 + k)
+            if i != pg._seg_i:
+                pg._enter_segment(i)
+        else:
+            if not pg._tc_done:  # the segment of the T-curve's last sample, then past
+                i = _segment(pg, n_0 + s - 1)  # the last segment: the plan holds p_f
+                if i != pg._seg_i:
+                    pg._enter_segment(i)
+                pg._enter_segment(pg._nseg)
+            if idle:
+                pg._idle = True
+                if not pg._pending():
+                    pg.mode = IDLE
+                pg._n = n_0 + idle
+            else:
+                pg._n = n_0 + k
+    # the reference, the drive's target and demand, the motor
+    a._cycle += k
+    a.ref_pos, a.ref_vel, a.ref_acc = p, v, acc
+    target = ((p + a._slave_offset) * a.cpu).__round__()
+    d.target_position = target
+    d._target_prev = target
+    demand = demands[-1]
+    d._demand = demand
+    dt = a.dt
+    m._demand_vel = (demand - demands[-2]) / dt
+    m._demand = demand
+    if delay > 1:
+        m._line.clear()
+        m._line.extend(demands[-delay:])
+    x_1 = demands[-2 - delay]
+    v_m_1 = m.velocity if k == 1 else (x_1 - demands[-3 - delay]) / dt
+    _motor_to(a, x_1, demands[-1 - delay], v_m_1)
+    if status:  # the end of `step`: an axis in position watches for rest
+        if a._idle_candidate():
+            a._watch_rest()
+        else:
+            a._still_cycles = 0
+
+
+def _settle_cycles(a, k: int, e: int, feedback: list[float]) -> None:
+    """The status of axis `a` over cycles e .. k of an advance (`_end`): its reference
+    on the target, `AxisCycle._settle` of each, with that cycle's feedback."""
+    cycle = a._cycle
+    fb_0 = a.pos_fb
+    p_f = a.ref_pos = a.pg._p_f
+    last = e + len(feedback) - 1
+    for i in range(e, min(k, last) + 1):
+        a.pos_fb = feedback[i - e]
+        a._cycle = cycle + i
+        a._settle()
+    if k > last:  # the feedback and the test stay the same from cycle `last` on
+        a.pos_fb = fb = feedback[-1]
+        err = p_f - fb
+        if -a.inpos_radius <= err <= a.inpos_radius:
+            # the count grows; only where it passes the debounce time is more done
+            same = k - last - 1
+            if not a.in_pos:
+                same = min(same, max(0, a._in_pos_debounce_cycles - a._in_pos_cycles))
+            a._in_pos_cycles += same
+            first = last + same + 1
+        else:  # each cycle clears the count alike
+            first = k
+        for i in range(first, k + 1):
+            a._cycle = cycle + i
+            a._settle()
+    a.pos_fb = fb_0
+    a._cycle = cycle
+
+
+def _segment(pg, n: int) -> int:
+    """The T-curve segment of generator `pg` that holds its sample n (from the current
+    segment on, as `ProfileGenerator._segment_at` finds it)."""
+    tau = n * pg.dt
+    segs = pg._segs
+    i = pg._seg_i
+    while tau >= segs[i][1]:
+        i += 1
+    return i
 
 
 def _outputs(pg, n_0: int, n_lo: int, n_e: int):
@@ -281,14 +545,14 @@ def _outputs(pg, n_0: int, n_lo: int, n_e: int):
     return ps, seg, (buf, j, s)
 
 
-def _advance(a, k: int) -> None:
-    """Advance axis `a` by `k` samples of its T-curve in closed form."""
+def _advance_smoothed(a, k: int) -> None:
+    """Advance axis `a` (with smoothing) by `k` samples of its T-curve in closed form."""
     d = a.drive
     m = d.mechanics
     pg = a.pg
     n_0 = pg._n
     n_e = n_0 + k
-    cpu, off = a.cpu, a.pos_offset
+    cpu, off = a.cpu, a._slave_offset
     delay = m.delay_cycles
     t_0 = d._target_prev  # == target_position: no wrap on the common path
     demand_0 = d._demand
@@ -321,16 +585,24 @@ def _advance(a, k: int) -> None:
     d._demand = demand
     # the ideal motor, delay_cycles behind the demand: x = demand of sample n_e - delay
     dt = a.dt
-    x_2, x_1, x = demands[0], demands[1], demands[2]
     m._demand_vel = (demand - demands[-2]) / dt
     m._demand = demand
     if delay != 1:
         m._line.clear()
         m._line.extend(demands[3:])
-    v_m_1 = (x_1 - x_2) / dt
-    v_m = (x - x_1) / dt
-    m.torque = m.inertia * (v_m - v_m_1) / dt * TWO_PI / m.counts_per_rev
-    m.velocity = v_m
+    x_2, x_1 = demands[0], demands[1]
+    _motor_to(a, x_1, demands[2], (x_1 - x_2) / dt)
+
+
+def _motor_to(a, x_1: float, x: float, v_1: float) -> None:
+    """The ideal motor of axis `a` moves from x_1 to x [counts] in this cycle (v_1: its
+    velocity [counts/s] of the cycle before); the drive's and the axis's feedback."""
+    d = a.drive
+    m = d.mechanics
+    dt = a.dt
+    v = (x - x_1) / dt
+    m.torque = m.inertia * (v - v_1) / dt * TWO_PI / m.counts_per_rev
+    m.velocity = v
     m.position = x
     # the drive's feedback
     d._encoder = enc = x.__round__()
@@ -348,7 +620,7 @@ def _advance(a, k: int) -> None:
     if enc != a._position_actual:
         a._feedback_counts = counts = a._feedback_counts + (enc - a._position_actual)
         a._position_actual = enc
-        a.pos_fb_raw = raw = counts / cpu
-        a.pos_fb = raw - off
+        a.pos_fb_raw = raw = counts / a.cpu
+        a.pos_fb = raw - a._slave_offset
     if di != a._digital_inputs:
         a._hw_inputs(di)

@@ -82,6 +82,8 @@ class MotionKernel:
         """I/O slaves on the bus after the drives: slaves n_axes .. n_slaves - 1."""
         self.lost_slaves: set[int] = set()
         """Slaves that left the bus (a fault): they report Init (1) for good."""
+        self._coast_memo: dict = {}
+        """What `coast_horizon` found of each axis that `coast` can reuse (axis_coast.py)."""
         self.reads: list | None = None
         """While a task runs (and time skipping records them): the status flags the task
         read, as (object, attribute, value); None: nothing is recorded (runtime/kernel.py,
@@ -164,31 +166,33 @@ class MotionKernel:
 
     # ---- time skipping (motion/axis_coast.py) ----------------------------------------
 
-    def coast_horizon(self, wanted: int) -> int:
+    def coast_horizon(self, wanted: int, watched=None) -> int:
         """How many cycles (at most `wanted`) every axis can be advanced in closed form
         from now: 0 if one must be stepped. Gears, gantry pairs, busy axis groups and a
-        starting bus are stepped."""
-        groups = getattr(self, "groups", None)  # axis groups plan for several axes
-        if (
-            self._bus_steps
-            or self.gantries.pairs
-            or self.gears.gears
-            or (groups is not None and self.groups_moving())
-        ):
+        starting bus are stepped. The advance ends with the first status change of an
+        axis, unless `watched` (not None) holds the axes whose `moving` flag someone
+        reads: the others may end region I inside it and stop where they come into
+        position (motion/axis_coast.py)."""
+        if self._bus_steps or self.gantries.pairs or self.gears.gears or self.groups_moving():
             return 0 if not self.at_rest() else wanted
         k = wanted
+        memo = self._coast_memo
+        memo.clear()
         for a in self.axes:
             if not a.resting:
-                k = axis_coast.coast_cycles(a, k)
+                k = axis_coast.coast_cycles(a, k, watched is not None and a not in watched, memo)
                 if not k:
                     return 0
         return k
 
     def coast(self, k: int) -> None:
-        """Advance every axis by `k` cycles (k <= `coast_horizon(k)`), as k `step`s would."""
+        """Advance every axis by `k` cycles (k <= `coast_horizon(k, ...)`), as k `step`s
+        would."""
+        memo = self._coast_memo
         for a in self.step_order:
             if not a.resting:
-                axis_coast.coast(a, k)
+                axis_coast.coast(a, k, memo)
+        memo.clear()
 
     def status_signature(self) -> tuple:
         """What a task's wait on an axis event tests (IsInPos, IsMoving, IsEnabled,

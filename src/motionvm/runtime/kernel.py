@@ -88,6 +88,8 @@ class Kernel:
         from outside."""
         self.event_waits = False
         """True if in the last cycle run a task waited on an event."""
+        self.unrecorded_waits = False
+        """True if in the last cycle run a task waited on an event without a `record`."""
         self.recorder = None
         """An object whose `reads` list the status flags record while a task runs (the
         motion kernel), or None: no task keeps a `record`."""
@@ -178,6 +180,7 @@ class Kernel:
         """Resume every task that is due in this cycle, once, in id order."""
         cycle = self.clock.cycle
         polled = stale = False  # a task polled an event; a task acted after that
+        unrecorded = False  # a task polled an event without a record of its reads
         recorder = self.recorder
         before_resume = self.before_resume
         reads = None
@@ -221,6 +224,8 @@ class Kernel:
                     polled = True
                     if y <= STATUS_POLL and reads:
                         t.record = reads
+                    else:
+                        unrecorded = True
                 else:
                     t.wake_cycle = max(int(y), cycle + 1)
                     t.event_wait = False
@@ -230,6 +235,7 @@ class Kernel:
                 if recorder is not None:
                     recorder.reads = None
         self.event_waits = polled
+        self.unrecorded_waits = unrecorded
         self.quiet = not stale and not self._changed
         self._changed = False
 

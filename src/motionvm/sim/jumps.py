@@ -6,7 +6,8 @@ are never computed. A task reports its wake cycle (Sleep), or nothing while it w
 an event (a Till whose condition only a computed cycle can change: `runtime/kernel.py`
 EVENT_WAIT); a client its `next_event`; the motion kernel how far its axes can be
 advanced in closed form (`MotionKernel.coast_horizon`: a resting axis forever, an axis
-on a plain profile move until its T-curve ends, any other axis not at all). Axes are
+on a plain profile move until region I ends, or, when no task passed over reads its
+`IsMoving`, until it comes into position; any other axis not at all). Axes are
 advanced over the jumped cycles by `MotionKernel.coast`, which leaves every value as
 stepping would; a client that reads moving axes in its hooks (`observes_motion`)
 keeps the clock from jumping while an axis moves. A client that samples every cycle
@@ -17,21 +18,28 @@ the moving axes one cycle at a time, with no task, no other client run.
 A task waiting on an event is passed over only if nothing it tests changed since it
 polled: no task acted after it in its cycle (`Kernel.quiet`), and the status it tests
 (every axis's flags, the digital inputs and outputs) is now what it was right after
-the tasks of the last computed cycle (`after_tasks`). Otherwise that task is stepped
+the tasks of the last computed cycle (`after_tasks`); a jump then ends at the first
+change of any axis's status. Otherwise that task is stepped
 once more, and polls again. Each `Controller.run` starts without that record, as the
 host may have changed a variable between runs. A task waiting on a condition of status
 flags alone (STATUS_WAIT) is passed over while the flags its poll read answer the same
 (`Task.record_holds`), whatever the other tasks did.
 
 When no task and no client is due but an axis can be advanced neither by coasting nor
-by resting (it settles into position, or it ends a move), the jump is a single cycle
-of the motion kernel alone (`_motion_cycle`): the cycle stepping computes, minus tasks
-that would only poll and clients that have nothing to do in it.
+by resting (the end of a smoothed move, an axis that is not on the common path), the
+jump is a single cycle of the motion kernel alone (`_motion_cycle`): the cycle stepping
+computes, minus tasks that would only poll and clients that have nothing to do in it.
 """
 
 from __future__ import annotations
 
 from motionvm.motion.axis_coast import NEVER
+from motionvm.runtime.clients import PassiveClient
+
+_NO_EVENT = PassiveClient.next_event
+
+_NOBODY: frozenset = frozenset()
+"""No task reads an axis's `moving` flag (none is due before the jump's end)."""
 
 
 class JumpPlanner:
@@ -43,6 +51,7 @@ class JumpPlanner:
         """The status right after the tasks of the last computed cycle (None: unknown)."""
         self.jumps = 0
         """Jumps made so far (the cycles they covered were not computed)."""
+        self._take_clients(controller.clients)
 
     def _status(self) -> tuple:
         ctl = self.controller
@@ -50,12 +59,30 @@ class JumpPlanner:
         return ctl.motion.status_signature(), tuple(gpio.inputs), tuple(gpio.outputs)
 
     def after_tasks(self) -> None:
-        """Record what the waiting tasks saw (the controller calls it after the tasks)."""
-        self._signature = self._status() if self.controller.kernel.event_waits else None
+        """Record what the waiting tasks without a record of their own saw (the
+        controller calls it after the tasks)."""
+        self._signature = self._status() if self.controller.kernel.unrecorded_waits else None
 
     def forget(self) -> None:
         """Something outside the cycle may have changed what a task tests."""
         self._signature = None
+
+    def _take_clients(self, clients: list) -> None:
+        """What a jump asks of `clients`: their next events (a `PassiveClient` has none),
+        whether they read moving axes (a constant or a property), which sample every
+        cycle."""
+        self._clients = list(clients)
+        self._events = [c.next_event for c in clients
+                        if getattr(c.next_event, "__func__", None) is not _NO_EVENT]  # fmt: skip
+        self._observers = []
+        self._observed = False
+        for c in clients:
+            static = getattr(type(c), "observes_motion", True)
+            if isinstance(static, property) or "observes_motion" in getattr(c, "__dict__", ()):
+                self._observers.append(c)
+            elif static:
+                self._observed = True
+        self._samplers = [c for c in clients if getattr(c, "samples_skipped_cycles", False)]
 
     def jump(self, end_cycle: int | None) -> bool:
         """Jump the clock ahead if nothing can change before a later cycle (advancing the
@@ -65,15 +92,14 @@ class JumpPlanner:
         limit = NEVER if end_cycle is None else end_cycle - cycle
         if limit <= 0:
             return False
-        kernel = ctl.kernel
-        wake = kernel.next_wake()
+        wake, watched = self._task_wake(cycle)
         if wake is not None and wake <= cycle:
-            wake = self._wake_past_polls(cycle)
-            if wake is not None and wake <= cycle:
-                return False
+            return False
         clients = ctl.clients
-        for c in clients:
-            e = c.next_event()
+        if clients != self._clients:
+            self._take_clients(clients)
+        for next_event in self._events:
+            e = next_event()
             if e is not None and (wake is None or e < wake):
                 if e <= cycle:
                     return False
@@ -86,55 +112,66 @@ class JumpPlanner:
             if wake is None and end_cycle is None:
                 return False  # nothing will ever change: step on (a timeout ends the run)
             k = limit
-        elif any(getattr(c, "observes_motion", True) for c in clients):
+        elif self._observed or any(c.observes_motion for c in self._observers):
             return False
         else:
-            k = motion.coast_horizon(limit)
+            k = motion.coast_horizon(limit, watched)
             if not k:
-                return self._motion_cycle(cycle, clients)
-        samplers = [c for c in clients if getattr(c, "samples_skipped_cycles", False)]
-        if samplers:
-            self._sampled_jump(cycle, k, resting, samplers)
+                return self._motion_cycle(cycle)
+        if self._samplers:
+            self._sampled_jump(cycle, k, resting, self._samplers)
         elif not resting:
             motion.coast(k)
         ctl.clock.cycle = cycle + k
         self.jumps += 1
         return True
 
-    def _wake_past_polls(self, cycle: int) -> int | None:
-        """The earliest wake cycle of the running tasks, leaving out those waiting on an
-        event that would find their condition false again if polled now."""
+    def _task_wake(self, cycle: int) -> tuple[int | None, set | None]:
+        """The earliest wake cycle of the running tasks (`cycle` as soon as one is due),
+        leaving out those waiting on an event that would find their condition false
+        again if polled now; and the axes whose `moving` flag the tasks left out read
+        (None: they test the whole status)."""
         kernel = self.controller.kernel
         old_ok = None  # the tasks without a record: the whole status as after_tasks saw it
         wake = None
+        watched: set | None = _NOBODY
         for t in kernel._active:
             w = t.wake_cycle
-            if w <= cycle and t.event_wait:
-                record = t.record
-                if record is not None:
-                    for read in record:  # `Task.record_holds`, inline
-                        if read is None or getattr(read[0], read[1]) != read[2]:
-                            break
-                    else:
-                        continue
-                else:
-                    if old_ok is None:
-                        seen = self._signature
-                        old_ok = (seen is not None and kernel.quiet and not kernel._changed
-                                  and seen == self._status())  # fmt: skip
-                    if old_ok:
-                        continue
-            if wake is None or w < wake:
-                wake = w
-        return wake
+            if w > cycle:
+                if wake is None or w < wake:
+                    wake = w
+                continue
+            if not t.event_wait:
+                return cycle, None
+            record = t.record
+            if record is not None:
+                for read in record:  # `Task.record_holds`, inline
+                    if read is None:
+                        return cycle, None
+                    obj, attr, value = read
+                    if getattr(obj, attr) != value:
+                        return cycle, None
+                    if attr == "moving" and watched is not None:
+                        if watched is _NOBODY:
+                            watched = set()
+                        watched.add(obj)
+            else:
+                if old_ok is None:
+                    seen = self._signature
+                    old_ok = (seen is not None and kernel.quiet and not kernel._changed
+                              and seen == self._status())  # fmt: skip
+                if not old_ok:
+                    return cycle, None
+                watched = None
+        return wake, watched
 
-    def _motion_cycle(self, cycle: int, clients: list) -> bool:
+    def _motion_cycle(self, cycle: int) -> bool:
         """Jump over cycle `cycle` stepping only the motion kernel (no task, no client
         is due in it); True if it did. Not with a client that samples every cycle, nor
         with gears, gantry pairs, a busy axis group or a starting bus."""
         ctl = self.controller
         motion = ctl.motion
-        if any(getattr(c, "samples_skipped_cycles", False) for c in clients):
+        if self._samplers:
             return False
         if (
             motion._bus_steps
