@@ -126,11 +126,11 @@ def line_peer(
             conn.settimeout(0.2)
             conn.sendall(b"hello")
             for _ in range(200):  # bounded: at most 200 * 0.2 s
-                if stop.is_set():
-                    return
                 try:
                     data = conn.recv(4096)
-                except TimeoutError:
+                except TimeoutError:  # nothing pending: only now may the peer stop,
+                    if stop.is_set():  # so what was sent before the stop is kept
+                        return
                     continue
                 except OSError:
                     return
