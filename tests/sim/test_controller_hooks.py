@@ -40,7 +40,151 @@ def test_the_standard_clients_cost_no_call_where_they_do_nothing():
     ctl.step()
     assert ctl.triggers.begin_cycle not in ctl._begin_hooks
     assert ctl.comm.end_cycle not in ctl._end_hooks
-    assert ctl.io.begin_cycle in ctl._begin_hooks and ctl.triggers.end_cycle in ctl._end_hooks
+    # idle: no wire, sensor, binding or I/O slave, no request, no PT armed
+    assert ctl._begin_hooks == [] and ctl._end_hooks == []
+
+
+def _count_calls(ctl: Controller, client, calls: list, *names: str) -> None:
+    """Record `(cycle, client class, hook)` for each call of the hooks `names` of `client`
+    (instance attributes: the controller takes them as the client's hooks)."""
+    for name in names:
+        real = getattr(client, name)
+
+        def hook(real=real, name=name) -> None:
+            calls.append((ctl.cycle, type(client).__name__, name))
+            real()
+
+        setattr(client, name, hook)
+
+
+def test_an_idle_run_calls_no_hook_of_the_io_comm_agent_or_triggers():
+    from motionvm.api import Simulation
+
+    sim = Simulation.from_source("void main() { int i; for (i = 0; i < 30; i++) Sleep(1); }")
+    ctl = sim.controller
+    ctl.skip = False
+    calls: list = []
+    for c in (ctl.io, ctl.comm, ctl.triggers, sim.session.hmpl_comm):
+        _count_calls(ctl, c, calls, "begin_cycle", "end_cycle")
+    sim.run()
+    assert ctl.cycles_computed >= 30 and calls == []
+    sim.close()
+
+
+def test_work_that_appears_makes_its_hook_run_in_the_same_cycle_as_before():
+    from motionvm.io.trigger_commands import TriggerCommands
+    from motionvm.motion.commands import MotionCommands
+
+    ctl = Controller()
+    calls: list = []
+    _count_calls(ctl, ctl.triggers, calls, "end_cycle")
+    _count_calls(ctl, ctl.comm, calls, "begin_cycle")
+    m, pt = MotionCommands(ctl.motion), TriggerCommands(ctl.motion, ctl.triggers)
+    m.Enable(0)
+    while not m.IsEnabled(0):
+        ctl.step()
+    m.SetHomedStatus(0, 1)
+    ctl.step()
+    assert calls == []
+    # a PT armed between cycles: sampled from the next cycle on
+    assert pt.SetPT_StartPos(0, 1) == pt.SetPT_Interval(0, 1) == pt.SetPT_EndPos(0, 2) == 0
+    assert pt.EnablePT(0) == 0
+    start = ctl.cycle
+    ctl.step()
+    ctl.step()
+    assert calls == [
+        (start, "PositionTriggers", "end_cycle"),
+        (start + 1, "PositionTriggers", "end_cycle"),
+    ]
+    # disarmed: no call from the next cycle on
+    pt.DisablePT(0)
+    calls.clear()
+    ctl.step()
+    assert calls == []
+    # a PT armed while the tasks run: sampled in that very cycle
+    plain = ctl.kernel.run_cycle
+
+    def arming() -> None:
+        plain()
+        assert pt.EnablePT(0) == 0
+        ctl.kernel.run_cycle = plain
+
+    ctl.kernel.run_cycle = arming
+    armed_in = ctl.cycle
+    ctl.step()
+    assert calls == [(armed_in, "PositionTriggers", "end_cycle")]
+    pt.DisablePT(0)
+    calls.clear()
+    # a request posted between cycles runs at the next cycle's start, then the hub idles
+    ran: list = []
+    fut = ctl.comm.post(lambda: ran.append(ctl.cycle) or 7)
+    posted_in = ctl.cycle
+    ctl.step()
+    assert ran == [posted_in] and fut.result() == 7
+    ctl.step()
+    assert calls == [(posted_in, "CommHub", "begin_cycle")]
+    # servers listening: the hub is called every cycle
+    calls.clear()
+    ctl.comm.serving = True
+    ctl.step()
+    ctl.step()
+    ctl.comm.serving = False
+    ctl.step()
+    assert [c for c, _, _ in calls] == [posted_in + 2, posted_in + 3]
+
+
+def test_a_request_posted_by_another_thread_runs_at_the_next_cycle():
+    import threading
+
+    ctl = Controller()
+    ctl.step()
+    futures: list = []
+    t = threading.Thread(target=lambda: futures.append(ctl.comm.post(lambda: ctl.cycle)))
+    t.start()
+    t.join()
+    at = ctl.cycle
+    ctl.step()
+    assert futures[0].result(timeout=0) == at
+
+
+def test_a_wire_keeps_the_io_hooks_called_every_cycle():
+    from dataclasses import replace
+
+    from motionvm.io.config import IOConfig, WireSpec, parse_endpoint
+    from motionvm.sim.machine import DEFAULT_MACHINE
+
+    wire = WireSpec(parse_endpoint("gpo1"), parse_endpoint("gpi1"), delay_ms=2)
+    ctl = Controller(machine=replace(DEFAULT_MACHINE, io=IOConfig(wires=(wire,))))
+    calls: list = []
+    _count_calls(ctl, ctl.io, calls, "begin_cycle", "end_cycle")
+    ctl.step()
+    ctl.io.gpio.set_output(1, 1)
+    levels = []
+    for _ in range(4):
+        ctl.step()
+        levels.append(ctl.io.gpio.input(1))
+    assert levels == [0, 0, 0, 1]  # set before cycle 1: the input has it from cycle 4 on
+    assert [c for c, _, _ in calls] == [0, 0, 1, 1, 2, 2, 3, 3, 4, 4]
+
+
+def test_a_line_for_the_ascii_agent_starts_in_the_cycle_the_hub_receives_it():
+    import concurrent.futures
+
+    from motionvm.api import Simulation
+
+    program = """
+    void First(char *cmd, char *res) { res[0] = cmd[0]; res[1] = 0; }
+    void main() { START_ASCII_AGENT(First); for (;;) RunScheduler(); }
+    """
+    sim = Simulation.from_source(program, skip=False)
+    ctl, agent = sim.controller, sim.session.hmpl_comm
+    ctl.step()  # main starts the agent
+    assert agent.begin_cycle in ctl._begin_hooks
+    reply: concurrent.futures.Future = concurrent.futures.Future()
+    ctl.comm.post(lambda: agent.accept("hello", reply))
+    ctl.step()  # the hub hands the line over, the agent's parser answers: one cycle
+    assert reply.done() and reply.result() == "h"
+    sim.close()
 
 
 def test_a_client_added_between_or_within_cycles_is_called_as_in_the_list():

@@ -117,8 +117,7 @@ class CommHub(PassiveClient):
         self.native: NativeTable | None = None
         self.variables: VariableTable = _Variables()
         self.agent: AsciiAgentPort | None = None
-        self.serving = False
-        """Servers are listening: the run goes on after every task has ended."""
+        self._serving = False
         self.paced = False
         """The run is paced to the wall clock: client built-ins take network time."""
         self._inbox: collections.deque = collections.deque()
@@ -129,6 +128,21 @@ class CommHub(PassiveClient):
         """Client connections of the built-ins by kind, then socket id."""
         self.busy_sockets: set[tuple[str, int]] = set()
         """(kind, id) of the client sockets with a job in flight."""
+
+    @property
+    def serving(self) -> bool:
+        """Servers are listening: the run goes on after every task has ended."""
+        return self._serving
+
+    @serving.setter
+    def serving(self, on: bool) -> None:
+        self._serving = on
+        self.work_changed()
+
+    def has_work(self, hook: str) -> bool:
+        """`begin_cycle` has work while servers listen or a posted function waits
+        (runtime/clients.py): `post` tells the controller."""
+        return self._serving or bool(self._inbox)
 
     @property
     def observes_motion(self) -> bool:
@@ -144,6 +158,7 @@ class CommHub(PassiveClient):
 
         fut: concurrent.futures.Future = concurrent.futures.Future()
         self._inbox.append((fn, fut))
+        self.work_changed()  # after the append: the controller then sees it (any thread)
         return fut
 
     def begin_cycle(self) -> None:
@@ -156,6 +171,8 @@ class CommHub(PassiveClient):
                 fut.set_result(fn())
             except Exception as exc:  # noqa: BLE001 — handed to the waiting server
                 fut.set_exception(exc)
+        if not self._serving:
+            self.work_changed()  # idle again (a post meanwhile is seen when taken again)
 
     def busy(self) -> bool:
         return self.serving

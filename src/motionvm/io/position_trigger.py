@@ -356,6 +356,11 @@ class PositionTriggers(PassiveClient):
 
     def _armed_changed(self) -> None:
         self.armed = [pt for pt in self.triggers if pt.enabled]
+        self.work_changed()
+
+    def has_work(self, hook: str) -> bool:
+        """`end_cycle` has work while a PT is armed (runtime/clients.py)."""
+        return bool(self.armed)
 
     def __getitem__(self, axis_id: int) -> PositionTrigger:
         return self.triggers[axis_id]

@@ -14,9 +14,10 @@ sensors, AO bindings, the E-stop input; a cycle client of the controller.
 Each cycle (runtime/clients.py): `begin_cycle` delivers the wires' due changes and
 updates the sensors (the inputs are latched before the tasks run); `end_cycle` updates
 the analog outputs bound to controller variables (manual 10.4) and samples the wires'
-outputs. Idle I/O costs nothing per cycle: with no wire, sensor or binding both are
-empty loops. `next_event` is the earliest pending wire change; the run goes on
-(`busy`) while a change is on its way through a wire.
+outputs. Idle I/O costs nothing per cycle: with no wire, sensor, binding or I/O slave
+the controller calls neither (`has_work`; `rebind` tells it when the bindings change).
+`next_event` is the earliest pending wire change; the run goes on (`busy`) while a
+change is on its way through a wire.
 
 Channels by name (`channel(name)`: the scope, a scenario, the host API):
 `gpiN`, `gpoN`, `slvS.diK`, `slvS.doK`, `slvS.aiK`, `slvS.aoK` (`slvS.sM.diK`: slot M),
@@ -86,6 +87,14 @@ class IOSystem(PassiveClient):
         """Sensors and analog outputs bound to axis variables read the axes each cycle
         (wires carry outputs, which only tasks change)."""
         return bool(self.sensors or self.bound)
+
+    def has_work(self, hook: str) -> bool:
+        """Whether `hook` has anything to do (runtime/clients.py): `begin_cycle` with a
+        wire or a sensor, `end_cycle` with a bound output, an I/O slave (its forced PDOs)
+        or a wire. Only the bindings change after the start (`rebind`)."""
+        if hook == "begin_cycle":
+            return bool(self.wires or self.sensors)
+        return bool(self.bound or self.slave_objects or self.wires)
 
     def begin_cycle(self) -> None:
         if self.wires:
@@ -310,6 +319,7 @@ class IOSystem(PassiveClient):
             for k, b in enumerate(module.ao_bind)
             if b.enabled and b.var_id >= 0
         ]
+        self.work_changed()
 
     def read_variable(self, var_id: int) -> float | None:
         for reader in self.var_readers:

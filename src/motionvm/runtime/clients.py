@@ -35,10 +35,21 @@ Two more declarations serve recorders: `samples_skipped_cycles = True` (its `end
 is called for every cycle a jump passes, after the axes were advanced to it) and
 `clock_driven = True` (its `begin_cycle` only writes values computed from the clock's
 cycle, so such a jump calls it too, for the recorder to see them).
+
+An idle client costs no call: a client may answer `has_work(hook)` ("begin_cycle" or
+"end_cycle") False while that hook would do nothing, and must then call `work_changed()`
+as soon as the answer may differ. The controller calls only the hooks with work; it
+takes its hook lists again at its next point of taking them after a `work_changed()`:
+before the begin hooks and before the end hooks of a cycle (as it does when a client
+comes or goes). So work that appears between cycles, while the tasks run or in the
+motion step is done in the same cycle as if the hook were called every cycle; a hook
+must not gain begin work from another client's `begin_cycle`, nor end work from an
+earlier client's `end_cycle` (it would start a cycle late).
 """
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Protocol, runtime_checkable
 
 
@@ -78,14 +89,35 @@ class PassiveClient:
     def still_running(self) -> list:
         return []
 
+    def has_work(self, hook: str) -> bool:
+        """False while the hook `hook` ("begin_cycle" or "end_cycle") has nothing to do:
+        the controller leaves it out until `work_changed()` (see the module docstring)."""
+        return True
+
+    _on_work_changed: Callable[[], None] | None = None
+
+    def watch_work(self, callback: Callable[[], None]) -> None:
+        """The controller's: call `callback()` when `has_work` may answer differently."""
+        self._on_work_changed = callback
+
+    def work_changed(self) -> None:
+        """Tell the controller that `has_work` may answer differently now (any thread)."""
+        callback = self._on_work_changed
+        if callback is not None:
+            callback()
+
 
 def active_hooks(clients: list, name: str) -> list:
     """The bound `name` methods ("begin_cycle" or "end_cycle") of `clients`, in order,
-    leaving out a `PassiveClient`'s inherited no-op: what the cycle must call."""
+    leaving out a `PassiveClient`'s inherited no-op and a hook whose client has no work
+    for it now (`has_work`): what the cycle must call."""
     noop = getattr(PassiveClient, name)
     hooks = []
     for c in clients:
         hook = getattr(c, name)
-        if getattr(hook, "__func__", None) is not noop:
+        if getattr(hook, "__func__", None) is noop:
+            continue
+        has_work = getattr(c, "has_work", None)
+        if has_work is None or has_work(name):
             hooks.append(hook)
     return hooks

@@ -109,7 +109,7 @@ class Controller:
     def step(self) -> None:
         """Run exactly one controller cycle."""
         clients = self.clients
-        if clients != self._hooked:  # a client came (or went)
+        if clients != self._hooked:  # a client came (or went) or its work changed
             self._take_hooks()
         for hook in self._begin_hooks:
             hook()
@@ -128,10 +128,19 @@ class Controller:
 
     def _take_hooks(self) -> None:
         """The hooks of the clients as they are now: a client's begin_cycle and end_cycle
-        unless it is `PassiveClient`'s no-op (runtime/clients.py)."""
-        self._hooked = list(self.clients)
-        self._begin_hooks = active_hooks(self._hooked, "begin_cycle")
-        self._end_hooks = active_hooks(self._hooked, "end_cycle")
+        unless it is `PassiveClient`'s no-op or its client has no work for it now
+        (runtime/clients.py); a client's `work_changed()` has them taken again."""
+        self._hooked = hooked = list(self.clients)  # first: a change from now on counts
+        for c in hooked:
+            watch = getattr(c, "watch_work", None)
+            if watch is not None:
+                watch(self._work_changed)
+        self._begin_hooks = active_hooks(hooked, "begin_cycle")
+        self._end_hooks = active_hooks(hooked, "end_cycle")
+
+    def _work_changed(self) -> None:
+        """A client's work changed: take the hooks again before the next phase's calls."""
+        self._hooked = []
 
     def busy(self) -> bool:
         """True while any task runs, any axis moves, enables or settles, or a client is busy."""

@@ -271,6 +271,13 @@ class HmplComm(PassiveClient):
                 "(eERR_HMPL_ASCII_AGENT_RUNNING, 0x1392)"
             )
         self.parser, self.parser_task = parser, task_id
+        self.work_changed()
+
+    def has_work(self, hook: str) -> bool:
+        """`begin_cycle` has work while an agent runs (runtime/clients.py), not only
+        while lines wait: a line arrives in the hub's `begin_cycle` of the cycle that
+        starts it."""
+        return self.parser is not None
 
     def accept(self, line: str, reply) -> None:
         if self.parser is None:
@@ -332,6 +339,7 @@ class HmplComm(PassiveClient):
         except Exception as exc:  # noqa: BLE001 — the parser's fault, reported as a task's
             self._current = None
             self.parser = None
+            self.work_changed()
             rt._on_fault(me, exc)
             reply.set_result(f"ERR the ASCII agent stopped: {exc}")
         finally:
