@@ -420,3 +420,31 @@ def test_an_idle_axis_rests_and_any_command_wakes_it():
     assert not a.resting
     run_until(a, lambda: a.in_pos)
     assert a.drive.position_actual == before + 10000
+
+
+def test_move_abs_target_checks_on_its_short_path():
+    """MoveAbs checks its target inline: not a number, outside the software limits
+    (inclusive), IgnoreSWL, and a move of a halted axis that ends the Halt."""
+    a = enabled(sw_left=-10.0, sw_right=10.0)
+    for bad in (math.nan, math.inf, -math.inf, 10.5, -10.000001):
+        with pytest.raises(AxisCommandError) as exc:
+            a.move_abs(bad)
+        assert exc.value.code == st.CMD_INVALID_POS
+        assert not a.moving
+    a.move_abs(10.0)  # on the limit: accepted
+    assert a.moving and a.pg.target == 10.0
+    a.move_abs(5.0)  # on the fly, before the limit stop could trip
+    run_until(a, lambda: a.in_pos)
+    a.set_ignore("swl", 1)
+    with pytest.raises(AxisCommandError) as exc:
+        a.move_abs(math.inf)  # ignored limits still need a number
+    assert exc.value.code == st.CMD_INVALID_POS
+    a.move_abs(12.0)
+    for _ in range(20):
+        a.step()
+    a.halt()
+    run_until(a, lambda: a.pg.is_halted)
+    a.move_abs(-3.0)  # a new move ends the Halt
+    assert not a.halted
+    run_until(a, lambda: a.in_pos)
+    assert a.ref_pos == -3.0

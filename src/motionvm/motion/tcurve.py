@@ -113,53 +113,89 @@ def plan_position(
     """Time-optimal T-curve from (p_0, v_0) to rest at p_f.
 
     If the axis cannot stop before p_f (too fast, or moving away) it brakes to rest
-    with d_max first and then moves back. A start faster than v_max (limits lowered
-    on the fly) is braked down to v_max with d_max.
+    with d_max first and then moves back (at most twice). A start faster than v_max
+    (limits lowered on the fly) is braked down to v_max with d_max.
+
+    One pass over local variables: each segment is appended where it is planned, and
+    the state at its end is computed only where a later step reads it.
     """
-    b = _Builder(p_0, v_0)
-    _to_target(b, p_f, v_max, a_max, d_max, reversals=2)
-    return TCurve(b.segs, p_f)
-
-
-def _to_target(b: _Builder, p_f: float, v_max: float, a_max: float, d_max: float, reversals: int):
-    dist_signed = p_f - b.p
-    u_signed = b.v
-    if dist_signed == 0.0 and u_signed == 0.0:
-        return
-    s = 1.0 if dist_signed > 0.0 or (dist_signed == 0.0 and u_signed < 0.0) else -1.0
-    dist = s * dist_signed
-    u = s * u_signed
-    s_stop = u * u / (2.0 * d_max)
-    # A state that lies on the braking curve (replanned mid-deceleration) may miss it by
-    # rounding; accept it instead of planning a micro-reversal.
-    fits = s_stop <= dist or (dist > 0.0 and s_stop <= dist * (1.0 + OVERSHOOT_REL))
-    if u < 0.0 or not fits or reversals == 0:
-        b.add(abs(u_signed) / d_max, -math.copysign(d_max, u_signed))
-        b.v = 0.0
-        if reversals > 0:
-            _to_target(b, p_f, v_max, a_max, d_max, reversals - 1)
-        return
-    if u > v_max:
-        b.add((u - v_max) / d_max, -s * d_max)
+    segs: list[tuple[float, float, float, float, float]] = []
+    t = 0.0
+    p = p_0
+    v = v_0
+    reversals = 2
+    while True:
+        dist_signed = p_f - p
+        if dist_signed == 0.0 and v == 0.0:
+            return TCurve(segs, p_f)
+        s = 1.0 if dist_signed > 0.0 or (dist_signed == 0.0 and v < 0.0) else -1.0
+        dist = s * dist_signed
+        u = s * v
+        s_stop = u * u / (2.0 * d_max)
+        # A state that lies on the braking curve (replanned mid-deceleration) may miss it
+        # by rounding; accept it instead of planning a micro-reversal.
+        if (
+            u < 0.0
+            or reversals == 0
+            or not (s_stop <= dist or (dist > 0.0 and s_stop <= dist * (1.0 + OVERSHOOT_REL)))
+        ):
+            # brake to rest, then (while reversals remain) plan again from there
+            dur = abs(v) / d_max
+            if dur > 0.0:
+                a = -math.copysign(d_max, v)
+                t_1 = t + dur
+                segs.append((t, t_1, p, v, a))
+                p = p + (v + 0.5 * a * dur) * dur
+                t = t_1
+            v = 0.0
+            if reversals == 0:
+                return TCurve(segs, p_f)
+            reversals -= 1
+            continue
+        break
+    if u > v_max:  # brake down to v_max
+        dur = (u - v_max) / d_max
+        if dur > 0.0:
+            a = -s * d_max
+            t_1 = t + dur
+            segs.append((t, t_1, p, v, a))
+            p = p + (v + 0.5 * a * dur) * dur
+            t = t_1
         v_peak = v_max
-        b.v = s * v_peak
-    else:
-        v_peak = math.sqrt(_peak_sq(dist, u, a_max, d_max))
-        v_peak = max(min(v_peak, v_max), u)
-        b.add((v_peak - u) / a_max, s * a_max)
-        b.v = s * v_peak
-    remaining = s * (p_f - b.p)
+    else:  # speed up to the peak velocity
+        v_sq = (2.0 * a_max * d_max * dist + d_max * u * u) / (a_max + d_max)
+        if not math.isfinite(v_sq):  # a_max * d_max overflowed (see _peak_sq)
+            v_sq = (2.0 * dist + u * u / a_max) / (1.0 / a_max + 1.0 / d_max)
+        v_peak = math.sqrt(v_sq)
+        if v_max < v_peak:  # max(min(v_peak, v_max), u)
+            v_peak = v_max
+        if u > v_peak:
+            v_peak = u
+        dur = (v_peak - u) / a_max
+        if dur > 0.0:
+            a = s * a_max
+            t_1 = t + dur
+            segs.append((t, t_1, p, v, a))
+            p = p + (v + 0.5 * a * dur) * dur
+            t = t_1
+    v = s * v_peak
+    remaining = s * (p_f - p)
     cruise = remaining - v_peak * v_peak / (2.0 * d_max)
     if cruise > 0.0 and v_peak > 0.0:
-        b.add(cruise / v_peak, 0.0)
-        remaining = s * (p_f - b.p)
+        dur = cruise / v_peak
+        if dur > 0.0:
+            t_1 = t + dur
+            segs.append((t, t_1, p, v, 0.0))
+            p = p + (v + 0.5 * 0.0 * dur) * dur
+            t = t_1
+        remaining = s * (p_f - p)
     if v_peak > 0.0 and remaining > 0.0:
         # Land exactly (in exact arithmetic) on p_f: the deceleration is v_peak^2 /
         # (2*remaining), equal to d_max up to rounding.
         t_dec = 2.0 * remaining / v_peak
-        b.add(t_dec, -s * v_peak / t_dec)
-    b.v = 0.0
-    b.p = p_f
+        if t_dec > 0.0:
+            segs.append((t, t + t_dec, p, v, -s * v_peak / t_dec))
+    return TCurve(segs, p_f)
 
 
 def plan_velocity(p_0: float, v_0: float, v_f: float, a_max: float, d_max: float) -> TCurve:
