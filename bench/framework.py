@@ -33,6 +33,8 @@ import sys
 import time
 from pathlib import Path
 
+from opcode_count import OpcodeCount
+
 IDLE = "void main() { for (;;) RunScheduler(); }"
 TASK = """
 int hits;
@@ -97,29 +99,17 @@ def count(case: str, cycles: int) -> tuple[int, collections.Counter, collections
     """(bytecodes, calls by function, bytecodes by function) of `cycles` run-loop cycles."""
     sim = simulation(case)
     sim.run(until=WARM)
-    calls: collections.Counter = collections.Counter()
-    ops: collections.Counter = collections.Counter()
-
-    def tracer(frame, event, _arg):
-        code = frame.f_code
-        key = (Path(code.co_filename).name, code.co_name)
-        if event == "call":
-            calls[key] += 1
-            frame.f_trace_opcodes = True
-            frame.f_trace_lines = False
-        elif event == "opcode":
-            ops[key] += 1
-        return tracer
+    counter = OpcodeCount()
 
     controller = sim.controller
     end = controller.clock.cycle + cycles
-    sys.settrace(tracer)
+    sys.settrace(counter.trace)
     try:
         controller.run(until=end * 0.001)
     finally:
         sys.settrace(None)
     sim.close()
-    return sum(ops.values()), calls, ops
+    return counter.total, counter.calls, counter.ops
 
 
 def child(case: str, cycles: int) -> None:

@@ -19,6 +19,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import motion  # noqa: E402  (bench/motion.py: the same simulation)
+from opcode_count import OpcodeCount  # noqa: E402  (bench/opcode_count.py)
 
 
 def count(
@@ -28,24 +29,12 @@ def count(
     sim = motion.simulation(n_axes)
     sim.run(until=0.25)  # enabled and moving
     owner = sim.controller if whole else sim.controller.motion
-    calls: collections.Counter = collections.Counter()
-    ops: collections.Counter = collections.Counter()
-
-    def tracer(frame, event, _arg):
-        code = frame.f_code
-        key = (Path(code.co_filename).name, code.co_name)
-        if event == "call":
-            calls[key] += 1
-            frame.f_trace_opcodes = True
-            frame.f_trace_lines = False
-        elif event == "opcode":
-            ops[key] += 1
-        return tracer
+    counter = OpcodeCount()
 
     step = owner.step
 
     def traced_step(*args, **kwargs):
-        sys.settrace(tracer)
+        sys.settrace(counter.trace)
         try:
             return step(*args, **kwargs)
         finally:
@@ -53,7 +42,7 @@ def count(
 
     owner.step = traced_step
     sim.run(until=0.25 + cycles * 0.001)
-    return sum(ops.values()), calls, ops
+    return counter.total, counter.calls, counter.ops
 
 
 def main() -> None:

@@ -11,9 +11,9 @@ Run: python bench/move_bytecodes.py [--moves N]
 from __future__ import annotations
 
 import argparse
-import collections
 import sys
-from pathlib import Path
+
+from opcode_count import OpcodeCount
 
 from motionvm.api import Simulation
 from motionvm.lang.hmpl.compiler import TaskFile
@@ -32,22 +32,11 @@ def main() -> None:
     sim.run(until=0.05)  # enabled
     commands = MotionCommands(sim.controller.motion)
     axis = sim.controller.motion.axes[0]
-    calls: collections.Counter = collections.Counter()
-    ops: collections.Counter = collections.Counter()
-
-    def tracer(frame, event, _arg):
-        code = frame.f_code
-        key = (Path(code.co_filename).name, code.co_name)
-        if event == "call":
-            calls[key] += 1
-            frame.f_trace_opcodes = True
-            frame.f_trace_lines = False
-        elif event == "opcode":
-            ops[key] += 1
-        return tracer
+    counter = OpcodeCount()
+    calls, ops = counter.calls, counter.ops
 
     for k in range(args.moves):
-        sys.settrace(tracer)
+        sys.settrace(counter.trace)
         status = commands.MoveAbs(0, 0.0 if k % 2 else 100.0)
         sys.settrace(None)
         sim.run(until=sim.time + 2.0)
