@@ -1,8 +1,9 @@
 """`plan_position` is planned in one pass over local variables; these tests hold it to
 the segment builder it replaced: the same segments, bit for bit, from any state.
 
-The reference below is that builder (a `_Builder` of segments with a recursive
-`_to_target`), kept here as the specification of every float operation and its order.
+The reference below is the recursive `_to_target` that drove that builder (tcurve's
+`_Builder`, still used by `plan_velocity`), kept here as the specification of every
+float operation and its order.
 """
 
 from __future__ import annotations
@@ -14,7 +15,7 @@ import struct
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from motionvm.motion.tcurve import plan_position
+from motionvm.motion.tcurve import _Builder, _peak_sq, plan_position
 from motionvm.motion.tolerances import OVERSHOOT_REL
 
 settings.register_profile(
@@ -26,28 +27,6 @@ settings.register_profile(
     suppress_health_check=[HealthCheck.too_slow],
 )  # fmt: skip
 PROFILE = settings.get_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
-
-
-class _RefBuilder:
-    def __init__(self, p_0: float, v_0: float):
-        self.segs: list[tuple[float, float, float, float, float]] = []
-        self.t, self.p, self.v = 0.0, p_0, v_0
-
-    def add(self, duration: float, a: float) -> None:
-        if duration <= 0.0:
-            return
-        t_1 = self.t + duration
-        self.segs.append((self.t, t_1, self.p, self.v, a))
-        self.p = self.p + (self.v + 0.5 * a * duration) * duration
-        self.v = self.v + a * duration
-        self.t = t_1
-
-
-def _ref_peak_sq(dist: float, u: float, a_max: float, d_max: float) -> float:
-    v_sq = (2.0 * a_max * d_max * dist + d_max * u * u) / (a_max + d_max)
-    if not math.isfinite(v_sq):
-        v_sq = (2.0 * dist + u * u / a_max) / (1.0 / a_max + 1.0 / d_max)
-    return v_sq
 
 
 def _ref_to_target(b, p_f, v_max, a_max, d_max, reversals):
@@ -71,7 +50,7 @@ def _ref_to_target(b, p_f, v_max, a_max, d_max, reversals):
         v_peak = v_max
         b.v = s * v_peak
     else:
-        v_peak = math.sqrt(_ref_peak_sq(dist, u, a_max, d_max))
+        v_peak = math.sqrt(_peak_sq(dist, u, a_max, d_max))
         v_peak = max(min(v_peak, v_max), u)
         b.add((v_peak - u) / a_max, s * a_max)
         b.v = s * v_peak
@@ -86,7 +65,7 @@ def _ref_to_target(b, p_f, v_max, a_max, d_max, reversals):
 
 
 def _reference(p_0, v_0, p_f, v_max, a_max, d_max):
-    b = _RefBuilder(p_0, v_0)
+    b = _Builder(p_0, v_0)
     _ref_to_target(b, p_f, v_max, a_max, d_max, 2)
     return b.segs
 

@@ -163,10 +163,7 @@ def plan_position(
             t = t_1
         v_peak = v_max
     else:  # speed up to the peak velocity
-        v_sq = (2.0 * a_max * d_max * dist + d_max * u * u) / (a_max + d_max)
-        if not math.isfinite(v_sq):  # a_max * d_max overflowed (see _peak_sq)
-            v_sq = (2.0 * dist + u * u / a_max) / (1.0 / a_max + 1.0 / d_max)
-        v_peak = math.sqrt(v_sq)
+        v_peak = math.sqrt(_peak_sq(dist, u, a_max, d_max))
         if v_max < v_peak:  # max(min(v_peak, v_max), u)
             v_peak = v_max
         if u > v_peak:
