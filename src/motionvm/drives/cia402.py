@@ -58,7 +58,7 @@ class Cia402Drive:
     __slots__ = (  # the object dictionary and the drive's state, all set up in __init__
         "_controlword_prev", "_csp_ready", "_demand", "_encoder", "_encoder_lost", "_fault",
         "_fe_checked", "_fe_window", "_following_error", "_forced", "_max_torque",
-        "_mode_prev", "_motor_position_prev", "_per_mille_per_nm", "_position_demand",
+        "_mode_prev", "_motor_position_prev", "_on_change", "_per_mille_per_nm", "_position_demand",
         "_ramp_vel", "_settled", "_stopped", "_target_prev", "_timer", "_torque_actual",
         "_torque_quiet_neg_nm", "_torque_quiet_nm", "_velocity_actual", "boot_cycles",
         "controlword", "device_type", "digital_inputs", "digital_output_mask",
@@ -130,6 +130,7 @@ class Cia402Drive:
         self._settled: State | None = None
         self._timer = 0
         self._fault: int | None = None
+        self._on_change = None
         self._encoder_lost = False
         self._ramp_vel = 0.0
         self._stopped = False
@@ -300,9 +301,27 @@ class Cia402Drive:
 
     def inject_fault(self, code: int = od.ERR_GENERIC) -> None:
         """Raise a drive fault with error code `code`: fault reaction, then Fault."""
+        self._raise_fault(code)
+        if self._on_change is not None:
+            self._on_change()
+
+    def _raise_fault(self, code: int) -> None:
         if self._fault is None:
             self._fault = code
             self._csp_ready = False  # the next step runs the state machine
+
+    @property
+    def on_change(self):
+        """Called (no arguments) when something other than a step changes what the drive
+        will do: a write of its object dictionary (SDO, PDO, forcing), a fault injected,
+        its sensors' external inputs or touch probe function written. The master's
+        cyclic writes of the controlword and the targets do not call it. The owner sets
+        it (the motion kernel: the axis wakes from rest)."""
+        return self._on_change
+
+    @on_change.setter
+    def on_change(self, fn) -> None:
+        self._on_change = self.objects.on_write = self.sensors.on_change = fn
 
     def encoder_loss(self) -> None:
         """Lose the encoder: the actual position freezes and the drive faults (0x7305)."""
@@ -400,7 +419,7 @@ class Cia402Drive:
             fe = round(self._demand) - enc
             fe = ((fe + 0x80000000) & 0xFFFFFFFF) - 0x80000000
             if abs(fe) > self.following_error_window:
-                self.inject_fault(_ERR_FOLLOWING)  # no fault was pending in this state
+                self._raise_fault(_ERR_FOLLOWING)  # no fault was pending in this state
                 sw |= od.SW_FOLLOWING_ERROR
         torque = m.torque
         if (torque >= self._torque_quiet_nm or torque <= self._torque_quiet_neg_nm) and abs(

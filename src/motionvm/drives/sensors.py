@@ -45,7 +45,7 @@ class Sensors:
         "_external", "_home_prev", "_index_high", "_index_low", "_index_n", "_probe_prev",
         "_switch_external", "_switch_high", "_switch_inputs", "_switch_low", "_tp_function",
         "_tp_function_prev", "has_switches", "home_high", "home_low", "index_offset",
-        "index_spacing", "latched", "negative_limit", "positive_limit", "quiet_high",
+        "index_spacing", "latched", "negative_limit", "on_change", "positive_limit", "quiet_high",
         "quiet_inputs", "quiet_low", "tp_status"
     )  # fmt: skip
 
@@ -70,6 +70,9 @@ class Sensors:
         """False if no switch or index is configured (the drive then skips `update`)."""
         self._external = 0
         self._tp_function = 0
+        self.on_change = None
+        """Called (no arguments) after each write of `external` or `tp_function`: the
+        drive's owner learns that its inputs changed (a resting axis wakes)."""
         self.tp_status = 0
         self.latched = [0, 0, 0, 0]
         """Touch probe values [counts]: 1 positive, 1 negative, 2 positive, 2 negative."""
@@ -101,6 +104,8 @@ class Sensors:
     def external(self, value: int) -> None:
         self._external = value
         self.quiet_low, self.quiet_high = math.inf, -math.inf  # the bands are stale
+        if self.on_change is not None:
+            self.on_change()
 
     @property
     def tp_function(self) -> int:
@@ -111,6 +116,8 @@ class Sensors:
     def tp_function(self, value: int) -> None:
         self._tp_function = value
         self.quiet_low, self.quiet_high = math.inf, -math.inf  # probes are evaluated
+        if self.on_change is not None:
+            self.on_change()
 
     @classmethod
     def from_config(cls, cfg: Config) -> Sensors:

@@ -76,14 +76,14 @@ class Axis(AxisSettings, AxisCycle, AxisFollow):
     """One axis of the controller, stepped once per cycle by the motion kernel."""
 
     __slots__ = (  # every attribute is set up in __init__: nothing can be bolted on
-        "_command_queue", "_commands_seen", "_cycle", "_deferred_move", "_digital_inputs",
+        "_command_queue", "_cycle", "_deferred_move", "_digital_inputs",
         "_enable_cycles", "_enable_timeout_cycles", "_enabling", "_error_stop",
         "_fault_reset_cycles", "_feedback_counts", "_ignore_swl", "_in_pos_cycles",
         "_in_pos_debounce_cycles", "_last_snapshot", "_max_pos_err", "_min_pos_err",
         "_move_end_cycle", "_move_start_cycle", "_position_actual", "_provider", "_pvt_cycle",
         "_pvt_trajectory", "_ramp_decel", "_ramp_vel", "_reference_source",
         "_rest_after_cycles", "_rollover", "_still_cycles", "_sw_left", "_sw_right",
-        "_sw_stop_left", "_sw_stop_right", "_torque_per_mille", "_wake_key_at_rest", "axis_id",
+        "_sw_stop_left", "_sw_stop_right", "_torque_per_mille", "axis_id",
         "buffer_mode", "config", "controlled_by", "cpu", "drive", "dt", "enabled", "extra_status",
         "fault_status", "halted", "ignore_hwl", "ignore_pe", "in_pos", "inpos_radius",
         "kill_dec", "last_error", "move_time_ms", "move_vel_limit", "moving", "op_mode", "pg", "pos_fb",
@@ -165,10 +165,8 @@ class Axis(AxisSettings, AxisCycle, AxisFollow):
         # resting (axis_cycle.py)
         self.resting = False
         """True while the axis is a fixed point and skips its cycles (read only)."""
-        self._wake_key_at_rest: tuple = ()
         self._last_snapshot: tuple = ()
         self._still_cycles = 0
-        self._commands_seen = 0
         self._rest_after_cycles = getattr(self.drive.mechanics, "delay_cycles", 0) + 3
 
     # ---- checks ---------------------------------------------------------------------

@@ -17,8 +17,11 @@ CSP, no fault, no limit switch) runs straight through it; every rarer case branc
 off into a method of its own.
 
 An axis whose state is a fixed point (nothing changed for a few cycles, nothing pending)
-rests: its step only checks that no command or input woke it. Stepping it would give
-the same values, so resting changes no result, and the controller may jump ahead.
+rests: the motion kernel does not step it, and the controller may jump ahead. Stepping
+it would give the same values, so resting changes no result. What could change them
+wakes it (`wake`): every command, and every write to its drive from outside the cycle
+(the drive's `on_change`: object dictionary writes and forcing, an injected fault, the
+sensors' external inputs or touch probe function).
 """
 
 from __future__ import annotations
@@ -60,13 +63,6 @@ class AxisCycle:
 
     def step(self) -> None:
         """Run this axis's part of one controller cycle."""
-        if self.resting:
-            if self._wake_key() == self._wake_key_at_rest:
-                return
-            self.resting = False
-            self._still_cycles = 0
-            if self._comp_dependents:
-                self._wake_dependents()
         drive = self.drive
         self._cycle += 1
         # 1.-3. reference, software limits, outputs
@@ -482,29 +478,19 @@ class AxisCycle:
                 drive.torque_actual, drive.digital_inputs, m.position, m.velocity, drive.state,
                 drive.settled, self.fault_status, self.ref_pos, self.pos_fb)  # fmt: skip
 
-    def _wake_key(self) -> tuple:
-        drive = self.drive
-        s = drive.sensors
-        # the slots behind drive.tp_function, sensors.external and drive.pending_fault:
-        # a resting axis compares this key every cycle, so no property is called
-        return (drive.controlword, drive.mode, drive.target_position, drive.target_velocity,
-                drive.target_torque, s._tp_function, s._external, drive._fault,
-                self._commands_seen)  # fmt: skip
-
     def _watch_rest(self) -> None:
         snap = self._snapshot()
         if snap == self._last_snapshot and snap[8]:
             self._still_cycles += 1
             if self._still_cycles >= self._rest_after_cycles:
                 self.resting = True
-                self._wake_key_at_rest = self._wake_key()
         else:
             self._still_cycles = 0
             self._last_snapshot = snap
 
     def wake(self) -> None:
-        """Leave rest (every command calls this)."""
-        self._commands_seen += 1
+        """Leave rest: every command calls this, and the drive's `on_change` (a write to
+        the drive from outside the cycle)."""
         self.resting = False
         self._still_cycles = 0
         if self._comp_dependents:

@@ -60,8 +60,8 @@ class MotionKernel:
         """The touch probe of each axis (manual chapter 13), by axis id."""
         self.slaves = SlaveDirectory(a.drive.objects for a in self.axes)
         """The object dictionaries of the bus's slaves: the drives, then I/O modules."""
-        for a in self.axes:  # an SDO/PDO write wakes the axis of that drive
-            a.drive.objects.on_write = a.wake
+        for a in self.axes:  # a write to a drive from outside wakes its axis from rest
+            a.drive.on_change = a.wake
         self.config_vars = ConfigVarTable()
         """Controller variables by HCV id (manual 17.1.1): the axes' are registered here."""
         config_axis.register(self.config_vars, self)
@@ -119,7 +119,8 @@ class MotionKernel:
         if groups.enabled:  # most cycles no group is enabled: no call
             groups.step()
         for a in self.step_order:
-            a.step()
+            if not a.resting:  # a resting axis costs this test; what changes it wakes it
+                a.step()
 
     def busy(self) -> bool:
         """True while an axis moves, enables, settles or stops, or the bus starts up.
