@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import os
 
+from drive_util import DT, enabled_csp
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as hs
 
@@ -36,7 +37,6 @@ settings.register_profile(
 )  # fmt: skip
 PROFILE = settings.get_profile("common-cycle-" + os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 
-DT = 0.001
 CONFIG = {"mechanics": {"model": "ideal", "delay_cycles": 1}, "index_spacing": 5_000.0,
           "positive_limit": 200_000.0}  # fmt: skip
 
@@ -47,18 +47,6 @@ def observed(drive: Cia402Drive) -> tuple:
             drive.mode_display, drive.velocity_actual, drive.torque_actual,
             drive.position_demand, drive.following_error, drive.error_code,
             drive.pending_fault, m.position, m.velocity, m.torque)  # fmt: skip
-
-
-def enabled_csp() -> Cia402Drive:
-    drive = Cia402Drive.create(CONFIG)
-    drive.write(MODES_OF_OPERATION, 0, 8)
-    drive.target_position = drive.position_actual
-    for controlword, cycles in ((0x06, 4), (0x0F, 12)):
-        drive.write(CONTROLWORD, 0, controlword)
-        for _ in range(cycles):
-            drive.step(DT)
-    assert drive.state is State.OPERATION_ENABLED
-    return drive
 
 
 events = hs.one_of(
@@ -95,7 +83,7 @@ def apply(drive: Cia402Drive, event: tuple) -> None:
 @PROFILE
 @given(hs.lists(hs.tuples(events, hs.integers(1, 6)), min_size=1, max_size=25))
 def test_the_common_cycle_ends_as_the_full_cycle_would(script):
-    drive, reference = enabled_csp(), enabled_csp()
+    drive, reference = enabled_csp(CONFIG), enabled_csp(CONFIG)
     for event, cycles in script:
         apply(drive, event)
         apply(reference, event)
@@ -107,7 +95,7 @@ def test_the_common_cycle_ends_as_the_full_cycle_would(script):
 
 
 def test_a_repeated_csp_cycle_is_known_from_the_flag_and_a_fault_clears_it():
-    drive = enabled_csp()
+    drive = enabled_csp(CONFIG)
     drive.step(DT)
     assert drive._csp_ready
     drive.inject_fault()
@@ -117,7 +105,7 @@ def test_a_repeated_csp_cycle_is_known_from_the_flag_and_a_fault_clears_it():
 
 
 def test_a_window_written_while_the_drive_runs_is_checked_at_the_next_step():
-    drive = enabled_csp()
+    drive = enabled_csp(CONFIG)
     drive.step(DT)
     drive.write(FOLLOWING_ERROR_WINDOW, 0, 10)
     assert drive.following_error_window == drive.read(FOLLOWING_ERROR_WINDOW) == 10

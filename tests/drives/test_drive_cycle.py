@@ -12,17 +12,15 @@ from __future__ import annotations
 import math
 import os
 
+from drive_util import DT, enabled_csp
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as hs
 
-from motionvm.drives.cia402 import Cia402Drive
 from motionvm.drives.objects import (
-    CONTROLWORD,
     DI_HOME_SWITCH,
     DI_INDEX_PULSE,
     DI_NEGATIVE_LIMIT,
     DI_POSITIVE_LIMIT,
-    MODES_OF_OPERATION,
     SW_FOLLOWING_ERROR,
     SW_INTERNAL_LIMIT,
     State,
@@ -38,20 +36,6 @@ settings.register_profile(
     suppress_health_check=[HealthCheck.too_slow],
 )  # fmt: skip
 PROFILE = settings.get_profile("drive-" + os.environ.get("HYPOTHESIS_PROFILE", "ci"))
-
-DT = 0.001
-
-
-def enabled_csp(config: dict) -> Cia402Drive:
-    drive = Cia402Drive.create(config)
-    drive.write(MODES_OF_OPERATION, 0, 8)
-    drive.target_position = drive.position_actual
-    for controlword, cycles in ((0x06, 4), (0x0F, 12)):
-        drive.write(CONTROLWORD, 0, controlword)
-        for _ in range(cycles):
-            drive.step(DT)
-    assert drive.state is State.OPERATION_ENABLED
-    return drive
 
 
 def expected_inputs(config: dict, external: int, x_0: float, x_1: float) -> int:

@@ -16,8 +16,7 @@ import os
 
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-
-from motionvm.api import Simulation
+from skip_util import machine_file, outcome
 
 settings.register_profile("skip-ci", max_examples=25, derandomize=True, deadline=None,
                           suppress_health_check=[HealthCheck.too_slow])  # fmt: skip
@@ -103,46 +102,18 @@ machine = st.tuples(st.sampled_from([1.0, 0.5, 2.0]), st.lists(axis_table, min_s
                                                              max_size=AXES))  # fmt: skip
 
 
-def _machine_file(tmp_path, spec) -> str:
-    cycle_ms, axes = spec
-    lines = [f"axes = {AXES}", "[controller]", f"cycle_time_ms = {cycle_ms}"]
-    for ax in axes:
-        lines += ["[[axis]]"] + [f"{k} = {v}" for k, v in ax.items() if k != "delay"]
-        lines.append(
-            f'drive = {{ mechanics = {{ model = "ideal", delay_cycles = {ax["delay"]} }} }}'
-        )
-    path = tmp_path / "machine.toml"
-    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
-    return str(path)
-
-
-def _outcome(tmp_path, sources: list[str], skip: bool, machine_file: str | None = None):
-    paths = []
-    for i, text in enumerate(sources):
-        p = tmp_path / f"t{i}.hmpl"
-        p.write_text(text, encoding="utf-8")
-        paths.append(p)
-    sim = Simulation.from_files(paths, skip=skip, stamp=True, machine=machine_file)
-    result = sim.run(timeout=60.0)
-    axes = [(a.pos_fb, a.ref_pos, a.ref_vel, a.ref_acc, a.in_pos, a.moving, a.move_time_ms,
-             a.settling_time_ms, a.last_error, a.drive.position_actual,
-             a.drive.mechanics.velocity, a.drive.digital_inputs)
-            for a in sim.controller.motion.axes]  # fmt: skip
-    return str(result), list(sim.messages), sim.time, axes
-
-
 @PROFILE
 @given(st.lists(statement, min_size=1, max_size=12), st.lists(statement, max_size=8))
 def test_random_moves_and_waits_give_the_same_run(tmp_path_factory, body_0, body_1):
     tmp = tmp_path_factory.mktemp("prog")
     sources = [_task(body_0, True), _task(body_1, False)]
-    assert _outcome(tmp, sources, True) == _outcome(tmp, sources, False)
+    assert outcome(tmp, sources, True) == outcome(tmp, sources, False)
 
 
 @PROFILE
 @given(machine, st.lists(statement, min_size=1, max_size=10), st.lists(statement, max_size=6))
 def test_random_machines_give_the_same_run(tmp_path_factory, spec, body_0, body_1):
     tmp = tmp_path_factory.mktemp("machine")
-    machine_file = _machine_file(tmp, spec)
+    machine = machine_file(tmp, spec, AXES)
     sources = [_task(body_0, True), _task(body_1, False)]
-    assert _outcome(tmp, sources, True, machine_file) == _outcome(tmp, sources, False, machine_file)
+    assert outcome(tmp, sources, True, machine) == outcome(tmp, sources, False, machine)

@@ -14,6 +14,7 @@ import os
 
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+from skip_util import machine_file, outcome
 
 from motionvm.api import Simulation
 from motionvm.lang.hmpl.compiler import TaskFile
@@ -59,19 +60,6 @@ machine = st.tuples(st.sampled_from([1.0, 0.5]), st.lists(axis_table, min_size=A
                                                         max_size=AXES))  # fmt: skip
 
 
-def _machine_file(tmp_path, spec) -> str:
-    cycle_ms, axes = spec
-    lines = [f"axes = {AXES}", "[controller]", f"cycle_time_ms = {cycle_ms}"]
-    for ax in axes:
-        lines += ["[[axis]]"] + [f"{k} = {v}" for k, v in ax.items() if k != "delay"]
-        lines.append(
-            f'drive = {{ mechanics = {{ model = "ideal", delay_cycles = {ax["delay"]} }} }}'
-        )
-    path = tmp_path / "machine.toml"
-    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
-    return str(path)
-
-
 def _task(body: list[str], first: bool) -> str:
     lines = ["void main() {"]
     if first:
@@ -84,28 +72,13 @@ def _task(body: list[str], first: bool) -> str:
     return "\n".join([*lines, "}"]) + "\n"
 
 
-def _outcome(tmp_path, sources: list[str], skip: bool, machine_file: str):
-    paths = []
-    for i, text in enumerate(sources):
-        p = tmp_path / f"t{i}.hmpl"
-        p.write_text(text, encoding="utf-8")
-        paths.append(p)
-    sim = Simulation.from_files(paths, skip=skip, stamp=True, machine=machine_file)
-    result = sim.run(timeout=20.0)
-    axes = [(a.pos_fb, a.ref_pos, a.ref_vel, a.in_pos, a.moving, a.move_time_ms,
-             a.settling_time_ms, a.last_error, a.drive.position_actual,
-             a.drive.mechanics.velocity, a.drive.mechanics.torque, a.resting)
-            for a in sim.controller.motion.axes]  # fmt: skip
-    return str(result), list(sim.messages), sim.time, axes
-
-
 @PROFILE
 @given(machine, st.lists(statement, min_size=1, max_size=8), st.lists(statement, max_size=6))
 def test_random_settles_give_the_same_run(tmp_path_factory, spec, body_0, body_1):
     tmp = tmp_path_factory.mktemp("settle")
-    machine_file = _machine_file(tmp, spec)
+    machine = machine_file(tmp, spec, AXES)
     sources = [_task(body_0, True), _task(body_1, False)]
-    assert _outcome(tmp, sources, True, machine_file) == _outcome(tmp, sources, False, machine_file)
+    assert outcome(tmp, sources, True, machine, 20.0) == outcome(tmp, sources, False, machine, 20.0)
 
 
 MOVER = """
