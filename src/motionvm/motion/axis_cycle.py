@@ -117,9 +117,10 @@ class AxisCycle:
             self.pos_fb_raw = raw = counts / self.cpu
             self.pos_fb = raw - self._slave_offset
         # an enabled axis needs a drive in Operation enabled following its cyclic
-        # target, no fault; any other statusword is looked at closely
+        # target, no fault; any other statusword is looked at closely (the internal
+        # limit bit aside: the base is the statusword without it, see Cia402Drive)
         enabled = self.enabled
-        if not enabled or drive.statusword != _SW_CYCLIC:
+        if not enabled or drive.statusword_base != _SW_CYCLIC:
             self._drive_state_changed(drive)
             enabled = self.enabled
         digital_inputs = drive.digital_inputs
