@@ -1,8 +1,8 @@
 """The drive's cycle against its definition: inputs, lazily computed objects, status bits.
 
 A step skips work whose outcome it knows (the sensors inside their quiet interval, the
-following error under a window no int32 error exceeds, the internal limit far below
-max_torque) and leaves four objects to be computed when read. These tests drive random
+following error under a window no int32 error exceeds) and leaves four objects and the
+statusword's internal limit bit to be computed when read. These tests drive random
 motions and compare every cycle, bit for bit, with the objects' definitions written out
 here from the motor position the mechanics report.
 """

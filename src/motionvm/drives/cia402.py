@@ -372,10 +372,10 @@ class Cia402Drive:
         repeated, is known from one flag (`_csp_ready`, set by the cycle before) and two
         comparisons; its motion is the demand following the target's change. Every other
         cycle goes through `_prepare` (state machine, local control, the other modes).
-        Three checks are skipped where their outcome is known: the sensors while the
+        Two checks are skipped where their outcome is known: the sensors while the
         motor stays in their quiet interval, the following error where its window
-        exceeds any int32 error, the internal limit where the torque is well below
-        max_torque. Under local control (`follow_local_demand`) the motor follows the
+        exceeds any int32 error; in Operation enabled the internal limit bit is left to
+        `statusword` (computed when read). Under local control (`follow_local_demand`) the motor follows the
         drive's own demand as in CSP and the master's controlword and targets are not
         processed."""
         if self._forced:  # ForceWritePDO: forced outputs win over the master's
