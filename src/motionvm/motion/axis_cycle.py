@@ -150,10 +150,13 @@ class AxisCycle:
             else:
                 moving = True
             if moving:
-                self.moving = True
-                self.in_pos = False
-                self._in_pos_cycles = 0
-                self._still_cycles = 0
+                # region I: not in position, nothing counts toward rest (no command
+                # starts a move without `wake`, which clears the rest count, and the
+                # in-position count starts from 0 where region I ends, in `_settle`)
+                if not self.moving:
+                    self.moving = True
+                    self.in_pos = False
+                    self._still_cycles = 0
                 return
             self._settle()
         else:
@@ -381,6 +384,7 @@ class AxisCycle:
         if self.moving:  # region I ends
             self.moving = False
             self.stopping = False
+            self._in_pos_cycles = 0
             self._move_end_cycle = end = max(self._cycle - 1, self._move_start_cycle)
             run = end - self._move_start_cycle
             t_s = self.pg.t_smooth
