@@ -375,12 +375,11 @@ class Cia402Drive:
         Two checks are skipped where their outcome is known: the sensors while the
         motor stays in their quiet interval, the following error where its window
         exceeds any int32 error; in Operation enabled the internal limit bit is left to
-        `statusword` (computed when read). Under local control (`follow_local_demand`) the motor follows the
-        drive's own demand as in CSP and the master's controlword and targets are not
-        processed."""
+        `statusword` (computed when read). Under local control (`follow_local_demand`)
+        the motor follows the drive's own demand as in CSP and the master's controlword
+        and targets are not processed."""
         if self._forced:  # ForceWritePDO: forced outputs win over the master's
             self.objects.apply_forced()
-        m = self.mechanics
         if self._csp_ready and self.controlword == self._controlword_prev and self.mode == _CSP:
             sw = None
             state = _OPERATION_ENABLED
@@ -395,10 +394,10 @@ class Cia402Drive:
                 change = ((change + 0x80000000) & 0xFFFFFFFF) - 0x80000000
             self._demand = demand = self._demand + change
             self._target_prev = target
-            x = m.step_position(demand, dt)
+            x = self.mechanics.step_position(demand, dt)
             sw = _SW_CYCLIC
         else:
-            x = m.position
+            x = self.mechanics.position
         # feedback
         if self._encoder_lost:
             enc = self._encoder
