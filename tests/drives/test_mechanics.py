@@ -3,14 +3,25 @@
 from __future__ import annotations
 
 import math
+import os
 
 import pytest
-from hypothesis import given, settings
+from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as hs
 
 from motionvm.drives.mechanics import IdealMechanics, ServoMechanics, create
 
 DT = 0.001
+
+settings.register_profile(
+    "mechanics-ci", max_examples=60, derandomize=True, deadline=None,
+    suppress_health_check=[HealthCheck.too_slow],
+)  # fmt: skip
+settings.register_profile(
+    "mechanics-thorough", max_examples=1000, derandomize=True, deadline=None,
+    suppress_health_check=[HealthCheck.too_slow],
+)  # fmt: skip
+PROFILE = settings.get_profile("mechanics-" + os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 
 
 def test_ideal_follows_after_exact_delay():
@@ -172,7 +183,7 @@ def test_bad_config_names_key_and_value(config, message):
         create(config)
 
 
-@settings(max_examples=60, derandomize=True, deadline=None)
+@PROFILE
 @given(
     hs.integers(0, 3),
     hs.lists(
