@@ -1,8 +1,8 @@
 """The drive's cycle against its definition: inputs, lazily computed objects, status bits.
 
 A step skips work whose outcome it knows (the sensors inside their quiet interval, the
-following error under a window no int32 error exceeds, the internal limit far below
-max_torque) and leaves four objects to be computed when read. These tests drive random
+following error under a window no int32 error exceeds) and leaves four objects and the
+statusword's internal limit bit to be computed when read. These tests drive random
 motions and compare every cycle, bit for bit, with the objects' definitions written out
 here from the motor position the mechanics report.
 """
@@ -176,3 +176,48 @@ def test_a_probe_switched_on_makes_the_sensors_evaluate_again():
     assert not sensors.quiet_low < drive.mechanics.position < sensors.quiet_high
     drive.step(DT)
     assert drive.digital_inputs == 1 << 17
+
+
+@PROFILE
+@given(
+    hs.integers(1, 3000),
+    hs.lists(
+        hs.tuples(hs.integers(-200_000, 200_000), hs.sampled_from([None, 0, 1, 2])),
+        min_size=1, max_size=40,
+    ),
+)  # fmt: skip
+def test_the_internal_limit_bit_is_the_last_steps_until_the_next(max_torque, moves):
+    """The statusword's internal limit bit is computed when read: it stays what the last
+    step's torque and max_torque give, also when max_torque is written before the next
+    step (to the torque actual itself or just above it); the base is the statusword but
+    for that bit."""
+    drive = enabled_csp({"mechanics": {"delay_cycles": 1, "inertia": 1e-5},
+                         "max_torque": max_torque})  # fmt: skip
+    for step, new_limit in moves:
+        drive.target_position = wrap_i32(drive.target_position + step)
+        drive.step(DT)
+        at_limit = abs(drive.torque_actual) >= drive.max_torque > 0
+        assert bool(drive.statusword & SW_INTERNAL_LIMIT) == at_limit
+        if new_limit is not None:  # 0: no limit bit; 1: at the torque; 2: just above it
+            drive.max_torque = new_limit and abs(drive.torque_actual) + new_limit - 1
+        assert bool(drive.statusword & SW_INTERNAL_LIMIT) == at_limit
+        assert drive.statusword & ~SW_INTERNAL_LIMIT == drive.statusword_base & ~SW_INTERNAL_LIMIT
+
+
+def test_a_state_change_between_steps_shows_no_internal_limit_bit():
+    """Local control taken and given back between steps: the statusword is the one set
+    then, without a bit of the last step's torque, until the next step."""
+    drive = enabled_csp({"mechanics": {"delay_cycles": 0}, "max_torque": 1})
+    drive.target_position += 100_000
+    drive.step(DT)
+    assert drive.statusword & SW_INTERNAL_LIMIT and drive.mechanics.torque != 0.0
+    drive.follow_local_demand(None)  # not under local control: no change
+    assert drive.statusword & SW_INTERNAL_LIMIT
+    drive.follow_local_demand(drive.mechanics.position)
+    drive.follow_local_demand(None)
+    assert drive.state is State.SWITCH_ON_DISABLED
+    assert not drive.statusword & SW_INTERNAL_LIMIT
+    drive.follow_local_demand(drive.mechanics.position)  # Operation enabled at once
+    assert drive.state is State.OPERATION_ENABLED and drive.mechanics.torque != 0.0
+    assert drive.statusword == drive.statusword_base
+    assert not drive.statusword & SW_INTERNAL_LIMIT

@@ -3,12 +3,25 @@
 from __future__ import annotations
 
 import math
+import os
 
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as hs
 
 from motionvm.drives.mechanics import IdealMechanics, ServoMechanics, create
 
 DT = 0.001
+
+settings.register_profile(
+    "mechanics-ci", max_examples=60, derandomize=True, deadline=None,
+    suppress_health_check=[HealthCheck.too_slow],
+)  # fmt: skip
+settings.register_profile(
+    "mechanics-thorough", max_examples=1000, derandomize=True, deadline=None,
+    suppress_health_check=[HealthCheck.too_slow],
+)  # fmt: skip
+PROFILE = settings.get_profile("mechanics-" + os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 
 
 def test_ideal_follows_after_exact_delay():
@@ -168,3 +181,36 @@ def test_servo_velocity_and_torque_modes():
 def test_bad_config_names_key_and_value(config, message):
     with pytest.raises(ValueError, match=message.replace("(", r"\(")):
         create(config)
+
+
+@PROFILE
+@given(
+    hs.integers(0, 3),
+    hs.lists(
+        hs.tuples(hs.sampled_from(["position", "velocity", "torque", "free", "set"]),
+                  hs.floats(-1e7, 1e7), hs.sampled_from([0.001, 0.0005, 0.00025, 0.002])),
+        max_size=30,
+    ),
+)  # fmt: skip
+def test_the_ideal_torque_read_is_the_cycles_change_of_velocity_bit_for_bit(delay, ops):
+    """The ideal motor's torque, computed when read, is the inertia times the velocity
+    change of the last cycle: bit for bit that formula under random histories of every
+    mode and cycle time; 0 after the motor is placed or freed."""
+    m = IdealMechanics(delay_cycles=delay, inertia=3e-4, counts_per_rev=10_000)
+    for op, value, dt in ops:
+        v_0 = m.velocity
+        if op == "position":
+            m.step_position(value, dt)
+        elif op == "velocity":
+            m.step_velocity(value, dt)
+        elif op == "torque":
+            m.step_torque(value * 1e-6, dt)
+        elif op == "free":
+            m.step_free(dt)
+        else:
+            m.set_position(value)
+        if op in ("free", "set"):
+            assert m.torque == 0.0 and m.velocity == 0.0
+        else:
+            eager = m.inertia * (m.velocity - v_0) / dt * (2.0 * math.pi) / m.counts_per_rev
+            assert m.torque.hex() == eager.hex()

@@ -57,15 +57,16 @@ class Cia402Drive:
 
     __slots__ = (  # the object dictionary and the drive's state, all set up in __init__
         "_controlword_prev", "_csp_ready", "_demand", "_encoder", "_encoder_lost", "_fault",
-        "_fe_checked", "_fe_window", "_following_error", "_forced", "_max_torque",
-        "_mode_prev", "_motor_position_prev", "_on_change", "_per_mille_per_nm", "_position_demand",
+        "_fe_checked", "_fe_window", "_following_error", "_forced", "_limit_lazy",
+        "_max_torque", "_mode_prev", "_motor_position_prev", "_on_change", "_per_mille_per_nm",
+        "_position_demand",
         "_ramp_vel", "_settled", "_stopped", "_target_prev", "_timer", "_torque_actual",
         "_torque_quiet_neg_nm", "_torque_quiet_nm", "_velocity_actual", "boot_cycles",
         "controlword", "device_type", "digital_inputs", "digital_output_mask",
         "digital_outputs", "enable_cycles", "error_code", "local_demand", "mechanics",
         "mode", "mode_display", "objects", "position_actual", "pt_sample_rate",
         "quick_stop_decel", "quick_stop_option", "rated_torque", "rated_torque_nm",
-        "sensors", "state", "statusword", "supported_modes", "switch_on_cycles",
+        "sensors", "state", "statusword_base", "supported_modes", "switch_on_cycles",
         "target_position", "target_torque", "target_velocity", "__weakref__"
     )  # fmt: skip
 
@@ -108,12 +109,12 @@ class Cia402Drive:
         self.device_type = 0x00020192
         self.supported_modes = od.SUPPORTED_MODES_VALUE
         self.rated_torque = round(rated_torque * 1000.0)  # [mN*m]
+        self.statusword = 0
         self.max_torque = max_torque
         self.quick_stop_decel = quick_stop_decel
         self.quick_stop_option = quick_stop_option
         self.following_error_window = following_error_window
         self.controlword = 0
-        self.statusword = 0
         self.mode = 0
         self.mode_display = 0
         self.target_position = 0
@@ -260,6 +261,26 @@ class Cia402Drive:
         self._following_error = value
 
     @property
+    def statusword(self) -> int:
+        """0x6041. After a step that ended in Operation enabled, its internal limit bit
+        (11) follows from the state that step left, as the four objects above: it is
+        computed when read, from the motor's torque. `statusword_base` is the rest."""
+        sw = self.statusword_base
+        if self._limit_lazy:
+            torque = self.mechanics.torque
+            if (torque >= self._torque_quiet_nm or torque <= self._torque_quiet_neg_nm) and abs(
+                self.torque_actual
+            ) >= self._max_torque:
+                sw |= od.SW_INTERNAL_LIMIT
+        return sw
+
+    @statusword.setter
+    def statusword(self, value: int) -> None:
+        """The whole statusword, internal limit bit included."""
+        self.statusword_base = value
+        self._limit_lazy = False
+
+    @property
     def following_error_window(self) -> int:
         """0x6065 [counts]: a CSP following error beyond it faults the drive (0x8611)."""
         return self._fe_window
@@ -277,6 +298,10 @@ class Cia402Drive:
 
     @max_torque.setter
     def max_torque(self, value: int) -> None:
+        if self._limit_lazy and value != self._max_torque:
+            # the statusword keeps the internal limit bit of the last step's limit
+            self.statusword = self.statusword
+            self._csp_ready = False  # the next step goes through `_prepare`
         self._max_torque = value
         # below this torque [N*m] the rounded torque actual stays under the limit: a
         # margin far above the rounding of torque * per mille per N*m
@@ -367,21 +392,21 @@ class Cia402Drive:
         repeated, is known from one flag (`_csp_ready`, set by the cycle before) and two
         comparisons; its motion is the demand following the target's change. Every other
         cycle goes through `_prepare` (state machine, local control, the other modes).
-        Three checks are skipped where their outcome is known: the sensors while the
+        Two checks are skipped where their outcome is known: the sensors while the
         motor stays in their quiet interval, the following error where its window
-        exceeds any int32 error, the internal limit where the torque is well below
-        max_torque. Under local control (`follow_local_demand`) the motor follows the
-        drive's own demand as in CSP and the master's controlword and targets are not
-        processed."""
+        exceeds any int32 error; in Operation enabled the internal limit bit is left to
+        `statusword` (computed when read). Under local control (`follow_local_demand`)
+        the motor follows the drive's own demand as in CSP and the master's controlword
+        and targets are not processed."""
         if self._forced:  # ForceWritePDO: forced outputs win over the master's
             self.objects.apply_forced()
-        m = self.mechanics
         if self._csp_ready and self.controlword == self._controlword_prev and self.mode == _CSP:
             sw = None
             state = _OPERATION_ENABLED
         else:
             sw = self._prepare(dt)
             state = self.state
+            self._limit_lazy = True  # if the step ends in Operation enabled (see `statusword`)
         if sw is None:  # CSP in Operation enabled: the demand follows the target
             target = self.target_position
             change = target - self._target_prev
@@ -389,10 +414,10 @@ class Cia402Drive:
                 change = ((change + 0x80000000) & 0xFFFFFFFF) - 0x80000000
             self._demand = demand = self._demand + change
             self._target_prev = target
-            x = m.step_position(demand, dt)
+            x = self.mechanics.step_position(demand, dt)
             sw = _SW_CYCLIC
         else:
-            x = m.position
+            x = self.mechanics.position
         # feedback
         if self._encoder_lost:
             enc = self._encoder
@@ -421,12 +446,7 @@ class Cia402Drive:
             if abs(fe) > self.following_error_window:
                 self._raise_fault(_ERR_FOLLOWING)  # no fault was pending in this state
                 sw |= od.SW_FOLLOWING_ERROR
-        torque = m.torque
-        if (torque >= self._torque_quiet_nm or torque <= self._torque_quiet_neg_nm) and abs(
-            self.torque_actual
-        ) >= self._max_torque:
-            sw |= od.SW_INTERNAL_LIMIT
-        self.statusword = sw
+        self.statusword_base = sw  # `statusword` adds the internal limit bit
 
     def _prepare(self, dt: float) -> int | None:
         """The part of a cycle other than the common one (see `step`) before the feedback:

@@ -101,14 +101,12 @@ class _Motor:
     __slots__ = ()  # the models name the attributes
 
     def _at_rest(self, counts_per_rev: int) -> None:
-        """Start at position 0 at rest, without torque."""
+        """Start at position 0 at rest (the models start without torque)."""
         self.counts_per_rev = counts_per_rev
         self.position = 0.0
         """Actual position [counts]."""
         self.velocity = 0.0
         """Actual velocity [counts/s]."""
-        self.torque = 0.0
-        """Actual torque [N*m]."""
 
 
 class IdealMechanics(_Motor):
@@ -116,11 +114,15 @@ class IdealMechanics(_Motor):
 
     CSV integrates the velocity demand, CST accelerates `inertia` with the torque;
     both outputs pass the same delay line. Power off stops the motor at once.
+
+    A cycle stores what its torque follows from (the velocity before it and the cycle
+    time) and `torque` computes it when read: the torque's one formula, and no cycle
+    pays for it unless someone reads it.
     """
 
     __slots__ = (  # set up in __init__
-        "_counts_per_rev_f", "_demand", "_demand_vel", "_line", "counts_per_rev",
-        "delay_cycles", "inertia", "position", "torque", "velocity"
+        "_counts_per_rev_f", "_demand", "_demand_vel", "_dt", "_line", "_velocity_before",
+        "counts_per_rev", "delay_cycles", "inertia", "position", "velocity"
     )  # fmt: skip
 
     KEYS = frozenset({"delay_cycles", "inertia", "counts_per_rev"})
@@ -130,6 +132,10 @@ class IdealMechanics(_Motor):
         self.inertia = inertia
         """Load inertia [kg*m^2] seen by the motor (CST and the reported torque)."""
         self._at_rest(counts_per_rev)
+        self._velocity_before = 0.0
+        """Velocity [counts/s] at the start of the last cycle."""
+        self._dt = 1.0
+        """The last cycle's time [s] (any positive value at rest)."""
         self._counts_per_rev_f = float(counts_per_rev)
         self._line: deque[float] = deque([0.0] * delay_cycles)
         self._demand = 0.0
@@ -146,10 +152,18 @@ class IdealMechanics(_Motor):
             counts_per_rev=cfg.integer("counts_per_rev", 1 << 17, 1, MAX_COUNTS_PER_REV),
         )
 
+    @property
+    def torque(self) -> float:
+        """Actual torque [N*m]: the inertia times the last cycle's change of velocity."""
+        # / float(counts_per_rev) is / counts_per_rev (exact below 2**53) without the
+        # int's conversion
+        return (self.inertia * (self.velocity - self._velocity_before) / self._dt * TWO_PI
+                / self._counts_per_rev_f)  # fmt: skip
+
     def set_position(self, position: float) -> None:
         """Place the motor at `position` [counts], at rest."""
         self.position = self._demand = float(position)
-        self.velocity = self._demand_vel = self.torque = 0.0
+        self.velocity = self._velocity_before = self._demand_vel = 0.0
         self._line = deque([self.position] * self.delay_cycles)
 
     def step_position(self, r: float, dt: float) -> float:
@@ -164,11 +178,9 @@ class IdealMechanics(_Motor):
             line = self._line
             line.append(r)
             x = line.popleft()
-        v = (x - self.position) / dt
-        # / float(counts_per_rev) is / counts_per_rev (exact below 2**53) without the
-        # int's conversion in every cycle
-        self.torque = self.inertia * (v - self.velocity) / dt * TWO_PI / self._counts_per_rev_f
-        self.velocity = v
+        self._velocity_before = self.velocity
+        self._dt = dt
+        self.velocity = (x - self.position) / dt
         self.position = x
         return x
 
@@ -235,6 +247,8 @@ class ServoMechanics(_Motor):
         self.velocity_feedforward = velocity_feedforward
         """Velocity feed-forward gain [-], 0..1."""
         self._at_rest(counts_per_rev)
+        self.torque = 0.0
+        """Actual torque [N*m]."""
         self._demand = 0.0
         self._rad = TWO_PI / counts_per_rev  # [rad/count]
         wn = TWO_PI * bandwidth

@@ -36,8 +36,8 @@ from __future__ import annotations
 import math
 
 from motionvm.drives.cia402 import _SW_CYCLIC, Cia402Drive
-from motionvm.drives.mechanics import TWO_PI, IdealMechanics
-from motionvm.drives.objects import MODE_CSP, SW_INTERNAL_LIMIT, State
+from motionvm.drives.mechanics import IdealMechanics
+from motionvm.drives.objects import MODE_CSP, State
 from motionvm.motion import axis_status as st
 from motionvm.motion.profile import IDLE
 
@@ -596,26 +596,30 @@ def _advance_smoothed(a, k: int) -> None:
 
 def _motor_to(a, x_1: float, x: float, v_1: float) -> None:
     """The ideal motor of axis `a` moves from x_1 to x [counts] in this cycle (v_1: its
-    velocity [counts/s] of the cycle before); the drive's and the axis's feedback."""
+    velocity [counts/s] of the cycle before); the drive's and the axis's feedback.
+
+    The motor's demand, its velocity and its delay line are set for after this cycle
+    (the callers'); the motor's own `step_position` makes the cycle, from the state
+    before it: at x_1 with velocity v_1, x the demand that leaves the delay line now."""
     d = a.drive
     m = d.mechanics
-    dt = a.dt
-    v = (x - x_1) / dt
-    m.torque = m.inertia * (v - v_1) / dt * TWO_PI / m.counts_per_rev
-    m.velocity = v
-    m.position = x
-    # the drive's feedback
+    demand, demand_vel = m._demand, m._demand_vel
+    m.position, m.velocity = x_1, v_1
+    if m.delay_cycles == 1:  # the demand of the cycle before
+        m._demand = x
+    elif m.delay_cycles > 1:  # x first out, the newest demand back in by the step
+        line = m._line
+        line.pop()
+        line.appendleft(x)
+    m.step_position(demand, a.dt)
+    m._demand_vel = demand_vel
+    # the drive's feedback, as a step in Operation enabled leaves it
     d._encoder = enc = x.__round__()
     d.position_actual = enc
     d.digital_inputs = di = d.sensors.update(x_1, x)
     d._motor_position_prev = x
-    sw = _SW_CYCLIC
-    torque = m.torque
-    if (torque >= d._torque_quiet_nm or torque <= d._torque_quiet_neg_nm) and abs(
-        d.torque_actual
-    ) >= d._max_torque:
-        sw |= SW_INTERNAL_LIMIT
-    d.statusword = sw
+    d.statusword_base = _SW_CYCLIC
+    d._limit_lazy = True  # `statusword` adds the internal limit bit
     # the axis's feedback
     if enc != a._position_actual:
         a._feedback_counts = counts = a._feedback_counts + (enc - a._position_actual)

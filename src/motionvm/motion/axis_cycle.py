@@ -113,9 +113,10 @@ class AxisCycle:
             self.pos_fb_raw = raw = counts / self.cpu
             self.pos_fb = raw - self._slave_offset
         # an enabled axis needs a drive in Operation enabled following its cyclic
-        # target, no fault; any other statusword is looked at closely
+        # target, no fault; any other statusword is looked at closely (the internal
+        # limit bit aside: the base is the statusword without it, see Cia402Drive)
         enabled = self.enabled
-        if not enabled or drive.statusword != _SW_CYCLIC:
+        if not enabled or drive.statusword_base != _SW_CYCLIC:
             self._drive_state_changed(drive)
             enabled = self.enabled
         digital_inputs = drive.digital_inputs
@@ -145,10 +146,13 @@ class AxisCycle:
             else:
                 moving = True
             if moving:
-                self.moving = True
-                self.in_pos = False
-                self._in_pos_cycles = 0
-                self._still_cycles = 0
+                # region I: not in position, nothing counts toward rest (no command
+                # starts a move without `wake`, which clears the rest count, and the
+                # in-position count starts from 0 where region I ends, in `_settle`)
+                if not self.moving:
+                    self.moving = True
+                    self.in_pos = False
+                    self._still_cycles = 0
                 return
             self._settle()
         else:
@@ -376,6 +380,7 @@ class AxisCycle:
         if self.moving:  # region I ends
             self.moving = False
             self.stopping = False
+            self._in_pos_cycles = 0
             self._move_end_cycle = end = max(self._cycle - 1, self._move_start_cycle)
             run = end - self._move_start_cycle
             t_s = self.pg.t_smooth
