@@ -7,30 +7,19 @@ from dataclasses import dataclass, field
 
 @dataclass(frozen=True, slots=True)
 class CType:
-    """Base of every type; `size` and `align` in bytes."""
+    """Base of every type; `size` and `align` in bytes.
+
+    The kind flags (`is_integer`, ..., `is_scalar`) are class attributes: the lowering
+    asks them for every operand, and a class attribute costs no call."""
 
     size: int
     align: int
 
-    @property
-    def is_integer(self) -> bool:
-        return False
-
-    @property
-    def is_float(self) -> bool:
-        return False
-
-    @property
-    def is_arith(self) -> bool:
-        return self.is_integer or self.is_float
-
-    @property
-    def is_pointer(self) -> bool:
-        return False
-
-    @property
-    def is_scalar(self) -> bool:
-        return self.is_arith or self.is_pointer
+    is_integer = False
+    is_float = False
+    is_arith = False  # integer or floating
+    is_pointer = False
+    is_scalar = False  # arithmetic or pointer
 
 
 @dataclass(frozen=True, slots=True)
@@ -41,27 +30,25 @@ class VoidT(CType):
 
 @dataclass(frozen=True, slots=True)
 class IntT(CType):
-    """A fixed-width integer; `code` is the memory view ('i32', 'u8', ...)."""
+    """A fixed-width integer; `code` is the memory view ('i32', 'u8', ...); `bits`, `min`
+    and `max` are worked out once, when the type is made."""
 
     name: str = "int"
     signed: bool = True
     code: str = "i32"
+    bits: int = field(init=False, repr=False, compare=False)
+    min: int = field(init=False, repr=False, compare=False)
+    max: int = field(init=False, repr=False, compare=False)
 
-    @property
-    def is_integer(self) -> bool:
-        return True
+    is_integer = True
+    is_arith = True
+    is_scalar = True
 
-    @property
-    def bits(self) -> int:
-        return self.size * 8
-
-    @property
-    def min(self) -> int:
-        return -(1 << (self.bits - 1)) if self.signed else 0
-
-    @property
-    def max(self) -> int:
-        return (1 << (self.bits - 1)) - 1 if self.signed else (1 << self.bits) - 1
+    def __post_init__(self) -> None:
+        bits = self.size * 8
+        object.__setattr__(self, "bits", bits)
+        object.__setattr__(self, "min", -(1 << (bits - 1)) if self.signed else 0)
+        object.__setattr__(self, "max", (1 << (bits - 1)) - 1 if self.signed else (1 << bits) - 1)
 
     def __str__(self) -> str:
         return self.name
@@ -72,9 +59,9 @@ class FloatT(CType):
     name: str = "double"
     code: str = "f64"
 
-    @property
-    def is_float(self) -> bool:
-        return True
+    is_float = True
+    is_arith = True
+    is_scalar = True
 
     def __str__(self) -> str:
         return self.name
@@ -84,9 +71,8 @@ class FloatT(CType):
 class PtrT(CType):
     target: CType = field(default_factory=lambda: VOID)
 
-    @property
-    def is_pointer(self) -> bool:
-        return True
+    is_pointer = True
+    is_scalar = True
 
     def __str__(self) -> str:
         if isinstance(self.target, FuncT):
@@ -247,13 +233,14 @@ def promote(t: CType) -> CType:
 
 def common_arith(a: CType, b: CType) -> CType:
     """The usual arithmetic conversions of C for a binary operator."""
-    if a == DOUBLE or b == DOUBLE:
-        return DOUBLE
-    if a == FLOAT or b == FLOAT:
-        return FLOAT
+    if a.is_float or b.is_float:
+        if a == DOUBLE or b == DOUBLE:
+            return DOUBLE
+        if a == FLOAT or b == FLOAT:
+            return FLOAT
     a, b = promote(a), promote(b)
     assert isinstance(a, IntT) and isinstance(b, IntT)
-    if a == b:
+    if a is b or a == b:
         return a
     if a.size != b.size:
         big, small = (a, b) if a.size > b.size else (b, a)
