@@ -28,10 +28,11 @@ class VoidT(CType):
         return "void"
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, eq=False)
 class IntT(CType):
     """A fixed-width integer; `code` is the memory view ('i32', 'u8', ...); `bits`, `min`
-    and `max` are worked out once, when the type is made."""
+    and `max` are worked out once, when the type is made. The integer types are the
+    constants below, no two alike, so they compare by identity (in C, at C speed)."""
 
     name: str = "int"
     signed: bool = True
@@ -43,6 +44,8 @@ class IntT(CType):
     is_integer = True
     is_arith = True
     is_scalar = True
+    __eq__ = object.__eq__
+    __hash__ = object.__hash__
 
     def __post_init__(self) -> None:
         bits = self.size * 8
@@ -54,14 +57,18 @@ class IntT(CType):
         return self.name
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, eq=False)
 class FloatT(CType):
+    """`float` or `double`: the two constants below, compared by identity."""
+
     name: str = "double"
     code: str = "f64"
 
     is_float = True
     is_arith = True
     is_scalar = True
+    __eq__ = object.__eq__
+    __hash__ = object.__hash__
 
     def __str__(self) -> str:
         return self.name

@@ -21,7 +21,7 @@ from motionvm.lang.hmpl.lvalues import (
     name,
 )
 from motionvm.lang.hmpl.rthelpers import float_to_int
-from motionvm.lang.hmpl.symbols import FuncSym
+from motionvm.lang.hmpl.symbols import FuncSym, VarSym
 
 _BINOPS = {
     "+": ast.Add,
@@ -45,7 +45,7 @@ class SemanticError(Exception):
     """Abandon lowering of the current statement after reporting to the sink."""
 
 
-@dataclass
+@dataclass(slots=True)
 class Val:
     """A lowered rvalue: Python expression, C type, whether in range, folded constant."""
 
@@ -137,16 +137,15 @@ class ExprLowering:
     def convert(self, v: Val, to: ct.CType, pos=None, what: str = "") -> ast.expr:
         """Lower an implicit or explicit conversion of `v` to type `to` (exact result)."""
         src = v.type
-        if isinstance(to, ct.VoidT):
-            return v.node
-        if isinstance(to, ct.IntT):
-            if v.const is not None and isinstance(v.const, (int, float)):
-                c = v.const
+        tt = type(to)  # the type classes have no subclasses: `is` tests them
+        if tt is ct.IntT:
+            c = v.const
+            if c is not None and isinstance(c, (int, float)):
                 if isinstance(c, float):  # as the run time converts: saturate, NaN -> 0
                     return const(float_to_int(c, to.bits, to.signed))
                 return const(ct.wrap_int(int(c), to))
-            if isinstance(src, ct.IntT):
-                if v.exact and src.min >= to.min and src.max <= to.max:
+            if type(src) is ct.IntT:
+                if v.exact and (src is to or src.min >= to.min and src.max <= to.max):
                     return v.node
                 if v.step is not None and src == to:
                     return step_node(*v.step, to)
@@ -161,7 +160,9 @@ class ExprLowering:
             if isinstance(src, ct.PtrT):
                 return wrap_node(v.node, to) if to.size < 8 else v.node
             raise self.fail(pos, f"cannot convert '{src}' to '{to}'{what}")
-        if isinstance(to, ct.FloatT):
+        if tt is ct.VoidT:
+            return v.node
+        if tt is ct.FloatT:
             if isinstance(src, (ct.IntT, ct.FloatT)):
                 if v.const is not None:
                     f = float(v.const)
@@ -215,8 +216,9 @@ class ExprLowering:
 
     def expr(self, e) -> Val:
         """Lower an expression used for its value (arrays decay to pointers)."""
-        v = self._expr(e)
-        if isinstance(v.type, ct.ArrayT):
+        fn = _X_METHODS.get(type(e))
+        v = fn(self, e) if fn is not None else self._expr(e)
+        if type(v.type) is ct.ArrayT:
             return Val(v.node, ct.pointer_to(v.type.elem))
         return v
 
@@ -251,6 +253,8 @@ class ExprLowering:
 
     def _x_IntLit(self, e: n.IntLit) -> Val:
         v = e.value
+        if 0 <= v <= 2147483647 and not e.suffix:  # an int: the first candidate of every base
+            return Val(ast.Constant(v), ct.INT, True, v, (v, v))
         t = _literal_type(v, e.suffix, e.decimal)
         v = _fold_int(v, t)
         return Val(const(v), t, True, v, (v, v))
@@ -269,6 +273,11 @@ class ExprLowering:
         return Val(ast.Constant(addr), ct.array_of(ct.CHAR, len(e.value) + 1))
 
     def _x_Name(self, e: n.Name) -> Val:
+        sym = self.scope.lookup(e.id)
+        if sym is not None and sym.__class__ is VarSym and sym.storage == "local":
+            if sym.type is not ct.ERROR and sym.const_value is None:  # the common case
+                pyname = sym.pyname
+                return Val(name(pyname), sym.type, True, None, self.known_ranges.get(pyname))
         sym = self.resolve(e.id, e.pos)
         if isinstance(sym, FuncSym):
             return Val(name(sym.pyname), sym.type)
