@@ -13,7 +13,7 @@ import ast
 from motionvm.lang.hmpl import ctypes_ as ct
 from motionvm.lang.hmpl import nodes as n
 from motionvm.lang.hmpl.lower_expr import SemanticError
-from motionvm.lang.hmpl.lower_util import LoopCtx, at, backedge, countdown_init
+from motionvm.lang.hmpl.lower_util import LoopCtx, at, backedge, countdown_init, placed_like
 from motionvm.lang.hmpl.lvalues import call, const, name
 from motionvm.lang.hmpl.symbols import Scope
 
@@ -162,7 +162,7 @@ class JumpLowering:
             for test, _, _ in chain:
                 if test is not None:
                     for cmp in test.values if type(test) is ast.BoolOp else [test]:
-                        cmp.left = ast.copy_location(name(subject.id), cmp)
+                        cmp.left = placed_like(name(subject.id), cmp)
         rest: list[ast.stmt] = []
         for test, inner, _ in chain:
             if test is None:  # the default group, exclusive of the others: the last `else`
