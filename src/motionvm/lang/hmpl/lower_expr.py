@@ -35,6 +35,10 @@ _BINOPS = {
 }
 _CMPOPS = {"<": ast.Lt, ">": ast.Gt, "<=": ast.LtE, ">=": ast.GtE, "==": ast.Eq, "!=": ast.NotEq}
 _RING_OPS = frozenset("+-*&|^") | {"<<"}
+# operator objects are immutable and may be shared: one of each, made once
+_BINOP_NODES = {k: v() for k, v in _BINOPS.items()}
+_CMP_NODES = {k: v() for k, v in _CMPOPS.items()}
+_BITAND = _BINOP_NODES["&"]
 
 
 # node class -> its `_x_` method; one lowerer class exists (lower_stmt.FunctionLowerer)
@@ -71,15 +75,15 @@ def wrap_node(node: ast.expr, t: ct.IntT) -> ast.expr:
     bits = t.bits
     if t.signed:
         lo, hi = -(1 << (bits - 1)), (1 << (bits - 1)) - 1
-        grab = ast.NamedExpr(target=name("_w", True), value=node)
-        test = ast.Compare(left=ast.Constant(lo), ops=_LE_LE, comparators=[grab, ast.Constant(hi)])
+        grab = ast.NamedExpr(name("_w", True), node)
+        test = ast.Compare(ast.Constant(lo), _LE_LE, [grab, ast.Constant(hi)])
         slow = (
             call("_wrapi", name("_w"), ast.Constant(bits))
             if bits != 32
             else call("_wrapi", name("_w"))
         )
-        return ast.IfExp(test=test, body=name("_w"), orelse=slow)
-    return ast.BinOp(left=node, op=ast.BitAnd(), right=ast.Constant((1 << bits) - 1))
+        return ast.IfExp(test, name("_w"), slow)
+    return ast.BinOp(node, _BITAND, ast.Constant((1 << bits) - 1))
 
 
 def step_node(var: str, k: int, t: ct.IntT) -> ast.expr:
@@ -239,13 +243,13 @@ class ExprLowering:
             if lt is not None and rt is not None:  # an integer constant expression
                 return ast.Constant((lt and rt) if e.op == "&&" else (lt or rt))
             op = ast.And() if e.op == "&&" else ast.Or()
-            return ast.BoolOp(op=op, values=[left, right])
+            return ast.BoolOp(op, [left, right])
         if isinstance(e, n.Unary) and e.op == "!":
             operand = self.cond(e.operand)
             ot = _truth(operand)
             if ot is not None:
                 return ast.Constant(not ot)
-            return ast.UnaryOp(op=ast.Not(), operand=operand)
+            return ast.UnaryOp(ast.Not(), operand)
         v = self.expr(e)
         if isinstance(v.type, (ct.StructT, ct.VoidT)):
             raise self.fail(e.pos, f"'{v.type}' used where a condition is required")
@@ -497,7 +501,7 @@ class ExprLowering:
                     return Val(
                         name(step[0]), t, True, None, a.rng if b.const is not None else b.rng
                     )
-            node = ast.BinOp(left=an, op=_BINOPS[op](), right=bn)
+            node = ast.BinOp(an, _BINOP_NODES[op], bn)
             return Val(node, t, exact, None, rng, step=step)
         an, bn = self.convert(a, t, pos), self.convert(b, t, pos)
         if isinstance(b.const, int) and ct.wrap_int(b.const, t) == 0:
@@ -546,8 +550,8 @@ class ExprLowering:
             else:
                 node = call("_fdiv", an, bn)
         else:
-            node = ast.BinOp(left=an, op=_BINOPS[op](), right=bn)
-        if t == ct.FLOAT:
+            node = ast.BinOp(an, _BINOP_NODES[op], bn)
+        if t is ct.FLOAT:
             node = call("_f32", node)
         return Val(node, t)
 
@@ -566,7 +570,7 @@ class ExprLowering:
             an, bn = self.exact(a), self.exact(b)
         else:
             raise self.fail(pos, f"invalid operands to binary '{op}' ('{ta}' and '{tb}')")
-        node = ast.Compare(left=an, ops=[_CMPOPS[op]()], comparators=[bn])
+        node = ast.Compare(an, [_CMP_NODES[op]], [bn])
         return Val(node, ct.INT)
 
     def _pointer_arith(self, op: str, a: Val, b: Val, pos) -> Val:
