@@ -245,9 +245,13 @@ def common_arith(a: CType, b: CType) -> CType:
             return DOUBLE
         if a == FLOAT or b == FLOAT:
             return FLOAT
-    a, b = promote(a), promote(b)
+    # the integer promotions (`promote`) inline
+    if a.size < 4 and type(a) is IntT:
+        a = INT
+    if b.size < 4 and type(b) is IntT:
+        b = INT
     assert isinstance(a, IntT) and isinstance(b, IntT)
-    if a is b or a == b:
+    if a is b:
         return a
     if a.size != b.size:
         big, small = (a, b) if a.size > b.size else (b, a)
