@@ -150,6 +150,23 @@ def test_switches_as_if_chains_keep_c_meaning():
     ]
 
 
+def test_an_empty_last_group_of_a_falling_switch_compiles():
+    # `case 2: }` leaves the loop form's last group empty: it gets a placed `pass` (it was
+    # a node without a line, and Python's compile() refused the module)
+    src = """
+void main() {
+    for (int v = 0; v < 4; v++) {
+        int x = v;
+        switch (v) { case 1: x += 10; case 2: }
+        switch (v) { case 3: x += 100; default: }
+        Print("%d", x);
+    }
+}
+"""
+    assert "while True" in _python_of(src)
+    assert run_hmpl(src) == ["0", "11", "2", "103"]
+
+
 def test_modulo_and_division_of_a_counter():
     src = """
 void main() {

@@ -241,3 +241,20 @@ def test_lex_fragment():
 def test_too_many_errors_do_not_escape():
     toks, errors = lex("@ " * 50 + "x")
     assert len(errors) == 20 and toks[-2].text == "x"
+
+
+def test_dots_and_slashes_where_punctuators_meet_numbers_and_comments():
+    # the one-character punctuators are tried before numbers and comments: a `.` before
+    # a digit still starts a number, a `/` before `/` or `*` still starts a comment
+    assert kinds("a..5 x.y .5") == [
+        ("name", "a"),
+        ("punct", "."),
+        ("float", ".5"),
+        ("name", "x"),
+        ("punct", "."),
+        ("name", "y"),
+        ("float", ".5"),
+    ]
+    assert [t for _, t in kinds("a/b/=c/*d*/e//f\ng...h")] == [
+        "a", "/", "b", "/=", "c", "e", "g", "...", "h",
+    ]  # fmt: skip

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import dataclasses
 from dataclasses import dataclass, field
+from operator import attrgetter
 
 from motionvm.lang.hmpl import nodes as n
 
@@ -25,6 +26,25 @@ def _children_of(cls: type) -> tuple[str, ...]:
     return names
 
 
+def _no_children(node) -> None:
+    return None
+
+
+_GETTERS: dict[type, object] = {}
+
+
+def children_getter(cls: type):
+    """A function of a node of class `cls` that gives what `_children_of` names in one
+    call: None (no such field), the one field's value, or a tuple of the values (the
+    walks push it whole: a tuple is spread on the stack when it is popped, in the order
+    the fields would have been pushed one by one), cached."""
+    get = _GETTERS.get(cls)
+    if get is None:
+        names = _children_of(cls)
+        get = _GETTERS[cls] = attrgetter(*names) if names else _no_children
+    return get
+
+
 def _spelling(annotation) -> str:
     """A field's annotation as written (nodes.py postpones annotations: already a string)."""
     if isinstance(annotation, str):
@@ -39,7 +59,7 @@ def walk(node) -> list:
     add = out.append
     stack = [node]
     pop, push, extend = stack.pop, stack.append, stack.extend
-    children = _CHILDREN
+    getters = _GETTERS
     while stack:
         x = pop()
         t = type(x)
@@ -49,13 +69,8 @@ def walk(node) -> list:
         if x is None:
             continue
         add(x)
-        fields = children.get(t)
-        if fields is None:
-            fields = _children_of(t)
-        for fname in fields:
-            v = getattr(x, fname)
-            if v is not None:
-                push(v)
+        get = getters.get(t) or children_getter(t)
+        push(get(x))
     return out
 
 
@@ -118,7 +133,7 @@ def scan(root, uses: dict[str, set], facts: FuncFacts | None, blocking: dict[str
 def _scan(root, uses, facts, blocking, sets, parents, keys, frame: int) -> None:
     stack = [root]
     pop, push, extend = stack.pop, stack.append, stack.extend
-    children = _CHILDREN
+    getters = _GETTERS
     Index, Name, Unary, Call, SizeOf = n.Index, n.Name, n.Unary, n.Call, n.SizeOf
     Assign, Postfix, For = n.Assign, n.Postfix, n.For
     loops = _LOOPS_AND_JUMPS
@@ -196,13 +211,8 @@ def _scan(root, uses, facts, blocking, sets, parents, keys, frame: int) -> None:
                     push(x.step)
                     push(_ForBody(x.body))
                     continue
-        fields = children.get(t)
-        if fields is None:
-            fields = _children_of(t)
-        for fname in fields:
-            v = getattr(x, fname)
-            if v is not None:
-                push(v)
+        get = getters.get(t) or children_getter(t)
+        push(get(x))
 
 
 def constant_init(init) -> bool:

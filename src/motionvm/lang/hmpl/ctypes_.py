@@ -7,30 +7,19 @@ from dataclasses import dataclass, field
 
 @dataclass(frozen=True, slots=True)
 class CType:
-    """Base of every type; `size` and `align` in bytes."""
+    """Base of every type; `size` and `align` in bytes.
+
+    The kind flags (`is_integer`, ..., `is_scalar`) are class attributes: the lowering
+    asks them for every operand, and a class attribute costs no call."""
 
     size: int
     align: int
 
-    @property
-    def is_integer(self) -> bool:
-        return False
-
-    @property
-    def is_float(self) -> bool:
-        return False
-
-    @property
-    def is_arith(self) -> bool:
-        return self.is_integer or self.is_float
-
-    @property
-    def is_pointer(self) -> bool:
-        return False
-
-    @property
-    def is_scalar(self) -> bool:
-        return self.is_arith or self.is_pointer
+    is_integer = False
+    is_float = False
+    is_arith = False  # integer or floating
+    is_pointer = False
+    is_scalar = False  # arithmetic or pointer
 
 
 @dataclass(frozen=True, slots=True)
@@ -39,42 +28,47 @@ class VoidT(CType):
         return "void"
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, eq=False)
 class IntT(CType):
-    """A fixed-width integer; `code` is the memory view ('i32', 'u8', ...)."""
+    """A fixed-width integer; `code` is the memory view ('i32', 'u8', ...); `bits`, `min`
+    and `max` are worked out once, when the type is made. The integer types are the
+    constants below, no two alike, so they compare by identity (in C, at C speed)."""
 
     name: str = "int"
     signed: bool = True
     code: str = "i32"
+    bits: int = field(init=False, repr=False, compare=False)
+    min: int = field(init=False, repr=False, compare=False)
+    max: int = field(init=False, repr=False, compare=False)
 
-    @property
-    def is_integer(self) -> bool:
-        return True
+    is_integer = True
+    is_arith = True
+    is_scalar = True
+    __eq__ = object.__eq__
+    __hash__ = object.__hash__
 
-    @property
-    def bits(self) -> int:
-        return self.size * 8
-
-    @property
-    def min(self) -> int:
-        return -(1 << (self.bits - 1)) if self.signed else 0
-
-    @property
-    def max(self) -> int:
-        return (1 << (self.bits - 1)) - 1 if self.signed else (1 << self.bits) - 1
+    def __post_init__(self) -> None:
+        bits = self.size * 8
+        object.__setattr__(self, "bits", bits)
+        object.__setattr__(self, "min", -(1 << (bits - 1)) if self.signed else 0)
+        object.__setattr__(self, "max", (1 << (bits - 1)) - 1 if self.signed else (1 << bits) - 1)
 
     def __str__(self) -> str:
         return self.name
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, eq=False)
 class FloatT(CType):
+    """`float` or `double`: the two constants below, compared by identity."""
+
     name: str = "double"
     code: str = "f64"
 
-    @property
-    def is_float(self) -> bool:
-        return True
+    is_float = True
+    is_arith = True
+    is_scalar = True
+    __eq__ = object.__eq__
+    __hash__ = object.__hash__
 
     def __str__(self) -> str:
         return self.name
@@ -84,9 +78,8 @@ class FloatT(CType):
 class PtrT(CType):
     target: CType = field(default_factory=lambda: VOID)
 
-    @property
-    def is_pointer(self) -> bool:
-        return True
+    is_pointer = True
+    is_scalar = True
 
     def __str__(self) -> str:
         if isinstance(self.target, FuncT):
@@ -247,13 +240,18 @@ def promote(t: CType) -> CType:
 
 def common_arith(a: CType, b: CType) -> CType:
     """The usual arithmetic conversions of C for a binary operator."""
-    if a == DOUBLE or b == DOUBLE:
-        return DOUBLE
-    if a == FLOAT or b == FLOAT:
-        return FLOAT
-    a, b = promote(a), promote(b)
+    if a.is_float or b.is_float:
+        if a == DOUBLE or b == DOUBLE:
+            return DOUBLE
+        if a == FLOAT or b == FLOAT:
+            return FLOAT
+    # the integer promotions (`promote`) inline
+    if a.size < 4 and type(a) is IntT:
+        a = INT
+    if b.size < 4 and type(b) is IntT:
+        b = INT
     assert isinstance(a, IntT) and isinstance(b, IntT)
-    if a == b:
+    if a is b:
         return a
     if a.size != b.size:
         big, small = (a, b) if a.size > b.size else (b, a)

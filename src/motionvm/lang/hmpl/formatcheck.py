@@ -6,6 +6,7 @@ the check and the run agree on what a format means."""
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
+from functools import lru_cache
 
 from motionvm.lang.hmpl import ctypes_ as ct
 from motionvm.lang.hmpl.lib.cformat import compile_format
@@ -24,6 +25,13 @@ _UNSIGNED = {
 }
 
 
+@lru_cache(maxsize=256)
+def _directives(fmt: bytes) -> list:
+    """The parts of a format (read only), kept: a program passes the same few formats
+    many times."""
+    return compile_format(fmt)[0]
+
+
 def is_printf_like(params: Sequence[tuple[str, ct.CType]], variadic: bool) -> bool:
     """A `char *format` as the last fixed parameter, then `...`."""
     return variadic and bool(params) and params[-1][0] == "format"
@@ -39,7 +47,7 @@ def check_format(
     """Warn about the arguments `args` (numbered from `first_arg`, as gcc counts them:
     the format's own number plus one) that do not fit the directives of `fmt`."""
     try:
-        parts, _n_args = compile_format(fmt)
+        parts = _directives(fmt)
     except RuntimeFault:
         return  # a field too wide: the run reports it
     k = 0

@@ -76,18 +76,25 @@ _PP_NUMBER = r"\.?[0-9](?:[eEpP][+-]|[0-9A-Za-z_.])*"
 # Leading blanks are folded into each match: fewer iterations of the Python loop.
 # No-break and ideographic spaces and a byte-order mark count as blanks: they come
 # with code copied from the manual or written in Chinese editors.
+# The common tokens come first (names, newlines, punctuators), so that their groups have
+# the smallest numbers and a match tries few alternatives: the one-character punctuators
+# are one character class, a `/` that starts a comment and a `.` that starts a number
+# are left to the alternatives after them.
+_SINGLE_PUNCT = "".join(re.escape(p) for p in PUNCTUATORS if len(p) == 1 and p not in "/.")
 _MASTER = re.compile(
     "[ \t\f\v\r\u00a0\u3000\ufeff]*(?:"
     + "|".join(
         [
             r"(?P<name>[A-Za-z_][A-Za-z0-9_]*)",
             r"(?P<nl>\n)",
+            "(?P<punct>"
+            + "|".join(re.escape(p) for p in PUNCTUATORS if len(p) > 1)
+            + f"|[{_SINGLE_PUNCT}]|/(?![/*])|\\.(?![0-9]))",
+            r"(?P<dec>(?:0|[1-9][0-9]{0,18})(?![0-9A-Za-z_.]))",  # plain decimal < 2**64
             r"(?P<lcom>//[^\n]*)",
             r"(?P<bcom>/\*(?s:.*?)\*/)",
             r"(?P<ubcom>/\*)",
-            r"(?P<dec>(?:0|[1-9][0-9]{0,18})(?![0-9A-Za-z_.]))",  # plain decimal < 2**64
             r"(?P<num>" + _PP_NUMBER + ")",
-            "(?P<punct>" + "|".join(re.escape(p) for p in PUNCTUATORS) + ")",
             r'(?P<str>"(?:[^"\\\n]|\\(?s:.))*")',
             r'(?P<ustr>"(?:[^"\\\n]|\\(?s:.))*)',
             r"(?P<chr>'(?:[^'\\\n]|\\(?s:.))*')",
@@ -99,6 +106,7 @@ _MASTER = re.compile(
     )
     + ")"
 )
+_NAME, _NL, _PUNCT, _DEC = (_MASTER.groupindex[g] for g in ("name", "nl", "punct", "dec"))
 
 _INT = re.compile(r"(0[xX][0-9a-fA-F]+|0[bB][01]+|[0-9]+)([A-Za-z_0-9.+-]*)")
 _FLOAT = re.compile(r"((?:[0-9]*\.[0-9]+|[0-9]+\.)(?:[eE][+-]?[0-9]+)?|[0-9]+[eE][+-]?[0-9]+)(.*)")
@@ -200,19 +208,20 @@ def scan(sf: SourceFile) -> Scan:
     new = object.__new__
     tnew = tuple.__new__
     set_file, set_line, set_col = _set_file, _set_line, _set_col
+    NAME, NL, PUNCT, DEC = _NAME, _NL, _PUNCT, _DEC
     for m in _MASTER.finditer(text):
-        kind = m.lastgroup
-        if kind == "name" or kind == "punct" or kind == "dec":
+        k = m.lastindex  # the group's number: cheaper than its name
+        if k == NAME or k == PUNCT or k == DEC:
             # the hot path: build the frozen SourcePos through its slot descriptors and
             # the Token as a plain tuple, about twice as fast as their constructors
-            s = m.group(kind)
+            s = m.group(k)
             pos = new(SourcePos)
             set_file(pos, path)
             set_line(pos, line)
-            set_col(pos, m.end() - len(s) - line_start + 1)
-            if kind == "name":
+            set_col(pos, m.start(k) - line_start + 1)
+            if k == NAME:
                 append(tnew(Token, ("keyword" if s in keywords else "name", s, pos, None, "")))
-            elif kind == "punct":
+            elif k == PUNCT:
                 if bol and s == "#":
                     directive_start = len(toks)
                 append(tnew(Token, ("punct", s, pos, None, "")))
@@ -220,15 +229,16 @@ def scan(sf: SourceFile) -> Scan:
                 append(tnew(Token, ("int", s, pos, int(s), "")))
             bol = False
             continue
-        if kind == "tail":
-            continue
-        if kind == "nl":
+        if k == NL:
             line += 1
             line_start = m.end()
             bol = True
             if directive_start >= 0:
                 out.directives.append((directive_start, len(toks)))
                 directive_start = -1
+            continue
+        kind = m.lastgroup
+        if kind == "tail":
             continue
         s = m.group(kind)
         start = m.start(kind)

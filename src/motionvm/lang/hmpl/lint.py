@@ -8,7 +8,7 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from motionvm.lang.hmpl import nodes as n
-from motionvm.lang.hmpl.analysis import _CHILDREN, _children_of, walk
+from motionvm.lang.hmpl.analysis import _GETTERS, children_getter, walk
 from motionvm.source.files import SourcePos
 
 Warn = Callable[[SourcePos, str], None]
@@ -142,7 +142,7 @@ class _Lint:
         if e is None:
             return
         live = self.live
-        Name, Cond, Call, children = n.Name, n.Cond, n.Call, _CHILDREN
+        Name, Cond, Call, getters = n.Name, n.Cond, n.Call, _GETTERS
         stack = [e]
         pop, push, extend = stack.pop, stack.append, stack.extend
         while stack:
@@ -162,13 +162,8 @@ class _Lint:
                 _check_condition(x.cond, t, self.warn)
             elif t is Call:
                 _check_till(x, self.warn)
-            fields = children.get(t)
-            if fields is None:
-                fields = _children_of(t)
-            for fname in fields:
-                v = getattr(x, fname)
-                if v is not None:
-                    push(v)
+            get = getters.get(t) or children_getter(t)
+            push(get(x))
 
     def declare(self, d: n.VarDecl) -> None:
         if type(d) is n.FuncDef:  # a prototype: no variable

@@ -21,7 +21,7 @@ from motionvm.lang.hmpl.lvalues import (
     name,
 )
 from motionvm.lang.hmpl.rthelpers import float_to_int
-from motionvm.lang.hmpl.symbols import FuncSym
+from motionvm.lang.hmpl.symbols import FuncSym, VarSym
 
 _BINOPS = {
     "+": ast.Add,
@@ -35,6 +35,10 @@ _BINOPS = {
 }
 _CMPOPS = {"<": ast.Lt, ">": ast.Gt, "<=": ast.LtE, ">=": ast.GtE, "==": ast.Eq, "!=": ast.NotEq}
 _RING_OPS = frozenset("+-*&|^") | {"<<"}
+# operator objects are immutable and may be shared: one of each, made once
+_BINOP_NODES = {k: v() for k, v in _BINOPS.items()}
+_CMP_NODES = {k: v() for k, v in _CMPOPS.items()}
+_BITAND = _BINOP_NODES["&"]
 
 
 # node class -> its `_x_` method; one lowerer class exists (lower_stmt.FunctionLowerer)
@@ -45,7 +49,7 @@ class SemanticError(Exception):
     """Abandon lowering of the current statement after reporting to the sink."""
 
 
-@dataclass
+@dataclass(slots=True)
 class Val:
     """A lowered rvalue: Python expression, C type, whether in range, folded constant."""
 
@@ -71,15 +75,15 @@ def wrap_node(node: ast.expr, t: ct.IntT) -> ast.expr:
     bits = t.bits
     if t.signed:
         lo, hi = -(1 << (bits - 1)), (1 << (bits - 1)) - 1
-        grab = ast.NamedExpr(target=name("_w", True), value=node)
-        test = ast.Compare(left=ast.Constant(lo), ops=_LE_LE, comparators=[grab, ast.Constant(hi)])
+        grab = ast.NamedExpr(name("_w", True), node)
+        test = ast.Compare(ast.Constant(lo), _LE_LE, [grab, ast.Constant(hi)])
         slow = (
             call("_wrapi", name("_w"), ast.Constant(bits))
             if bits != 32
             else call("_wrapi", name("_w"))
         )
-        return ast.IfExp(test=test, body=name("_w"), orelse=slow)
-    return ast.BinOp(left=node, op=ast.BitAnd(), right=ast.Constant((1 << bits) - 1))
+        return ast.IfExp(test, name("_w"), slow)
+    return ast.BinOp(node, _BITAND, ast.Constant((1 << bits) - 1))
 
 
 def step_node(var: str, k: int, t: ct.IntT) -> ast.expr:
@@ -137,16 +141,15 @@ class ExprLowering:
     def convert(self, v: Val, to: ct.CType, pos=None, what: str = "") -> ast.expr:
         """Lower an implicit or explicit conversion of `v` to type `to` (exact result)."""
         src = v.type
-        if isinstance(to, ct.VoidT):
-            return v.node
-        if isinstance(to, ct.IntT):
-            if v.const is not None and isinstance(v.const, (int, float)):
-                c = v.const
+        tt = type(to)  # the type classes have no subclasses: `is` tests them
+        if tt is ct.IntT:
+            c = v.const
+            if c is not None and isinstance(c, (int, float)):
                 if isinstance(c, float):  # as the run time converts: saturate, NaN -> 0
                     return const(float_to_int(c, to.bits, to.signed))
                 return const(ct.wrap_int(int(c), to))
-            if isinstance(src, ct.IntT):
-                if v.exact and src.min >= to.min and src.max <= to.max:
+            if type(src) is ct.IntT:
+                if v.exact and (src is to or src.min >= to.min and src.max <= to.max):
                     return v.node
                 if v.step is not None and src == to:
                     return step_node(*v.step, to)
@@ -161,7 +164,9 @@ class ExprLowering:
             if isinstance(src, ct.PtrT):
                 return wrap_node(v.node, to) if to.size < 8 else v.node
             raise self.fail(pos, f"cannot convert '{src}' to '{to}'{what}")
-        if isinstance(to, ct.FloatT):
+        if tt is ct.VoidT:
+            return v.node
+        if tt is ct.FloatT:
             if isinstance(src, (ct.IntT, ct.FloatT)):
                 if v.const is not None:
                     f = float(v.const)
@@ -215,8 +220,9 @@ class ExprLowering:
 
     def expr(self, e) -> Val:
         """Lower an expression used for its value (arrays decay to pointers)."""
-        v = self._expr(e)
-        if isinstance(v.type, ct.ArrayT):
+        fn = _X_METHODS.get(type(e))
+        v = fn(self, e) if fn is not None else self._expr(e)
+        if type(v.type) is ct.ArrayT:
             return Val(v.node, ct.pointer_to(v.type.elem))
         return v
 
@@ -237,13 +243,13 @@ class ExprLowering:
             if lt is not None and rt is not None:  # an integer constant expression
                 return ast.Constant((lt and rt) if e.op == "&&" else (lt or rt))
             op = ast.And() if e.op == "&&" else ast.Or()
-            return ast.BoolOp(op=op, values=[left, right])
+            return ast.BoolOp(op, [left, right])
         if isinstance(e, n.Unary) and e.op == "!":
             operand = self.cond(e.operand)
             ot = _truth(operand)
             if ot is not None:
                 return ast.Constant(not ot)
-            return ast.UnaryOp(op=ast.Not(), operand=operand)
+            return ast.UnaryOp(ast.Not(), operand)
         v = self.expr(e)
         if isinstance(v.type, (ct.StructT, ct.VoidT)):
             raise self.fail(e.pos, f"'{v.type}' used where a condition is required")
@@ -251,6 +257,8 @@ class ExprLowering:
 
     def _x_IntLit(self, e: n.IntLit) -> Val:
         v = e.value
+        if 0 <= v <= 2147483647 and not e.suffix:  # an int: the first candidate of every base
+            return Val(ast.Constant(v), ct.INT, True, v, (v, v))
         t = _literal_type(v, e.suffix, e.decimal)
         v = _fold_int(v, t)
         return Val(const(v), t, True, v, (v, v))
@@ -269,6 +277,11 @@ class ExprLowering:
         return Val(ast.Constant(addr), ct.array_of(ct.CHAR, len(e.value) + 1))
 
     def _x_Name(self, e: n.Name) -> Val:
+        sym = self.scope.lookup(e.id)
+        if sym is not None and sym.__class__ is VarSym and sym.storage == "local":
+            if sym.type is not ct.ERROR and sym.const_value is None:  # the common case
+                pyname = sym.pyname
+                return Val(name(pyname), sym.type, True, None, self.known_ranges.get(pyname))
         sym = self.resolve(e.id, e.pos)
         if isinstance(sym, FuncSym):
             return Val(name(sym.pyname), sym.type)
@@ -488,7 +501,7 @@ class ExprLowering:
                     return Val(
                         name(step[0]), t, True, None, a.rng if b.const is not None else b.rng
                     )
-            node = ast.BinOp(left=an, op=_BINOPS[op](), right=bn)
+            node = ast.BinOp(an, _BINOP_NODES[op], bn)
             return Val(node, t, exact, None, rng, step=step)
         an, bn = self.convert(a, t, pos), self.convert(b, t, pos)
         if isinstance(b.const, int) and ct.wrap_int(b.const, t) == 0:
@@ -537,8 +550,8 @@ class ExprLowering:
             else:
                 node = call("_fdiv", an, bn)
         else:
-            node = ast.BinOp(left=an, op=_BINOPS[op](), right=bn)
-        if t == ct.FLOAT:
+            node = ast.BinOp(an, _BINOP_NODES[op], bn)
+        if t is ct.FLOAT:
             node = call("_f32", node)
         return Val(node, t)
 
@@ -557,7 +570,7 @@ class ExprLowering:
             an, bn = self.exact(a), self.exact(b)
         else:
             raise self.fail(pos, f"invalid operands to binary '{op}' ('{ta}' and '{tb}')")
-        node = ast.Compare(left=an, ops=[_CMPOPS[op]()], comparators=[bn])
+        node = ast.Compare(an, [_CMP_NODES[op]], [bn])
         return Val(node, ct.INT)
 
     def _pointer_arith(self, op: str, a: Val, b: Val, pos) -> Val:

@@ -13,7 +13,7 @@ import ast
 from motionvm.lang.hmpl import ctypes_ as ct
 from motionvm.lang.hmpl import nodes as n
 from motionvm.lang.hmpl.lower_expr import SemanticError
-from motionvm.lang.hmpl.lower_util import LoopCtx, at, backedge, countdown_init
+from motionvm.lang.hmpl.lower_util import LoopCtx, at, backedge, countdown_init, placed_like
 from motionvm.lang.hmpl.lvalues import call, const, name
 from motionvm.lang.hmpl.symbols import Scope
 
@@ -58,7 +58,7 @@ class JumpLowering:
         out: list[ast.stmt] = [ast.Assign([name(sw, True)], subject)]
         items = s.body.items if isinstance(s.body, n.Block) else (s.body,)
         for it in items:
-            nested = _nested_label(it)
+            nested = _nested_label(it) if type(it) in _NESTS else None
             if nested is not None:
                 what = "case" if isinstance(nested, n.Case) else "default"
                 raise self.fail(
@@ -94,7 +94,7 @@ class JumpLowering:
         saved = self.scope
         self.scope = Scope(saved, "block")
         try:
-            body: list[ast.stmt] = []
+            lowered: list[tuple[ast.expr, list[ast.stmt], object]] = []  # each group's
             chain: list[tuple[ast.expr | None, list[ast.stmt], object]] = []  # the if-chain
             stripped = 0  # groups whose final `break` the if-chain form leaves out
             # `matched` carries a fall-through into the next group; a group after one that
@@ -124,8 +124,10 @@ class JumpLowering:
                 inner += self.stmts(stmts)
                 test = tests[0] if len(tests) == 1 else ast.BoolOp(ast.Or(), tests)
                 is_default = any(isinstance(lab, n.Default) for lab in labels)
-                chain.append((None if is_default else test, inner, labels[0].pos))
-                body.extend(at([ast.If(test, inner, [])], labels[0].pos))
+                pos = labels[0].pos
+                at([test], pos)
+                chain.append((None if is_default else test, inner, pos))
+                lowered.append((test, inner, pos))
                 if inner and type(inner[-1]) is ast.Break:
                     stripped += 1
         finally:
@@ -136,9 +138,10 @@ class JumpLowering:
             # no group falls into the next and every `break` ends a group: the groups'
             # tests exclude each other, so an if-chain without the loop does the same
             return self._switch_chain(out, subject, chain)
-        for stmt in body:
-            if not stmt.body:
-                stmt.body = [ast.Pass()]
+        # the loop form's groups (an empty one, `case 2: }`, gets a `pass` at its label)
+        body = [
+            at([ast.If(test, inner or [ast.Pass()], [])], pos)[0] for test, inner, pos in lowered
+        ]
         body.append(ast.Break())
         loop = ast.While(ast.Constant(True), body, [])
         if uses_matched:
@@ -162,7 +165,7 @@ class JumpLowering:
             for test, _, _ in chain:
                 if test is not None:
                     for cmp in test.values if type(test) is ast.BoolOp else [test]:
-                        cmp.left = ast.copy_location(name(subject.id), cmp)
+                        cmp.left = placed_like(name(subject.id), cmp)
         rest: list[ast.stmt] = []
         for test, inner, _ in chain:
             if test is None:  # the default group, exclusive of the others: the last `else`
@@ -255,6 +258,10 @@ class JumpLowering:
 
     def _s_Label(self, s: n.Label) -> list[ast.stmt]:
         raise self.fail(s.pos, f"label '{s.name}' must stand at the top level of the function body")
+
+
+_NESTS = frozenset((n.Block, n.If, n.While, n.DoWhile, n.For))
+"""Statements that `_nested_label` looks into (any other holds no label)."""
 
 
 def _nested_label(s) -> n.Case | n.Default | None:

@@ -210,10 +210,12 @@ class FunctionLowerer(ExprLowering, AccessLowering, LoopLowering, JumpLowering, 
     def stmts(self, items) -> list[ast.stmt]:
         out: list[ast.stmt] = []
         saved = dict(self.known_ranges)
+        methods = _S_METHODS
         try:
             for s in items:
+                fn = methods.get(type(s))  # `stmt` inline
                 try:
-                    out.extend(at(self.stmt(s), s.pos))
+                    out.extend(at(fn(self, s) if fn is not None else self.stmt(s), s.pos))
                 except SemanticError:
                     pass
                 if type(s) is n.If and s.else_ is None and _always_leaves(s.then):

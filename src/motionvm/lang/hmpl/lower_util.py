@@ -82,30 +82,15 @@ def child_fields(cls: type) -> tuple[str, ...]:
     return (info or _walk_info(cls))[1]
 
 
-def walk_generated(nodes: list[ast.AST]):
-    """Every node of the generated trees `nodes`, in no set order: `ast.walk` without its
-    per-node generator, and skipping names, operators and contexts' fields."""
-    fields_of = _FIELDS
-    stack = list(nodes)
-    pop, push = stack.pop, stack.append
-    while stack:
-        node = pop()
-        yield node
-        d = node.__dict__
-        try:
-            fields = fields_of[type(node)]
-        except KeyError:
-            fields = fields_of[type(node)] = child_fields(type(node))
-        for f in fields:
-            v = d.get(f)
-            if v is None:
-                continue
-            if type(v) is list:
-                for x in v:
-                    if x is not None:
-                        push(x)
-            else:
-                push(v)
+def placed_like(new: ast.AST, old: ast.AST) -> ast.AST:
+    """`new` at the place of `old` (`ast.copy_location` for the two attributes the
+    lowering sets: its attribute tests cost more than the node)."""
+    od = old.__dict__
+    if "lineno" in od:
+        d = new.__dict__
+        d["lineno"] = od["lineno"]
+        d["col_offset"] = od["col_offset"]
+    return new
 
 
 def at(stmts: list[ast.stmt], pos) -> list[ast.stmt]:
@@ -164,3 +149,10 @@ _LEAVES = frozenset((ast.Name, ast.Constant))
 """Located node classes without located children."""
 _FIELDS: dict[type, tuple[str, ...]] = {}
 """`child_fields` of the node classes `at` has met."""
+generated_fields = _FIELDS
+
+
+def generated_fields_of(cls: type) -> tuple[str, ...]:
+    """`child_fields(cls)`, kept in `generated_fields` (a walk's first look-up there)."""
+    fields = _FIELDS[cls] = child_fields(cls)
+    return fields

@@ -43,7 +43,13 @@ from motionvm.lang.hmpl import ctypes_ as ct
 from motionvm.lang.hmpl import nodes as n
 from motionvm.lang.hmpl.analysis import walk
 from motionvm.lang.hmpl.lower_expr import wrap_node
-from motionvm.lang.hmpl.lower_util import CHUNK, LOOP_BLOCKS, walk_generated
+from motionvm.lang.hmpl.lower_util import (
+    CHUNK,
+    LOOP_BLOCKS,
+    generated_fields,
+    generated_fields_of,
+    placed_like,
+)
 from motionvm.lang.hmpl.lvalues import VIEW_NAMES, call, name
 from motionvm.lang.hmpl.symbols import VarSym
 
@@ -284,16 +290,36 @@ def alias_globals(body: list[ast.stmt], temp, made: dict[str, str] | None = None
         made = {}
     seen: dict[str, list[ast.Subscript]] = {}
     stored: set[str] = set()
-    for node in walk_generated(body):
+    # a walk of the generated body without a generator step per node; names and
+    # constants, most of the nodes, are looked at where their parent finds them
+    Name, Constant, Subscript, Load = ast.Name, ast.Constant, ast.Subscript, ast.Load
+    fields_of = generated_fields
+    stack: list = body.copy()
+    pop, push = stack.pop, stack.append
+    while stack:
+        node = pop()
         t = type(node)
-        if t is ast.Subscript:
+        if t is Name:
+            if type(node.ctx) is not Load:
+                stored.add(node.id)
+            continue
+        if t is Subscript:
             v = node.value
-            if type(v) is ast.Name and (v.id in _VIEWS or v.id.startswith("g_")):
+            if type(v) is Name and (v.id in _VIEWS or v.id.startswith("g_")):
                 seen.setdefault(v.id, []).append(node)
-        elif t is ast.Name and type(node.ctx) is not ast.Load:
-            stored.add(node.id)
         elif t is ast.Global or t is ast.Nonlocal:
             stored.update(node.names)
+        d = node.__dict__
+        for f in fields_of.get(t) or generated_fields_of(t):
+            v = d.get(f)
+            if v is None or type(v) is Constant:
+                continue
+            if type(v) is list:
+                for x in v:
+                    if x is not None and type(x) is not Constant:
+                        push(x)
+            else:
+                push(v)
     out: list[ast.stmt] = []
     for gname, uses in seen.items():
         if gname in stored:
@@ -303,5 +329,5 @@ def alias_globals(body: list[ast.stmt], temp, made: dict[str, str] | None = None
             local = made[gname] = temp()
             out.append(ast.Assign(targets=[name(local, True)], value=name(gname)))
         for sub in uses:
-            sub.value = ast.copy_location(name(local), sub.value)
+            sub.value = placed_like(name(local), sub.value)
     return out

@@ -45,8 +45,8 @@ def name(id_: str, store: bool = False) -> ast.Name:
     return ast.Name(id_, _STORE if store else _LOAD)
 
 
-def const(v) -> ast.expr:
-    return ast.Constant(v)
+const = ast.Constant
+"""`const(v)`: a constant node (the class itself, with no call in between)."""
 
 
 def call(fn: str, *args: ast.expr) -> ast.Call:

@@ -280,6 +280,8 @@ class ProgramCompiler:
             self._warned = warned
 
     def _const_int(self, e, scope: Scope, task: int) -> int:
+        if type(e) is n.IntLit and not e.suffix and 0 <= e.value <= ct.INT.max:
+            return e.value  # `char buf[32]`: what the lowerer would find, without one
         lw = FunctionLowerer(self, task, scope, None, set())
         return lw.const_int(e)
 

@@ -67,7 +67,13 @@ class Scope:
         return None
 
     def lookup(self, name: str) -> VarSym | FuncSym | None:
-        return self._find("names", name)
+        s: Scope | None = self
+        while s is not None:  # `_find` without its `getattr`: the lowering's most asked
+            found = s.names.get(name)
+            if found is not None:
+                return found
+            s = s.parent
+        return None
 
     def lookup_type(self, name: str) -> ct.CType | None:
         return self._find("types", name)
