@@ -318,9 +318,9 @@ def _safe(a, n_0: int, n_e: int) -> bool:
         return False  # the int32 target and position would wrap
     s = d.sensors
     x = m.position
-    if s.negative_limit is not None and not s.negative_limit < (x_lo if x_lo < x else x):
+    if s._negative_limit is not None and not s._negative_limit < (x_lo if x_lo < x else x):
         return False
-    if s.positive_limit is not None and not (x_hi if x_hi > x else x) < s.positive_limit:
+    if s._positive_limit is not None and not (x_hi if x_hi > x else x) < s._positive_limit:
         return False
     if not a.ignore_pe:
         # err = p(n) - p(n - delay) - c / cpu up to the rounding of the counts
