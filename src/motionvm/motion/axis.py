@@ -26,7 +26,7 @@ from dataclasses import dataclass
 from motionvm.drives.objects import MODE_CSP, MODE_CST
 from motionvm.motion import axis_status as st
 from motionvm.motion.axis_config import AxisConfig, build_drive
-from motionvm.motion.axis_cycle import PG, PVT, TORQUE, AxisCycle
+from motionvm.motion.axis_cycle import EXT, PG, PVT, TORQUE, AxisCycle
 from motionvm.motion.axis_filters import AxisFilters
 from motionvm.motion.axis_follow import AxisFollow
 from motionvm.motion.axis_settings import AxisSettings
@@ -175,7 +175,8 @@ class Axis(AxisSettings, AxisCycle, AxisFollow):
 
     def _require_motion_ok(self, *, torque: bool = False) -> None:
         self.wake()
-        if self.error_stop:
+        # the slots behind `error_stop` and `following`: every move command passes here
+        if self._error_stop:
             raise AxisCommandError(
                 st.CMD_INVALID_ERROR_STATE, f"axis {self.axis_id} is in error stop (call Reset)"
             )
@@ -183,7 +184,7 @@ class Axis(AxisSettings, AxisCycle, AxisFollow):
             raise AxisCommandError(st.CMD_INVALID_DISABLED, f"axis {self.axis_id} is not enabled")
         if self.stopping:
             raise AxisCommandError(st.CMD_INVALID_STOPPING, f"axis {self.axis_id} is stopping")
-        ext = self.following
+        ext = self._provider if self._reference_source == EXT else None
         if ext is not None and not getattr(ext, "accepts_moves", False):
             code = getattr(ext, "refusal_code", st.CMD_INVALID_IN_SYNC)
             raise AxisCommandError(code, f"axis {self.axis_id} follows {ext}")
@@ -290,9 +291,9 @@ class Axis(AxisSettings, AxisCycle, AxisFollow):
             raise AxisCommandError(
                 st.CMD_INVALID_POS, f"axis {self.axis_id}: target {pos!r} is not a number"
             )
-        if self.rollover:
+        if self._rollover:  # (the slots behind the settings: no property calls)
             return self._wrap_target(pos)
-        if not self.ignore_swl and not self.sw_left <= pos <= self.sw_right:
+        if not self._ignore_swl and not self._sw_left <= pos <= self._sw_right:
             raise AxisCommandError(
                 st.CMD_INVALID_POS,
                 f"axis {self.axis_id}: target {pos:g} is outside the "
@@ -418,7 +419,8 @@ class Axis(AxisSettings, AxisCycle, AxisFollow):
             self._pvt_trajectory = move.trajectory
             self._pvt_cycle = 0
             return
-        if self.following is None:  # a gantry axis stays on its pair reference
+        if self._reference_source != EXT or self._provider is None:  # not following:
+            # (a gantry axis stays on its pair reference)
             self._reference_source = PG
         if type(move) is MoveAbsolute:
             self.pg.move_to(move.target)

@@ -85,7 +85,7 @@ def _common(a) -> bool:
             or d.controlword != _CW_ENABLE or d._controlword_prev != _CW_ENABLE
             or d._settled is not d.state or d._fault is not None or d.local_demand is not None
             or d._encoder_lost or d._forced
-            or d.following_error_window < 0x80000000):  # fmt: skip
+            or d._fe_checked):  # fmt: skip
         return False
     s = d.sensors
     if s._tp_function or s.tp_status:
@@ -311,7 +311,7 @@ def _safe(a, n_0: int, n_e: int) -> bool:
     lo, hi = lo - margin, hi + margin
     if not (a._sw_stop_left < lo and hi < a._sw_stop_right):
         return False
-    cpu, off = a.cpu, a.pos_offset
+    cpu, off = a.cpu, a._pos_offset
     shift = d._demand - d._target_prev  # motor counts minus target counts
     x_lo, x_hi = (lo + off) * cpu + shift - 2.0, (hi + off) * cpu + shift + 2.0
     if not (-_INT32 < x_lo and x_hi < _INT32):

@@ -382,8 +382,7 @@ class AxisCycle:
             self.stopping = False
             self._move_end_cycle = end = max(self._cycle - 1, self._move_start_cycle)
             run = end - self._move_start_cycle
-            t_s = self.pg.t_smooth
-            if t_s > 0.0 and run > 0:
+            if self.pg._n_avg > 1 and run > 0:  # a smooth time (`pg.t_smooth` > 0)
                 # Manual 5.1: total time = Ta + Ts. The N-sample moving average reaches
                 # the target N - 1 cycles after the T-curve does; count the whole N.
                 run += 1
