@@ -139,12 +139,17 @@ def _last_sample(pg) -> int:
 
 def _range(pg, t_a: float, t_b: float) -> tuple[float, float, float] | None:
     """(lowest, highest position [mm], highest |velocity| [mm/s]) of the T-curve on
-    [t_a, t_b], or None if its velocity changes sign there (not monotonic)."""
+    [t_a, t_b] (0 < t_b), or None if its velocity changes sign there (not monotonic)."""
     v_top = 0.0
     sign = 0.0
-    for t_0, t_1, _, v_0, a in pg._segs:
-        if t_1 <= t_a or t_0 > t_b:
+    p_a = None
+    p_b = pg._p_f  # t_b past the last segment: the plan holds p_f
+    for t_0, t_1, p_0, v_0, a in pg._segs:  # (the plan starts at t = 0 < t_b)
+        if t_1 <= t_a:
             continue
+        if p_a is None:  # the segment that holds t_a (or the first: t_a before the plan)
+            x = t_a - t_0 if t_a > t_0 else 0.0
+            p_a = p_0 + (v_0 + 0.5 * a * x) * x  # as `TCurve.evaluate`
         v_1 = v_0 + a * (t_1 - t_0) if t_1 != math.inf else v_0
         # (a segment's end below _V_ZERO counts as rest: a braking segment may end a
         # rounding below zero)
@@ -162,17 +167,13 @@ def _range(pg, t_a: float, t_b: float) -> tuple[float, float, float] | None:
             sign = v_1
         if size > v_top:
             v_top = size
-    p_a = _tcurve_at(pg, t_a)
-    p_b = pg._p_f if t_b >= pg._plan.duration else _tcurve_at(pg, t_b)
+        if t_b < t_1:  # the segment that holds t_b: the last on [t_a, t_b]
+            x = t_b - t_0 if t_b > t_0 else 0.0
+            p_b = p_0 + (v_0 + 0.5 * a * x) * x
+            break
+    if p_a is None:  # t_a past the last segment
+        p_a = pg._p_f
     return (p_a, p_b, v_top) if p_a <= p_b else (p_b, p_a, v_top)
-
-
-def _tcurve_at(pg, t: float) -> float:
-    for t_0, t_1, p_0, v_0, a in pg._segs:
-        if t < t_1:
-            x = t - t_0 if t > t_0 else 0.0
-            return p_0 + (v_0 + 0.5 * a * x) * x
-    return pg._p_f
 
 
 def coast_cycles(a, wanted: int, past_moving: bool = False, memo: dict | None = None) -> int:
@@ -192,25 +193,22 @@ def coast_cycles(a, wanted: int, past_moving: bool = False, memo: dict | None = 
         n_0 = pg._n
         n_last = _last_sample(pg)
         to_end = n_last - n_0
-        if (to_end < wanted and pg._n_avg == 1 and n_last != NEVER and not pg._pending()
+        if not (to_end < wanted and pg._n_avg == 1 and n_last != NEVER and not pg._pending()
                 and _safe(a, n_0, n_last + 2)):  # fmt: skip
-            return _settle_horizon(a, wanted, to_end + 1, past_moving, memo)
-        k = min(wanted, to_end, MAX_COAST)
-        shortest = max(MIN_COAST, a.drive.mechanics.delay_cycles + 3)
-        while k >= shortest:
-            if _safe(a, n_0, n_0 + k):
-                return k
-            k //= 2
-        return 0
-    # the T-curve is done: the output comes to rest on the target, the axis settles
-    if pg._n_avg != 1 or not (_holds_target(pg) and _common(a) and _safe(a, pg._n, pg._n + 2)):
-        return 0
-    return _settle_horizon(a, wanted, 1, past_moving, memo)
-
-
-def _settle_horizon(a, wanted: int, s: int, past_moving: bool, memo: dict | None) -> int:
-    """`coast_cycles` of an axis whose output is its generator's target from cycle `s`
-    on (counted from now, 1 the next cycle)."""
+            k = min(wanted, to_end, MAX_COAST)  # an advance along the T-curve
+            shortest = max(MIN_COAST, a.drive.mechanics.delay_cycles + 3)
+            while k >= shortest:
+                if _safe(a, n_0, n_0 + k):
+                    return k
+                k //= 2
+            return 0
+        s = to_end + 1  # the output is the target from cycle s on
+    else:  # the T-curve is done: the output comes to rest on the target, the axis settles
+        if pg._n_avg != 1 or not (_holds_target(pg) and _common(a) and _safe(a, pg._n, pg._n + 2)):
+            return 0
+        s = 1
+    # the output is the generator's target from cycle s on: the horizon ends where
+    # region I ends or (past_moving) where the axis comes into position
     end = _end(a, s)
     if memo is not None:
         memo[a] = end
@@ -218,7 +216,7 @@ def _settle_horizon(a, wanted: int, s: int, past_moving: bool, memo: dict | None
     if not past_moving and a.moving:
         return min(wanted, e)
     # the debounce count of cycles e .. e + len(feedback) - 1, then on alike
-    p_f, radius, debounce = a.pg._p_f, a.inpos_radius, a._in_pos_debounce_cycles
+    p_f, radius, debounce = pg._p_f, a.inpos_radius, a._in_pos_debounce_cycles
     count = 0 if a.moving else a._in_pos_cycles
     for i, fb in enumerate(feedback, e):
         err = p_f - fb
@@ -395,7 +393,8 @@ def _advance(a, k: int, end: tuple | None = None) -> None:
     demands = _demands(a, s, max(k - delay - 2, -delay), k, None if end is None else end[4])
     # the status of the cycles from the first that tests the in-position radius
     moving = a.moving
-    status = (not moving or k >= s) and not (moving and pg._pending())
+    pending = pg._pending()  # (a move waits: nothing of the advance changes it)
+    status = (not moving or k >= s) and not (moving and pending)
     if status:
         if end is None:
             end = _end(a, s)
@@ -419,7 +418,7 @@ def _advance(a, k: int, end: tuple | None = None) -> None:
                 pg._enter_segment(pg._nseg)
             if idle:
                 pg._idle = True
-                if not pg._pending():
+                if not pending:
                     pg.mode = IDLE
                 pg._n = n_0 + idle
             else:

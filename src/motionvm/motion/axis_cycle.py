@@ -477,9 +477,13 @@ class AxisCycle:
     def _snapshot(self) -> tuple:
         drive = self.drive
         m = drive.mechanics
-        return (drive.statusword, drive.position_actual, drive.velocity_actual,
-                drive.torque_actual, drive.digital_inputs, m.position, m.velocity, drive.state,
-                drive.settled, self.fault_status, self.ref_pos, self.pos_fb)  # fmt: skip
+        # no property calls: the velocity and torque actual are the stored fields (read
+        # outside Operation enabled, else from the motor) with the motor's torque (its
+        # velocity and the state are here already); [8] is `drive.settled`
+        return (drive.statusword, drive.position_actual, drive._velocity_actual,
+                drive._torque_actual, drive.digital_inputs, m.position, m.velocity, drive.state,
+                drive._settled is drive.state, self.fault_status, self.ref_pos, self.pos_fb,
+                m.torque)  # fmt: skip
 
     def _wake_key(self) -> tuple:
         drive = self.drive
