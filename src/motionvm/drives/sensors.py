@@ -197,19 +197,6 @@ class Sensors:
             raise ValueError(f"{cfg.where}: home_low = {low!r} is above home_high = {high!r}")
         return sensors
 
-    def _index_crossed(self, x_0: float, x_1: float) -> float | None:
-        """Position of the first index pulse passed moving from x_0 to x_1, or None."""
-        spacing = self._index_spacing
-        if not spacing or x_0 == x_1:
-            return None
-        offset = self._index_offset
-        n_0 = math.floor((x_0 - offset) / spacing)
-        n_1 = math.floor((x_1 - offset) / spacing)
-        if n_0 == n_1:
-            return None
-        n = n_0 + 1 if x_1 > x_0 else n_0
-        return offset + n * spacing
-
     def _edge_position(self, x_0: float, x_1: float, rising: bool) -> float:
         """Where the home switch changed between x_0 and x_1: on its low or high end."""
         lo, hi = self._home_low, self._home_high
@@ -260,9 +247,15 @@ class Sensors:
             low, high, bits = self._gap_bands[i]
         external = self._external
         inputs = external | bits
-        index = self._index_crossed(x_0, x_1)
-        if index is not None:
-            inputs |= DI_INDEX_PULSE
+        index = None  # the position of the first index pulse passed from x_0 to x_1
+        spacing = self._index_spacing
+        if spacing and x_0 != x_1:
+            offset = self._index_offset
+            n_0 = floor((x_0 - offset) / spacing)
+            n_1 = floor((x_1 - offset) / spacing)
+            if n_0 != n_1:
+                inputs |= DI_INDEX_PULSE
+                index = offset + (n_0 + 1 if x_1 > x_0 else n_0) * spacing
         home = bits & DI_HOME_SWITCH != 0
         probe = inputs & DI_PROBE_INPUT != 0
         if self._tp_function or self.tp_status:
@@ -285,7 +278,7 @@ class Sensors:
         return inputs
 
     def _index_number(self, x: float) -> int:
-        """floor((x - index_offset) / index_spacing), as `_index_crossed` computes it,
+        """floor((x - index_offset) / index_spacing), as `_evaluate` computes it,
         from the index interval when x lies in it. The floor of a rounded quotient grows
         with x, so two ends that give n bound positions that give n; the ends are kept a
         margin far above the rounding inside the exact interval, and checked."""

@@ -137,45 +137,6 @@ def _last_sample(pg) -> int:
     return n
 
 
-def _range(pg, t_a: float, t_b: float) -> tuple[float, float, float] | None:
-    """(lowest, highest position [mm], highest |velocity| [mm/s]) of the T-curve on
-    [t_a, t_b] (0 < t_b), or None if its velocity changes sign there (not monotonic)."""
-    v_top = 0.0
-    sign = 0.0
-    p_a = None
-    p_b = pg._p_f  # t_b past the last segment: the plan holds p_f
-    for t_0, t_1, p_0, v_0, a in pg._segs:  # (the plan starts at t = 0 < t_b)
-        if t_1 <= t_a:
-            continue
-        if p_a is None:  # the segment that holds t_a (or the first: t_a before the plan)
-            x = t_a - t_0 if t_a > t_0 else 0.0
-            p_a = p_0 + (v_0 + 0.5 * a * x) * x  # as `TCurve.evaluate`
-        v_1 = v_0 + a * (t_1 - t_0) if t_1 != math.inf else v_0
-        # (a segment's end below _V_ZERO counts as rest: a braking segment may end a
-        # rounding below zero)
-        size = v_0 if v_0 >= 0.0 else -v_0
-        if size > _V_ZERO:
-            if sign and (v_0 > 0.0) != (sign > 0.0):
-                return None
-            sign = v_0
-        if size > v_top:
-            v_top = size
-        size = v_1 if v_1 >= 0.0 else -v_1
-        if size > _V_ZERO:
-            if sign and (v_1 > 0.0) != (sign > 0.0):
-                return None
-            sign = v_1
-        if size > v_top:
-            v_top = size
-        if t_b < t_1:  # the segment that holds t_b: the last on [t_a, t_b]
-            x = t_b - t_0 if t_b > t_0 else 0.0
-            p_b = p_0 + (v_0 + 0.5 * a * x) * x
-            break
-    if p_a is None:  # t_a past the last segment
-        p_a = pg._p_f
-    return (p_a, p_b, v_top) if p_a <= p_b else (p_b, p_a, v_top)
-
-
 def coast_cycles(a, wanted: int, past_moving: bool = False, memo: dict | None = None) -> int:
     """How many cycles (at most `wanted`) axis `a` can be advanced from now without an
     observer missing a change: 0 if it must be stepped, `wanted` if it rests.
@@ -293,17 +254,53 @@ def _demands(a, s: int, i_lo: int, i_hi: int, p_last: float | None = None) -> li
 
 
 def _safe(a, n_0: int, n_e: int) -> bool:
-    """True if samples n_0+1 .. n_e trip no limit and no position error."""
+    """True if samples n_0+1 .. n_e trip no limit and no position error: the T-curve
+    on the times [t_a, t_b] these samples and the motor's delay (and the moving
+    average's window) span is monotonic, and its positions and highest velocity keep
+    clear of the limits."""
     pg = a.pg
     dt = pg.dt
     d = a.drive
     m = d.mechanics
     delay = m.delay_cycles
     window = pg._n_avg if pg._n_avg > 1 else 0  # the moving average looks back N samples
-    r = _range(pg, (n_0 - delay - window) * dt, n_e * dt)  # (it holds p_f past its end)
-    if r is None:
-        return False
-    lo, hi, v_top = r
+    t_a, t_b = (n_0 - delay - window) * dt, n_e * dt  # (0 < t_b: the plan starts at 0)
+    # the positions at t_a and t_b (as `TCurve.evaluate`; p_f past the last segment),
+    # the highest |velocity| v_top on [t_a, t_b], and that it keeps its sign there
+    v_top = 0.0
+    sign = 0.0
+    p_a = None
+    p_b = pg._p_f
+    for t_0, t_1, p_0, v_0, acc in pg._segs:
+        if t_1 <= t_a:
+            continue
+        if p_a is None:  # the segment that holds t_a (or the first: t_a before the plan)
+            x = t_a - t_0 if t_a > t_0 else 0.0
+            p_a = p_0 + (v_0 + 0.5 * acc * x) * x
+        v_1 = v_0 + acc * (t_1 - t_0) if t_1 != math.inf else v_0
+        # (a segment's end below _V_ZERO counts as rest: a braking segment may end a
+        # rounding below zero)
+        size = v_0 if v_0 >= 0.0 else -v_0
+        if size > _V_ZERO:
+            if sign and (v_0 > 0.0) != (sign > 0.0):
+                return False  # not monotonic
+            sign = v_0
+        if size > v_top:
+            v_top = size
+        size = v_1 if v_1 >= 0.0 else -v_1
+        if size > _V_ZERO:
+            if sign and (v_1 > 0.0) != (sign > 0.0):
+                return False
+            sign = v_1
+        if size > v_top:
+            v_top = size
+        if t_b < t_1:  # the segment that holds t_b: the last on [t_a, t_b]
+            x = t_b - t_0 if t_b > t_0 else 0.0
+            p_b = p_0 + (v_0 + 0.5 * acc * x) * x
+            break
+    if p_a is None:  # t_a past the last segment
+        p_a = pg._p_f
+    lo, hi = (p_a, p_b) if p_a <= p_b else (p_b, p_a)
     size = hi if hi >= -lo else -lo
     margin = (1e-9 * size if size > 1.0 else 1e-9) + 1e-12
     lo, hi = lo - margin, hi + margin
