@@ -344,7 +344,8 @@ def _advance(a, k: int, end: tuple | None = None) -> None:
     """Advance axis `a` (no smoothing) by `k` cycles in closed form: samples of its
     T-curve, then cycles in which the output holds the target, region I ends and the
     axis settles (`AxisCycle._settle` of each cycle whose feedback differs, the cycles in
-    between counted at once). `end`: `_end` of the axis as it is, if known."""
+    between counted at once). `end`: `_end` of the axis as it is, if known (as
+    `coast_cycles` makes it: only where no move waits)."""
     d = a.drive
     m = d.mechanics
     pg = a.pg
@@ -354,9 +355,11 @@ def _advance(a, k: int, end: tuple | None = None) -> None:
     inv_dt = pg._inv_dt
     if end is not None and end[0] == a._cycle:
         s = end[1]
+        pending = False  # (`coast_cycles` made `end` only where no move waits)
     else:
         end = None
         s = 1 if pg._tc_done else _last_sample(pg) - n_0 + 1  # the first output on p_f
+        pending = pg._pending()  # a move waits (nothing of the advance changes that)
     # the generator's output of cycle k (0 is now), as `ProfileGenerator.step`
     p_0, v_0, _ = out_0 = pg._out
     was_idle = pg._idle
@@ -390,7 +393,6 @@ def _advance(a, k: int, end: tuple | None = None) -> None:
     demands = _demands(a, s, max(k - delay - 2, -delay), k, None if end is None else end[4])
     # the status of the cycles from the first that tests the in-position radius
     moving = a.moving
-    pending = pg._pending()  # (a move waits: nothing of the advance changes it)
     status = (not moving or k >= s) and not (moving and pending)
     if status:
         if end is None:
