@@ -208,36 +208,34 @@ class Sensors:
 
         Within the switch band of the last evaluation (same external inputs, no probe)
         only the index pulse can change: it is found from the index numbers alone. A
-        motor standing on an edge (an empty band at x_0 == x_1) changes nothing either."""
+        motor standing on an edge (an empty band at x_0 == x_1) changes nothing either.
+        Elsewhere the cycle is evaluated from scratch: switches (from the switch map),
+        index pulse, probes; then the new bands: the switch band around x_1 (the widest
+        open interval without a limit or home edge; empty if x_1 is on an edge or a probe
+        is on), on which the switch inputs stay those of x_1, and the index interval."""
         # the slots behind `external` and `tp_function`: no property call per update
         if x_1 == x_0 == self._switch_low == self._switch_high and not (
             self._external != self._switch_external or self._tp_function or self.tp_status
         ):
-            return self._switch_inputs  # what `_evaluate` would return, and leave as it is
-        if not (self._switch_low < x_1 < self._switch_high
+            return self._switch_inputs  # what an evaluation would return and leave
+        if (self._switch_low < x_1 < self._switch_high
                 and self._external == self._switch_external
                 and not (self._tp_function or self.tp_status)):  # fmt: skip
-            return self._evaluate(x_0, x_1)
-        inputs = self._switch_inputs
-        low, high = self._switch_low, self._switch_high
-        if self._index_spacing:
-            # x_0 is mostly in the index interval already (the last update's x_1)
-            n_0 = (self._index_n if self._index_low <= x_0 <= self._index_high
-                   else self._index_number(x_0))  # fmt: skip
-            if n_0 != self._index_number(x_1):
-                inputs |= DI_INDEX_PULSE
-            if self._index_low > low:
-                low = self._index_low
-            if self._index_high < high:
-                high = self._index_high
-        self.quiet_low, self.quiet_high = low, high
-        return inputs
-
-    def _evaluate(self, x_0: float, x_1: float) -> int:
-        """`update` from scratch: switches (from the switch map), index pulse, probes;
-        then the new bands: the switch band around x_1 (the widest open interval without
-        a limit or home edge; empty if x_1 is on an edge or a probe is on), on which the
-        switch inputs stay those of x_1, and the index interval."""
+            inputs = self._switch_inputs
+            low, high = self._switch_low, self._switch_high
+            if self._index_spacing:
+                # x_0 is mostly in the index interval already (the last update's x_1)
+                n_0 = (self._index_n if self._index_low <= x_0 <= self._index_high
+                       else self._index_number(x_0))  # fmt: skip
+                if n_0 != self._index_number(x_1):
+                    inputs |= DI_INDEX_PULSE
+                if self._index_low > low:
+                    low = self._index_low
+                if self._index_high < high:
+                    high = self._index_high
+            self.quiet_low, self.quiet_high = low, high
+            return inputs
+        # from scratch
         edges = self._edges
         i = bisect_left(edges, x_1)
         if i < len(edges) and edges[i] == x_1:  # on an edge
@@ -278,7 +276,7 @@ class Sensors:
         return inputs
 
     def _index_number(self, x: float) -> int:
-        """floor((x - index_offset) / index_spacing), as `_evaluate` computes it,
+        """floor((x - index_offset) / index_spacing), as `update` computes it,
         from the index interval when x lies in it. The floor of a rounded quotient grows
         with x, so two ends that give n bound positions that give n; the ends are kept a
         margin far above the rounding inside the exact interval, and checked."""
