@@ -96,11 +96,12 @@ def _common(a) -> bool:
     if pg._nseg == 0 or pg._n < m.delay_cycles + (pg._n_avg + 1 if pg._n_avg > 1 else 0):
         return False
     demand = d._demand
-    if not (-_EXACT < demand < _EXACT and demand == int(demand) and m._demand == demand):
+    # (x % 1.0 == 0.0: x is a whole number, without a call of int())
+    if not (-_EXACT < demand < _EXACT and demand % 1.0 == 0.0 and m._demand == demand):
         return False
-    if m.delay_cycles > 1 and not all(x == int(x) and abs(x) < _EXACT for x in m._line):
+    if m.delay_cycles > 1 and not all(x % 1.0 == 0.0 and abs(x) < _EXACT for x in m._line):
         return False  # (with one cycle of delay the line is not used)
-    return m.position == int(m.position)
+    return m.position % 1.0 == 0.0
 
 
 def _holds_target(pg) -> bool:
