@@ -93,6 +93,37 @@ def test_digital_inputs_follow_their_definition_every_cycle(config, home, walk):
             x_0 = x_1
 
 
+_SWITCH_KEYS = ("negative_limit", "positive_limit", "home_low", "home_high", "index_spacing")
+
+
+@PROFILE
+@given(switch_configs, home_bands, switch_configs, home_bands, walks, walks)
+def test_digital_inputs_follow_switches_moved_between_two_walks(
+    config, home, moved, moved_home, walk, then
+):
+    """The sensors' switch map and bands are rebuilt when a switch or the index is set:
+    the inputs follow the new switches from the next cycle on, also where the motor
+    stays inside a band found with the old ones (or had no switch at all before)."""
+    for c, h in ((config, home), (moved, moved_home)):
+        if h is not None:
+            c["home_low"], c["home_high"] = h[0], h[0] + h[1]
+    drive = enabled_csp(config)
+    m, sensors = drive.mechanics, drive.sensors
+    x_0 = m.position
+    for part, switches in ((walk, config), (then, moved)):
+        if switches is moved:  # the switches move while the motor stands
+            for key in _SWITCH_KEYS:
+                setattr(sensors, key, moved.get(key))
+            sensors.index_offset = moved.get("index_offset", 0.0)
+        for step, cycles, _ in part:
+            for _ in range(cycles):
+                drive.target_position = wrap_i32(drive.target_position + step)
+                drive.step(DT)
+                x_1 = m.position
+                assert drive.digital_inputs == expected_inputs(switches, 0, x_0, x_1)
+                x_0 = x_1
+
+
 @PROFILE
 @given(
     hs.sampled_from([0, 1, 2]),

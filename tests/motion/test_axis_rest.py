@@ -4,8 +4,8 @@ A resting axis costs the kernel one flag test per cycle. Its step would give the
 values, so resting must change no result: a kernel run is compared, cycle by cycle, with
 the same axes stepped every cycle regardless of rest, under a random script of commands
 and of writes to the drives from outside the cycle (object dictionary writes and
-forcing, injected faults, the sensors' external inputs, the touch probe function). A
-missed wake-up would let the kernel's copy fall behind.
+forcing, injected faults, the sensors' external inputs and switches, the touch probe
+function). A missed wake-up would let the kernel's copy fall behind.
 """
 
 from __future__ import annotations
@@ -65,8 +65,9 @@ def test_the_kernel_does_not_step_a_resting_axis():
         lambda a: a.drive.inject_fault(0x7500),
         lambda a: setattr(a.drive.sensors, "external", od.DI_POSITIVE_LIMIT),
         lambda a: setattr(a.drive, "tp_function", 0x0001),
+        lambda a: setattr(a.drive.sensors, "home_low", 500_000.0),
     ],
-    ids=["sdo", "force", "fault", "external", "tp_function"],
+    ids=["sdo", "force", "fault", "external", "tp_function", "switch"],
 )
 def test_a_write_to_the_drive_wakes_its_axis_and_the_next_cycle_sees_it(write):
     k = kernel()
@@ -81,7 +82,7 @@ def test_a_write_to_the_drive_wakes_its_axis_and_the_next_cycle_sees_it(write):
 
 def _event(rnd: random.Random, a) -> None:
     kind = rnd.choice(["move", "move", "sdo", "force", "release", "fault", "reset",
-                       "external", "clear", "probe"])  # fmt: skip
+                       "external", "clear", "probe", "switch"])  # fmt: skip
     d = a.drive
     try:
         if kind == "move":
@@ -101,6 +102,9 @@ def _event(rnd: random.Random, a) -> None:
             d.sensors.external = rnd.choice([od.DI_POSITIVE_LIMIT, od.DI_NEGATIVE_LIMIT])
         elif kind == "clear":
             d.sensors.external = 0
+        elif kind == "switch":  # the home switch moves onto or off the axis [counts]
+            low = rnd.choice([-10_000.0, a.drive.position_actual - 5.0, 400_000.0])
+            d.sensors.home_low, d.sensors.home_high = low, low + 20_000.0
         else:
             d.tp_function = rnd.choice([0, 0x0001, 0x0003])
     except (AxisCommandError, SdoAbort):

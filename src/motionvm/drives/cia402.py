@@ -339,7 +339,7 @@ class Cia402Drive:
     def on_change(self):
         """Called (no arguments) when something other than a step changes what the drive
         will do: a write of its object dictionary (SDO, PDO, forcing), a fault injected,
-        its sensors' external inputs or touch probe function written. The master's
+        its sensors' external inputs, touch probe function or switches written. The master's
         cyclic writes of the controlword and the targets do not call it. The owner sets
         it (the motion kernel: the axis wakes from rest)."""
         return self._on_change

@@ -173,7 +173,8 @@ class Axis(AxisSettings, AxisCycle, AxisFollow):
 
     def _require_motion_ok(self, *, torque: bool = False) -> None:
         self.wake()
-        if self.error_stop:
+        # the slot behind `error_stop`: every move command passes here
+        if self._error_stop:
             raise AxisCommandError(
                 st.CMD_INVALID_ERROR_STATE, f"axis {self.axis_id} is in error stop (call Reset)"
             )
@@ -288,9 +289,9 @@ class Axis(AxisSettings, AxisCycle, AxisFollow):
             raise AxisCommandError(
                 st.CMD_INVALID_POS, f"axis {self.axis_id}: target {pos!r} is not a number"
             )
-        if self.rollover:
+        if self._rollover:  # (the slots behind the settings: no property calls)
             return self._wrap_target(pos)
-        if not self.ignore_swl and not self.sw_left <= pos <= self.sw_right:
+        if not self._ignore_swl and not self._sw_left <= pos <= self._sw_right:
             raise AxisCommandError(
                 st.CMD_INVALID_POS,
                 f"axis {self.axis_id}: target {pos:g} is outside the "

@@ -85,7 +85,7 @@ def _common(a) -> bool:
             or d.controlword != _CW_ENABLE or d._controlword_prev != _CW_ENABLE
             or d._settled is not d.state or d._fault is not None or d.local_demand is not None
             or d._encoder_lost or d._forced
-            or d.following_error_window < 0x80000000):  # fmt: skip
+            or d._fe_checked):  # fmt: skip
         return False
     s = d.sensors
     if s._tp_function or s.tp_status:
@@ -96,11 +96,12 @@ def _common(a) -> bool:
     if pg._nseg == 0 or pg._n < m.delay_cycles + (pg._n_avg + 1 if pg._n_avg > 1 else 0):
         return False
     demand = d._demand
-    if not (-_EXACT < demand < _EXACT and demand == int(demand) and m._demand == demand):
+    # (x % 1.0 == 0.0: x is a whole number, without a call of int())
+    if not (-_EXACT < demand < _EXACT and demand % 1.0 == 0.0 and m._demand == demand):
         return False
-    if m.delay_cycles > 1 and not all(x == int(x) and abs(x) < _EXACT for x in m._line):
+    if m.delay_cycles > 1 and not all(x % 1.0 == 0.0 and abs(x) < _EXACT for x in m._line):
         return False  # (with one cycle of delay the line is not used)
-    return m.position == int(m.position)
+    return m.position % 1.0 == 0.0
 
 
 def _holds_target(pg) -> bool:
@@ -137,44 +138,6 @@ def _last_sample(pg) -> int:
     return n
 
 
-def _range(pg, t_a: float, t_b: float) -> tuple[float, float, float] | None:
-    """(lowest, highest position [mm], highest |velocity| [mm/s]) of the T-curve on
-    [t_a, t_b], or None if its velocity changes sign there (not monotonic)."""
-    v_top = 0.0
-    sign = 0.0
-    for t_0, t_1, _, v_0, a in pg._segs:
-        if t_1 <= t_a or t_0 > t_b:
-            continue
-        v_1 = v_0 + a * (t_1 - t_0) if t_1 != math.inf else v_0
-        # (a segment's end below _V_ZERO counts as rest: a braking segment may end a
-        # rounding below zero)
-        size = v_0 if v_0 >= 0.0 else -v_0
-        if size > _V_ZERO:
-            if sign and (v_0 > 0.0) != (sign > 0.0):
-                return None
-            sign = v_0
-        if size > v_top:
-            v_top = size
-        size = v_1 if v_1 >= 0.0 else -v_1
-        if size > _V_ZERO:
-            if sign and (v_1 > 0.0) != (sign > 0.0):
-                return None
-            sign = v_1
-        if size > v_top:
-            v_top = size
-    p_a = _tcurve_at(pg, t_a)
-    p_b = pg._p_f if t_b >= pg._plan.duration else _tcurve_at(pg, t_b)
-    return (p_a, p_b, v_top) if p_a <= p_b else (p_b, p_a, v_top)
-
-
-def _tcurve_at(pg, t: float) -> float:
-    for t_0, t_1, p_0, v_0, a in pg._segs:
-        if t < t_1:
-            x = t - t_0 if t > t_0 else 0.0
-            return p_0 + (v_0 + 0.5 * a * x) * x
-    return pg._p_f
-
-
 def coast_cycles(a, wanted: int, past_moving: bool = False, memo: dict | None = None) -> int:
     """How many cycles (at most `wanted`) axis `a` can be advanced from now without an
     observer missing a change: 0 if it must be stepped, `wanted` if it rests.
@@ -192,25 +155,22 @@ def coast_cycles(a, wanted: int, past_moving: bool = False, memo: dict | None = 
         n_0 = pg._n
         n_last = _last_sample(pg)
         to_end = n_last - n_0
-        if (to_end < wanted and pg._n_avg == 1 and n_last != NEVER and not pg._pending()
+        if not (to_end < wanted and pg._n_avg == 1 and n_last != NEVER and not pg._pending()
                 and _safe(a, n_0, n_last + 2)):  # fmt: skip
-            return _settle_horizon(a, wanted, to_end + 1, past_moving, memo)
-        k = min(wanted, to_end, MAX_COAST)
-        shortest = max(MIN_COAST, a.drive.mechanics.delay_cycles + 3)
-        while k >= shortest:
-            if _safe(a, n_0, n_0 + k):
-                return k
-            k //= 2
-        return 0
-    # the T-curve is done: the output comes to rest on the target, the axis settles
-    if pg._n_avg != 1 or not (_holds_target(pg) and _common(a) and _safe(a, pg._n, pg._n + 2)):
-        return 0
-    return _settle_horizon(a, wanted, 1, past_moving, memo)
-
-
-def _settle_horizon(a, wanted: int, s: int, past_moving: bool, memo: dict | None) -> int:
-    """`coast_cycles` of an axis whose output is its generator's target from cycle `s`
-    on (counted from now, 1 the next cycle)."""
+            k = min(wanted, to_end, MAX_COAST)  # an advance along the T-curve
+            shortest = max(MIN_COAST, a.drive.mechanics.delay_cycles + 3)
+            while k >= shortest:
+                if _safe(a, n_0, n_0 + k):
+                    return k
+                k //= 2
+            return 0
+        s = to_end + 1  # the output is the target from cycle s on
+    else:  # the T-curve is done: the output comes to rest on the target, the axis settles
+        if pg._n_avg != 1 or not (_holds_target(pg) and _common(a) and _safe(a, pg._n, pg._n + 2)):
+            return 0
+        s = 1
+    # the output is the generator's target from cycle s on: the horizon ends where
+    # region I ends or (past_moving) where the axis comes into position
     end = _end(a, s)
     if memo is not None:
         memo[a] = end
@@ -218,7 +178,7 @@ def _settle_horizon(a, wanted: int, s: int, past_moving: bool, memo: dict | None
     if not past_moving and a.moving:
         return min(wanted, e)
     # the debounce count of cycles e .. e + len(feedback) - 1, then on alike
-    p_f, radius, debounce = a.pg._p_f, a.inpos_radius, a._in_pos_debounce_cycles
+    p_f, radius, debounce = pg._p_f, a.inpos_radius, a._in_pos_debounce_cycles
     count = 0 if a.moving else a._in_pos_cycles
     for i, fb in enumerate(feedback, e):
         err = p_f - fb
@@ -295,32 +255,68 @@ def _demands(a, s: int, i_lo: int, i_hi: int, p_last: float | None = None) -> li
 
 
 def _safe(a, n_0: int, n_e: int) -> bool:
-    """True if samples n_0+1 .. n_e trip no limit and no position error."""
+    """True if samples n_0+1 .. n_e trip no limit and no position error: the T-curve
+    on the times [t_a, t_b] these samples and the motor's delay (and the moving
+    average's window) span is monotonic, and its positions and highest velocity keep
+    clear of the limits."""
     pg = a.pg
     dt = pg.dt
     d = a.drive
     m = d.mechanics
     delay = m.delay_cycles
     window = pg._n_avg if pg._n_avg > 1 else 0  # the moving average looks back N samples
-    r = _range(pg, (n_0 - delay - window) * dt, n_e * dt)  # (it holds p_f past its end)
-    if r is None:
-        return False
-    lo, hi, v_top = r
+    t_a, t_b = (n_0 - delay - window) * dt, n_e * dt  # (0 < t_b: the plan starts at 0)
+    # the positions at t_a and t_b (as `TCurve.evaluate`; p_f past the last segment),
+    # the highest |velocity| v_top on [t_a, t_b], and that it keeps its sign there
+    v_top = 0.0
+    sign = 0.0
+    p_a = None
+    p_b = pg._p_f
+    for t_0, t_1, p_0, v_0, acc in pg._segs:
+        if t_1 <= t_a:
+            continue
+        if p_a is None:  # the segment that holds t_a (or the first: t_a before the plan)
+            x = t_a - t_0 if t_a > t_0 else 0.0
+            p_a = p_0 + (v_0 + 0.5 * acc * x) * x
+        v_1 = v_0 + acc * (t_1 - t_0) if t_1 != math.inf else v_0
+        # (a segment's end below _V_ZERO counts as rest: a braking segment may end a
+        # rounding below zero)
+        size = v_0 if v_0 >= 0.0 else -v_0
+        if size > _V_ZERO:
+            if sign and (v_0 > 0.0) != (sign > 0.0):
+                return False  # not monotonic
+            sign = v_0
+        if size > v_top:
+            v_top = size
+        size = v_1 if v_1 >= 0.0 else -v_1
+        if size > _V_ZERO:
+            if sign and (v_1 > 0.0) != (sign > 0.0):
+                return False
+            sign = v_1
+        if size > v_top:
+            v_top = size
+        if t_b < t_1:  # the segment that holds t_b: the last on [t_a, t_b]
+            x = t_b - t_0 if t_b > t_0 else 0.0
+            p_b = p_0 + (v_0 + 0.5 * acc * x) * x
+            break
+    if p_a is None:  # t_a past the last segment
+        p_a = pg._p_f
+    lo, hi = (p_a, p_b) if p_a <= p_b else (p_b, p_a)
     size = hi if hi >= -lo else -lo
     margin = (1e-9 * size if size > 1.0 else 1e-9) + 1e-12
     lo, hi = lo - margin, hi + margin
     if not (a._sw_stop_left < lo and hi < a._sw_stop_right):
         return False
-    cpu, off = a.cpu, a.pos_offset
+    cpu, off = a.cpu, a._pos_offset
     shift = d._demand - d._target_prev  # motor counts minus target counts
     x_lo, x_hi = (lo + off) * cpu + shift - 2.0, (hi + off) * cpu + shift + 2.0
     if not (-_INT32 < x_lo and x_hi < _INT32):
         return False  # the int32 target and position would wrap
     s = d.sensors
     x = m.position
-    if s.negative_limit is not None and not s.negative_limit < (x_lo if x_lo < x else x):
+    if s._negative_limit is not None and not s._negative_limit < (x_lo if x_lo < x else x):
         return False
-    if s.positive_limit is not None and not (x_hi if x_hi > x else x) < s.positive_limit:
+    if s._positive_limit is not None and not (x_hi if x_hi > x else x) < s._positive_limit:
         return False
     if not a.ignore_pe:
         # err = p(n) - p(n - delay) - c / cpu up to the rounding of the counts
@@ -349,7 +345,8 @@ def _advance(a, k: int, end: tuple | None = None) -> None:
     """Advance axis `a` (no smoothing) by `k` cycles in closed form: samples of its
     T-curve, then cycles in which the output holds the target, region I ends and the
     axis settles (`AxisCycle._settle` of each cycle whose feedback differs, the cycles in
-    between counted at once). `end`: `_end` of the axis as it is, if known."""
+    between counted at once). `end`: `_end` of the axis as it is, if known (as
+    `coast_cycles` makes it: only where no move waits)."""
     d = a.drive
     m = d.mechanics
     pg = a.pg
@@ -359,9 +356,11 @@ def _advance(a, k: int, end: tuple | None = None) -> None:
     inv_dt = pg._inv_dt
     if end is not None and end[0] == a._cycle:
         s = end[1]
+        pending = False  # (`coast_cycles` made `end` only where no move waits)
     else:
         end = None
         s = 1 if pg._tc_done else _last_sample(pg) - n_0 + 1  # the first output on p_f
+        pending = pg._pending()  # a move waits (nothing of the advance changes that)
     # the generator's output of cycle k (0 is now), as `ProfileGenerator.step`
     p_0, v_0, _ = out_0 = pg._out
     was_idle = pg._idle
@@ -395,7 +394,7 @@ def _advance(a, k: int, end: tuple | None = None) -> None:
     demands = _demands(a, s, max(k - delay - 2, -delay), k, None if end is None else end[4])
     # the status of the cycles from the first that tests the in-position radius
     moving = a.moving
-    status = (not moving or k >= s) and not (moving and pg._pending())
+    status = (not moving or k >= s) and not (moving and pending)
     if status:
         if end is None:
             end = _end(a, s)
@@ -419,7 +418,7 @@ def _advance(a, k: int, end: tuple | None = None) -> None:
                 pg._enter_segment(pg._nseg)
             if idle:
                 pg._idle = True
-                if not pg._pending():
+                if not pending:
                     pg.mode = IDLE
                 pg._n = n_0 + idle
             else:

@@ -21,7 +21,7 @@ rests: the motion kernel does not step it, and the controller may jump ahead. St
 it would give the same values, so resting changes no result. What could change them
 wakes it (`wake`): every command, and every write to its drive from outside the cycle
 (the drive's `on_change`: object dictionary writes and forcing, an injected fault, the
-sensors' external inputs or touch probe function).
+sensors' external inputs, switches or touch probe function).
 """
 
 from __future__ import annotations
@@ -383,8 +383,7 @@ class AxisCycle:
             self._in_pos_cycles = 0
             self._move_end_cycle = end = max(self._cycle - 1, self._move_start_cycle)
             run = end - self._move_start_cycle
-            t_s = self.pg.t_smooth
-            if t_s > 0.0 and run > 0:
+            if self.pg._n_avg > 1 and run > 0:  # a smooth time (`pg.t_smooth` > 0)
                 # Manual 5.1: total time = Ta + Ts. The N-sample moving average reaches
                 # the target N - 1 cycles after the T-curve does; count the whole N.
                 run += 1
@@ -479,9 +478,13 @@ class AxisCycle:
     def _snapshot(self) -> tuple:
         drive = self.drive
         m = drive.mechanics
-        return (drive.statusword, drive.position_actual, drive.velocity_actual,
-                drive.torque_actual, drive.digital_inputs, m.position, m.velocity, drive.state,
-                drive.settled, self.fault_status, self.ref_pos, self.pos_fb)  # fmt: skip
+        # the velocity and torque actual are the drive's stored fields (read outside
+        # Operation enabled, else from the motor) with the motor's torque (its velocity
+        # and the state are here already); [8] is `drive.settled`
+        return (drive.statusword, drive.position_actual, drive._velocity_actual,
+                drive._torque_actual, drive.digital_inputs, m.position, m.velocity, drive.state,
+                drive._settled is drive.state, self.fault_status, self.ref_pos, self.pos_fb,
+                m.torque)  # fmt: skip
 
     def _watch_rest(self) -> None:
         snap = self._snapshot()

@@ -112,9 +112,12 @@ class JumpPlanner:
             if wake is None and end_cycle is None:
                 return False  # nothing will ever change: step on (a timeout ends the run)
             k = limit
-        elif self._observed or any(c.observes_motion for c in self._observers):
-            return False
         else:
+            if self._observed:
+                return False
+            for c in self._observers:  # (a loop: no generator for any() per jump)
+                if c.observes_motion:
+                    return False
             k = motion.coast_horizon(limit, watched)
             if not k:
                 return self._motion_cycle(cycle)
