@@ -480,8 +480,9 @@ class AxisCycle:
         m = drive.mechanics
         # the velocity and torque actual are the drive's stored fields (read outside
         # Operation enabled, else from the motor) with the motor's torque (its velocity
-        # and the state are here already); [8] is `drive.settled`
-        return (drive.statusword, drive.position_actual, drive._velocity_actual,
+        # and the state are here already), the statusword but for the internal limit bit
+        # (which follows from that torque); [8] is `drive.settled`
+        return (drive.statusword_base, drive.position_actual, drive._velocity_actual,
                 drive._torque_actual, drive.digital_inputs, m.position, m.velocity, drive.state,
                 drive._settled is drive.state, self.fault_status, self.ref_pos, self.pos_fb,
                 m.torque)  # fmt: skip
