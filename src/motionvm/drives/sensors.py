@@ -238,11 +238,7 @@ class Sensors:
                        else self._index_number(x_0))  # fmt: skip
                 if n_0 != self._index_number(x_1):
                     inputs |= DI_INDEX_PULSE
-                if self._index_low > low:
-                    low = self._index_low
-                if self._index_high < high:
-                    high = self._index_high
-            self.quiet_low, self.quiet_high = low, high
+            self._quiet(low, high)
             return inputs
         # from scratch
         edges = self._edges
@@ -277,12 +273,19 @@ class Sensors:
         self._switch_inputs = self.quiet_inputs = external | bits
         if self._index_spacing and low < high:
             self._index_number(x_1)
+        self._quiet(low, high)
+        return inputs
+
+    def _quiet(self, low: float, high: float) -> None:
+        """Set the quiet interval: the switch band (low, high) of the last position, inside
+        the index interval that `_index_number` found for it (if there is an index and
+        the band is not empty)."""
+        if self._index_spacing and low < high:
             if self._index_low > low:
                 low = self._index_low
             if self._index_high < high:
                 high = self._index_high
         self.quiet_low, self.quiet_high = low, high
-        return inputs
 
     def _index_number(self, x: float) -> int:
         """floor((x - index_offset) / index_spacing), as `update` computes it,
