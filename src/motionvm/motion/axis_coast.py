@@ -40,6 +40,7 @@ from motionvm.drives.mechanics import IdealMechanics
 from motionvm.drives.objects import MODE_CSP, State
 from motionvm.motion import axis_status as st
 from motionvm.motion.profile import IDLE
+from motionvm.motion.tcurve import segment_position
 
 NEVER = 1 << 62
 """Coast horizon of an axis that rests: it never needs stepping by itself."""
@@ -120,8 +121,7 @@ def _sample(pg, n: int) -> float:
     while tau >= segs[i][1]:
         i += 1
     t_0, _, p_0, v_0, a = segs[i]
-    x = tau - t_0
-    return p_0 + (v_0 + 0.5 * a * x) * x
+    return segment_position(p_0, v_0, a, tau - t_0)
 
 
 def _last_sample(pg) -> int:
@@ -276,8 +276,7 @@ def _safe(a, n_0: int, n_e: int) -> bool:
         if t_1 <= t_a:
             continue
         if p_a is None:  # the segment that holds t_a (or the first: t_a before the plan)
-            x = t_a - t_0 if t_a > t_0 else 0.0
-            p_a = p_0 + (v_0 + 0.5 * acc * x) * x
+            p_a = segment_position(p_0, v_0, acc, t_a - t_0 if t_a > t_0 else 0.0)
         v_1 = v_0 + acc * (t_1 - t_0) if t_1 != math.inf else v_0
         # (a segment's end below _V_ZERO counts as rest: a braking segment may end a
         # rounding below zero)
@@ -296,8 +295,7 @@ def _safe(a, n_0: int, n_e: int) -> bool:
         if size > v_top:
             v_top = size
         if t_b < t_1:  # the segment that holds t_b: the last on [t_a, t_b]
-            x = t_b - t_0 if t_b > t_0 else 0.0
-            p_b = p_0 + (v_0 + 0.5 * acc * x) * x
+            p_b = segment_position(p_0, v_0, acc, t_b - t_0 if t_b > t_0 else 0.0)
             break
     if p_a is None:  # t_a past the last segment
         p_a = pg._p_f
@@ -512,8 +510,7 @@ def _outputs(pg, n_0: int, n_lo: int, n_e: int):
             if seg == n_segs:  # past the end (no smoothing): the plan holds p_f
                 return pg._p_f
         t_s, _, p_0, v_0, acc = segs[seg]
-        x = tau - t_s
-        return p_0 + (v_0 + 0.5 * acc * x) * x  # as step: (0.5 * a) * x
+        return segment_position(p_0, v_0, acc, tau - t_s)
 
     n_avg = pg._n_avg
     if n_avg == 1:

@@ -48,8 +48,15 @@ class TCurve:
         for t_0, t_1, p_0, v_0, a in self.segs:
             if t < t_1:
                 x = t - t_0 if t > t_0 else 0.0
-                return p_0 + (v_0 + 0.5 * a * x) * x, v_0 + a * x, a
+                return segment_position(p_0, v_0, a, x), v_0 + a * x, a
         return self.p_f, 0.0, 0.0
+
+
+def segment_position(p_0: float, v_0: float, a: float, x: float) -> float:
+    """Position [mm] x seconds into a segment that starts at p_0 [mm] with velocity v_0
+    [mm/s] and acceleration a [mm/s^2]: the formula of every sample of a T-curve, in the
+    arithmetic of `ProfileGenerator.step` (which keeps 0.5 * a: the same float)."""
+    return p_0 + (v_0 + 0.5 * a * x) * x
 
 
 class _Builder:
