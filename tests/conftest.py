@@ -1,9 +1,21 @@
 """Fixtures shared by the tests of every folder: files written into the test's own
-temporary folder, and the check that a bad file's error stands at its place."""
+temporary folder, and the check that a bad file's error stands at its place; the
+hypothesis profiles `ci` (bounded, derandomized: CI's) and `thorough` that property
+tests without profiles of their own take (`settings.get_profile(...)`)."""
 
 from __future__ import annotations
 
 import pytest
+from hypothesis import HealthCheck, settings
+
+settings.register_profile(
+    "ci", max_examples=40, derandomize=True, deadline=None,
+    suppress_health_check=[HealthCheck.too_slow],
+)  # fmt: skip
+settings.register_profile(
+    "thorough", max_examples=400, derandomize=True, deadline=None,
+    suppress_health_check=[HealthCheck.too_slow],
+)  # fmt: skip
 
 
 @pytest.fixture

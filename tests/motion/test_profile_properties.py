@@ -10,21 +10,13 @@ from __future__ import annotations
 
 import os
 
-from hypothesis import HealthCheck, assume, given, settings
+from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from motionvm.motion.profile import ProfileGenerator
 from motionvm.motion.tcurve import plan_position, rest_to_rest_time
 from motionvm.motion.tolerances import EPS, P_TOL, limit_violation
 
-settings.register_profile(
-    "ci", max_examples=40, derandomize=True, deadline=None,
-    suppress_health_check=[HealthCheck.too_slow],
-)  # fmt: skip
-settings.register_profile(
-    "thorough", max_examples=400, derandomize=True, deadline=None,
-    suppress_health_check=[HealthCheck.too_slow],
-)  # fmt: skip
 PROFILE = settings.get_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 
 MAX_MOVE_TIME = 4.0  # [s] keeps one example below ~20 ms

@@ -12,20 +12,12 @@ import math
 import os
 import struct
 
-from hypothesis import HealthCheck, given, settings
+from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from motionvm.motion.tcurve import _Builder, _peak_sq, plan_position
 from motionvm.motion.tolerances import OVERSHOOT_REL
 
-settings.register_profile(
-    "ci", max_examples=40, derandomize=True, deadline=None,
-    suppress_health_check=[HealthCheck.too_slow],
-)  # fmt: skip
-settings.register_profile(
-    "thorough", max_examples=400, derandomize=True, deadline=None,
-    suppress_health_check=[HealthCheck.too_slow],
-)  # fmt: skip
 PROFILE = settings.get_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 
 

@@ -422,22 +422,10 @@ def _advance(a, k: int, end: tuple | None = None) -> None:
             else:
                 pg._n = n_0 + k
     # the reference, the drive's target and demand, the motor
-    a._cycle += k
-    a.ref_pos, a.ref_vel, a.ref_acc = p, v, acc
-    target = ((p + a._slave_offset) * a.cpu).__round__()
-    d.target_position = target
-    d._target_prev = target
-    demand = demands[-1]
-    d._demand = demand
-    dt = a.dt
-    m._demand_vel = (demand - demands[-2]) / dt
-    m._demand = demand
-    if delay > 1:
-        m._line.clear()
-        m._line.extend(demands[-delay:])
     x_1 = demands[-2 - delay]
-    v_m_1 = m.velocity if k == 1 else (x_1 - demands[-3 - delay]) / dt
-    _motor_to(a, x_1, demands[-1 - delay], v_m_1)
+    v_m_1 = m.velocity if k == 1 else (x_1 - demands[-3 - delay]) / a.dt
+    _land(a, k, (p, v, acc), demands, demands[-delay:] if delay > 1 else None,
+          x_1, demands[-1 - delay], v_m_1)  # fmt: skip
     if status:  # the end of `step`: an axis in position watches for rest
         if a._idle_candidate():
             a._watch_rest()
@@ -571,23 +559,34 @@ def _advance_smoothed(a, k: int) -> None:
     pg._out = (p, v, acc)
     if smoothing is not None:
         pg._buf, pg._j, pg._sum = smoothing
-    # the axis's reference and the drive's target
+    # the axis's reference, the drive's target and demand, and the ideal motor,
+    # delay_cycles behind the demand: x = demand of sample n_e - delay
+    x_2, x_1 = demands[0], demands[1]
+    _land(a, k, (p, v, acc), demands, demands[3:] if delay != 1 else None,
+          x_1, demands[2], (x_1 - x_2) / a.dt)  # fmt: skip
+
+
+def _land(a, k: int, ref: tuple, demands: list, line: list | None, x_1: float, x: float,
+          v_1: float) -> None:  # fmt: skip
+    """The end of an advance of axis `a` by `k` cycles: its reference `ref` (position,
+    velocity, acceleration), the drive's target from it and its demand, the last of
+    `demands` (after the one before it), the motor's delay line `line` (None: kept), and
+    the motor's last cycle from x_1 to x (`_motor_to`)."""
+    d = a.drive
+    m = d.mechanics
     a._cycle += k
-    a.ref_pos, a.ref_vel, a.ref_acc = p, v, acc
-    target = ((p + off) * cpu).__round__()
+    a.ref_pos, a.ref_vel, a.ref_acc = ref
+    target = ((ref[0] + a._slave_offset) * a.cpu).__round__()
     d.target_position = target
     d._target_prev = target
     demand = demands[-1]
     d._demand = demand
-    # the ideal motor, delay_cycles behind the demand: x = demand of sample n_e - delay
-    dt = a.dt
-    m._demand_vel = (demand - demands[-2]) / dt
+    m._demand_vel = (demand - demands[-2]) / a.dt
     m._demand = demand
-    if delay != 1:
+    if line is not None:
         m._line.clear()
-        m._line.extend(demands[3:])
-    x_2, x_1 = demands[0], demands[1]
-    _motor_to(a, x_1, demands[2], (x_1 - x_2) / dt)
+        m._line.extend(line)
+    _motor_to(a, x_1, x, v_1)
 
 
 def _motor_to(a, x_1: float, x: float, v_1: float) -> None:

@@ -218,7 +218,7 @@ class FunctionLowerer(ExprLowering, AccessLowering, LoopLowering, JumpLowering, 
                     out.extend(at(fn(self, s) if fn is not None else self.stmt(s), s.pos))
                 except SemanticError:
                     pass
-                if type(s) is n.If and s.else_ is None and _always_leaves(s.then):
+                if type(s) is n.If and s.else_ is None and _ends_in(s.then, _LEAVES):
                     self._learn_from_guard(s.cond)
         finally:
             self.known_ranges = saved
@@ -426,7 +426,7 @@ class FunctionLowerer(ExprLowering, AccessLowering, LoopLowering, JumpLowering, 
                 sym_p = VarSym(p.name, pt, "local", p.pos, pyname=pyname, is_const=p.type.is_const)
             self.scope.names[p.name] = sym_p
         body = copies + self.function_body(f.body)
-        if not isinstance(sym.type.ret, ct.VoidT) and not _always_returns(f.body):
+        if not isinstance(sym.type.ret, ct.VoidT) and not _ends_in(f.body, _RETURNS):
             zero = ast.Constant(0.0 if sym.type.ret.is_float else 0)
             body.append(at([ast.Return(zero)], f.pos)[0])
         if self.frame_size or self.list_bytes:
@@ -466,29 +466,22 @@ class FunctionLowerer(ExprLowering, AccessLowering, LoopLowering, JumpLowering, 
         return fn
 
 
-def _always_returns(s) -> bool:
-    """True if statement `s` never falls through: every path ends in a `return` (a
-    function whose body always returns needs no `return 0` after it)."""
+def _ends_in(s, kinds: tuple) -> bool:
+    """True if statement `s` never falls through: every path ends in a statement of one
+    of `kinds` (`_RETURNS`: a function whose body always returns needs no `return 0`
+    after it; `_LEAVES`: return, break, continue, goto)."""
     t = type(s)
-    if t is n.Return:
+    if t in kinds:
         return True
     if t is n.Block:
-        return bool(s.items) and _always_returns(s.items[-1])
+        return bool(s.items) and _ends_in(s.items[-1], kinds)
     if t is n.If:
-        return s.else_ is not None and _always_returns(s.then) and _always_returns(s.else_)
+        return s.else_ is not None and _ends_in(s.then, kinds) and _ends_in(s.else_, kinds)
     return False
 
 
-def _always_leaves(s) -> bool:
-    """True if statement `s` never falls through (return, break, continue, goto)."""
-    t = type(s)
-    if t in (n.Return, n.Break, n.Continue, n.Goto):
-        return True
-    if t is n.Block:
-        return bool(s.items) and _always_leaves(s.items[-1])
-    if t is n.If:
-        return s.else_ is not None and _always_leaves(s.then) and _always_leaves(s.else_)
-    return False
+_RETURNS = (n.Return,)
+_LEAVES = (n.Return, n.Break, n.Continue, n.Goto)
 
 
 def _contains_yield(body: list[ast.stmt]) -> bool:
