@@ -12,6 +12,8 @@
    (which compiles), against the simulated time `Simulation.time`; and the cycles the
    controller computed against the cycles simulated. The same program also runs with
    skipping off: both must print the same lines and leave every axis in the same state.
+   `busy_wait_program_realtime_factor`: the same program with the busy loop
+   `while (!IsInPos(a));` in place of the `Till` (skipping on; the same outcome).
 
 Timing: CPU seconds of this process (`time.process_time`: other load on a busy machine
 does not count), the median of 5 repeats after one untimed warm-up run; the repeats of
@@ -97,13 +99,17 @@ def stepped_once(n_axes: int, seconds: float) -> tuple[float, tuple]:
     return cpu, tuple(a.pos_fb for a in axes)
 
 
-def wait_program(folder: Path) -> list[Path]:
-    """The files of the wait program (task k drives axis k; task 0 starts the others)."""
+def wait_program(folder: Path, busy: bool = False) -> list[Path]:
+    """The files of the wait program (task k drives axis k; task 0 starts the others);
+    `busy`: waiting in a busy loop instead of `Till`."""
     paths = []
+    task = (
+        WAIT_TASK.replace("Till(IsInPos(AXIS));", "while (!IsInPos(AXIS));") if busy else WAIT_TASK
+    )
     for k in range(WAIT_AXES):
         start = "".join(f"StartTask({j}); " for j in range(1, WAIT_AXES)) if k == 0 else ""
-        p = folder / f"wait{k}.hmpl"
-        p.write_text(WAIT_TASK.replace("START", start).replace("AXIS", str(k)), encoding="utf-8")
+        p = folder / f"{'busy' if busy else 'wait'}{k}.hmpl"
+        p.write_text(task.replace("START", start).replace("AXIS", str(k)), encoding="utf-8")
         paths.append(p)
     return paths
 
@@ -131,14 +137,15 @@ def main() -> None:
     times: dict[object, list[float]] = {}
     ends: dict[object, set] = {}
     with tempfile.TemporaryDirectory() as tmp:
-        paths = wait_program(Path(tmp))
+        paths = {"wait": wait_program(Path(tmp)), "wait-busy": wait_program(Path(tmp), busy=True)}
+        paths["wait-stepped"] = paths["wait"]
         counts = () if args.only == "wait" else AXIS_COUNTS
-        waits = () if args.only == "stepped" else ("wait", "wait-stepped")
+        waits = () if args.only == "stepped" else ("wait", "wait-stepped", "wait-busy")
         cases = [*counts, *waits]
         for k in range(args.repeat + 1):  # the first round warms up, untimed
             for case in cases:
-                if case in ("wait", "wait-stepped"):
-                    cpu, sim_s, computed, end = wait_once(paths, case == "wait")
+                if case in waits:
+                    cpu, sim_s, computed, end = wait_once(paths[case], case != "wait-stepped")
                     if case == "wait":
                         computed_ratio = computed / round(sim_s / 0.001)
                     end = ("wait", end)
@@ -151,8 +158,8 @@ def main() -> None:
     for case, found in ends.items():
         if len(found) != 1:
             raise SystemExit(f"benchmark broken: runs of case {case} ended in different states")
-    if waits and ends["wait"] != ends["wait-stepped"]:
-        raise SystemExit("benchmark broken: skipping and stepping ended differently")
+    if waits and not ends["wait"] == ends["wait-stepped"] == ends["wait-busy"]:
+        raise SystemExit("benchmark broken: skipping, stepping, busy waits ended differently")
     factor = {case: statistics.median(v) for case, v in times.items()}
     if counts:
         print(f"{'axes':>5} {'x real time':>12} {'us per cycle':>13} {'us per axis-cycle':>18}")
@@ -167,6 +174,7 @@ def main() -> None:
     if waits:
         print(f"RESULT wait_program_realtime_factor={factor['wait']:.1f}")
         print(f"RESULT wait_program_stepped_realtime_factor={factor['wait-stepped']:.1f}")
+        print(f"RESULT busy_wait_program_realtime_factor={factor['wait-busy']:.1f}")
         print(f"RESULT cycles_computed_ratio={computed_ratio:.4f}")
 
 

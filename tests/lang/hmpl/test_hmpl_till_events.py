@@ -8,18 +8,9 @@ cycle. Whatever the lowering, the program's output is the same as stepping.
 from __future__ import annotations
 
 import pytest
+from hmpl_run import python_of
 
 from motionvm.api import Simulation
-from motionvm.lang.hmpl.compiler import TaskFile, compile_tasks
-from motionvm.source.diagnostics import DiagnosticSink
-
-
-def python_of(body: str) -> str:
-    src = f"int g; int t;\nint f() {{ return 1; }}\nvoid main() {{\n int a = 0;\n {body}\n}}\n"
-    sink = DiagnosticSink()
-    prog, _mem = compile_tasks([TaskFile(0, "p.hmpl", src)], sink)
-    assert prog is not None, [d.headline() for d in sink.items]
-    return prog.python_source()
 
 
 @pytest.mark.parametrize("cond", [

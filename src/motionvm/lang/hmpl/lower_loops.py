@@ -36,6 +36,7 @@ from motionvm.lang.hmpl.lower_util import (
 from motionvm.lang.hmpl.lower_walk import PointerWalkLowering, alias_globals
 from motionvm.lang.hmpl.lvalues import call, const, name
 from motionvm.lang.hmpl.symbols import Scope, VarSym
+from motionvm.lang.hmpl.till_events import idle_body, reads_only, time_wait_while
 
 
 class LoopLowering(PointerWalkLowering):
@@ -90,6 +91,9 @@ class LoopLowering(PointerWalkLowering):
         return self.split_off(ctx, loop) if ctx.split else [loop]
 
     def _s_While(self, s: n.While) -> list[ast.stmt]:
+        waiting = self._busy_wait(s)
+        if waiting is not None:
+            return waiting
         body = s.body
         if type(body) is n.Block and len(body.items) > 1 and type(body.items[-1]) is n.ExprStmt:
             fast = self._pointer_walk(s.cond, body.items[-1].expr, body, body.items[:-1], s.pos)
@@ -101,6 +105,28 @@ class LoopLowering(PointerWalkLowering):
         body, ctx = self._loop_body(s.body, cont)
         loop = ast.While(test=test, body=body + backedge(b), orelse=[])
         return [countdown_init(b)] + self._placed(ctx, loop)
+
+    def _busy_wait(self, s: n.While) -> list[ast.stmt] | None:
+        """A loop that only waits, `while (c);` or `while (c) RunScheduler();` (or the same
+        as `for (; c;)`, `for (;;)`) with a
+        condition that changes nothing (`reads_only`), polled once per cycle: nothing
+        else runs in its task's slice, so the first test of a cycle decides the rest of
+        it, and spinning on to the end of the slice changes nothing a program can see.
+        A condition that waits on an event is lowered as `Till(!c)` (the controller may
+        jump past it); any other as `while c: yield`. None for any other loop."""
+        resolve = self._event_symbol
+        if not (idle_body(s.body, resolve) and reads_only(s.cond, resolve)):
+            return None
+        test = self.cond(s.cond)
+        waited = self.event_wait(s.cond, test)
+        if waited is not None:
+            return waited
+        self.has_yield = True
+        timed = time_wait_while(s.cond, resolve)
+        if timed is not None:  # sleep until the first cycle whose time passes X
+            wake = call("_till_ms", self.expr(timed[0]).node, ast.Constant(timed[1]))
+            return [ast.While(test, [ast.Expr(ast.Yield(wake))], [])]
+        return [ast.While(test, [ast.Expr(ast.Yield(None))], [])]
 
     def _s_DoWhile(self, s: n.DoWhile) -> list[ast.stmt]:
         b = self.temp()
@@ -126,6 +152,11 @@ class LoopLowering(PointerWalkLowering):
         return [countdown_init(b)] + self._placed(ctx, loop)
 
     def _s_For(self, s: n.For) -> list[ast.stmt]:
+        if s.init is None and s.step is None:  # for (;;); and for (; c;) RunScheduler();
+            cond = n.IntLit(s.pos, 1) if s.cond is None else s.cond
+            waiting = self._busy_wait(n.While(s.pos, cond, s.body))
+            if waiting is not None:
+                return waiting
         saved = self.scope
         self.scope = Scope(saved, "block")
         try:

@@ -343,21 +343,32 @@ class FunctionLowerer(ExprLowering, AccessLowering, LoopLowering, JumpLowering, 
         if self.in_init:
             raise self.fail(e.pos, "Till cannot be used in a global initializer")
         cond = self.cond(e.args[0])
-        self.has_yield = True
-        if waits_on_event(e.args[0], self._event_symbol):  # till_events.py
-            status = status_only(e.args[0], self._event_symbol)
-            again = ast.UnaryOp(ast.Not(), copy.deepcopy(cond))
-            poll = ast.While(again, [_yield(STATUS_POLL if status else EVENT_POLL)], [])
-            test = ast.UnaryOp(ast.Not(), cond)
-            wait = _yield(STATUS_WAIT if status else EVENT_WAIT)
-            return [ast.If(test, [wait, poll], [])]
         test = ast.UnaryOp(ast.Not(), cond)
+        waited = self.event_wait(e.args[0], test)
+        if waited is not None:
+            return waited
+        self.has_yield = True
         timed = time_wait(e.args[0], self._event_symbol)
         if timed is not None:  # sleep until the first cycle whose time passes X
             limit = self.expr(timed[0]).node
             wake = call("_till_ms", limit, ast.Constant(timed[1]))
             return [ast.While(test, [ast.Expr(ast.Yield(wake))], [])]
         return [ast.While(test, [ast.Expr(ast.Yield(None))], [])]
+
+    def event_wait(self, expr, waiting: ast.expr) -> list[ast.stmt] | None:
+        """The wait of a task while the Python test `waiting` holds, polled once per
+        cycle, if what decides it, HMPL condition `expr`, waits on an event
+        (till_events.py): `Till(c)` (waiting: not c) and the busy loops `while (c);`
+        and `while (c) RunScheduler();` (waiting: c). None if `expr` does not."""
+        if not waits_on_event(expr, self._event_symbol):
+            return None
+        self.has_yield = True
+        status = status_only(expr, self._event_symbol)
+        poll = ast.While(
+            copy.deepcopy(waiting), [_yield(STATUS_POLL if status else EVENT_POLL)], []
+        )
+        wait = _yield(STATUS_WAIT if status else EVENT_WAIT)
+        return [ast.If(waiting, [wait, poll], [])]
 
     def _event_symbol(self, ident: str):
         """The symbol of `ident` for `waits_on_event`: a variable's, or None for a

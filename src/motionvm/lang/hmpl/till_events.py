@@ -26,6 +26,10 @@ expression, sleeps until the first cycle whose time passes X:
 
 Any other condition (positions, velocities, an array or a pointer, a call of a user's
 function, the time combined with anything else) keeps polling every cycle.
+
+A busy loop that only waits (`idle_body`: `while (c);`, `while (c) RunScheduler();`)
+on a condition that changes nothing (`reads_only`) is decided by its first test in each
+cycle; it is lowered as the same wait as `Till(!c)` (lower_loops.py).
 """
 
 from __future__ import annotations
@@ -91,8 +95,57 @@ def status_only(expr, resolve) -> bool:
     return _pure(expr, resolve, ("local",), STATUS_BUILTINS)
 
 
+READ_BUILTINS = EVENT_BUILTINS | frozenset({
+    "IsHWLL", "IsHWRL", "IsSWLL", "IsSWRL", "IsDriveErr", "IsPosErr", "IsAcc",
+    "GetPosFb", "GetPosErr", "GetVelFb", "GetVelErr", "GetCurrFb", "GetRefPos",
+    "GetRefVel", "GetRefAcc", "GetPosOut", "GetVelOut", "GetAccOut",
+    "IsGrpEnabled", "IsGrpMoving", "IsGrpInPos", "IsGrpErrorStop",
+})  # fmt: skip
+"""Built-ins that only read the machine: asking again in the same cycle gives the same
+answer and leaves the same state (a bad axis id stores the same last error again)."""
+
+
+def reads_only(expr, resolve) -> bool:
+    """True if evaluating `expr` changes nothing (`READ_BUILTINS`, scalar variables of
+    any storage, operators without assignment), so that evaluating it again within one
+    slice of its task, in which nothing else runs, gives the same value: a busy loop on
+    it (`while (c);`) is decided by its first test in each cycle."""
+    return _pure(expr, resolve, ("local", "pyglobal", "frame", "static"), READ_BUILTINS)
+
+
+def idle_body(body, resolve) -> bool:
+    """True if loop body `body` does nothing but give up the task's slice: empty (`;`,
+    `{}`) or the built-in `RunScheduler();` alone (`resolve` as for `waits_on_event`)."""
+    if type(body) is n.Block:
+        if not body.items:
+            return True
+        if len(body.items) != 1:
+            return False
+        body = body.items[0]
+    if type(body) is n.Empty:
+        return True
+    if type(body) is not n.ExprStmt:
+        return False
+    e = body.expr
+    return (type(e) is n.Call and type(e.func) is n.Name and e.func.id == "RunScheduler"
+            and not e.args and resolve("RunScheduler") is None)  # fmt: skip
+
+
 _TIME = "system_timeInMs"
 _FLIPPED = {"<=": ">=", "<": ">", ">=": ">=", ">": ">"}
+
+
+_NEGATED = {"<": ">=", "<=": ">", ">": "<=", ">=": "<"}
+
+
+def time_wait_while(expr, resolve):
+    """`time_wait` of the end of a loop `while (expr)`: (X, strict) if `expr` is
+    `system_timeInMs < X` (strict: `<=`), or the same with the operands swapped. The
+    loop tests `expr` itself again when it wakes, and where `expr` is false its negation
+    (`>=`, `>`) is true (a NaN X ends the loop before any wait), so it never wakes late."""
+    if not isinstance(expr, n.Binary) or expr.op not in _NEGATED:
+        return None
+    return time_wait(n.Binary(expr.pos, _NEGATED[expr.op], expr.left, expr.right), resolve)
 
 
 def time_wait(expr, resolve):
