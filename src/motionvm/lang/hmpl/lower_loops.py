@@ -14,6 +14,32 @@ becomes
             _budget -= 64
             if _budget < 0:
                 yield
+
+A polling loop (one that reads what may change outside it: see `_fixed_point`) ends its task's slice at the first iteration that changes nothing:
+nothing else runs in the slice, so every later iteration of it would repeat that one.
+The loop's back-edge compares the locals its body writes with those of the back-edge
+before, and a marker tells whether any statement that may act ran in between:
+
+    while (1) { int in = GetGPI(4); if (in && !last) DisableAll(); last = in; }
+becomes
+    _t3 = 1
+    _t4 = None
+    _t5 = -2
+    while True:
+        v_in = b_GetGPI(4)
+        if v_in and not v_last:
+            _t3 = 1
+            b_DisableAll()
+        v_last = v_in
+        if _t3 or _t4 != (v_in, v_last):
+            _t4 = (v_in, v_last)
+            _t3 = 0
+            _t5 = -2
+            <the budgeted back-edge>
+        else:
+            _t1 = 65          # the countdown as the spin would leave it at its yield
+            yield _t5         # EVENT_WAIT or EVENT_POLL: GetGPI changes in computed cycles
+            _t5 = -1
 """
 
 from __future__ import annotations
@@ -29,6 +55,7 @@ from motionvm.lang.hmpl.lower_util import (
     LOOP_BLOCKS,
     MAX_LOOP_NESTING,
     LoopCtx,
+    PollCtx,
     at,
     backedge,
     countdown_init,
@@ -36,7 +63,14 @@ from motionvm.lang.hmpl.lower_util import (
 from motionvm.lang.hmpl.lower_walk import PointerWalkLowering, alias_globals
 from motionvm.lang.hmpl.lvalues import call, const, name
 from motionvm.lang.hmpl.symbols import Scope, VarSym
-from motionvm.lang.hmpl.till_events import idle_body, reads_only, time_wait_while
+from motionvm.lang.hmpl.till_events import (
+    READ_BUILTINS,
+    idle_body,
+    reads_only,
+    time_wait_while,
+    waits_on_event,
+)
+from motionvm.runtime.kernel import EVENT_POLL, EVENT_WAIT
 
 
 class LoopLowering(PointerWalkLowering):
@@ -65,17 +99,127 @@ class LoopLowering(PointerWalkLowering):
         """A counting loop may take two blocks if the deeper loops still find one each."""
         return self.py_blocks + 2 + _loop_depth(body) <= LOOP_BLOCKS
 
-    def _loop_body(self, body, cont: list[ast.stmt], blocks: int = 1):
-        """The lowered body and the loop's context (split: see `split_off`)."""
+    def _loop_body(self, body, cont: list[ast.stmt], blocks: int = 1,
+                   polling: PollCtx | None = None):  # fmt: skip
+        """The lowered body and the loop's context (split: see `split_off`); `polling`: a
+        polling loop's (`_fixed_point`), None for any other loop, whose statements mark
+        nothing (in a polling loop the loop itself marks an effect)."""
         self.has_yield = True  # every loop has a budgeted back-edge
         ctx = LoopCtx("loop", cont)
         ctx.split = self.nest(body.pos, blocks)
         self.loops.append(ctx)
+        outer, self.polling = self.polling, polling
+        declared = set(self._pynames) if polling is not None else None
         try:
-            return self.block(body), ctx
+            lowered = self.block(body)
+            if polling is not None:  # block-scope locals of the body: dead at the back-edge
+                polling.inner = self._pynames - declared
+            return lowered, ctx
         finally:
+            self.polling = outer
             self.loops.pop()
             self.unnest()
+
+    def _fixed_point(self, cond, body) -> PollCtx | None:
+        """A new `PollCtx` if `while (cond) body` (cond None: forever) is a polling loop
+        that ends its slice at a fixed point: one that reads what may change outside it
+        (`_reads_outside`), whose condition changes nothing, and in which no loop or switch will be lowered as a
+        function of its own (its statements would set a marker of their own). None for
+        any other loop: those keep spinning (the check would only slow them down)."""
+        resolve = self._event_symbol
+        if cond is not None and not reads_only(cond, resolve):
+            return None
+        if not (_reads_outside(cond, resolve) or _reads_outside(body, resolve)):
+            return None  # it cannot be waiting for anything
+        if self.py_blocks + 1 + _loop_depth(body) > LOOP_BLOCKS:
+            return None
+        return PollCtx(self.temp(), cond is None or waits_on_event(cond, resolve))
+
+    def _fixed_point_end(self, polling: PollCtx, b: str, body: list[ast.stmt]):
+        """(statements before the loop, the back-edge) of polling loop `polling` with
+        countdown `b` whose lowered body is `body` (see the module docstring): the slice
+        ends at an iteration that ran no marked statement and left the locals it writes
+        as they were (those declared outside it: a block-scope local of the body lives
+        for one iteration). It yields EVENT_POLL if that iteration is the first since the
+        task's last yield, else EVENT_WAIT, when its quiet iterations read only what a
+        computed cycle changes (`PollCtx.on_events`: the clock may jump), else None."""
+        mark = polling.mark
+        written = sorted({
+            x.id for st in body for x in ast.walk(st)
+            if type(x) is ast.Name and type(x.ctx) is ast.Store and x.id.startswith("v_")
+        } - polling.inner)  # fmt: skip
+        seen = self.temp()
+        now = ast.Tuple([name(v) for v in written], ast.Load())
+        changed = ast.BoolOp(ast.Or(), [
+            name(mark), ast.Compare(name(seen), [ast.NotEq()], [now])
+        ])  # fmt: skip
+        record = [
+            ast.Assign([name(seen, True)], ast.Tuple([name(v) for v in written], ast.Load())),
+            ast.Assign([name(mark, True)], ast.Constant(0)),
+        ]
+        before = [mark_effect(mark), ast.Assign([name(seen, True)], ast.Constant(None))]
+        repeat = [countdown_init(b)]
+        if polling.on_events:
+            kind = self.temp()  # EVENT_WAIT until the first quiet iteration after a yield
+            before.append(ast.Assign([name(kind, True)], ast.Constant(EVENT_WAIT)))
+            record.append(ast.Assign([name(kind, True)], ast.Constant(EVENT_WAIT)))
+            repeat += [ast.Expr(ast.Yield(name(kind))),
+                       ast.Assign([name(kind, True)], ast.Constant(EVENT_POLL))]  # fmt: skip
+        else:
+            repeat.append(ast.Expr(ast.Yield(None)))
+        return before, [ast.If(changed, record + backedge(b), repeat)]
+
+    def quiet_statement(self, s, polling: PollCtx) -> bool:
+        """True if statement `s` of polling loop `polling`'s body changes nothing but plain
+        integer locals, and so need not set the loop's effect marker: it only reads the
+        machine and variables (`reads_only`), or is a block, an `if` or a `switch` on
+        such a condition (their statements mark themselves), or leaves the loop's
+        iteration (`break`, `return`; a `continue` marks in the loop's `cont`). If what
+        it reads is not all a computed cycle changes (`waits_on_event`), the loop's
+        quiet iterations poll (`PollCtx.on_events` false)."""
+        t = type(s)
+        if t in (n.Empty, n.Block, n.Break, n.Continue, n.Return):
+            return True
+        resolve = self._event_symbol
+        if t is n.If:
+            reads = [s.cond]
+        elif t is n.Switch:
+            reads = [s.expr]
+        elif t is n.ExprStmt:
+            e = s.expr
+            if type(e) is n.Assign:
+                if not self._plain_int_local(e.target):
+                    return False
+                reads = [e.value]
+            elif type(e) in (n.Postfix, n.Unary) and e.op in ("++", "--"):
+                return self._plain_int_local(e.operand)
+            else:
+                reads = [e]
+        elif t is n.DeclStmt:
+            reads = []
+            for d in s.decls:
+                if type(d) is not n.VarDecl:
+                    continue
+                if d.is_static or d.dims or not self._plain_int_local(d):
+                    return False
+                if d.init is not None:
+                    reads.append(d.init)
+        else:
+            return False
+        if not all(reads_only(x, resolve) for x in reads):
+            return False
+        if polling.on_events and not all(waits_on_event(x, resolve) for x in reads):
+            polling.on_events = False
+        return True
+
+    def _plain_int_local(self, target) -> bool:
+        """True if `target` (a Name, or a VarDecl once lowered) is an integer variable
+        kept in a Python local of this function."""
+        if type(target) not in (n.Name, n.VarDecl):
+            return False
+        sym = self.scope.lookup(target.id if type(target) is n.Name else target.name)
+        return (isinstance(sym, VarSym) and sym.storage == "local"
+                and sym.type.is_integer)  # fmt: skip
 
     def _assigned_in(self, body) -> set[str]:
         """`_assigned_names(body)` of a `for` body, found for every `for` inside it in the
@@ -101,10 +245,12 @@ class LoopLowering(PointerWalkLowering):
                 return fast
         test = self.cond(s.cond)
         b = self.temp()
-        cont = backedge(b) + [ast.Continue()]
-        body, ctx = self._loop_body(s.body, cont)
-        loop = ast.While(test=test, body=body + backedge(b), orelse=[])
-        return [countdown_init(b)] + self._placed(ctx, loop)
+        polling = self._fixed_point(s.cond, s.body)
+        cont = ([mark_effect(polling.mark)] if polling else []) + backedge(b) + [ast.Continue()]
+        body, ctx = self._loop_body(s.body, cont, polling=polling)
+        before, end = self._fixed_point_end(polling, b, body) if polling else ([], backedge(b))
+        loop = ast.While(test=test, body=body + end, orelse=[])
+        return [countdown_init(b), *before] + self._placed(ctx, loop)
 
     def _busy_wait(self, s: n.While) -> list[ast.stmt] | None:
         """A loop that only waits, `while (c);` or `while (c) RunScheduler();` (or the same
@@ -175,15 +321,18 @@ class LoopLowering(PointerWalkLowering):
                 if s.step is not None
                 else []
             )
-            cont = step + backedge(b) + [ast.Continue()]
-            body, ctx = self._loop_body(s.body, cont)
+            polling = self._fixed_point(s.cond, s.body) if s.step is None else None
+            cont = step + ([mark_effect(polling.mark)] if polling else []) + backedge(b)
+            cont.append(ast.Continue())
+            body, ctx = self._loop_body(s.body, cont, polling=polling)
             step2 = (
                 at(self._s_ExprStmt(n.ExprStmt(s.step.pos, s.step)), s.step.pos)
                 if s.step is not None
                 else []
             )
-            out.append(countdown_init(b))
-            loop = ast.While(test=test, body=body + step2 + backedge(b), orelse=[])
+            before, end = self._fixed_point_end(polling, b, body) if polling else ([], backedge(b))
+            out += [countdown_init(b), *before]
+            loop = ast.While(test=test, body=body + step2 + end, orelse=[])
             return out + self._placed(ctx, loop)
         finally:
             self.scope = saved
@@ -580,6 +729,30 @@ def _loop_depth(stmt) -> int:
             if x.else_ is not None:
                 stack.append((x.else_, d))
     return deepest
+
+
+def mark_effect(mark: str) -> ast.stmt:
+    """`mark = 1`: a statement that may act ran in this iteration of a polling loop."""
+    return ast.Assign([name(mark, True)], ast.Constant(1))
+
+
+def _reads_outside(node, resolve) -> bool:
+    """True if HMPL `node` reads what may change outside a loop on it: calls a built-in
+    of `READ_BUILTINS` or names a global or static variable (a polling loop's sign: a
+    loop on the function's own variables alone cannot be waiting for anything)."""
+    if node is None:
+        return False
+    for x in walk(node):
+        t = type(x)
+        if t is n.Call:
+            f = x.func
+            if type(f) is n.Name and f.id in READ_BUILTINS and resolve(f.id) is None:
+                return True
+        elif t is n.Name:
+            sym = resolve(x.id)
+            if getattr(sym, "storage", None) in ("pyglobal", "static"):
+                return True
+    return False
 
 
 def _range_call(start: ast.expr, stop: ast.expr, step: ast.expr) -> ast.Call:

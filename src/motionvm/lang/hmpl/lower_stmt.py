@@ -19,9 +19,9 @@ from motionvm.lang.hmpl.cmemory import RED_ZONE, shadow_pattern
 from motionvm.lang.hmpl.lower_access import AccessLowering
 from motionvm.lang.hmpl.lower_expr import ExprLowering, SemanticError
 from motionvm.lang.hmpl.lower_jumps import JumpLowering
-from motionvm.lang.hmpl.lower_loops import LoopLowering
+from motionvm.lang.hmpl.lower_loops import LoopLowering, mark_effect
 from motionvm.lang.hmpl.lower_split import SplitLowering, bind_splits
-from motionvm.lang.hmpl.lower_util import LoopCtx, at
+from motionvm.lang.hmpl.lower_util import LoopCtx, PollCtx, at
 from motionvm.lang.hmpl.lvalues import call, name, view_code
 from motionvm.lang.hmpl.symbols import FuncSym, Scope, VarSym, error_symbol
 from motionvm.lang.hmpl.till_events import status_only, time_wait, waits_on_event
@@ -70,6 +70,7 @@ class FunctionLowerer(ExprLowering, AccessLowering, LoopLowering, JumpLowering, 
             str, tuple[int, int]
         ] = {}  # range-for counters with constant bounds
         self.has_yield = False  # set whenever a yield is generated
+        self.polling: PollCtx | None = None  # the polling loop being lowered (lower_loops.py)
         self.func_assigned: set[str] = set()  # names the function body assigns
 
     # ------------------------------------------------------------ helpers
@@ -212,10 +213,18 @@ class FunctionLowerer(ExprLowering, AccessLowering, LoopLowering, JumpLowering, 
         saved = dict(self.known_ranges)
         methods = _S_METHODS
         try:
+            # in a polling loop's body the statements up to the first one that may act
+            # run in its quiet iterations; that one sets the loop's marker (see
+            # lower_loops.py), and what follows it runs only after it
+            polling = self.polling
             for s in items:
                 fn = methods.get(type(s))  # `stmt` inline
                 try:
-                    out.extend(at(fn(self, s) if fn is not None else self.stmt(s), s.pos))
+                    lowered = fn(self, s) if fn is not None else self.stmt(s)
+                    if polling is not None and not self.quiet_statement(s, polling):
+                        lowered = [mark_effect(polling.mark), *lowered]
+                        polling = None
+                    out.extend(at(lowered, s.pos))
                 except SemanticError:
                     pass
                 if type(s) is n.If and s.else_ is None and _ends_in(s.then, _LEAVES):

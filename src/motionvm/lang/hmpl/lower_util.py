@@ -20,6 +20,15 @@ class LoopCtx:
     breaks: int = 0  # `break` statements that leave this loop or switch
 
 
+@dataclass
+class PollCtx:
+    """The polling loop whose body is being lowered (lower_loops.py `_fixed_point`)."""
+
+    mark: str  # the effect marker: set to 1 by each statement that may act
+    on_events: bool = True  # its quiet iterations read only what a computed cycle changes
+    inner: set[str] = field(default_factory=set)  # the Python locals its body declares
+
+
 # Python allows 20 statically nested blocks (loops, try) in one function. A function
 # lowers with up to 3 of its own (the frame's try/finally, the goto dispatcher's loop and
 # try) and one more may come innermost (the wait loop of a `Till`); the rest hold the

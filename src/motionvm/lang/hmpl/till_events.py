@@ -4,7 +4,7 @@
 the controller computes (never in one it jumps over), the task need not be resumed in
 the cycles between: an axis's status flags (IsInPos, IsMoving, IsEnabled, IsHomed,
 IsHoming, IsErrorStop), the controller's digital inputs and outputs (HIMC_GPI,
-HIMC_GPO), and the task's own variables, combined by operators and constants. Such a
+HIMC_GPO, GetGPI, GetGPO), and the task's own variables, combined by operators and constants. Such a
 Till is lowered as
 
     Till(IsInPos(a));   ->   if not b_IsInPos(g_a):
@@ -38,7 +38,7 @@ from motionvm.lang.hmpl import nodes as n
 
 EVENT_BUILTINS = frozenset({
     "IsInPos", "IsMoving", "IsEnabled", "IsHomed", "IsHoming", "IsErrorStop",
-    "HIMC_GPI", "HIMC_GPO",
+    "HIMC_GPI", "HIMC_GPO", "GetGPI", "GetGPO",
 })  # fmt: skip
 """Built-ins whose answer changes only in a computed cycle (given the same arguments)."""
 
@@ -74,6 +74,8 @@ def _pure(expr, resolve, storages: tuple[str, ...], builtins: frozenset[str]) ->
         )
     if isinstance(expr, n.Call):
         f = expr.func
+        if isinstance(f, n.Name) and f.id == "HIMC_GPO" and len(expr.args) != 1:
+            return False  # HIMC_GPO(n, v) sets an output
         return (isinstance(f, n.Name) and f.id in builtins and resolve(f.id) is None
                 and all(_pure(x, resolve, storages, builtins) for x in expr.args))  # fmt: skip
     return False
@@ -100,6 +102,8 @@ READ_BUILTINS = EVENT_BUILTINS | frozenset({
     "GetPosFb", "GetPosErr", "GetVelFb", "GetVelErr", "GetCurrFb", "GetRefPos",
     "GetRefVel", "GetRefAcc", "GetPosOut", "GetVelOut", "GetAccOut",
     "IsGrpEnabled", "IsGrpMoving", "IsGrpInPos", "IsGrpErrorStop",
+    "GetGPI", "GetGPO", "GetAllGPI", "GetAllGPO", "GetSlvGPI", "GetSlvGPO", "GetSlvAllGPI",
+    "GetSlvAllGPO", "GetSlvAI", "GetSlvAIRaw", "GetSlvAO", "GetSlvAORaw",
 })  # fmt: skip
 """Built-ins that only read the machine: asking again in the same cycle gives the same
 answer and leaves the same state (a bad axis id stores the same last error again)."""
