@@ -3,7 +3,7 @@
 Each example is an HMPL program of two tasks on three axes: moves (absolute, relative,
 jogs, buffered moves), stops, speed changes, smoothing, velocity scales, SetPos,
 rollover, disabling and resetting, ignored software limits, and waits of every kind
-(Till on an axis event, Till on a time, Sleep), with the axes' feedback and reference
+(Till on an axis event, on a time, on a position, Sleep), with the axes' feedback and reference
 printed at random points, on a random machine (cycle time, motor delay, counts per mm,
 limit switches and software limits within reach, a tight position error limit). It
 runs with skipping and with `--no-skip`; the outputs (with `--stamp` times) and the
@@ -35,6 +35,17 @@ def _print(a: int) -> str:
             f"GetVelFb({a}), GetRefPos({a}), IsInPos({a}), IsMoving({a}));")  # fmt: skip
 
 
+def _position_wait(a: int, p: float, f: float, strict: bool) -> str:
+    """A move and a wait until the feedback passes the fraction `f` of its way (or the
+    axis stops short of it), the time and position printed."""
+    up, down = (">", "<") if strict else (">=", "<=")
+    way = f"p_0 + (p_1 - p_0) * {f!r}"
+    return (f"p_1 = {p}; p_0 = GetPosFb({a}); MoveAbs({a}, p_1); "
+            f"if (p_1 > p_0) Till(GetPosFb({a}) {up} {way} || !IsMoving({a})); "
+            f"else Till({way} {up.replace('>', '<')} GetPosFb({a}) || !IsMoving({a})); "
+            f'Print("%d at a{a} %.9f", system_timeInMs, GetPosFb({a}));')  # fmt: skip
+
+
 statement = st.one_of(
     st.builds(lambda a, p: f"MoveAbs({a}, {p});", axis, position),
     st.builds(
@@ -49,6 +60,7 @@ statement = st.one_of(
     st.builds(lambda a: f"Till(IsInPos({a}));", axis),
     st.builds(lambda a: f"Till(!IsMoving({a}));", axis),
     st.builds(lambda a, b: f"Till(IsInPos({a}) && IsInPos({b}));", axis, axis),
+    st.builds(_position_wait, axis, position, st.floats(0.0, 1.0), st.booleans()),
     st.builds(lambda t: f"Sleep({t});", st.integers(0, 400)),
     st.builds(
         lambda t: f"t_end = system_timeInMs + {t}; Till(system_timeInMs >= t_end);",
@@ -77,7 +89,7 @@ statement = st.one_of(
 
 
 def _task(body: list[str], first: bool) -> str:
-    lines = ["int t_end;", "void main() {"]
+    lines = ["int t_end;", "double p_0, p_1;", "void main() {"]
     if first:
         lines += ["    StartTask(1);"] + [
             f"    Enable({a}); Till(IsEnabled({a}));" for a in range(AXES)

@@ -217,6 +217,20 @@ def _end(a, s: int) -> tuple[int, int, int, list[float], float]:
     return a._cycle, s, e, feedback, p
 
 
+def feedback_after(a, i: int) -> float:
+    """The position feedback [mm] of axis `a` after `i` more cycles (i >= 1) of an advance
+    (`coast_cycles(a, k, ...)` >= i, no smoothing): the motor stands on the drive's
+    demand of cycle i - delay_cycles, and the feedback follows its encoder count, as
+    `_end` computes it."""
+    pg = a.pg
+    s = 1 if pg._tc_done else _last_sample(pg) - pg._n + 1  # the first output on p_f
+    j = i - a.drive.mechanics.delay_cycles
+    x = _demands(a, s, j, j)[0]
+    enc = x.__round__()
+    pa = a._position_actual
+    return a.pos_fb if enc == pa else (a._feedback_counts + (enc - pa)) / a.cpu - a._slave_offset
+
+
 def _demands(a, s: int, i_lo: int, i_hi: int, p_last: float | None = None) -> list[float]:
     """The drive's demands [counts] of cycles i_lo .. i_hi (counted from now: 0 is this
     cycle, back to -delay_cycles) of an axis on the common path whose output is its

@@ -167,13 +167,15 @@ class MotionKernel:
 
     # ---- time skipping (motion/axis_coast.py) ----------------------------------------
 
-    def coast_horizon(self, wanted: int, watched=None) -> int:
+    def coast_horizon(self, wanted: int, watched=None, watches=()) -> int:
         """How many cycles (at most `wanted`) every axis can be advanced in closed form
         from now: 0 if one must be stepped. Gears, gantry pairs, busy axis groups and a
         starting bus are stepped. The advance ends with the first status change of an
         axis, unless `watched` (not None) holds the axes whose `moving` flag someone
         reads: the others may end region I inside it and stop where they come into
-        position (motion/axis_coast.py)."""
+        position (motion/axis_coast.py); and at the first cycle after which a position
+        that a task waits for may be reached (`watches`: `PositionWatch`es, each false
+        now)."""
         if self._bus_steps or self.gantries.pairs or self.gears.gears or self.groups_moving():
             return 0 if not self.at_rest() else wanted
         k = wanted
@@ -184,6 +186,10 @@ class MotionKernel:
                 k = axis_coast.coast_cycles(a, k, watched is not None and a not in watched, memo)
                 if not k:
                     return 0
+        for w in watches:
+            k = w.cycles(k)
+            if not k:
+                return 0
         return k
 
     def coast(self, k: int) -> None:

@@ -51,6 +51,10 @@ class Task:
     record: list | None = None
     """After a STATUS_WAIT or STATUS_POLL: the flags the task read in that slice, as
     (object, attribute, value), the condition's last evaluation among them; else None."""
+    watch: Callable[[], bool] | None = None
+    """After an EVENT_WAIT or EVENT_POLL whose condition also tests an axis's position:
+    the position test alone (true: the wait's condition may hold now), with `axis` and
+    `threshold` attributes for the controller's jump (sim/jumps.py); else None."""
 
     @property
     def running(self) -> bool:
@@ -192,7 +196,7 @@ class Kernel:
             before_resume(t)
             if recorder is not None:
                 recorder.reads = reads = []
-            t.record = None
+            t.record = t.watch = None
             try:
                 y = gen.send(None)
             except StopIteration:

@@ -92,7 +92,7 @@ class JumpPlanner:
         limit = NEVER if end_cycle is None else end_cycle - cycle
         if limit <= 0:
             return False
-        wake, watched = self._task_wake(cycle)
+        wake, watched, watches = self._task_wake(cycle)
         if wake is not None and wake <= cycle:
             return False
         clients = ctl.clients
@@ -118,7 +118,7 @@ class JumpPlanner:
             for c in self._observers:  # (a loop: no generator for any() per jump)
                 if c.observes_motion:
                     return False
-            k = motion.coast_horizon(limit, watched)
+            k = motion.coast_horizon(limit, watched, watches)
             if not k:
                 return self._motion_cycle(cycle)
         if self._samplers:
@@ -129,15 +129,18 @@ class JumpPlanner:
         self.jumps += 1
         return True
 
-    def _task_wake(self, cycle: int) -> tuple[int | None, set | None]:
+    def _task_wake(self, cycle: int) -> tuple[int | None, set | None, list]:
         """The earliest wake cycle of the running tasks (`cycle` as soon as one is due),
         leaving out those waiting on an event that would find their condition false
-        again if polled now; and the axes whose `moving` flag the tasks left out read
-        (None: they test the whole status)."""
+        again if polled now; the axes whose `moving` flag the tasks left out read
+        (None: they test the whole status); and the positions they wait for
+        (`PositionWatch`es, motion/position_watch.py: a task whose position may be
+        reached now is due)."""
         kernel = self.controller.kernel
         old_ok = None  # the tasks without a record: the whole status as after_tasks saw it
         wake = None
         watched: set | None = _NOBODY
+        watches = []
         for t in kernel._active:
             w = t.wake_cycle
             if w > cycle:
@@ -145,15 +148,19 @@ class JumpPlanner:
                     wake = w
                 continue
             if not t.event_wait:
-                return cycle, None
+                return cycle, None, watches
+            if t.watch is not None:
+                if t.watch():
+                    return cycle, None, watches
+                watches.append(t.watch)
             record = t.record
             if record is not None:
                 for read in record:  # `Task.record_holds`, inline
                     if read is None:
-                        return cycle, None
+                        return cycle, None, watches
                     obj, attr, value = read
                     if getattr(obj, attr) != value:
-                        return cycle, None
+                        return cycle, None, watches
                     if attr == "moving" and watched is not None:
                         if watched is _NOBODY:
                             watched = set()
@@ -164,9 +171,9 @@ class JumpPlanner:
                     old_ok = (seen is not None and kernel.quiet and not kernel._changed
                               and seen == self._status())  # fmt: skip
                 if not old_ok:
-                    return cycle, None
+                    return cycle, None, watches
                 watched = None
-        return wake, watched
+        return wake, watched, watches
 
     def _motion_cycle(self, cycle: int) -> bool:
         """Jump over cycle `cycle` stepping only the motion kernel (no task, no client

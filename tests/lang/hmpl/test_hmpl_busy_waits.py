@@ -48,7 +48,13 @@ def test_a_loop_until_a_time_sleeps_until_that_time(loop):
     assert "yield _till_ms(" in python_of(loop)
 
 
-@pytest.mark.parametrize("loop", ["while (GetPosFb(0) < 5.0);", "while (system_fclk < t) {}",
+@pytest.mark.parametrize("loop", ["while (GetPosFb(0) < 5.0);", "while (5.0 < GetPosFb(a)) {}"])
+def test_a_loop_until_a_position_tells_the_controller_the_position(loop):
+    text = python_of(loop)
+    assert "yield _till_pos(" in text and "_budget -=" not in text
+
+
+@pytest.mark.parametrize("loop", ["while (GetPosFb(0) < GetRefPos(0));", "while (system_fclk < t) {}",
                                   "while (GetVelFb(a) != 0.0 || !IsInPos(a));",
                                   "while (!IsGrpInPos(0)) RunScheduler();"])  # fmt: skip
 def test_a_loop_on_other_reads_polls_once_per_cycle(loop):

@@ -43,7 +43,7 @@ def test_conditions_on_globals_or_io_wait_on_an_event_of_any_status(cond):
 
 
 @pytest.mark.parametrize("cond", [
-    "GetPosFb(0) > 5.0", "f()", "IsInPos(a++)", "system_timeInMs > 5 && IsInPos(0)",
+    "GetPosFb(0) > GetRefPos(0)", "f()", "IsInPos(a++)", "system_timeInMs > 5 && IsInPos(0)",
     "system_fclk > 10", "IsInPos(0) && GetVelFb(0) == 0.0",
 ])  # fmt: skip
 def test_other_conditions_poll(cond):
@@ -54,6 +54,12 @@ def test_other_conditions_poll(cond):
 @pytest.mark.parametrize("cond", ["system_timeInMs >= t", "t + 5 < system_timeInMs"])
 def test_a_time_comparison_sleeps_until_that_time(cond):
     assert "yield _till_ms(" in python_of(f"Till({cond});")
+
+
+@pytest.mark.parametrize("cond", ["GetPosFb(0) > 5.0", "g <= GetPosFb(a)", "GetPosFb(a + 1) < -t"])
+def test_a_position_comparison_tells_the_controller_the_position(cond):
+    text = python_of(f"Till({cond});")
+    assert "yield _till_pos(" in text and "yield\n" not in text
 
 
 def _run(src: str, skip: bool):

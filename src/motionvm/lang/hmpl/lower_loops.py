@@ -66,8 +66,8 @@ from motionvm.lang.hmpl.symbols import Scope, VarSym
 from motionvm.lang.hmpl.till_events import (
     READ_BUILTINS,
     idle_body,
+    negated,
     reads_only,
-    time_wait_while,
     waits_on_event,
 )
 from motionvm.runtime.kernel import EVENT_POLL, EVENT_WAIT
@@ -258,8 +258,9 @@ class LoopLowering(PointerWalkLowering):
         condition that changes nothing (`reads_only`), polled once per cycle: nothing
         else runs in its task's slice, so the first test of a cycle decides the rest of
         it, and spinning on to the end of the slice changes nothing a program can see.
-        A condition that waits on an event is lowered as `Till(!c)` (the controller may
-        jump past it); any other as `while c: yield`. None for any other loop."""
+        It is lowered as `Till(!c)`: on an event the controller may jump past it, on
+        the time it sleeps, on a position it tells the controller. None for any other
+        loop."""
         resolve = self._event_symbol
         if not (idle_body(s.body, resolve) and reads_only(s.cond, resolve)):
             return None
@@ -267,12 +268,7 @@ class LoopLowering(PointerWalkLowering):
         waited = self.event_wait(s.cond, test)
         if waited is not None:
             return waited
-        self.has_yield = True
-        timed = time_wait_while(s.cond, resolve)
-        if timed is not None:  # sleep until the first cycle whose time passes X
-            wake = call("_till_ms", self.expr(timed[0]).node, ast.Constant(timed[1]))
-            return [ast.While(test, [ast.Expr(ast.Yield(wake))], [])]
-        return [ast.While(test, [ast.Expr(ast.Yield(None))], [])]
+        return self.poll_until(negated(s.cond), test)
 
     def _s_DoWhile(self, s: n.DoWhile) -> list[ast.stmt]:
         b = self.temp()

@@ -24,7 +24,7 @@ from motionvm.lang.hmpl.lower_split import SplitLowering, bind_splits
 from motionvm.lang.hmpl.lower_util import LoopCtx, PollCtx, at
 from motionvm.lang.hmpl.lvalues import call, name, view_code
 from motionvm.lang.hmpl.symbols import FuncSym, Scope, VarSym, error_symbol
-from motionvm.lang.hmpl.till_events import status_only, time_wait, waits_on_event
+from motionvm.lang.hmpl.till_events import position_wait, status_only, time_wait, waits_on_event
 from motionvm.runtime.kernel import EVENT_POLL, EVENT_WAIT, STATUS_POLL, STATUS_WAIT
 
 # node class -> its `_s_` method of FunctionLowerer
@@ -356,13 +356,30 @@ class FunctionLowerer(ExprLowering, AccessLowering, LoopLowering, JumpLowering, 
         waited = self.event_wait(e.args[0], test)
         if waited is not None:
             return waited
+        return self.poll_until(e.args[0], test)
+
+    def poll_until(self, until, waiting: ast.expr) -> list[ast.stmt]:
+        """The wait of a task, polled once per cycle, while the Python test `waiting`
+        holds, that is until HMPL condition `until` (None: not known as a condition)
+        holds: on the time it sleeps until the first cycle that passes it (`_till_ms`);
+        on an axis's position it polls, handing the position to the controller's jumps
+        (`_till_pos`); else it polls."""
         self.has_yield = True
-        timed = time_wait(e.args[0], self._event_symbol)
+        resolve = self._event_symbol
+        timed = None if until is None else time_wait(until, resolve)
         if timed is not None:  # sleep until the first cycle whose time passes X
-            limit = self.expr(timed[0]).node
-            wake = call("_till_ms", limit, ast.Constant(timed[1]))
-            return [ast.While(test, [ast.Expr(ast.Yield(wake))], [])]
-        return [ast.While(test, [ast.Expr(ast.Yield(None))], [])]
+            wake = call("_till_ms", self.expr(timed[0]).node, ast.Constant(timed[1]))
+            return [ast.While(waiting, [ast.Expr(ast.Yield(wake))], [])]
+        watched = None if until is None else position_wait(until, resolve)
+        if watched is not None:
+            args = [self.expr(watched[0]).node, self.expr(watched[1]).node,
+                    ast.Constant(watched[2])]  # fmt: skip
+            wait = ast.Yield(call("_till_pos", *args, ast.Constant(EVENT_WAIT)))
+            again = [copy.deepcopy(x) for x in args]
+            poll = ast.Yield(call("_till_pos", *again, ast.Constant(EVENT_POLL)))
+            loop = ast.While(copy.deepcopy(waiting), [ast.Expr(poll)], [])
+            return [ast.If(waiting, [ast.Expr(wait), loop], [])]
+        return [ast.While(waiting, [ast.Expr(ast.Yield(None))], [])]
 
     def event_wait(self, expr, waiting: ast.expr) -> list[ast.stmt] | None:
         """The wait of a task while the Python test `waiting` holds, polled once per

@@ -25,6 +25,7 @@ from motionvm.lang.hmpl.lib import library_classes
 from motionvm.lang.hmpl.program import CompiledProgram
 from motionvm.lang.hmpl.rthelpers import make_helpers
 from motionvm.motion.commands import MotionCommands
+from motionvm.motion.position_watch import PositionWatch
 from motionvm.runtime.clients import PassiveClient
 from motionvm.runtime.errors import RuntimeFault
 from motionvm.runtime.fault_position import Fault, user_frames
@@ -99,6 +100,7 @@ class HmplRuntime(PassiveClient):
         self.ns["_gpo"] = self._gpo
         self.ns["_gpo_set"] = self._gpo_set
         self.ns["_till_ms"] = self._till_ms
+        self.ns["_till_pos"] = self._till_pos
         self.libs = [cls(self) for cls in library_classes()]
         for lib in self.libs:
             for hname, (attr, _blocking) in lib.builtin_methods().items():
@@ -199,6 +201,16 @@ class HmplRuntime(PassiveClient):
             if t > x if strict else t >= x:
                 return cycle
             cycle += 1
+
+    def _till_pos(self, axis_id, threshold, rising: bool, code: int) -> int:
+        """The yield of `Till(GetPosFb(axis_id) >= threshold)` (rising; falling: <=, and
+        the strict forms alike) while its condition is false: `code` (EVENT_WAIT or
+        EVENT_POLL), with the position it waits for handed to the controller's jumps
+        (`Task.watch`). A bad axis id hands nothing (GetPosFb answers 0 then)."""
+        a = self.controller.motion.axis(axis_id)
+        if a is not None:
+            self.kernel.current.watch = PositionWatch(a, float(threshold), rising)
+        return code
 
     def still_running(self) -> list:
         """Every running task and the line of the user's code where it waits."""

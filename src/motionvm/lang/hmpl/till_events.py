@@ -135,6 +135,43 @@ def idle_body(body, resolve) -> bool:
             and not e.args and resolve("RunScheduler") is None)  # fmt: skip
 
 
+_RISING = {">=": True, ">": True, "<=": False, "<": False}
+_SWAPPED = {">=": "<=", ">": "<", "<=": ">=", "<": ">"}
+
+
+def position_wait(expr, resolve):
+    """(A, X, rising) if `expr` is `GetPosFb(A) >= X` (rising: >=, >; falling: <=, <),
+    or the same with the operands swapped, with A and X event expressions, or such a
+    comparison `||` an event condition (`waits_on_event`); else None. Such a `Till`
+    polls as any other, and tells the controller the position it waits for, so that a
+    jump ends where the axis reaches it (motion/position_watch.py); the event part is
+    watched as a `Till` on it is."""
+    if not isinstance(expr, n.Binary):
+        return None
+    if expr.op == "||":
+        for pos, other in ((expr.left, expr.right), (expr.right, expr.left)):
+            found = position_wait(pos, resolve)
+            if found is not None and waits_on_event(other, resolve):
+                return found
+        return None
+    if expr.op not in _RISING:
+        return None
+    op, left, right = expr.op, expr.left, expr.right
+    if not _is_pos_fb(left, resolve):
+        op, left, right = _SWAPPED[op], right, left
+        if not _is_pos_fb(left, resolve):
+            return None
+    if not waits_on_event(right, resolve):
+        return None
+    return left.args[0], right, _RISING[op]
+
+
+def _is_pos_fb(e, resolve) -> bool:
+    return (isinstance(e, n.Call) and isinstance(e.func, n.Name) and e.func.id == "GetPosFb"
+            and resolve("GetPosFb") is None and len(e.args) == 1
+            and waits_on_event(e.args[0], resolve))  # fmt: skip
+
+
 _TIME = "system_timeInMs"
 _FLIPPED = {"<=": ">=", "<": ">", ">=": ">=", ">": ">"}
 
@@ -142,14 +179,14 @@ _FLIPPED = {"<=": ">=", "<": ">", ">=": ">=", ">": ">"}
 _NEGATED = {"<": ">=", "<=": ">", ">": "<=", ">=": "<"}
 
 
-def time_wait_while(expr, resolve):
-    """`time_wait` of the end of a loop `while (expr)`: (X, strict) if `expr` is
-    `system_timeInMs < X` (strict: `<=`), or the same with the operands swapped. The
-    loop tests `expr` itself again when it wakes, and where `expr` is false its negation
-    (`>=`, `>`) is true (a NaN X ends the loop before any wait), so it never wakes late."""
+def negated(expr):
+    """The comparison that holds where comparison `expr` fails (`a < b` -> `a >= b`), or
+    None for any other expression. Not where an operand is a NaN; a loop `while (expr)`
+    waiting until it holds tests `expr` itself again each time it wakes, and a NaN ends
+    it before any wait."""
     if not isinstance(expr, n.Binary) or expr.op not in _NEGATED:
         return None
-    return time_wait(n.Binary(expr.pos, _NEGATED[expr.op], expr.left, expr.right), resolve)
+    return n.Binary(expr.pos, _NEGATED[expr.op], expr.left, expr.right)
 
 
 def time_wait(expr, resolve):
