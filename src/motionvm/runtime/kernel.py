@@ -53,8 +53,9 @@ class Task:
     (object, attribute, value), the condition's last evaluation among them; else None."""
     watch: Callable[[], bool] | None = None
     """After an EVENT_WAIT or EVENT_POLL whose condition also tests an axis's position:
-    the position test alone (true: the wait's condition may hold now), with `axis` and
-    `threshold` attributes for the controller's jump (sim/jumps.py); else None."""
+    the position test alone (called: true if the wait's condition may hold now), which
+    the controller's jumps also ask how far the axis may be advanced before it holds
+    (`cycles(k)`: motion/position_watch.py, sim/jumps.py); else None."""
 
     @property
     def running(self) -> bool:

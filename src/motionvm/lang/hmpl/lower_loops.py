@@ -15,10 +15,11 @@ becomes
             if _budget < 0:
                 yield
 
-A polling loop (one that reads what may change outside it: see `_fixed_point`) ends its task's slice at the first iteration that changes nothing:
-nothing else runs in the slice, so every later iteration of it would repeat that one.
-The loop's back-edge compares the locals its body writes with those of the back-edge
-before, and a marker tells whether any statement that may act ran in between:
+A polling loop (one that reads what may change outside it: see `_fixed_point`) ends
+its task's slice at the first iteration that changes nothing: nothing else runs in the
+slice, so every later iteration of it would repeat that one. The loop's back-edge
+compares the locals its body writes (those declared outside it) with those of the
+back-edge before, and a marker tells whether any statement that may act ran in between:
 
     while (1) { int in = GetGPI(4); if (in && !last) DisableAll(); last = in; }
 becomes
@@ -31,8 +32,8 @@ becomes
             _t3 = 1
             b_DisableAll()
         v_last = v_in
-        if _t3 or _t4 != (v_in, v_last):
-            _t4 = (v_in, v_last)
+        if _t3 or _t4 != (v_last,):
+            _t4 = (v_last,)
             _t3 = 0
             _t5 = -2
             <the budgeted back-edge>
@@ -123,9 +124,10 @@ class LoopLowering(PointerWalkLowering):
     def _fixed_point(self, cond, body) -> PollCtx | None:
         """A new `PollCtx` if `while (cond) body` (cond None: forever) is a polling loop
         that ends its slice at a fixed point: one that reads what may change outside it
-        (`_reads_outside`), whose condition changes nothing, and in which no loop or switch will be lowered as a
-        function of its own (its statements would set a marker of their own). None for
-        any other loop: those keep spinning (the check would only slow them down)."""
+        (`_reads_outside`), whose condition changes nothing, and in which no loop or
+        switch will be lowered as a function of its own (its statements would set a
+        marker of their own). None for any other loop: those keep spinning (the check
+        would only slow them down)."""
         resolve = self._event_symbol
         if cond is not None and not reads_only(cond, resolve):
             return None
@@ -149,12 +151,15 @@ class LoopLowering(PointerWalkLowering):
             if type(x) is ast.Name and type(x.ctx) is ast.Store and x.id.startswith("v_")
         } - polling.inner)  # fmt: skip
         seen = self.temp()
-        now = ast.Tuple([name(v) for v in written], ast.Load())
+
+        def now() -> ast.Tuple:
+            return ast.Tuple([name(v) for v in written], ast.Load())
+
         changed = ast.BoolOp(ast.Or(), [
-            name(mark), ast.Compare(name(seen), [ast.NotEq()], [now])
+            name(mark), ast.Compare(name(seen), [ast.NotEq()], [now()])
         ])  # fmt: skip
         record = [
-            ast.Assign([name(seen, True)], ast.Tuple([name(v) for v in written], ast.Load())),
+            ast.Assign([name(seen, True)], now()),
             ast.Assign([name(mark, True)], ast.Constant(0)),
         ]
         before = [mark_effect(mark), ast.Assign([name(seen, True)], ast.Constant(None))]
@@ -254,10 +259,10 @@ class LoopLowering(PointerWalkLowering):
 
     def _busy_wait(self, s: n.While) -> list[ast.stmt] | None:
         """A loop that only waits, `while (c);` or `while (c) RunScheduler();` (or the same
-        as `for (; c;)`, `for (;;)`) with a
-        condition that changes nothing (`reads_only`), polled once per cycle: nothing
-        else runs in its task's slice, so the first test of a cycle decides the rest of
-        it, and spinning on to the end of the slice changes nothing a program can see.
+        as `for (; c;)`, `for (;;)`) with a condition that changes nothing (`reads_only`),
+        polled once per cycle: nothing else runs in its task's slice, so the first test
+        of a cycle decides the rest of it, and spinning on to the end of the slice
+        changes nothing a program can see.
         It is lowered as `Till(!c)`: on an event the controller may jump past it, on
         the time it sleeps, on a position it tells the controller. None for any other
         loop."""

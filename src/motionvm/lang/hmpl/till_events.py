@@ -4,8 +4,8 @@
 the controller computes (never in one it jumps over), the task need not be resumed in
 the cycles between: an axis's status flags (IsInPos, IsMoving, IsEnabled, IsHomed,
 IsHoming, IsErrorStop), the controller's digital inputs and outputs (HIMC_GPI,
-HIMC_GPO, GetGPI, GetGPO), and the task's own variables, combined by operators and constants. Such a
-Till is lowered as
+HIMC_GPO, GetGPI, GetGPO), and the task's own variables, combined by operators and
+constants. Such a Till is lowered as
 
     Till(IsInPos(a));   ->   if not b_IsInPos(g_a):
                                  yield -2                  # EVENT_WAIT
@@ -24,8 +24,17 @@ expression, sleeps until the first cycle whose time passes X:
     Till(system_timeInMs >= t);   ->   while not _I32[16] >= g_t:
                                            yield _till_ms(g_t, False)
 
-Any other condition (positions, velocities, an array or a pointer, a call of a user's
-function, the time combined with anything else) keeps polling every cycle.
+A comparison of an axis's position feedback with such an expression,
+`GetPosFb(a) >= X` (or >, <=, <, either way round, alone or `||` an event condition),
+polls, and hands the controller the position it waits for (`position_wait`):
+
+    Till(GetPosFb(a) >= x);   ->   if not b_GetPosFb(v_a) >= v_x:
+                                       yield _till_pos(v_a, v_x, True, -2)
+                                       while not b_GetPosFb(v_a) >= v_x:
+                                           yield _till_pos(v_a, v_x, True, -1)
+
+Any other condition (velocities, an array or a pointer, a call of a user's function,
+the time combined with anything else) keeps polling every cycle.
 
 A busy loop that only waits (`idle_body`: `while (c);`, `while (c) RunScheduler();`)
 on a condition that changes nothing (`reads_only`) is decided by its first test in each
