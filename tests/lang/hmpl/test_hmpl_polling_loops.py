@@ -65,6 +65,20 @@ void main() {
 }
 """
 """While the input is on, only a global changes: each iteration acts (the marker)."""
+SKIP_ON_OFF = """
+int yes() { return 1; }
+void main() {
+    int last = 0, n = 0;
+    while (FOREVER) {
+        int in = GetGPI(1);
+        if (!in) { last = 0; continue; }
+        n++;
+        if (!last) Print("%d on n=%d", system_timeInMs, n);
+        last = in;
+    }
+}
+"""
+"""A `continue` ends the quiet iterations: it checks for a fixed point as the back-edge."""
 TOGGLES = [(0.0105, 1), (0.0123, 0), (0.0301, 1), (0.0302, 0), (0.0450, 1), (0.0702, 0)]
 
 
@@ -78,14 +92,16 @@ def _run(src: str, skip: bool) -> tuple[list[str], int]:
 
 
 @pytest.mark.parametrize(
-    "program", [SCAN, STATE_MACHINE, GLOBAL_COUNT], ids=["scan", "state_machine", "global_count"]
+    "program",
+    [SCAN, STATE_MACHINE, GLOBAL_COUNT, SKIP_ON_OFF],
+    ids=["scan", "state_machine", "global_count", "continue"],
 )
 @pytest.mark.parametrize("skip", [False, True])
 def test_a_polling_loop_runs_as_the_spinning_one(program, skip):
     fast = _run(program.replace("FOREVER", "1"), skip)[0]
     spun = _run(program.replace("FOREVER", "yes()"), skip)[0]
     assert fast == spun
-    assert len(fast) >= 4
+    assert len(fast) >= 2
 
 
 def test_the_scan_counts_the_iterations_of_whole_slices():
@@ -102,6 +118,11 @@ def test_a_polling_loop_lowers_with_the_fixed_point_check():
     )
     assert "!= (v_last,)" in text  # `in` is declared in the body: it lives one iteration
     assert text.count("= 1\n") >= 2  # the marker before the loop and before DisableAll
+
+
+def test_a_continue_checks_for_a_fixed_point():
+    text = python_of("while (1) { if (!GetGPI(1)) continue; DisableAll(); }")
+    assert text.count("!= ()") == 2  # at the `continue` and at the back-edge
 
 
 @pytest.mark.parametrize("loop", [

@@ -46,6 +46,7 @@ becomes
 from __future__ import annotations
 
 import ast
+import copy
 
 from motionvm.lang.hmpl import ctypes_ as ct
 from motionvm.lang.hmpl import nodes as n
@@ -172,14 +173,16 @@ class LoopLowering(PointerWalkLowering):
                        ast.Assign([name(kind, True)], ast.Constant(EVENT_POLL))]  # fmt: skip
         else:
             repeat.append(ast.Expr(ast.Yield(None)))
-        return before, [ast.If(changed, record + backedge(b), repeat)]
+        check = ast.If(changed, record + backedge(b), repeat)
+        _FillContinues(check).visit(ast.Module(body, []))  # a `continue` checks as well
+        return before, [check]
 
     def quiet_statement(self, s, polling: PollCtx) -> bool:
         """True if statement `s` of polling loop `polling`'s body changes nothing but plain
         integer locals, and so need not set the loop's effect marker: it only reads the
         machine and variables (`reads_only`), or is a block, an `if` or a `switch` on
         such a condition (their statements mark themselves), or leaves the loop's
-        iteration (`break`, `return`; a `continue` marks in the loop's `cont`). If what
+        iteration (`break`, `return`; a `continue` checks as the back-edge does). If what
         it reads is not all a computed cycle changes (`waits_on_event`), the loop's
         quiet iterations poll (`PollCtx.on_events` false)."""
         t = type(s)
@@ -251,8 +254,8 @@ class LoopLowering(PointerWalkLowering):
         test = self.cond(s.cond)
         b = self.temp()
         polling = self._fixed_point(s.cond, s.body)
-        cont = ([mark_effect(polling.mark)] if polling else []) + backedge(b) + [ast.Continue()]
-        body, ctx = self._loop_body(s.body, cont, polling=polling)
+        cont = [_continue_check() if polling else backedge(b), ast.Continue()]
+        body, ctx = self._loop_body(s.body, _flat(cont), polling=polling)
         before, end = self._fixed_point_end(polling, b, body) if polling else ([], backedge(b))
         loop = ast.While(test=test, body=body + end, orelse=[])
         return [countdown_init(b), *before] + self._placed(ctx, loop)
@@ -323,8 +326,7 @@ class LoopLowering(PointerWalkLowering):
                 else []
             )
             polling = self._fixed_point(s.cond, s.body) if s.step is None else None
-            cont = step + ([mark_effect(polling.mark)] if polling else []) + backedge(b)
-            cont.append(ast.Continue())
+            cont = _flat([step, _continue_check() if polling else backedge(b), ast.Continue()])
             body, ctx = self._loop_body(s.body, cont, polling=polling)
             step2 = (
                 at(self._s_ExprStmt(n.ExprStmt(s.step.pos, s.step)), s.step.pos)
@@ -730,6 +732,41 @@ def _loop_depth(stmt) -> int:
             if x.else_ is not None:
                 stack.append((x.else_, d))
     return deepest
+
+
+_CONTINUE_CHECK = "_continue_check_"
+
+
+def _continue_check() -> ast.stmt:
+    """Where a `continue` of a polling loop's body checks for a fixed point, as the loop's
+    back-edge does: filled in once the body is lowered (`_FillContinues`), as what the
+    check compares (the locals the body writes) is known only then."""
+    return ast.Expr(ast.Name(_CONTINUE_CHECK, ast.Load()))
+
+
+def _flat(items) -> list[ast.stmt]:
+    """Statements and lists of statements, as one list."""
+    out = []
+    for x in items:
+        out.extend(x if isinstance(x, list) else [x])
+    return out
+
+
+class _FillContinues(ast.NodeTransformer):
+    """Replaces each `_continue_check()` by a copy of the loop's check."""
+
+    def __init__(self, check: ast.stmt) -> None:
+        self.check = check
+
+    def visit_Expr(self, node: ast.Expr):
+        v = node.value
+        if type(v) is ast.Name and v.id == _CONTINUE_CHECK:
+            check = copy.deepcopy(self.check)
+            for x in ast.walk(check):  # at the `continue`'s place
+                if "lineno" in x._attributes:
+                    ast.copy_location(x, node)
+            return check
+        return node
 
 
 def mark_effect(mark: str) -> ast.stmt:
