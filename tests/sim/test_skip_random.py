@@ -72,7 +72,7 @@ statement = st.one_of(
     st.builds(
         lambda a, t: f"Till(!IsMoving({a})); SetSMTime({a}, {t});",
         axis,
-        st.sampled_from([0.0, 0.0, 5.0]),
+        st.sampled_from([0.0, 0.0, 5.0, 30.0]),
     ),
     st.builds(lambda a: f"Stop({a});", axis),
     st.builds(lambda a, p: f"Till(!IsMoving({a})); SetPos({a}, {p});", axis, position),

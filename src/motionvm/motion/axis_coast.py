@@ -14,6 +14,10 @@ the radius for the debounce time (`in_pos` rises). The status of those cycles is
 `AxisCycle._settle` itself, called with each cycle's feedback (`_end`); the cycles in
 which only the debounce count grows are counted at once.
 
+With smoothing the advance replays the moving average (`_outputs`) and goes on past
+the end of the T-curve while the average flushes, up to the cycle before its output
+stands on the target (`_flush_room`); from there the cycles are stepped.
+
 `coast_cycles` tells how many cycles the axis can be advanced from now: to its first
 status change (the cycle region I ends in) or, when nobody watches its `moving`, to the
 cycle it comes into position, the first cycle a wait on `IsInPos` can see; `coast`
@@ -93,8 +97,11 @@ def _common(a) -> bool:
         return False
     pg = a.pg
     m = d.mechanics
-    # the samples the next outputs average (and the motor's delay) lie in this plan
-    if pg._nseg == 0 or pg._n < m.delay_cycles + (pg._n_avg + 1 if pg._n_avg > 1 else 0):
+    # the samples the next outputs average (and the motor's delay) lie in this plan, or
+    # before it, where a plan started from rest holds its start
+    if pg._nseg == 0 or (
+        pg._n < m.delay_cycles + (pg._n_avg + 1 if pg._n_avg > 1 else 0) and not pg._from_rest
+    ):
         return False
     demand = d._demand
     # (x % 1.0 == 0.0: x is a whole number, without a call of int())
@@ -157,7 +164,10 @@ def coast_cycles(a, wanted: int, past_moving: bool = False, memo: dict | None = 
         to_end = n_last - n_0
         if not (to_end < wanted and pg._n_avg == 1 and n_last != NEVER and not pg._pending()
                 and _safe(a, n_0, n_last + 2)):  # fmt: skip
-            k = min(wanted, to_end, MAX_COAST)  # an advance along the T-curve
+            k = to_end  # an advance along the T-curve (smoothed: into its flush)
+            if pg._n_avg != 1 and n_last != NEVER and not pg._pending() and to_end < wanted:
+                k += _flush_room(pg, n_0, n_last, wanted - to_end)
+            k = min(wanted, k, MAX_COAST)
             shortest = max(MIN_COAST, a.drive.mechanics.delay_cycles + 3)
             while k >= shortest:
                 if _safe(a, n_0, n_0 + k):
@@ -166,7 +176,9 @@ def coast_cycles(a, wanted: int, past_moving: bool = False, memo: dict | None = 
             return 0
         s = to_end + 1  # the output is the target from cycle s on
     else:  # the T-curve is done: the output comes to rest on the target, the axis settles
-        if pg._n_avg != 1 or not (_holds_target(pg) and _common(a) and _safe(a, pg._n, pg._n + 2)):
+        if pg._n_avg != 1:
+            return _flush_cycles(a, wanted)
+        if not (_holds_target(pg) and _common(a) and _safe(a, pg._n, pg._n + 2)):
             return 0
         s = 1
     # the output is the generator's target from cycle s on: the horizon ends where
@@ -191,6 +203,41 @@ def coast_cycles(a, wanted: int, past_moving: bool = False, memo: dict | None = 
     if not count:  # never in position: nothing changes any more
         return min(wanted, MAX_COAST)
     return min(wanted, e + len(feedback) + debounce - count)
+
+
+def _flush_cycles(a, wanted: int) -> int:
+    """How many cycles (at most `wanted`) the smoothed output of axis `a`, whose T-curve
+    is done, can be advanced while its moving average flushes (`_advance_smoothed`):
+    `_flush_room`. 0 if fewer than the formulas need."""
+    pg = a.pg
+    if pg._idle or not a.moving or pg._pending() or not _common(a):
+        return 0
+    n_0 = pg._n
+    k = _flush_room(pg, n_0, n_0, wanted)
+    shortest = max(MIN_COAST, a.drive.mechanics.delay_cycles + 3)
+    while k >= shortest:
+        if _safe(a, n_0, n_0 + k):
+            return k
+        k //= 2
+    return 0
+
+
+def _flush_room(pg, n_0: int, n_from: int, most: int) -> int:
+    """How many samples (at most `most`) after sample n_from (at or after n_0, the last
+    T-curve sample or later) the smoothed generator `pg` can output while its moving
+    average flushes: its flush count stays below N, and no output stands exactly on the
+    target (from there region I may end: `AxisCycle.step`)."""
+    flushed = pg._flush if pg._tc_done else 0  # (the flush counts the samples past the end)
+    last = min(most, pg._n_avg - 1 - flushed - (n_from - n_0 if pg._tc_done else 0))
+    if last <= 0:
+        return 0
+    p_f = pg._p_f
+    k = 0
+    for p in _outputs(pg, n_0, n_from + 1, n_from + last)[0]:
+        if p == p_f:
+            break
+        k += 1
+    return k
 
 
 def _end(a, s: int) -> tuple[int, int, int, list[float], float]:
@@ -568,7 +615,16 @@ def _advance_smoothed(a, k: int) -> None:
     acc = (v - v_1) * inv_dt
     # the profile generator after sample n_e
     pg._n = n_e
-    if i != pg._seg_i:
+    if pg._tc_done:  # the moving average flushes (`_flush_room`)
+        pg._flush += k
+    elif i == pg._nseg:  # past the T-curve's end: as its last sample's segment, then past
+        n_last = _last_sample(pg)
+        j = _segment(pg, n_last)
+        if j != pg._seg_i:
+            pg._enter_segment(j)
+        pg._enter_segment(i)
+        pg._flush = n_e - n_last
+    elif i != pg._seg_i:
         pg._enter_segment(i)
     pg._out = (p, v, acc)
     if smoothing is not None:

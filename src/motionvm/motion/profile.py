@@ -46,6 +46,7 @@ class ProfileGenerator:
         "_base",
         "_buf",
         "_flush",
+        "_from_rest",
         "_idle",
         "_inv_dt",
         "_j",
@@ -117,6 +118,7 @@ class ProfileGenerator:
         self._flush = self._n_avg
         self._out = (p, 0.0, 0.0)
         self._idle = True
+        self._from_rest = True
 
     def move_to(self, target: float) -> None:
         """Move to `target` [mm] and stop there (MoveAbs; replans a motion in progress)."""
@@ -285,6 +287,9 @@ class ProfileGenerator:
         return self._tc_done
 
     def _start(self, plan: TCurve) -> None:
+        # from rest the samples before the plan are its start (the filter's window, the
+        # closed-form advance of motion/axis_coast.py); on the fly they are the old plan's
+        self._from_rest = self._idle
         if self._idle:
             if not plan.segs:
                 self._set_plan(plan)
