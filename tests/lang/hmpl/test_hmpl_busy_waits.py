@@ -32,6 +32,18 @@ def test_a_loop_that_waits_on_globals_or_inputs_is_an_event_wait(loop):
     assert "yield -2" in text and "yield -1" in text
 
 
+@pytest.mark.parametrize("loop", ["do ; while (!IsInPos(a));", "do {} while (!IsInPos(a));"])
+def test_an_empty_do_loop_is_the_same_wait(loop):
+    text = python_of(loop)
+    assert "yield -4" in text and "yield -3" in text and "yield\n" not in text
+
+
+def test_a_do_loop_that_yields_first_yields_then_waits():
+    text = python_of("do RunScheduler(); while (!IsInPos(a));")
+    body = text.split("def g_main")[1]
+    assert body.index("yield\n") < body.index("yield -4") and "_budget -=" not in body
+
+
 @pytest.mark.parametrize("loop", ["while (1);", "for (;;);", "for (;;) RunScheduler();"])
 def test_a_loop_forever_waits_on_no_flag(loop):
     assert "yield -4" in python_of(loop)
@@ -66,7 +78,7 @@ def test_a_loop_on_other_reads_polls_once_per_cycle(loop):
 @pytest.mark.parametrize("loop", [
     "while (a++ < 5);", "while (f());", "while (g < 5) g++;",
     "while (!IsInPos(0)) { RunScheduler(); g = 1; }", "while (!IsInPos(0)) Sleep(1);",
-    "while ((g = IsInPos(0)) == 0);", "for (a = 0; !IsInPos(0);) {}", "do ; while (!IsInPos(0));",
+    "while ((g = IsInPos(0)) == 0);", "for (a = 0; !IsInPos(0);) {}", "do g++; while (!IsInPos(0));",
 ])  # fmt: skip
 def test_a_loop_that_does_something_keeps_its_budgeted_spin(loop):
     assert "_budget -=" in python_of(loop)
@@ -92,6 +104,8 @@ IDIOMS = {
     "braces": ("while (!IsEnabled(0)) {}", "while (!IsInPos(a)) {}", "while (system_timeInMs < g) {}"),
     "yield": ("while (!IsEnabled(0)) RunScheduler();", "while (!IsInPos(a)) RunScheduler();",
               "while (system_timeInMs < g) RunScheduler();"),
+    "do": ("do ; while (!IsEnabled(0));", "do {} while (!IsInPos(a));",
+           "do RunScheduler(); while (system_timeInMs < g);"),
 }  # fmt: skip
 SPIN = ("while (!IsEnabled(0)) { a = a; }", "while (!IsInPos(a)) { a = a; }",
         "while (system_timeInMs < g) { a = a; }")  # fmt: skip

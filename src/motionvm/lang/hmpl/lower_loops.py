@@ -279,6 +279,12 @@ class LoopLowering(PointerWalkLowering):
         return self.poll_until(negated(s.cond), test)
 
     def _s_DoWhile(self, s: n.DoWhile) -> list[ast.stmt]:
+        # `do ; while (c);` is `while (c);`; `do RunScheduler(); while (c);` yields first
+        waiting = self._busy_wait(n.While(s.pos, s.cond, s.body))
+        if waiting is not None:
+            body = s.body.items[0] if type(s.body) is n.Block and s.body.items else s.body
+            first = [] if type(body) in (n.Empty, n.Block) else [ast.Expr(ast.Yield(None))]
+            return first + waiting
         b = self.temp()
         exit_ = [
             ast.If(
