@@ -88,6 +88,11 @@ class IOSystem(PassiveClient):
         (wires carry outputs, which only tasks change)."""
         return bool(self.sensors or self.bound)
 
+    def digital_signature(self) -> tuple:
+        """The digital channels of every slave (inputs, then outputs, module by module):
+        what a task's wait on GetSlvGPI/GetSlvGPO reads (equal signatures, equal answers)."""
+        return tuple([(*m.inputs, -1, *m.outputs) for s in self.bus.slaves for m in s.modules])
+
     def has_work(self, hook: str) -> bool:
         """Whether `hook` has anything to do (runtime/clients.py): `begin_cycle` with a
         wire or a sensor, `end_cycle` with a bound output, an I/O slave (its forced PDOs)

@@ -56,7 +56,8 @@ class JumpPlanner:
     def _status(self) -> tuple:
         ctl = self.controller
         gpio = ctl.io.gpio
-        return ctl.motion.status_signature(), tuple(gpio.inputs), tuple(gpio.outputs)
+        return (ctl.motion.status_signature(), tuple(gpio.inputs), tuple(gpio.outputs),
+                ctl.io.digital_signature())  # fmt: skip
 
     def after_tasks(self) -> None:
         """Record what the waiting tasks without a record of their own saw (the

@@ -132,3 +132,45 @@ def test_a_continue_checks_for_a_fixed_point():
 ])  # fmt: skip
 def test_other_loops_keep_the_plain_back_edge(loop):
     assert " != (" not in python_of(loop)
+
+
+SLAVE_MACHINE = """axes = 1
+[[slave]]
+kind = "digital"
+inputs = 4
+outputs = 4
+"""
+SLAVE_SCAN = """
+int yes() { return 1; }
+void main() {
+    int last = 0, edges = 0;
+    while (FOREVER) {
+        int in = GetSlvGPI(1, 3);
+        if ((in ^ last) && !in) {
+            edges++;
+            ToggleSlvGPO(1, 2);
+            Print("%d falling %d: outputs %d", system_timeInMs, edges, GetSlvAllGPO(1));
+        }
+        last = in;
+    }
+}
+"""
+
+
+def test_a_loop_polling_a_slave_input_jumps_and_runs_as_its_spin(tmp_path):
+    """The manual's 9.1.2 example 2: slave inputs are events of the jumps too."""
+    machine = tmp_path / "machine.toml"
+    machine.write_text(SLAVE_MACHINE, encoding="utf-8")
+    runs = {}
+    for forever, skip in (("1", True), ("1", False), ("yes()", False)):
+        sim = Simulation.from_source(
+            SLAVE_SCAN.replace("FOREVER", forever), skip=skip, stamp=True, machine=str(machine)
+        )
+        for t, value in TOGGLES:
+            sim.run(until=t)
+            sim.set_input("slv1.di3", bool(value))
+        sim.run(until=0.1)
+        runs[forever, skip] = (sim.messages, sim.controller.cycles_computed)
+    assert runs["1", True][0] == runs["1", False][0] == runs["yes()", False][0]
+    assert len(runs["1", True][0]) == 2
+    assert runs["1", True][1] < 30  # of 100: the clock jumps between the input changes

@@ -3,9 +3,9 @@
 `Till(cond)` polls `cond` once per cycle. If `cond` tests only what changes in a cycle
 the controller computes (never in one it jumps over), the task need not be resumed in
 the cycles between: an axis's status flags (IsInPos, IsMoving, IsEnabled, IsHomed,
-IsHoming, IsErrorStop), the controller's digital inputs and outputs (HIMC_GPI,
-HIMC_GPO, GetGPI, GetGPO), and the task's own variables, combined by operators and
-constants. Such a Till is lowered as
+IsHoming, IsErrorStop), the digital inputs and outputs of the controller (HIMC_GPI,
+HIMC_GPO, GetGPI, GetGPO) and of the I/O slaves (GetSlvGPI, GetSlvGPO, GetSlvAllGPI,
+GetSlvAllGPO), and the task's own variables, combined by operators and constants. Such a Till is lowered as
 
     Till(IsInPos(a));   ->   if not b_IsInPos(g_a):
                                  yield -2                  # EVENT_WAIT
@@ -47,7 +47,8 @@ from motionvm.lang.hmpl import nodes as n
 
 EVENT_BUILTINS = frozenset({
     "IsInPos", "IsMoving", "IsEnabled", "IsHomed", "IsHoming", "IsErrorStop",
-    "HIMC_GPI", "HIMC_GPO", "GetGPI", "GetGPO",
+    "HIMC_GPI", "HIMC_GPO", "GetGPI", "GetGPO", "GetSlvGPI", "GetSlvGPO", "GetSlvAllGPI",
+    "GetSlvAllGPO",
 })  # fmt: skip
 """Built-ins whose answer changes only in a computed cycle (given the same arguments)."""
 
