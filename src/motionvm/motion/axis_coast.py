@@ -167,13 +167,7 @@ def coast_cycles(a, wanted: int, past_moving: bool = False, memo: dict | None = 
             k = to_end  # an advance along the T-curve (smoothed: into its flush)
             if pg._n_avg != 1 and n_last != NEVER and not pg._pending() and to_end < wanted:
                 k += _flush_room(pg, n_0, n_last, wanted - to_end)
-            k = min(wanted, k, MAX_COAST)
-            shortest = max(MIN_COAST, a.drive.mechanics.delay_cycles + 3)
-            while k >= shortest:
-                if _safe(a, n_0, n_0 + k):
-                    return k
-                k //= 2
-            return 0
+            return _longest_safe(a, n_0, min(wanted, k, MAX_COAST))
         s = to_end + 1  # the output is the target from cycle s on
     else:  # the T-curve is done: the output comes to rest on the target, the axis settles
         if pg._n_avg != 1:
@@ -213,7 +207,12 @@ def _flush_cycles(a, wanted: int) -> int:
     if pg._idle or not a.moving or pg._pending() or not _common(a):
         return 0
     n_0 = pg._n
-    k = _flush_room(pg, n_0, n_0, wanted)
+    return _longest_safe(a, n_0, _flush_room(pg, n_0, n_0, wanted))
+
+
+def _longest_safe(a, n_0: int, k: int) -> int:
+    """k, or k halved until samples n_0+1 .. n_0+k of axis `a` are `_safe`; 0 below the
+    shortest advance the formulas allow."""
     shortest = max(MIN_COAST, a.drive.mechanics.delay_cycles + 3)
     while k >= shortest:
         if _safe(a, n_0, n_0 + k):
