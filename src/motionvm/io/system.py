@@ -62,6 +62,8 @@ class IOSystem(PassiveClient):
             modules = [Module.create(*counts, bits=spec.bits) for counts in spec.modules]
             slaves.append(Slave(len(slaves), spec.kind, modules, spec.name))
         self.bus = SlaveBus(slaves)
+        self._digital_modules = [m for s in slaves for m in s.modules if m.inputs or m.outputs]
+        """The modules with digital channels (`digital_signature`; the bus is fixed)."""
         motion.extra_slaves = len(config.slaves)
         self.slave_objects = self._attach_objects()
         """The I/O slaves' object dictionaries (io/slave_objects.py), in bus order."""
@@ -91,7 +93,7 @@ class IOSystem(PassiveClient):
     def digital_signature(self) -> tuple:
         """The digital channels of every slave (inputs, then outputs, module by module):
         what a task's wait on GetSlvGPI/GetSlvGPO reads (equal signatures, equal answers)."""
-        return tuple([(*m.inputs, -1, *m.outputs) for s in self.bus.slaves for m in s.modules])
+        return tuple([(*m.inputs, -1, *m.outputs) for m in self._digital_modules])
 
     def has_work(self, hook: str) -> bool:
         """Whether `hook` has anything to do (runtime/clients.py): `begin_cycle` with a

@@ -254,13 +254,16 @@ def _end(a, s: int) -> tuple[int, int, int, list[float], float]:
     else:
         e = 1
     demands = _demands(a, s, e - delay, max(e, s + delay) - delay)
-    cpu, off = a.cpu, a._slave_offset
-    pa, fc, fb = a._position_actual, a._feedback_counts, a.pos_fb
-    feedback = []
-    for x in demands:  # the motor follows the demand `delay` cycles later
-        enc = x.__round__()
-        feedback.append(fb if enc == pa else (fc + (enc - pa)) / cpu - off)
-    return a._cycle, s, e, feedback, p
+    # the motor follows the demand `delay` cycles later
+    return a._cycle, s, e, [_feedback(a, x) for x in demands], p
+
+
+def _feedback(a, x: float) -> float:
+    """The position feedback [mm] of axis `a` once its motor stands at x [counts]: the
+    encoder count's change added to the axis's unwrapped counts, as `Axis.step` does."""
+    enc = x.__round__()
+    pa = a._position_actual
+    return a.pos_fb if enc == pa else (a._feedback_counts + (enc - pa)) / a.cpu - a._slave_offset
 
 
 def feedback_after(a, i: int) -> float:
@@ -271,10 +274,7 @@ def feedback_after(a, i: int) -> float:
     pg = a.pg
     s = 1 if pg._tc_done else _last_sample(pg) - pg._n + 1  # the first output on p_f
     j = i - a.drive.mechanics.delay_cycles
-    x = _demands(a, s, j, j)[0]
-    enc = x.__round__()
-    pa = a._position_actual
-    return a.pos_fb if enc == pa else (a._feedback_counts + (enc - pa)) / a.cpu - a._slave_offset
+    return _feedback(a, _demands(a, s, j, j)[0])
 
 
 def _demands(a, s: int, i_lo: int, i_hi: int, p_last: float | None = None) -> list[float]:
@@ -469,11 +469,8 @@ def _advance(a, k: int, end: tuple | None = None) -> None:
             if i != pg._seg_i:
                 pg._enter_segment(i)
         else:
-            if not pg._tc_done:  # the segment of the T-curve's last sample, then past
-                i = _segment(pg, n_0 + s - 1)  # the last segment: the plan holds p_f
-                if i != pg._seg_i:
-                    pg._enter_segment(i)
-                pg._enter_segment(pg._nseg)
+            if not pg._tc_done:
+                _pass_end(pg, n_0 + s - 1)
             if idle:
                 pg._idle = True
                 if not pending:
@@ -532,6 +529,15 @@ def _segment(pg, n: int) -> int:
     while tau >= segs[i][1]:
         i += 1
     return i
+
+
+def _pass_end(pg, n_last: int) -> None:
+    """Generator `pg` past the end of its T-curve, as stepping leaves it: the segment of
+    its last sample n_last entered (its fields stay), then past the last one (done)."""
+    i = _segment(pg, n_last)
+    if i != pg._seg_i:
+        pg._enter_segment(i)
+    pg._enter_segment(pg._nseg)
 
 
 def _outputs(pg, n_0: int, n_lo: int, n_e: int):
@@ -616,12 +622,9 @@ def _advance_smoothed(a, k: int) -> None:
     pg._n = n_e
     if pg._tc_done:  # the moving average flushes (`_flush_room`)
         pg._flush += k
-    elif i == pg._nseg:  # past the T-curve's end: as its last sample's segment, then past
+    elif i == pg._nseg:  # past the T-curve's end
         n_last = _last_sample(pg)
-        j = _segment(pg, n_last)
-        if j != pg._seg_i:
-            pg._enter_segment(j)
-        pg._enter_segment(i)
+        _pass_end(pg, n_last)
         pg._flush = n_e - n_last
     elif i != pg._seg_i:
         pg._enter_segment(i)

@@ -112,8 +112,7 @@ READ_BUILTINS = EVENT_BUILTINS | frozenset({
     "GetPosFb", "GetPosErr", "GetVelFb", "GetVelErr", "GetCurrFb", "GetRefPos",
     "GetRefVel", "GetRefAcc", "GetPosOut", "GetVelOut", "GetAccOut",
     "IsGrpEnabled", "IsGrpMoving", "IsGrpInPos", "IsGrpErrorStop",
-    "GetGPI", "GetGPO", "GetAllGPI", "GetAllGPO", "GetSlvGPI", "GetSlvGPO", "GetSlvAllGPI",
-    "GetSlvAllGPO", "GetSlvAI", "GetSlvAIRaw", "GetSlvAO", "GetSlvAORaw",
+    "GetAllGPI", "GetAllGPO", "GetSlvAI", "GetSlvAIRaw", "GetSlvAO", "GetSlvAORaw",
 })  # fmt: skip
 """Built-ins that only read the machine: asking again in the same cycle gives the same
 answer and leaves the same state (a bad axis id stores the same last error again)."""
