@@ -106,8 +106,11 @@ class Controller:
         """Simulated time [s]."""
         return self.clock.cycle * self.cycle_time
 
-    def step(self) -> None:
-        """Run exactly one controller cycle."""
+    def step(self, end_cycle: int | None = None, fold: bool = False) -> None:
+        """Run exactly one controller cycle; with `fold` (time skipping, from `run`: no
+        cycle later than `end_cycle`), the cycle's motion phase may open a jump over
+        the cycles after it (`JumpPlanner.jump` after the tasks), when no client has
+        an `end_cycle` to run after it."""
         clients = self.clients
         if clients != self._hooked:  # a client came (or went) or its work changed
             self._take_hooks()
@@ -118,6 +121,10 @@ class Controller:
         self.kernel.run_cycle()
         if self.skip:
             self.jumps.after_tasks()
+            if (fold and not self._end_hooks and clients == self._hooked
+                    and self.jumps.jump(end_cycle, after_tasks=True)):  # fmt: skip
+                self.cycles_computed += 1
+                return
         motion.step()
         if clients != self._hooked:  # a task added a client: it ends this cycle
             self._take_hooks()
@@ -193,7 +200,7 @@ class Controller:
                 return UNTIL
             if self.skip and self.jumps.jump(end_cycle):
                 continue
-            self.step()
+            self.step(end_cycle, fold=pacer is None)  # (paced: a jump waits at its start)
         return FINISHED
 
     def still_running(self) -> list[Waiting]:

@@ -85,16 +85,25 @@ class JumpPlanner:
                 self._observed = True
         self._samplers = [c for c in clients if getattr(c, "samples_skipped_cycles", False)]
 
-    def jump(self, end_cycle: int | None) -> bool:
+    def jump(self, end_cycle: int | None, after_tasks: bool = False) -> bool:
         """Jump the clock ahead if nothing can change before a later cycle (advancing the
-        moving axes to it); True if it jumped. `end_cycle` bounds the jump."""
+        moving axes to it); True if it jumped. `end_cycle` bounds the jump.
+
+        `after_tasks`: the jump opens in the motion phase of the cycle being computed,
+        whose tasks have run and left a task running (`Controller.step` asks it when no
+        client has an `end_cycle` for it): the axes are advanced from this cycle's
+        motion phase on, and no task may be due in the next cycle. A jump of k cycles
+        is then this cycle's motion phase and the k - 1 cycles after it."""
         ctl = self.controller
         cycle = ctl.clock.cycle
         limit = NEVER if end_cycle is None else end_cycle - cycle
-        if limit <= 0:
+        if limit <= after_tasks:  # (after the tasks, one cycle is no jump)
             return False
-        wake, watched, watches = self._task_wake(cycle)
-        if wake is not None and wake <= cycle:
+        if after_tasks and (self._samplers or not ctl.kernel._active):
+            return False  # (no task runs: the run may end with this cycle)
+        first = cycle + after_tasks  # the first cycle whose tasks are passed over
+        wake, watched, watches = self._task_wake(first)
+        if wake is not None and wake <= first:
             return False
         clients = ctl.clients
         if clients != self._clients:
@@ -102,7 +111,7 @@ class JumpPlanner:
         for next_event in self._events:
             e = next_event()
             if e is not None and (wake is None or e < wake):
-                if e <= cycle:
+                if e <= first:
                     return False
                 wake = e
         motion = ctl.motion
@@ -120,7 +129,10 @@ class JumpPlanner:
                 if c.observes_motion:
                     return False
             k = motion.coast_horizon(limit, watched, watches)
-            if not k:
+            if after_tasks:
+                if k <= 1:  # this cycle's motion phase is stepped
+                    return False
+            elif not k:
                 return self._motion_cycle(cycle)
         if self._samplers:
             self._sampled_jump(cycle, k, resting, self._samplers)
