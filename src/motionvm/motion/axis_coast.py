@@ -318,12 +318,14 @@ def _safe(a, n_0: int, n_e: int) -> bool:
     """True if samples n_0+1 .. n_e trip no limit and no position error: the T-curve
     on the times [t_a, t_b] these samples and the motor's delay (and the moving
     average's window) span is monotonic, and its positions and highest velocity keep
-    clear of the limits."""
+    clear of the limits. A plan that moves one way only is tried whole first (its
+    `bounds`: what holds for all of it holds for the span)."""
     pg = a.pg
+    bounds = pg._plan.bounds
+    if bounds is not None and _clear(a, *bounds):
+        return True
     dt = pg.dt
-    d = a.drive
-    m = d.mechanics
-    delay = m.delay_cycles
+    delay = a.drive.mechanics.delay_cycles
     window = pg._n_avg if pg._n_avg > 1 else 0  # the moving average looks back N samples
     t_a, t_b = (n_0 - delay - window) * dt, n_e * dt  # (0 < t_b: the plan starts at 0)
     # the positions at t_a and t_b (as `TCurve.evaluate`; p_f past the last segment),
@@ -359,12 +361,19 @@ def _safe(a, n_0: int, n_e: int) -> bool:
             break
     if p_a is None:  # t_a past the last segment
         p_a = pg._p_f
-    lo, hi = (p_a, p_b) if p_a <= p_b else (p_b, p_a)
+    return _clear(a, p_a, p_b, v_top) if p_a <= p_b else _clear(a, p_b, p_a, v_top)
+
+
+def _clear(a, lo: float, hi: float, v_top: float) -> bool:
+    """True if the reference of axis `a` moving monotonically between lo and hi [mm] at
+    speeds up to v_top [mm/s] trips no limit and no position error (`_safe`)."""
     size = hi if hi >= -lo else -lo
     margin = (1e-9 * size if size > 1.0 else 1e-9) + 1e-12
     lo, hi = lo - margin, hi + margin
     if not (a._sw_stop_left < lo and hi < a._sw_stop_right):
         return False
+    d = a.drive
+    m = d.mechanics
     cpu, off = a.cpu, a._pos_offset
     shift = d._demand - d._target_prev  # motor counts minus target counts
     x_lo, x_hi = (lo + off) * cpu + shift - 2.0, (hi + off) * cpu + shift + 2.0
@@ -379,7 +388,7 @@ def _safe(a, n_0: int, n_e: int) -> bool:
     if not a.ignore_pe:
         # err = p(n) - p(n - delay) - c / cpu up to the rounding of the counts
         c = shift + a._feedback_counts - a._position_actual
-        err = v_top * delay * dt + ((c if c >= 0 else -c) + 2.0) / cpu
+        err = v_top * m.delay_cycles * a.dt + ((c if c >= 0 else -c) + 2.0) / cpu
         if err * 1.01 + 1e-9 >= a._max_pos_err:
             return False
     return True

@@ -29,15 +29,24 @@ class TCurve:
     open-ended cruise (t_1 = inf); a finite plan holds `p_f` from `duration` on.
     """
 
-    __slots__ = ("duration", "p_f", "segs")
+    __slots__ = ("bounds", "duration", "p_f", "segs")
 
-    def __init__(self, segs: list[tuple[float, float, float, float, float]], p_f: float):
+    def __init__(
+        self,
+        segs: list[tuple[float, float, float, float, float]],
+        p_f: float,
+        bounds: tuple[float, float, float] | None = None,
+    ):
         self.segs = segs
         """Segments `(t_0 [s], t_1 [s], p_0 [mm], v_0 [mm/s], a [mm/s^2])`."""
         self.p_f = p_f
         """Final position [mm] of a finite plan (exactly the target of a position plan)."""
         self.duration = segs[-1][1] if segs else 0.0
         """Time [s] at which the plan comes to rest; inf for a jog."""
+        self.bounds = bounds
+        """(lowest position [mm], highest position [mm], highest speed [mm/s]) of a plan
+        that moves one way only, its positions between its start and its end (up to
+        the rounding of its samples); None: not known to be so."""
 
     def evaluate(self, t: float) -> tuple[float, float, float]:
         """State (position [mm], velocity [mm/s], acceleration [mm/s^2]) at time t [s].
@@ -131,6 +140,7 @@ def plan_position(
     p = p_0
     v = v_0
     reversals = 2
+    one_way = True  # no braking to rest before the move to p_f: one direction only
     while True:
         dist_signed = p_f - p
         if dist_signed == 0.0 and v == 0.0:
@@ -155,6 +165,7 @@ def plan_position(
                 p = p + (v + 0.5 * a * dur) * dur
                 t = t_1
             v = 0.0
+            one_way = False
             if reversals == 0:
                 return TCurve(segs, p_f)
             reversals -= 1
@@ -199,7 +210,12 @@ def plan_position(
         t_dec = 2.0 * remaining / v_peak
         if t_dec > 0.0:
             segs.append((t, t + t_dec, p, v, -s * v_peak / t_dec))
-    return TCurve(segs, p_f)
+    if not one_way:
+        return TCurve(segs, p_f)
+    # from p_0 toward p_f (the start's velocity, if any, points there), never faster
+    # than the start or the peak
+    top = u if u > v_peak else v_peak
+    return TCurve(segs, p_f, (p_0, p_f, top) if p_0 <= p_f else (p_f, p_0, top))
 
 
 def plan_velocity(p_0: float, v_0: float, v_f: float, a_max: float, d_max: float) -> TCurve:
