@@ -156,3 +156,34 @@ def test_stepping_equals_direct_evaluation(dt, v_max, a_max, d_max, n_avg, p_0, 
             assert p == window[0]  # bit-identical without smoothing
         else:
             assert abs(p - sum(window) / n) <= tol
+
+
+@PROFILE
+@given(
+    dts,
+    v_maxs,
+    accs,
+    accs,
+    positions,
+    st.floats(-3000.0, 3000.0),
+    distances,
+)
+def test_a_one_way_plan_stays_within_its_bounds(dt, v_max, a_max, d_max, p_0, v_0, distance):
+    """`TCurve.bounds` (the plan's position range and top speed, known when it moves one
+    way only) holds every sample, up to the rounding the coast's limit check allows
+    for; a plan that turns back has none."""
+    plan = plan_position(p_0, v_0, p_0 + distance, v_max, a_max, d_max)
+    assume(plan.duration < MAX_MOVE_TIME)
+    if plan.bounds is None:
+        assert v_0 != 0.0 or p_0 + distance == p_0  # a move from rest goes one way
+        return
+    lo, hi, top = plan.bounds
+    size = max(1.0, abs(lo), abs(hi))
+    n = 0
+    while n * dt < plan.duration + dt:
+        p, v, _ = plan.evaluate(n * dt)
+        assert lo - 1e-12 * size <= p <= hi + 1e-12 * size
+        assert abs(v) <= top * (1.0 + 1e-12)
+        n += 1
+    for _, _, _, v_s, _ in plan.segs:  # one direction only
+        assert v_s == 0.0 or (v_s > 0.0) == (plan.p_f > p_0)
