@@ -108,6 +108,10 @@ class _Motor:
         self.velocity = 0.0
         """Actual velocity [counts/s]."""
 
+    def step_position(self, r: float, dt: float) -> float:
+        """Follow demand r [counts] (see the module doc); returns the new position."""
+        raise NotImplementedError  # every model has its own (declared in mechanics.pxd)
+
 
 class IdealMechanics(_Motor):
     """Feedback follows the demand exactly, `delay_cycles` cycles later.

@@ -75,23 +75,9 @@ Move = MoveAbsolute | MoveRelative | MoveVelocity | MovePvt
 class Axis(AxisSettings, AxisCycle, AxisFollow):
     """One axis of the controller, stepped once per cycle by the motion kernel."""
 
-    __slots__ = (  # every attribute is set up in __init__: nothing can be bolted on
-        "_command_queue", "_cycle", "_deferred_move", "_digital_inputs",
-        "_enable_cycles", "_enable_timeout_cycles", "_enabling", "_error_stop",
-        "_fault_reset_cycles", "_feedback_counts", "_ignore_swl", "_in_pos_cycles",
-        "_in_pos_debounce_cycles", "_last_snapshot", "_max_pos_err", "_min_pos_err",
-        "_move_end_cycle", "_move_start_cycle", "_position_actual", "_provider", "_pvt_cycle",
-        "_pvt_trajectory", "_ramp_decel", "_ramp_vel", "_reference_source",
-        "_rest_after_cycles", "_rollover", "_still_cycles", "_sw_left", "_sw_right",
-        "_sw_stop_left", "_sw_stop_right", "_torque_per_mille", "axis_id",
-        "buffer_mode", "config", "controlled_by", "cpu", "drive", "dt", "enabled", "extra_status",
-        "fault_status", "halted", "ignore_hwl", "ignore_pe", "in_pos", "inpos_radius",
-        "kill_dec", "last_error", "move_time_ms", "move_vel_limit", "moving", "op_mode", "pg", "pos_fb",
-        "pos_fb_raw", "ref_acc", "ref_pos", "ref_vel", "resting", "rotary",
-        "settling_time_ms", "stopping", "vel_scale", "__weakref__",
-        # filters and compensation (axis_filters.py)
-        "_cmd_path", "_comp_dependents", "_pos_offset", "_slave_offset", "comp_pos", "filters",
-        "_on_hw_limit",  # fault_status has a hardware limit bit (axis_cycle.py)
+    __slots__ = (  # with AxisCycle's (axis_cycle.py): nothing can be bolted on
+        "buffer_mode", "config", "controlled_by", "extra_status", "filters", "move_vel_limit",
+        "rotary", "vel_scale", "__weakref__",
     )  # fmt: skip
 
     def __init__(self, axis_id: int, config: AxisConfig, dt: float, drive=None):

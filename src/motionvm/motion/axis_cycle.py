@@ -55,9 +55,27 @@ _SW_CYCLIC = (State.OPERATION_ENABLED.value | SW_VOLTAGE_ENABLED | SW_REMOTE
 
 
 class AxisCycle:
-    """The cyclic part of `Axis` (a mixin: the attributes are set up by `Axis.__init__`)."""
+    """The cyclic part of `Axis` (a mixin: the attributes are set up by `Axis.__init__`).
 
-    __slots__ = ()
+    It holds the slots of the attributes its methods use (axis_cycle.pxd declares them
+    for the optional compiled build, where this class is an extension type); `Axis`
+    holds the rest."""
+
+    __slots__ = (  # every attribute is set up in Axis.__init__
+        "_cmd_path", "_command_queue", "_comp_dependents", "_cycle", "_deferred_move",
+        "_digital_inputs", "_enable_cycles", "_enable_timeout_cycles", "_enabling",
+        "_error_stop", "_fault_reset_cycles", "_feedback_counts", "_ignore_swl",
+        "_in_pos_cycles", "_in_pos_debounce_cycles", "_last_snapshot", "_max_pos_err",
+        "_min_pos_err", "_move_end_cycle", "_move_start_cycle", "_on_hw_limit", "_pos_offset",
+        "_position_actual", "_provider", "_pvt_cycle", "_pvt_trajectory", "_ramp_decel",
+        "_ramp_vel", "_reference_source", "_rest_after_cycles", "_rollover", "_slave_offset",
+        "_still_cycles", "_sw_left", "_sw_right", "_sw_stop_left", "_sw_stop_right",
+        "_torque_per_mille", "axis_id", "comp_pos", "cpu", "drive", "dt", "enabled",
+        "fault_status", "halted", "ignore_hwl", "ignore_pe", "in_pos", "inpos_radius",
+        "kill_dec", "last_error", "move_time_ms", "moving", "op_mode", "pg", "pos_fb",
+        "pos_fb_raw", "ref_acc", "ref_pos", "ref_vel", "resting", "settling_time_ms",
+        "stopping",
+    )  # fmt: skip
 
     # ---- the cycle ------------------------------------------------------------------
 

@@ -97,6 +97,7 @@ class ProfileGenerator:
         """IDLE, POSITION (move_to), VELOCITY (move_velocity) or STOP."""
         self._n_avg = 1
         self._smoothing = False
+        self._out = None  # (set by `reset`; None: not yet, for `set_smooth_time`)
         self.set_smooth_time(t_smooth)
         self.reset(position)
 
@@ -177,11 +178,11 @@ class ProfileGenerator:
         t_smooth = float(t_smooth)
         if not (0.0 <= t_smooth <= 10.0):
             raise ValueError(f"smooth time {t_smooth!r} s is outside 0..10 s")
-        if hasattr(self, "_out") and not self.is_done and (not self._idle or self.mode != IDLE):
+        if self._out is not None and not self.is_done and (not self._idle or self.mode != IDLE):
             raise RuntimeError("the smooth time cannot change while the axis moves or is halted")
         self._n_avg = max(1, round(t_smooth / self.dt))
         self._smoothing = self._n_avg > 1
-        if hasattr(self, "_out"):
+        if self._out is not None:
             self.reset(self._out[0])
 
     # ---- queries --------------------------------------------------------------------

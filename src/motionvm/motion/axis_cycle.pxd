@@ -1,0 +1,79 @@
+# Cython declarations augmenting axis_cycle.py (optional compiled build; see setup.py).
+# AxisCycle becomes an extension type holding the cycle's state; `Axis` (axis.py) stays
+# a Python class deriving from it.
+import cython
+from motionvm.drives.cia402 cimport Cia402Drive
+from motionvm.motion.profile cimport ProfileGenerator
+
+cdef class AxisCycle:
+    cdef public object _cmd_path
+    cdef public object _command_queue
+    cdef public object _comp_dependents
+    cdef public object _cycle
+    cdef public object _deferred_move
+    cdef public object _digital_inputs
+    cdef public object _enable_cycles
+    cdef public object _enable_timeout_cycles
+    cdef public object _enabling
+    cdef public object _error_stop
+    cdef public object _fault_reset_cycles
+    cdef public object _feedback_counts
+    cdef public object _ignore_swl
+    cdef public object _in_pos_cycles
+    cdef public object _in_pos_debounce_cycles
+    cdef public object _last_snapshot
+    cdef public double _max_pos_err
+    cdef public double _min_pos_err
+    cdef public object _move_end_cycle
+    cdef public object _move_start_cycle
+    cdef public object _on_hw_limit
+    cdef public object _pos_offset
+    cdef public object _position_actual
+    cdef public object _provider
+    cdef public object _pvt_cycle
+    cdef public object _pvt_trajectory
+    cdef public object _ramp_decel
+    cdef public object _ramp_vel
+    cdef public object _reference_source
+    cdef public object _rest_after_cycles
+    cdef public object _rollover
+    cdef public double _slave_offset
+    cdef public object _still_cycles
+    cdef public object _sw_left
+    cdef public object _sw_right
+    cdef public double _sw_stop_left
+    cdef public double _sw_stop_right
+    cdef public object _torque_per_mille
+    cdef public object axis_id
+    cdef public object comp_pos
+    cdef public object cpu
+    cdef public Cia402Drive drive
+    cdef public object dt
+    cdef public object enabled
+    cdef public object fault_status
+    cdef public object halted
+    cdef public object ignore_hwl
+    cdef public object ignore_pe
+    cdef public object in_pos
+    cdef public object inpos_radius
+    cdef public object kill_dec
+    cdef public object last_error
+    cdef public object move_time_ms
+    cdef public object moving
+    cdef public object op_mode
+    cdef public ProfileGenerator pg
+    cdef public double pos_fb
+    cdef public double pos_fb_raw
+    cdef public double ref_acc
+    cdef public double ref_pos
+    cdef public double ref_vel
+    cdef public object resting
+    cdef public object settling_time_ms
+    cdef public object stopping
+
+    @cython.locals(drive=Cia402Drive, p=double, v=double, a=double, err=double)
+    cpdef step(self)
+    cpdef _settle(self)
+    cpdef bint _idle_candidate(self) except -1
+    cpdef _watch_rest(self)
+    cpdef tuple _snapshot(self)
