@@ -14,28 +14,33 @@ do not type anything (annotation_typing=False), only the .pxd files do.
 
 from __future__ import annotations
 
+import importlib.util
+import json
 import os
 import sys
+from pathlib import Path
 
 from setuptools import setup
 from setuptools.command.build_ext import build_ext
 
-COMPILED = [
-    "motionvm/drives/mechanics",
-    "motionvm/drives/cia402",
-    "motionvm/motion/profile",
-    "motionvm/motion/axis_cycle",
-]
+_spec = importlib.util.spec_from_file_location(
+    "motionvm_compiled_build", Path(__file__).parent / "src/motionvm/compiled_build.py"
+)
+build_info = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(build_info)  # (not `import motionvm`: nothing is built yet)
 
 
 class OptionalBuildExt(build_ext):
-    """Build the extensions all or none: a failure leaves the pure-Python package."""
+    """Build the extensions all or none: a failure leaves the pure-Python package. A
+    build records what it compiled (motionvm/compiled_build.py, `RECORD`)."""
 
     def run(self) -> None:
         try:
             super().run()
         except Exception as exc:  # no compiler, a compile error: stay pure Python
             self._give_up(exc)
+        if self.extensions:
+            self._record()
 
     def build_extensions(self) -> None:
         try:
@@ -51,9 +56,20 @@ class OptionalBuildExt(build_ext):
                 os.remove(path)
         self.extensions = []
 
+    def _record(self) -> None:
+        """The digest of each compiled module's source, beside the package's modules."""
+        src_root = Path(__file__).parent / "src" / "motionvm"
+        record = {m: build_info.source_digest(f) for m, f in build_info.sources(src_root).items()}
+        # the package directory the extensions went to (in place or the build tree)
+        first = build_info.MODULES[0]
+        package = Path(self.get_ext_fullpath(first)).parents[first.count(".") - 1]
+        (package / build_info.RECORD).write_text(json.dumps(record, indent=1) + "\n", "utf-8")
+
 
 def extensions() -> list:
-    if os.environ.get("MOTIONVM_PURE") or sys.implementation.name != "cpython":
+    if os.environ.get("MOTIONVM_PURE", "") not in ("", "0"):
+        return []
+    if sys.implementation.name != "cpython":
         return []
     try:
         from Cython.Build import cythonize
@@ -62,8 +78,8 @@ def extensions() -> list:
         return []
     flags = ["-O2", "-ffp-contract=off", "-fno-fast-math"]
     exts = [
-        Extension(m.replace("/", "."), [f"src/{m}.py"], extra_compile_args=flags)
-        for m in COMPILED
+        Extension(m, [f"src/{m.replace('.', '/')}.py"], extra_compile_args=flags)
+        for m in build_info.MODULES
     ]
     try:
         return cythonize(

@@ -1,6 +1,7 @@
 """The layering rule, read from the imports of every module of the package.
 
-Layers, lowest first: source, runtime, drives, motion, io, comm, sim, lang, then
+Layers, lowest first: compiled_build (which build of the motion cycle the process
+uses: it imports nothing of the package), source, runtime, drives, motion, io, comm, sim, lang, then
 session, api, cli. A module imports only from its own layer or below — module-level
 imports, function-local imports and `from motionvm import x` alike. The languages
 (lang/hmpl, lang/pdl, lang/gdl) never import each other; modules directly in `lang/`
@@ -18,6 +19,7 @@ import motionvm
 
 PACKAGE = Path(motionvm.__file__).parent
 LAYERS = [
+    "compiled_build",
     "source",
     "runtime",
     "drives",

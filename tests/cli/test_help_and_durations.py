@@ -6,7 +6,7 @@ import argparse
 
 import pytest
 
-from motionvm import __version__
+from motionvm import __version__, compiled_build
 from motionvm.cli.options import build_parser, duration
 
 EXIT_CODES = ("0", "1", "2", "3", "4", "124", "130")
@@ -14,7 +14,10 @@ EXIT_CODES = ("0", "1", "2", "3", "4", "124", "130")
 
 def test_version_prints_the_package_version(motionvm, tmp_path):
     r = motionvm("--version", cwd=tmp_path)
-    assert (r.returncode, r.stdout, r.stderr) == (0, f"motionvm {__version__}\n", "")
+    status = compiled_build.STATUS
+    assert (r.returncode, r.stdout, r.stderr) == (
+        0, f"motionvm {__version__} (motion cycle: {status})\n", ""
+    )  # fmt: skip
     assert __version__ == "0.1.0"
 
 

@@ -6,7 +6,7 @@ import argparse
 import math
 import re
 
-from motionvm import __version__
+from motionvm import __version__, compiled_build
 from motionvm.cli.exits import EXIT_CODES_HELP
 
 _NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:e[-+]?\d+)?|[-+]?(?:inf|nan)"
@@ -60,8 +60,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--version",
         action="version",
-        version=f"motionvm {__version__}",
-        help="print the version and exit",
+        version=f"motionvm {__version__} (motion cycle: {compiled_build.STATUS})",
+        help="print the version, and whether the motion cycle runs compiled, and exit",
     )
     sub = p.add_subparsers(dest="cmd", required=True, metavar="COMMAND")
     r = sub.add_parser(

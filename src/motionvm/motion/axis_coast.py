@@ -107,8 +107,10 @@ def _common(a) -> bool:
     # (x % 1.0 == 0.0: x is a whole number, without a call of int())
     if not (-_EXACT < demand < _EXACT and demand % 1.0 == 0.0 and m._demand == demand):
         return False
-    if m.delay_cycles > 1 and not all(x % 1.0 == 0.0 and abs(x) < _EXACT for x in m._line):
-        return False  # (with one cycle of delay the line is not used)
+    if m.delay_cycles > 1:  # (with one cycle of delay the line is not used)
+        for x in m._line:  # (a loop, not all(): no closure in the compiled build)
+            if not (x % 1.0 == 0.0 and abs(x) < _EXACT):
+                return False
     return m.position % 1.0 == 0.0
 
 

@@ -188,6 +188,7 @@ class AxisCycle:
 
     @max_pos_err.setter
     def max_pos_err(self, value: float) -> None:
+        value = float(value)  # (a float in either build: the compiled one types it)
         self._max_pos_err, self._min_pos_err = value, -value
 
     @property
@@ -198,7 +199,7 @@ class AxisCycle:
     @pos_offset.setter
     def pos_offset(self, value: float) -> None:
         self._pos_offset = value
-        self._slave_offset = value + self.comp_pos
+        self._slave_offset = float(value + self.comp_pos)
 
     @property
     def slave_offset(self) -> float:
@@ -208,7 +209,7 @@ class AxisCycle:
     def _set_comp(self, comp: float) -> None:
         """Send compensation `comp` [mm] from this cycle on; the feedback follows suit."""
         self.comp_pos = comp
-        self._slave_offset = self._pos_offset + comp
+        self._slave_offset = float(self._pos_offset + comp)
         self.pos_fb = self.pos_fb_raw - self._slave_offset
 
     # ---- 2. software limits ---------------------------------------------------------
