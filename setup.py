@@ -1,10 +1,11 @@
-"""Optional compiled build of the motion cycle's hot classes (everything else: pyproject.toml).
+"""Optional compiled build of the motion cycle (everything else: pyproject.toml).
 
-The .py files are the only source of the code. Next to four of them a Cython `.pxd`
-file declares their hot classes as extension types with typed attributes (an
+The .py files are the only source of the code. Next to each module of
+motionvm/compiled_build.py's `MODULES` a Cython `.pxd` file declares its hot class as
+an extension type with typed attributes, or types the objects its functions read (an
 "augmenting" .pxd); Cython compiles the .py file with it. Where Cython or a C compiler
 is missing, or MOTIONVM_PURE=1 is set, or a module fails to compile, the package installs
-and runs as pure Python, unchanged. The four modules are compiled together or not at all
+and runs as pure Python, unchanged. The modules are compiled together or not at all
 (each compiled module imports the others' extension types).
 
 Bit-identical results: C double arithmetic is Python's float arithmetic as long as no
