@@ -26,6 +26,7 @@ from pathlib import Path
 
 MODULES = (
     "motionvm.drives.mechanics",
+    "motionvm.drives.sensors",
     "motionvm.drives.cia402",
     "motionvm.motion.profile",
     "motionvm.motion.axis_cycle",

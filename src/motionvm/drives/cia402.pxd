@@ -1,6 +1,7 @@
 # Cython declarations augmenting cia402.py (optional compiled build; see setup.py).
 import cython
 from motionvm.drives.mechanics cimport _Motor
+from motionvm.drives.sensors cimport Sensors
 
 @cython.final
 cdef class Cia402Drive:
@@ -49,7 +50,7 @@ cdef class Cia402Drive:
     cdef public object quick_stop_option
     cdef public object rated_torque
     cdef public object rated_torque_nm
-    cdef public object sensors
+    cdef public Sensors sensors
     cdef public object state
     cdef public object statusword_base
     cdef public object supported_modes
@@ -59,5 +60,5 @@ cdef class Cia402Drive:
     cdef public object target_velocity
     cdef object __weakref__
 
-    @cython.locals(x=double, demand=double)
+    @cython.locals(x=double, demand=double, s=Sensors)
     cpdef step(self, double dt)

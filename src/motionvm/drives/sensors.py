@@ -42,6 +42,20 @@ MAX_COUNTS = 1e18
 """Largest switch or index position [counts] (1e9 mm at 1e9 counts/mm)."""
 
 
+def _switch_property(name: str, doc: str) -> property:
+    """The property of switch or index setting `name` of `Sensors`: its slot, and a
+    write that rebuilds the switch map and tells the drive's owner."""
+    slot = "_" + name
+
+    def set_switch(self, value: float | None) -> None:
+        setattr(self, slot, value)
+        self._configure()
+        if self.on_change is not None:
+            self.on_change()
+
+    return property(lambda self: getattr(self, slot), set_switch, doc=doc)
+
+
 class Sensors:
     """Switch and index signals derived from the motor position; touch probe latches."""
 
@@ -133,17 +147,6 @@ class Sensors:
             bits |= DI_HOME_SWITCH
         return bits
 
-    def _switch_property(name: str, doc: str):  # noqa: N805 (a helper of the class body)
-        slot = "_" + name
-
-        def set_switch(self, value: float | None) -> None:
-            setattr(self, slot, value)
-            self._configure()
-            if self.on_change is not None:
-                self.on_change()
-
-        return property(lambda self: getattr(self, slot), set_switch, doc=doc)
-
     negative_limit = _switch_property(
         "negative_limit", "Negative limit switch [counts]: active at or below (None: none)."
     )
@@ -156,7 +159,6 @@ class Sensors:
         "index_spacing", "Counts between index pulses (None: no index pulse)."
     )
     index_offset = _switch_property("index_offset", "Position of an index pulse [counts].")
-    del _switch_property
 
     @property
     def external(self) -> int:

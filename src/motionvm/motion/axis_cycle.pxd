@@ -77,3 +77,6 @@ cdef class AxisCycle:
     cpdef bint _idle_candidate(self) except -1
     cpdef _watch_rest(self)
     cpdef tuple _snapshot(self)
+
+@cython.locals(a=AxisCycle)
+cpdef step_axes(list axes)

@@ -54,6 +54,14 @@ _SW_CYCLIC = (State.OPERATION_ENABLED.value | SW_VOLTAGE_ENABLED | SW_REMOTE
 """The statusword of a drive in Operation enabled in a cyclic mode, without fault or limit."""
 
 
+def step_axes(axes: list) -> None:
+    """One cycle of each axis of `axes` that does not rest, in their order (the motion
+    kernel's loop, here so that the compiled build runs it in C)."""
+    for a in axes:
+        if not a.resting:  # a resting axis costs this test; what changes it wakes it
+            a.step()
+
+
 class AxisCycle:
     """The cyclic part of `Axis` (a mixin: the attributes are set up by `Axis.__init__`).
 

@@ -29,6 +29,7 @@ from motionvm.motion import axis_coast, config_axis, config_group
 from motionvm.motion import axis_status as st
 from motionvm.motion.axis import Axis
 from motionvm.motion.axis_config import AxisConfig
+from motionvm.motion.axis_cycle import step_axes
 from motionvm.motion.config_vars import ConfigVarTable
 from motionvm.motion.gantry import GantrySet
 from motionvm.motion.gear import GearBox
@@ -118,9 +119,7 @@ class MotionKernel:
         groups = self.groups
         if groups.enabled:  # most cycles no group is enabled: no call
             groups.step()
-        for a in self.step_order:
-            if not a.resting:  # a resting axis costs this test; what changes it wakes it
-                a.step()
+        step_axes(self.step_order)
 
     def busy(self) -> bool:
         """True while an axis moves, enables, settles or stops, or the bus starts up.
