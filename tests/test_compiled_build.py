@@ -54,6 +54,13 @@ def test_an_edited_source_or_its_types_make_the_build_stale(tmp_path):
     assert "motionvm/drives/cia402.py changed" in cb.why_pure(root, environ={})
 
 
+def test_an_extension_without_its_source_is_used(tmp_path):
+    root = _package(tmp_path)
+    cb.sources(root)["motionvm.motion.profile"].unlink()
+    assert cb.why_pure(root, environ={}) is None
+    assert cb.why_pure(root, environ={"MOTIONVM_PURE": "1"}) is None  # nothing to fall back to
+
+
 def test_half_a_build_a_missing_record_or_motionvm_pure_are_pure(tmp_path):
     root = _package(tmp_path)
     assert cb.why_pure(root, environ={"MOTIONVM_PURE": "1"}) == "MOTIONVM_PURE is set"

@@ -8,7 +8,8 @@ file. `choose` (run by the package's `__init__`, before anything imports those m
 keeps the compiled modules only if all of them are there and each was built from the
 source now beside it. Otherwise (a source edited since, a build half there, or
 `MOTIONVM_PURE=1` in the environment) all of them load from their `.py` files: the
-compiled modules import each other's types, so it is all or none. The results are the
+compiled modules import each other's types, so it is all or none; an install that
+ships the extensions without their sources uses them as they are. The results are the
 same bit for bit either way (the build keeps C's floating-point operations those of
 Python: no contracted multiply-add, no fast math); only the speed differs.
 `motionvm --version` says which one runs (`STATUS`).
@@ -69,6 +70,8 @@ def why_pure(root: Path, environ=os.environ) -> str | None:
     built = [m for m, f in files.items() if _has_extension(f)]
     if not built:
         return ""
+    if not all(f.exists() for f in files.values()):
+        return None  # an install without the sources: the compiled modules are all there is
     if environ.get("MOTIONVM_PURE", "") not in ("", "0"):
         return "MOTIONVM_PURE is set"
     if len(built) != len(files):
