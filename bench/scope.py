@@ -27,13 +27,13 @@ void main() {
         MoveAbs(0, moves % 2 ? 0.0 : 50.0);
         Till(IsInPos(0));
         moves++;
-        HIMC_GPO(0) = moves % 2;
+        HIMC_GPO(1) = moves % 2;
         Sleep(100);
     }
 }
 """
 CHANNELS = (
-    "system_timeInMs,moves,gpo0,axis0.ref_pos,axis0.ref_vel,axis0.pos_fb,axis0.vel_fb,axis1.pos_fb"
+    "system_timeInMs,moves,gpo1,axis0.ref_pos,axis0.ref_vel,axis0.pos_fb,axis0.vel_fb,axis1.pos_fb"
 )
 
 
