@@ -99,7 +99,7 @@ class JumpPlanner:
         limit = NEVER if end_cycle is None else end_cycle - cycle
         if limit <= after_tasks:  # (after the tasks, one cycle is no jump)
             return False
-        if after_tasks and (self._samplers or not ctl.kernel._active):
+        if after_tasks and not ctl.kernel._active:
             return False  # (no task runs: the run may end with this cycle)
         first = cycle + after_tasks  # the first cycle whose tasks are passed over
         wake, watched, watches = self._task_wake(first)
@@ -108,6 +108,8 @@ class JumpPlanner:
         clients = ctl.clients
         if clients != self._clients:
             self._take_clients(clients)
+        if after_tasks and self._samplers:
+            return False  # (a sampler records this cycle's motion phase)
         for next_event in self._events:
             e = next_event()
             if e is not None and (wake is None or e < wake):
