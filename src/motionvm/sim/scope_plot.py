@@ -1,6 +1,6 @@
 """Scope plots: channels -> panels (by unit and magnitude) -> a matplotlib Figure.
 
-The rules (README "Scope"):
+The rules (docs/scope.md, "Plots"):
 - Time [s] on one x axis shared by every panel.
 - A *reference* channel is drawn dashed, under its *feedback* counterpart (solid), in
   the same panel and the same hue (the reference lighter). A name is a reference when

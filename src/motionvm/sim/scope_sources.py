@@ -1,7 +1,7 @@
 """Scope channel sources of the machine: controller GPIO, axis variables, gears and
 gantry pairs; `registry_for` adds them to the sources of a run's language clients.
 
-Channel names (README "Scope"):
+Channel names (docs/scope.md):
 - the controller's I/O: `gpi3`, `gpo5`, `himc_gpi_bits`, slave channels `slv8.di1` ...
   (sim/scope_io.py);
 - `axisN.<variable>` — an axis variable of manual 5.1.1 (`axis0.ref_pos`), with the

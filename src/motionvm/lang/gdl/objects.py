@@ -3,7 +3,7 @@
 The GDL description defines checks "per type" but lists almost no type in full,
 so the compiler and the RTS are driven by this one table (shapes in `objspec`).
 Entries marked [T] come from the description; everything else is motionvm's proposal.
-`doc.py` renders the table into the package README.
+`doc.py` renders the table into docs/lang/gdl.md.
 """
 
 from __future__ import annotations

@@ -5,7 +5,7 @@ prototypes); this module turns each prototype into a typed signature that the ch
 uses for every call, and `motionvm builtins` lists. Constants come from
 `data/hmpl_constants.json`; the manual gives no numbers for some enumerations
 (BM_*, TM_*, CS_*, HMPL_DAC_*, HMPL_REF_*/HMPL_AXIS_*, HMPL_SLOT_2): those get the
-position of the name in its table, counting from 0 (documented in the README).
+position of the name in its table, counting from 0 (docs/lang/hmpl-semantics.md).
 """
 
 from __future__ import annotations

@@ -1,6 +1,6 @@
 """Scope channels of PDL drives: `driveN.<name>`, a drive's system variable, state or global.
 
-Names (README "Scope"): a system variable or state of the drive (`sysvars.py`) in any case, as
+Names (docs/scope.md): a system variable or state of the drive (`sysvars.py`) in any case, as
 the drive's compiler reads them (`drive1.x_ref_pos` [count], `drive1.X_trg`,
 `drive1.fclk`, `drive1.x_run` [bool], `drive1.ref_pos[0]`), or a global of the drive's
 program (`drive1.p`, `drive1.tab[3]`). N is the drive's number: the id of the axis it
