@@ -443,9 +443,7 @@ class Session:
         variables = Variables(self.scope_registry(), self.controller)
 
         def resolve(name: str):
-            try:
-                variables.channel(name)
-            except KeyError:
+            if not variables.known(name):
                 return None
             if variables.read_only(name):
                 raise ValueError(f"'{name}' is read-only")

@@ -78,13 +78,22 @@ class ChannelRegistry:
                 out.extend(names())
         return out
 
-    def resolve(self, name: str) -> Channel:
-        """The channel called `name`, or ScopeError naming the closest known channels."""
+    def find(self, name: str) -> Channel | None:
+        """The channel called `name`, or None if no source offers it (ScopeError if its
+        source finds it wrong). No suggestions: as cheap as asking the sources, for a
+        caller that asks about many names (a scenario's events)."""
         for s in self.sources:
             found = s.resolve(name)
             if found is not None:
                 getter, unit = found
                 return Channel(name, unit, getter)
+        return None
+
+    def resolve(self, name: str) -> Channel:
+        """The channel called `name`, or ScopeError naming the closest known channels."""
+        channel = self.find(name)
+        if channel is not None:
+            return channel
         close = difflib.get_close_matches(name, self.names(), n=4, cutoff=0.6)
         hint = f"; did you mean {', '.join(close)}?" if close else ""
         if not close and name.startswith("axis"):

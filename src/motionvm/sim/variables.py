@@ -97,6 +97,19 @@ class Variables:
             self._channels[name] = ch
         return ch
 
+    def known(self, name: str) -> bool:
+        """True if `name` is a channel of the run (without `channel`'s suggestions for
+        an unknown name, which cost a comparison with every channel name)."""
+        if name in self._channels:
+            return True
+        try:
+            ch = self.registry.find(name)
+        except ScopeError:
+            return False
+        if ch is not None:
+            self._channels[name] = ch
+        return ch is not None
+
     def read(self, name: str) -> float:
         """The value of `name` now, in the unit of its channel."""
         return self.channel(name).getter()

@@ -27,52 +27,90 @@ def _key_pattern(key: str) -> str:
     return rf"(?:{k}|\"{k}\"|'{k}')\s*="
 
 
+_HEADER = re.compile(r"\s*\[\[?\s*([^\]]*?)\s*\]\]?\s*(#.*)?$")
+
+
 def _header(line: str) -> str | None:
     """The table name of a `[name]` or `[[name]]` header line, else None."""
-    m = re.match(r"\s*\[\[?\s*([^\]]*?)\s*\]\]?\s*(#.*)?$", line)
+    m = _HEADER.match(line)
     return m.group(1) if m else None
 
 
+class TableIndex:
+    """Where each table header of a TOML text is, found in one pass over its lines, so
+    that finding the place of a key reads only the lines of its own table: the places of
+    all N events of a scenario cost one pass over the file, not N."""
+
+    def __init__(self, lines: list[str]) -> None:
+        self.lines = lines
+        self.headers: dict[int, str] = {}
+        """Line index (from 0) of every header line -> its table name."""
+        self.tables: dict[str, list[int]] = {}
+        """Table name -> line indexes of its headers, `[name]` and `[[name]]` alike."""
+        self.arrays: dict[str, list[int]] = {}
+        """Array name -> line index of each `[[name]]` header, in file order."""
+        for i, line in enumerate(lines):
+            if "[" not in line:
+                continue
+            name = _header(line)
+            if name is None:
+                continue
+            self.headers[i] = name
+            self.tables.setdefault(name, []).append(i)
+            if line.lstrip().startswith("[["):
+                self.arrays.setdefault(name, []).append(i)
+
+    def _body(self, start: int, inside: str | None = None) -> range:
+        """Line indexes from `start` up to the next header (one whose name does not
+        begin with `inside.`, when given)."""
+        end = start
+        while end < len(self.lines):
+            name = self.headers.get(end)
+            if name is not None and (inside is None or not name.startswith(inside + ".")):
+                break
+            end += 1
+        return range(start, end)
+
+    def key_place(self, section: str, key: str | None) -> Place | None:
+        """Where `key` is written in `[section]` ("": the top level, before any header);
+        with key None, the section's header. None when it is not found."""
+        lines = self.lines
+        starts = [-1] if section == "" else self.tables.get(section, [])
+        if key is None:
+            return (starts[0] + 1, _indent(lines[starts[0]]) + 1) if section and starts else None
+        pattern = re.compile(_key_pattern(key))
+        for header in starts:
+            for i in self._body(header + 1):
+                if pattern.match(lines[i].strip()):
+                    return i + 1, _indent(lines[i]) + 1
+        return None
+
+    def array_table_place(self, array: str, index: int, key: str | None) -> Place | None:
+        """Where `key` (dotted: its last part, also inside inline tables) is written in
+        the `index`-th (from 0) `[[array]]` table; its header when the key is not there
+        or is None. None when the file has no such table."""
+        starts = self.arrays.get(array, [])
+        if not 0 <= index < len(starts):
+            return None
+        header = starts[index]
+        lines = self.lines
+        if key is not None:
+            pattern = re.compile(rf"(^|[{{,\s]){_key_pattern(key.split('.')[-1])}")
+            for i in self._body(header + 1, inside=array):
+                m = pattern.search(lines[i])
+                if m:
+                    return i + 1, m.start() + len(m.group(1)) + 1
+        return header + 1, _indent(lines[header]) + 1
+
+
 def key_place(lines: list[str], section: str, key: str | None) -> Place | None:
-    """Where `key` is written in `[section]` ("": the top level, before any header); with
-    key None, the section's header. None when it is not found."""
-    in_sec = section == ""
-    for i, line in enumerate(lines, 1):
-        name = _header(line)
-        if name is not None:
-            in_sec = name == section
-            if key is None and in_sec:
-                return i, _indent(line) + 1
-            continue
-        if in_sec and key is not None and re.match(_key_pattern(key), line.strip()):
-            return i, _indent(line) + 1
-    return None
+    """`TableIndex.key_place` of a text's lines (one lookup; a reader keeps a TableIndex)."""
+    return TableIndex(lines).key_place(section, key)
 
 
 def array_table_place(lines: list[str], array: str, index: int, key: str | None) -> Place | None:
-    """Where `key` (dotted: its last part, also inside inline tables) is written in the
-    `index`-th (from 0) `[[array]]` table; its header when the key is not there or is
-    None. None when the file has no such table."""
-    last = key.split(".")[-1] if key is not None else None
-    header: Place | None = None
-    seen = -1
-    for i, line in enumerate(lines, 1):
-        name = _header(line)
-        if name is not None:
-            if name == array and line.lstrip().startswith("[["):
-                seen += 1
-                if seen == index:
-                    header = (i, _indent(line) + 1)
-                elif seen > index:
-                    break
-            elif seen == index and not name.startswith(array + "."):
-                break  # another table: the `index`-th one ended
-            continue
-        if seen == index and last is not None:
-            m = re.search(rf"(^|[{{,\s]){_key_pattern(last)}", line)
-            if m:
-                return i, m.start() + len(m.group(1)) + 1
-    return header
+    """`TableIndex.array_table_place` of a text's lines (one lookup)."""
+    return TableIndex(lines).array_table_place(array, index, key)
 
 
 def undecodable_place(data: bytes, exc: UnicodeDecodeError) -> Place:
@@ -122,6 +160,14 @@ class TomlProblems:
         self.path = path
         self.lines = text.splitlines()
         self.items: list[Diagnostic] = []
+        self._index: TableIndex | None = None
+
+    @property
+    def index(self) -> TableIndex:
+        """The text's tables, indexed at the first place looked up."""
+        if self._index is None:
+            self._index = TableIndex(self.lines)
+        return self._index
 
     def add(self, place: Place, message: str) -> None:
         self.items.append(Diagnostic(SourcePos(self.path, *place), message))
@@ -129,9 +175,10 @@ class TomlProblems:
     def at(self, section: str, key: str | None, message: str) -> None:
         """A problem of `key` in `[section]` ("": the top level; key None: the table).
         Not found as written: the table's header or its key (an inline table), else 1:1."""
-        place = key_place(self.lines, section, key)
+        index = self.index
+        place = index.key_place(section, key)
         if place is None and section:
-            place = key_place(self.lines, section, None) or key_place(self.lines, "", section)
+            place = index.key_place(section, None) or index.key_place("", section)
         self.add(place or (1, 1), message)
 
     def in_array(self, array: str, index: int, key: str | None, message: str) -> None:
@@ -140,11 +187,8 @@ class TomlProblems:
 
     def array_place(self, array: str, index: int, key: str | None) -> Place:
         """`array_table_place`, else the top-level key `array` (inline tables), else 1:1."""
-        return (
-            array_table_place(self.lines, array, index, key)
-            or key_place(self.lines, "", array)
-            or (1, 1)
-        )
+        tables = self.index
+        return tables.array_table_place(array, index, key) or tables.key_place("", array) or (1, 1)
 
     def where(self, place: Place) -> str:
         """`FILE:LINE:COL` of a place."""
