@@ -10,7 +10,7 @@ from pathlib import Path
 from motionvm.source import toml_places
 
 PROGRAMS = Path(__file__).parents[1] / "programs" / "gdl"
-HMPL = "void main(void) {\n    Sleep(5);\n    Print(\"t=%d\", system_ltest0);\n}\n"
+HMPL = 'void main(void) {\n    Sleep(5);\n    Print("t=%d", system_ltest0);\n}\n'
 
 
 def events(n: int, name: str, values: tuple[str, ...]) -> str:
