@@ -9,6 +9,7 @@ import json
 import os
 import subprocess
 import sys
+import sysconfig
 from pathlib import Path
 
 import pytest
@@ -71,6 +72,94 @@ def test_half_a_build_a_missing_record_or_motionvm_pure_are_pure(tmp_path):
     f = cb.sources(root)["motionvm.motion.profile"]
     f.with_name(f.stem + SUFFIX).unlink()
     assert cb.why_pure(root, environ={}) == "the compiled build is incomplete"
+
+
+BUILD = cb.build_description("3.1.8")
+
+
+def _recorded(root: Path, build: str | None = BUILD) -> Path:
+    """`root` with a record that says how the build was made (setup.py's description)."""
+    record = json.loads((root / cb.RECORD).read_text(encoding="utf-8"))
+    if build is not None:
+        record[cb.BUILD_KEY] = build
+    (root / cb.RECORD).write_text(json.dumps(record), encoding="utf-8")
+    return root
+
+
+def test_a_build_of_the_same_sources_made_the_same_way_is_reused(tmp_path):
+    root = _recorded(_package(tmp_path))
+    assert cb.reusable(root, BUILD, SUFFIX)
+    assert cb.why_pure(root, environ={}) is None  # the build key is no module
+    assert not cb.reusable(root, cb.build_description("3.2.0"), SUFFIX)  # another Cython
+    assert not cb.reusable(root, BUILD, ".cpython-399-other.so")  # another Python
+    assert not cb.reusable(_recorded(_package(tmp_path / "old"), None), BUILD, SUFFIX)
+    root = _recorded(_package(tmp_path / "edited"))
+    cb.sources(root)["motionvm.motion.axis_cycle"].with_suffix(".pxd").write_text("#", "utf-8")
+    assert not cb.reusable(root, BUILD, SUFFIX)
+    root = _recorded(_package(tmp_path / "half"))
+    f = cb.sources(root)["motionvm.drives.sensors"]
+    f.with_name(f.stem + SUFFIX).unlink()
+    assert not cb.reusable(root, BUILD, SUFFIX)
+    root = _recorded(_package(tmp_path / "norecord"))
+    (root / cb.RECORD).write_text("{", encoding="utf-8")
+    assert not cb.reusable(root, BUILD, SUFFIX)
+    assert not cb.reusable(_package(tmp_path / "nobuild", built=False), BUILD, SUFFIX)
+
+
+FAKE_CYTHON = """__version__ = "3.1.8"
+"""
+FAKE_CYTHON_BUILD = """def cythonize(extensions, **options):
+    return extensions
+"""
+
+
+def _setup_tree(tmp_path: Path) -> Path:
+    """A project with the repository's setup.py and compiled_build.py, placeholder
+    sources and extensions of the compiled modules, and a stand-in for Cython that
+    translates nothing (a compile attempt fails: the C compiler gets .py files)."""
+    repo = Path(__file__).resolve().parents[1]
+    project = tmp_path / "project"
+    root = _recorded(_package(project / "src"))
+    (root / "__init__.py").write_text("", encoding="utf-8")
+    for sub in ("drives", "motion"):
+        (root / sub / "__init__.py").write_text("", encoding="utf-8")
+    (root / "compiled_build.py").write_bytes((repo / "src/motionvm/compiled_build.py").read_bytes())
+    (project / "setup.py").write_bytes((repo / "setup.py").read_bytes())
+    (project / "setup.cfg").write_text("[options]\npackage_dir =\n    =src\n", encoding="utf-8")
+    fake = tmp_path / "fake" / "Cython"
+    (fake / "Build").mkdir(parents=True)
+    (fake / "__init__.py").write_text(FAKE_CYTHON, encoding="utf-8")
+    (fake / "Build" / "__init__.py").write_text(FAKE_CYTHON_BUILD, encoding="utf-8")
+    return project
+
+
+def _setup(project: Path, *args: str) -> str:
+    env = dict(os.environ, PYTHONPATH=str(project.parent / "fake"))
+    env.pop("MOTIONVM_PURE", None)
+    r = subprocess.run([sys.executable, "setup.py", *args], cwd=project, env=env,
+                       capture_output=True, text=True, timeout=120, check=True)  # fmt: skip
+    return r.stderr
+
+
+@pytest.mark.skipif(SUFFIX != sysconfig.get_config_var("EXT_SUFFIX"), reason="another ABI")
+def test_setup_reuses_a_current_build_and_says_when_it_compiles(tmp_path):
+    pytest.importorskip("setuptools")  # (a venv of Python 3.12 or later has none)
+    project = _setup_tree(tmp_path)
+    err = _setup(project, "build_ext", "--inplace")
+    assert "motionvm: the motion cycle is compiled already from these sources; reused" in err
+    assert "compiling" not in err
+    # a build tree (pip install .) gets copies of the extensions and the record
+    _setup(project, "build_ext", "--build-lib", "out")
+    for m in cb.MODULES:
+        assert (project / "out" / (m.replace(".", "/") + SUFFIX)).exists()
+    assert cb.reusable(project / "out" / "motionvm", BUILD, SUFFIX) is False  # no sources
+    assert json.loads((project / "out/motionvm" / cb.RECORD).read_text())[cb.BUILD_KEY] == BUILD
+    # an edited source is compiled again, and the message comes first
+    src = project / "src/motionvm/motion/profile.py"
+    src.write_text("# edited\n", encoding="utf-8")
+    err = _setup(project, "build_ext", "--inplace")
+    assert "motionvm: compiling the motion cycle (6 modules" in err
+    assert err.index("compiling the motion cycle") < err.index("compiled build skipped")
 
 
 def _python(code: str, pure: bool) -> str:

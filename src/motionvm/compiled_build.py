@@ -36,7 +36,23 @@ MODULES = (
 """The modules the compiled build compiles (setup.py reads this list)."""
 
 RECORD = "compiled_sources.json"
-"""The build's record of what it compiled: {module: SHA-256 of its .py and .pxd}."""
+"""The build's record of what it compiled: {module: SHA-256 of its .py and .pxd}, and
+under BUILD_KEY how (setup.py's Cython version, compiler flags and directives)."""
+
+BUILD_KEY = "build"
+
+FLAGS = ("-O2", "-ffp-contract=off", "-fno-fast-math")
+"""The C compiler's flags: no contracted multiply-add, no fast math (the same floats)."""
+
+DIRECTIVES = {"language_level": 3, "annotation_typing": False}
+"""Cython's directives: annotations type nothing, only the .pxd files do."""
+
+
+def build_description(cython_version: str) -> str:
+    """How setup.py compiles, as its record keeps it: a build made with another Cython,
+    other flags or directives is compiled again, not reused."""
+    return json.dumps({"cython": cython_version, "flags": FLAGS, "directives": DIRECTIVES})
+
 
 STATUS = "pure Python"
 """What `choose` found: "compiled", "pure Python", or "pure Python (why)"."""
@@ -85,6 +101,26 @@ def why_pure(root: Path, environ=os.environ) -> str | None:
             where = f.relative_to(root.parent).as_posix()
             return f"{where} changed since it was compiled; pip install again to compile it"
     return None
+
+
+def reusable(root: Path, build: str, ext_suffix: str) -> bool:
+    """Whether the package at `root` holds a compiled build that a new build would only
+    repeat: every module's extension with `ext_suffix` (this Python's), a record whose
+    digests are those of the sources now beside them, made the same way (`build`, as
+    setup.py describes its compile). setup.py then reuses it instead of compiling."""
+    files = sources(root)
+    try:
+        record = json.loads((root / RECORD).read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return False
+    if not isinstance(record, dict) or record.get(BUILD_KEY) != build:
+        return False
+    for m, f in files.items():
+        if not f.with_name(f.stem + ext_suffix).exists():
+            return False
+        if not f.exists() or record.get(m) != source_digest(f):
+            return False
+    return True
 
 
 class _SourceFinder:
