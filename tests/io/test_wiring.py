@@ -106,6 +106,50 @@ offset = 100
     assert sim.messages == ["1 1 600"]
 
 
+def test_an_analog_wire_scales_signed_values_with_their_sign(write_file):
+    """Gain and offset act on the raw values as programs read them: two's complement on
+    an HMPL_DAC_SIGNED channel. The result is clamped to what the input's type holds."""
+    m = write_file(
+        "m.toml",
+        """axes = 1
+[[slave]]
+kind = "analog"
+ai = 2
+ao = 2
+[[wire]]
+from = "slv1.ao1"
+to = "slv1.ai1"
+gain = 2
+[[wire]]
+from = "slv1.ao2"
+to = "slv1.ai2"
+""",
+    )
+    sim = Simulation.from_source(
+        """void main() {
+            int signed10 = HMPL_DAC_SIGNED | HMPL_DAC_N10_P10;
+            SetSlvAOType(1, 1, signed10); SetSlvAIType(1, 1, signed10);
+            SetSlvAOType(1, 2, signed10); SetSlvAIType(1, 2, HMPL_DAC_N10_P10);
+            SetSlvAO(1, 1, 2.5); Sleep(2);
+            Print("%.3f %d", GetSlvAI(1, 1), GetSlvAIRaw(1, 1));
+            SetSlvAO(1, 1, -1.25); Sleep(2);
+            Print("%.3f %d", GetSlvAI(1, 1), GetSlvAIRaw(1, 1));
+            SetSlvAO(1, 1, -7.5); SetSlvAO(1, 2, -5); Sleep(2);
+            Print("%.3f %d / %d", GetSlvAI(1, 1), GetSlvAIRaw(1, 1), GetSlvAIRaw(1, 2));
+            SetSlvAO(1, 1, 7.5); Sleep(2);
+            Print("%.3f %d", GetSlvAI(1, 1), GetSlvAIRaw(1, 1));
+        }""",
+        machine=m,
+    )
+    sim.run()
+    assert sim.messages == [
+        "5.000 16384",
+        "-2.500 -8192",
+        "-10.000 -32768 / 0",  # clamped: signed low end; unsigned input: 0 (its low end)
+        "10.000 32767",
+    ]
+
+
 def test_a_sensor_follows_the_axis_feedback(write_file):
     m = write_file(
         "m.toml",

@@ -52,6 +52,7 @@ WRITES = [  # (variable, value written, how the axis shows it)
     (0x0067, 300.0, lambda a, k: a.config.vel_limit),
     (0x0068, 3000.0, lambda a, k: a.config.acc_limit),
     (0x0079, 2.0, lambda a, k: a.max_pos_err),
+    (0x007A, 0.5, lambda a, k: a.filters.comp_limit),
     (0x00A1, 34.0, lambda a, k: k.homing[a.axis_id].settings.method),
     (0x00A2, 30.0, lambda a, k: k.homing[a.axis_id].settings.switch_vel),
     (0x00A3, 3.0, lambda a, k: k.homing[a.axis_id].settings.zero_vel),
@@ -84,6 +85,20 @@ def test_home_status_and_last_error(cmds):
     assert cmds.GetConfigVar(hcv_id(AXIS, 0, 0x0263))[1] != 0
     assert cmds.SetConfigVar(hcv_id(AXIS, 0, 0x0263), 0.0) == 0
     assert cmds.GetAxisLastErr(0) == 0
+
+
+def test_max_comp_lim_is_the_compensation_limit(cmds):
+    """1 mm by default (14.1); a lower one refuses a table SetupComp took before."""
+    hid = hcv_id(AXIS, 1, 0x007A)
+    assert cmds.GetConfigVar(hid) == (0, 1.0)
+    table = [0.0, 0.0, 0.8, 0.0]
+    assert cmds.SetupComp(1, 1, 0.0, 1.0, 3, 1, table) == 0
+    assert cmds.SetConfigVar(hid, 0.5) == 0
+    code = cmds.SetupComp(1, 1, 0.0, 1.0, 3, 1, table)
+    assert code & 0xFFFFFFFF == 0x83010802  # eERR_AXIS_COMP_LIMIT
+    for bad in (0.0, -1.0, math.inf, math.nan):
+        assert cmds.SetConfigVar(hid, bad) == HCV_VALUE_OUT_OF_RANGE
+    assert cmds.GetConfigVar(hid) == (0, 0.5)
 
 
 def test_failures(cmds):

@@ -86,6 +86,15 @@ def word_of_raw(raw: int, bits: int) -> int:
     return raw & ((1 << bits) - 1)
 
 
+def word_of_typed_raw(raw: int, bits: int, range_type: int) -> int:
+    """The channel word that holds `raw` as a channel of `range_type` reads it, clamped to
+    its raw values: -2^(bits-1) .. 2^(bits-1) - 1 signed, 0 .. 2^bits - 1 unsigned."""
+    if range_type & DAC_SIGNED:
+        half = 1 << (bits - 1)
+        return max(-half, min(half - 1, raw)) & ((1 << bits) - 1)
+    return max(0, min((1 << bits) - 1, raw))
+
+
 def value_of_word(word: int, bits: int, range_type: int) -> float:
     """The converted value of a channel word (0.0 for HMPL_DAC_NONE)."""
     span = RANGES.get(range_type & ~DAC_SIGNED)

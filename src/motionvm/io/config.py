@@ -24,7 +24,7 @@ bits = 16
 from = "gpo3"         # an output: gpoN, slvS.doK, slvS.aoK (slvS.sM.doK: slot M)
 to = "gpi4"           # an input: gpiN, slvS.diK, slvS.aiK
 delay_ms = 5.0        # optional: the input follows this long after the output changes
-gain = 1.0            # analog only: input word = gain * output word + offset
+gain = 1.0            # analog only: input raw = gain * output raw + offset
 offset = 0.0
 
 [[sensor]]

@@ -34,7 +34,15 @@ from __future__ import annotations
 import weakref
 from collections.abc import Callable
 
-from motionvm.io.analog import AXIS_SHIFT, AXIS_VARIABLES, value_of_word, word_of_raw, word_of_value
+from motionvm.io.analog import (
+    AXIS_SHIFT,
+    AXIS_VARIABLES,
+    raw_of_word,
+    value_of_word,
+    word_of_raw,
+    word_of_typed_raw,
+    word_of_value,
+)
 from motionvm.io.config import DEFAULT_IO, Endpoint, IOConfig, parse_endpoint
 from motionvm.io.gpio import DigitalIO, call_estop_handlers
 from motionvm.io.slave_objects import build as build_slave_objects
@@ -210,17 +218,22 @@ class IOSystem(PassiveClient):
         return None if module is None else (slave, module)
 
     def _reader(self, ep: Endpoint) -> Callable[[], int]:
-        """The pin level (or word) of an output endpoint."""
+        """The pin level of a digital output endpoint; the raw value of an analog one, as
+        GetSlvAORaw reads it (two's complement on an HMPL_DAC_SIGNED channel)."""
         gpio = self.gpio
         if ep.kind == "gpo":
             return lambda: gpio.output_pin(ep.channel)
         slave, module = self.endpoint_module(ep)  # type: ignore[misc]
-        values = module.outputs if ep.kind == "do" else module.ao
         i = ep.channel - 1
-        return lambda: values[i] if slave.online else 0
+        if ep.kind == "do":
+            outputs = module.outputs
+            return lambda: outputs[i] if slave.online else 0
+        words, types, bits = module.ao, module.ao_type, module.bits
+        return lambda: raw_of_word(words[i], bits, types[i]) if slave.online else 0
 
     def _writer(self, ep: Endpoint) -> Callable[[int], None]:
-        """Drive the pin (or word) of an input endpoint."""
+        """Drive the pin of a digital input endpoint; the word of an analog one from a raw
+        value, clamped to the raw values the input's type holds."""
         gpio = self.gpio
         if ep.kind == "gpi":
             n = ep.channel
@@ -235,11 +248,11 @@ class IOSystem(PassiveClient):
                     values[i] = 1 if v else 0
 
             return write_di
-        words, bits = module.ai, module.bits
+        words, types, bits = module.ai, module.ai_type, module.bits
 
-        def write_ai(v: int) -> None:
+        def write_ai(v: int) -> None:  # a raw value, as GetSlvAIRaw is to read it
             if slave.online:
-                words[i] = word_of_raw(int(v), bits)
+                words[i] = word_of_typed_raw(int(v), bits, types[i])
 
         return write_ai
 

@@ -6,9 +6,11 @@ Timing (exact to the cycle): the controller writes its outputs at the end of a c
 A wire samples its output's pin at the end of every cycle; a change seen at the end of
 cycle k reaches the input at the start of cycle k + 1 + D, D = ceil(delay_ms / cycle).
 So with no delay a program that sets `gpo3` in cycle k reads the wired `gpi4` changed
-in cycle k + 1; with `delay_ms = 5` at 1 ms, in cycle k + 6. An analog wire copies the
-output word: input word = round(gain * output word + offset), clamped to the input's
-words. A sensor sets its input at the start of each cycle from the axis's feedback
+in cycle k + 1; with `delay_ms = 5` at 1 ms, in cycle k + 6. An analog wire carries
+raw values as GetSlvAORaw and GetSlvAIRaw read them (two's complement on an
+HMPL_DAC_SIGNED channel, so a negative value keeps its sign through a gain):
+input raw = round(gain * output raw + offset), clamped to the raw values the input's
+type holds (-2^(bits-1) .. 2^(bits-1) - 1 signed, 0 .. 2^bits - 1 unsigned). A sensor sets its input at the start of each cycle from the axis's feedback
 position the last motion step left, as GetPosFb reports it (wrapped on a rollover axis):
 on inside [from, to], `invert` swaps on and off.
 

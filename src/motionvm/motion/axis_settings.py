@@ -123,9 +123,12 @@ class AxisSettings:
     def set_pos(self, pos: float) -> None:
         """Make the current position read `pos` by changing the position offset (5.3.19).
 
-        Refused on an axis in the synchronous state (5.3.19; a coupled gear slave,
-        IsSync 1) with eERR_AXIS_CMD_INVALID_IN_SYNC: its position is the master's; and
-        with eERR_AXIS_CMD_INVALID_COMP_ENABLED while an active compensation fixes its
+        Not applicable (5.3.19) to an axis added to an axis group, enabled or not, with
+        eERR_AXIS_CMD_INVALID_GROUPED: the group's pose is made of its axes' positions;
+        to one in the synchronous state (a coupled gear slave, IsSync 1) with
+        eERR_AXIS_CMD_INVALID_IN_SYNC: its position is the master's; nor while it is in
+        error stop (eERR_AXIS_CMD_INVALID_ERROR_STATE). Refused with
+        eERR_AXIS_CMD_INVALID_COMP_ENABLED while an active compensation fixes its
         coordinates (14.1: it is compensated, or a reference axis of a compensation).
         """
         self.wake()
@@ -133,6 +136,10 @@ class AxisSettings:
             raise AxisCommandError(
                 st.CMD_INVALID_COMP_ENABLED,
                 f"axis {self.axis_id}: dynamic error compensation fixes its origin",
+            )
+        if self.extra_status & st.MS_GROUP:
+            raise AxisCommandError(
+                st.CMD_INVALID_GROUPED, f"axis {self.axis_id} is in an axis group"
             )
         if self.extra_status & st.MS_SYNC:
             raise AxisCommandError(

@@ -16,8 +16,10 @@ setter is eERR_HCV_VALUE_OUT_OF_RANGE. Decisions where the manual is silent:
 - last_err: the axis's last error as the C int; writing 0 clears it (ClearAxisLastErr).
 - gant_pair: the gantry pair id, -1 if none (read-only); gear_ratio: the gear slave's
   ratio (0 if none); writing it changes the ratio of an engaged slave (GearIn).
-- Variables of the vendor's HMI with nothing behind them in a simulation (max_comp_lim,
-  p2p_del, p2p_pos1, p2p_pos2, p2p_repeat, rlt_dist, en_motionManager, map_io_type) keep
+- max_comp_lim [mm or deg]: the largest error compensation the axis accepts (1 by
+  default, 14.1); a write (above 0) bounds the tables of later SetupComp* calls and the
+  compensation from the next cycle on (beyond it: error stop, eERR_AXIS_COMP_LIMIT).
+- Variables of the vendor's HMI with nothing behind them in a simulation (p2p_del, p2p_pos1, p2p_pos2, p2p_repeat, rlt_dist, en_motionManager, map_io_type) keep
   the value written (default 0) and change nothing.
 """
 
@@ -74,6 +76,10 @@ def register(table: ConfigVarTable, kernel) -> None:
 
         return set_
 
+    def comp_lim_set(i, v):
+        axes[i].wake()
+        axes[i].filters.comp_limit = _finite(v, 0.0, strict_low=True)
+
     def dec_lim_set(i, v):
         dec_limits[i] = _finite(v, 0.0, strict_low=True)
 
@@ -110,6 +116,7 @@ def register(table: ConfigVarTable, kernel) -> None:
         "acc_lim": (lambda i: axes[i].config.acc_limit, config_set("acc_limit")),
         "dec_lim": (lambda i: dec_limits[i], dec_lim_set),
         "max_pos_err": (ax("max_pos_err"), max_pos_err),
+        "max_comp_lim": (lambda i: axes[i].filters.comp_limit, comp_lim_set),
         "home_status": (lambda i: 1.0 if kernel.homing[i].homed else 0.0,
                         lambda i, v: kernel.homing[i].set_homed(int(v) if v in (0, 1) else 2)),
         "home_method": (home("method"), lambda i, v: kernel.homing[i].set_method(int(v))),
@@ -141,7 +148,7 @@ def register(table: ConfigVarTable, kernel) -> None:
         "last_err": (ax("last_error"), last_err_set),
         "gear_ratio": (lambda i: kernel.gears.ratio(i), gear_ratio_set),
     }  # fmt: skip
-    for name in ("max_comp_lim", "p2p_del", "p2p_pos1", "p2p_pos2", "p2p_repeat", "rlt_dist",
+    for name in ("p2p_del", "p2p_pos1", "p2p_pos2", "p2p_repeat", "rlt_dist",
                  "en_motionManager", "map_io_type"):  # fmt: skip
         bindings[name] = keep(name)
     for var, name in manual_ids()[AXIS]:

@@ -20,6 +20,11 @@ Decisions where the manual is silent:
   (eERR_CRD_CMD_AXIS_DUPLICATED) and no gantry pair or gear
   (eERR_CRD_CMD_GRP_AXIS_INVALID); SetupGroup is UngrpAllAxes, AddAxisToGrp for each
   axis, EnableGroup;
+- an axis of an enabled group (error stop included) is synchronous (table 5.1.1.5
+  bit 3, IsSync): it follows the group's commands; in a disabled group it is grouped
+  (bit 4) only. SetPos refuses an axis added to a group, enabled or not (5.3.19);
+- DisableAll and EStop disable every group at once (2.7, 2.9), a moving one too: its
+  path is dropped as its axes are disabled; it keeps its axes and is not in error stop;
 - EnableGroup needs every axis enabled and at rest (eERR_CRD_CMD_GRP_AXIS_INVALID),
   at most 6 axes for Cartesian kinematics (eERR_CRD_CMD_INVALID_KIN_SETTING);
   DisableGroup and UngrpAllAxes of a moving group are refused
@@ -241,8 +246,18 @@ class AxisGroup:
         self._attach()
         self.state = STANDBY
         self.fault_status = 0
+        self._set_sync(True)
         if self.group_set is not None:
             self.group_set.power_changed()
+
+    def _set_sync(self, on: bool) -> None:
+        """The axes' synchronous bit (table 5.1.1.5 bit 3, IsSync): set from EnableGroup
+        to the group's disable, error stop included (the group is still enabled)."""
+        for a in self.axes:
+            if on:
+                a.extra_status |= st.MS_SYNC
+            else:
+                a.extra_status &= ~st.MS_SYNC
 
     def _attach(self) -> None:
         self._index = {a.axis_id: i for i, a in enumerate(self.axes)}
@@ -272,6 +287,19 @@ class AxisGroup:
             raise self.fail(CRD_INVALID_MOVING, "is moving (call StopGroup first)")
         self._detach()
         self.state = DISABLED
+        self._set_sync(False)
+        if self.group_set is not None:
+            self.group_set.power_changed()
+
+    def power_off(self) -> None:
+        """DisableAll, EStop (2.7, 2.9): disabled at once whatever it does; its path is
+        dropped, as its axes are disabled at once too. Its fault status stays."""
+        if self.state == DISABLED:
+            return
+        self.jogging = False
+        self._detach()
+        self.state = DISABLED
+        self._set_sync(False)
         if self.group_set is not None:
             self.group_set.power_changed()
 
@@ -507,6 +535,11 @@ class GroupSet:
 
     def busy(self) -> bool:
         return any(g.moving for g in self.groups)
+
+    def power_off(self) -> None:
+        """Disable every group at once (DisableAll, EStop)."""
+        for g in self.enabled:
+            g.power_off()
 
     def stop_all(self) -> set[int]:
         """StopGroup of every moving enabled group; the ids of the enabled groups' axes."""

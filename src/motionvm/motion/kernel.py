@@ -236,6 +236,8 @@ class MotionKernel:
         a.drive_lost()
 
     def disable_all(self) -> None:
+        """DisableAll (2.7): disable every axis and every axis group."""
+        self.groups.power_off()
         for a in self.axes:
             a.disable()
 
@@ -248,7 +250,7 @@ class MotionKernel:
                 a.stop(a.kill_dec)
 
     def estop(self) -> None:
-        """Emergency stop: disable every axis; the system reports an error."""
+        """Emergency stop: disable every axis and group; the system reports an error."""
         self.disable_all()
         self.estopped = True
         self.system_last_error = st.SYS_EMERGENCY_STOP

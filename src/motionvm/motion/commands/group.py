@@ -236,7 +236,15 @@ class GroupCommands(GroupCommandBase):
         return self._do(group_id, AxisGroup.remove_last)
 
     def SetupGroup(self, group_id: int, *axis_ids: int) -> int:
-        """UngrpAllAxes, AddAxisToGrp of each axis in order, EnableGroup."""
+        """UngrpAllAxes, AddAxisToGrp of each axis in order, EnableGroup. More than 9
+        axes (8.3.3) is eERR_CRD_CMD_GRP_SIZE_FULL, the group left as it was."""
+        if len(axis_ids) > grp.MAX_AXES:
+            n = len(axis_ids)
+
+            def too_many(g: AxisGroup) -> None:
+                raise g.fail(grp.CRD_GRP_SIZE_FULL, f"{n} axes, a group takes {grp.MAX_AXES}")
+
+            return self._do(group_id, too_many)
         axes = self._axes(*axis_ids)
         if axes is None:
             return st.SYS_HMPL_ARG_OUT_OF_RANGE

@@ -4,8 +4,9 @@ Bus: IsSystemInit/PreOp/Oper follow the simulated EtherCAT master
 (`MotionKernel.ecat_state`: Operation from power-on; ScanNetwork takes it through Init,
 Pre-Op and Safe-Op, one cycle each). IsSystemError is 1 after EStop. Slaves are the
 axes' drives, slave i being axis i's. DisableAll and StopAll clear the axes' path
-planning (StopAll brakes at each axis's kill deceleration and keeps it enabled); EStop
-disables every axis (stopping the tasks is the front end's part).
+planning (StopAll brakes at each axis's kill deceleration and keeps it enabled);
+DisableAll disables every axis and every axis group (2.7); EStop does too (2.9;
+stopping the tasks is the front end's part).
 
 Errors: codes are 32-bit (0x00XXXXXX system, 0x83XXCCCC axis XX, 0x82XXCCCC group XX,
 tables 18.1.1-18.1.3) and come back as C ints, so an axis or group code is negative.
@@ -63,7 +64,7 @@ class BusCommands(CommandBase):
         return 0
 
     def EStop(self) -> None:
-        """Disable every axis; IsSystemError then answers 1."""
+        """Disable every axis and group; IsSystemError then answers 1."""
         self.motion.estop()
 
 

@@ -70,8 +70,6 @@ class GroupLib(Library):
     @builtin()
     def SetupGroup(self, group_id: int, axis_id: int, *axis_ids) -> int:
         ids = [axis_id, *(_axis_vararg(a) for a in axis_ids)]
-        if len(ids) > 9:
-            raise RuntimeFault(f"SetupGroup: {len(ids)} axes, a group takes at most 9")
         return self.rt.commands.SetupGroup(group_id, *ids)
 
     UngrpAllAxes = command()
