@@ -5,12 +5,14 @@ uses: it imports nothing of the package), source, runtime, drives, motion, io, c
 session, api, cli. A module imports only from its own layer or below — module-level
 imports, function-local imports and `from motionvm import x` alike. The languages
 (lang/hmpl, lang/pdl, lang/gdl) never import each other; modules directly in `lang/`
-are shared by them. The package root only hands names on.
+are shared by them. The package root only hands names on. No module imports one that
+imports it back (`test_no_module_cycles`).
 """
 
 from __future__ import annotations
 
 import ast
+import functools
 from pathlib import Path
 
 import pytest
@@ -176,3 +178,146 @@ def test_no_import_circle_between_packages():
     for node in sorted(graph):
         if node not in seen:
             visit(node, [])
+
+
+def module_imports(path: Path) -> list[tuple[int, str]]:
+    """(line, module) of every motionvm module `path` imports, anywhere in it, naming the
+    submodule itself for `from package import submodule` (`imported_modules` names the
+    package): the edges of the module graph."""
+    tree = ast.parse(path.read_text(encoding="utf-8"), str(path))
+    me = module_name(path)
+    package = me if path.name == "__init__.py" else me.rpartition(".")[0]
+    known = known_modules()
+    out: list[tuple[int, str]] = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            out += [(node.lineno, a.name) for a in node.names if a.name in known]
+        elif isinstance(node, ast.ImportFrom):
+            if node.level:
+                base = package.split(".")
+                base = base[: len(base) - (node.level - 1)]
+                mod = ".".join(base + ([node.module] if node.module else []))
+            else:
+                mod = node.module or ""
+            for a in node.names:
+                target = f"{mod}.{a.name}" if f"{mod}.{a.name}" in known else mod
+                if target in known:
+                    out.append((node.lineno, target))
+    return out
+
+
+@functools.cache
+def known_modules() -> dict[str, Path]:
+    """Dotted name -> file of every module of the package."""
+    return {module_name(p): p for p in modules()}
+
+
+# Circles outside the languages that are being taken apart elsewhere: a circle found by
+# the test must lie inside one of these sets of modules (it may shrink, never grow).
+ALLOWED_CIRCLES = [
+    {"motionvm.motion.axis", "motionvm.motion.axis_filters"},
+    {
+        "motionvm.motion.commands.base",
+        "motionvm.motion.commands.filters",
+        "motionvm.motion.commands.group_base",
+        "motionvm.motion.config_group",
+        "motionvm.motion.kernel",
+    },
+    {"motionvm.sim.scope", "motionvm.sim.scope_plot", "motionvm.sim.scope_writers"},
+    {"motionvm.cli", "motionvm.cli.report", "motionvm.cli.test", "motionvm.cli.workers"},
+]
+
+
+def module_graph() -> dict[str, dict[str, int]]:
+    """module -> {module it imports: line}; the registry's imports of the languages
+    (`motionvm/lang/__init__.py` -> `motionvm.lang.<language>...`) left out: the
+    languages register there, and reach the registry only through their own modules."""
+    graph: dict[str, dict[str, int]] = {}
+    for me, path in known_modules().items():
+        edges = graph.setdefault(me, {})
+        for line, target in module_imports(path):
+            if target == me:
+                continue
+            if me == "motionvm.lang" and layer_of(target)[1] is not None:
+                continue
+            edges.setdefault(target, line)
+    return graph
+
+
+def circles(graph: dict[str, dict[str, int]]) -> list[list[str]]:
+    """The strongly connected components of more than one module (Tarjan), each sorted."""
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    stack: list[str] = []
+    on_stack: set[str] = set()
+    found: list[list[str]] = []
+    for root in sorted(graph):
+        if root in index:
+            continue
+        work = [(root, iter(sorted(graph[root])))]
+        index[root] = low[root] = len(index)
+        stack.append(root)
+        on_stack.add(root)
+        while work:
+            node, nexts = work[-1]
+            for nxt in nexts:
+                if nxt not in index:
+                    index[nxt] = low[nxt] = len(index)
+                    stack.append(nxt)
+                    on_stack.add(nxt)
+                    work.append((nxt, iter(sorted(graph.get(nxt, ())))))
+                    break
+                if nxt in on_stack:
+                    low[node] = min(low[node], index[nxt])
+            else:
+                work.pop()
+                if work:
+                    low[work[-1][0]] = min(low[work[-1][0]], low[node])
+                if low[node] == index[node]:
+                    comp = []
+                    while True:
+                        x = stack.pop()
+                        on_stack.discard(x)
+                        comp.append(x)
+                        if x == node:
+                            break
+                    if len(comp) > 1:
+                        found.append(sorted(comp))
+    return found
+
+
+def test_no_module_cycles():
+    """No module imports one that imports it back, directly or through others
+    (module-level and function-local imports alike, `TYPE_CHECKING` ones too)."""
+    graph = module_graph()
+    bad = []
+    for comp in circles(graph):
+        if any(set(comp) <= allowed for allowed in ALLOWED_CIRCLES):
+            continue
+        members = set(comp)
+        edges = [
+            f"  {known_modules()[a].relative_to(PACKAGE.parent)}:{line}: {a} imports {b}"
+            for a in comp
+            for b, line in sorted(graph[a].items())
+            if b in members
+        ]
+        bad.append("import circle of " + ", ".join(comp) + "\n" + "\n".join(edges))
+    assert not bad, "\n".join(bad)
+
+
+@pytest.mark.parametrize(
+    "graph, expected",
+    [
+        ({"a": {"b": 1}, "b": {"c": 1}, "c": {}}, []),
+        ({"a": {"b": 1}, "b": {"a": 1}}, [["a", "b"]]),
+        ({"a": {"b": 1}, "b": {"c": 1}, "c": {"a": 1}, "d": {"a": 1}}, [["a", "b", "c"]]),
+    ],
+)
+def test_the_circle_finder(graph, expected):
+    assert circles(graph) == expected
+
+
+def test_from_package_import_submodule_is_an_edge_to_the_submodule():
+    edges = dict((t, line) for line, t in module_imports(PACKAGE / "lang" / "pdl" / "lower.py"))
+    assert "motionvm.lang.pdl.nodes" in edges  # `from motionvm.lang.pdl import nodes as n`
+    assert "motionvm.lang.pdl" not in edges

@@ -9,14 +9,9 @@ the RTS reports it at the user's line, read from the generated code's frame.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
 from motionvm.lang.gdl.app import ObjectInfo, ProcInfo
-from motionvm.lang.gdl.devices import GdlFault
+from motionvm.lang.gdl.devices import GdlFault, RtsView
 from motionvm.lang.gdl.objects import INT_LIMIT, format_value
-
-if TYPE_CHECKING:
-    from motionvm.lang.gdl.rts import Rts
 
 MAX_LOOP_ITERATIONS = 100_000
 """WHILE iterations allowed in one procedure run before it is aborted."""
@@ -25,7 +20,7 @@ MAX_LOOP_ITERATIONS = 100_000
 class ProcedureApi:
     """What generated code may call: at, loop, read, assign, call, div."""
 
-    def __init__(self, rts: Rts, proc: ProcInfo) -> None:
+    def __init__(self, rts: RtsView, proc: ProcInfo) -> None:
         self._rts = rts
         self._proc = proc
         self._iterations = 0

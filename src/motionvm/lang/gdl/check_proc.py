@@ -10,17 +10,13 @@ limits, MAX$SPEED) when the compiler can see them [T]; the rest is checked at ru
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
 from motionvm.lang.gdl import nodes as n
 from motionvm.lang.gdl.app import ObjectInfo, Trigger
 from motionvm.lang.gdl.check_expr import KIND_NAMES, ExprChecker, VType, article
+from motionvm.lang.gdl.check_scope import Scope
 from motionvm.lang.gdl.objects import GLOBAL_ACTIVATORS, INT_LIMIT, StateSpec
 from motionvm.source.diagnostics import DiagnosticSink
 from motionvm.source.suggest import did_you_mean
-
-if TYPE_CHECKING:
-    from motionvm.lang.gdl.check import Scope
 
 
 def dynamic_limit(obj: ObjectInfo, limit: str | None) -> tuple[int, int, str] | None:

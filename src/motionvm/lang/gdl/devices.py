@@ -9,12 +9,9 @@ outputs, variables, flags, boards) need no device.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Protocol
+from typing import Protocol
 
-from motionvm.lang.gdl.app import ObjectInfo
-
-if TYPE_CHECKING:
-    from motionvm.lang.gdl.rts import Rts
+from motionvm.lang.gdl.app import App, ObjectInfo, ProcInfo
 
 V_EPS = 1e-9
 """Velocity below which a motor counts as standing still [units/s]."""
@@ -24,22 +21,49 @@ class GdlFault(Exception):
     """A run-time error of a procedure: reported, the procedure aborted, the run goes on."""
 
 
+class RtsView(Protocol):
+    """What devices and the generated code's API use of the run-time support
+    (`rts.Rts`, which hands itself to them)."""
+
+    app: App
+
+    def device(self, obj: ObjectInfo) -> Device:
+        """The device simulating `obj`."""
+
+    def read(self, obj: ObjectInfo, keyword: str, element: int) -> object:
+        """The value a procedure sees (the forced one if forced)."""
+
+    def init_value(self, obj: ObjectInfo, keyword: str, element: int, value: object) -> None:
+        """Set a value before the run starts: not an event."""
+
+    def origin(self) -> str:
+        """'set' while a procedure runs, else 'update'."""
+
+    def write(
+        self, obj: ObjectInfo, keyword: str, element: int, value: object, origin: str
+    ) -> bool:
+        """Store a value; on a visible change print it, run device hooks, trigger."""
+
+    def before_instruction(self, proc: ProcInfo, line: int) -> None:
+        """Called before each instruction of a procedure (the debugger's hook)."""
+
+
 class Device:
     """Base: no operators, nothing to update."""
 
     def __init__(self, obj: ObjectInfo) -> None:
         self.obj = obj
 
-    def start(self, rts: Rts) -> None:
+    def start(self, rts: RtsView) -> None:
         """Set derived initial state (no events)."""
 
-    def call(self, rts: Rts, op: str, args: list[int], element: int) -> None:
+    def call(self, rts: RtsView, op: str, args: list[int], element: int) -> None:
         raise GdlFault(f"{self.obj.type.name} has no operator {op}")
 
-    def on_write(self, rts: Rts, keyword: str, element: int, value: object) -> None:
+    def on_write(self, rts: RtsView, keyword: str, element: int, value: object) -> None:
         """React to a change of one of this object's state variables."""
 
-    def update(self, rts: Rts) -> None:
+    def update(self, rts: RtsView) -> None:
         """Bring the state variables up to date after the controller's motion step."""
 
     @property
@@ -79,12 +103,11 @@ class FollowerDevice(Device):
         self.motor: Motion | None = None
         self.seen: object = None
 
-    def start(self, rts: Rts) -> None:
-        from motionvm.lang.gdl.motors import MotorDevice  # motors builds on this module
-
+    def start(self, rts: RtsView) -> None:
         key = self.obj.params.get(self.motor_param)
         dev = rts.device(rts.app.objects[key]) if isinstance(key, str) else None
-        self.motor = dev if isinstance(dev, MotorDevice) else None
+        # a motor object's device is a `motors.MotorDevice` (`device_factory.py`)
+        self.motor = dev if dev is not None and dev.obj.type.name in MOTOR_TYPES else None  # type: ignore[assignment]
         self.seen = self.sample()
         self.publish(rts, self.seen, init=True)
 
@@ -92,10 +115,10 @@ class FollowerDevice(Device):
         """The state this device shows for the axis as it is now."""
         return None
 
-    def publish(self, rts: Rts, state: object, init: bool) -> None:
+    def publish(self, rts: RtsView, state: object, init: bool) -> None:
         """Write `state` into the state variables (as initial values when `init`)."""
 
-    def update(self, rts: Rts) -> None:
+    def update(self, rts: RtsView) -> None:
         if self.motor is None:
             return
         state = self.sample()
@@ -121,7 +144,7 @@ class HomeInputDevice(FollowerDevice):
         switch = self.obj.params.get("SWITCH$POSITION", 0)
         return self.motor.position <= switch  # type: ignore[operator]
 
-    def publish(self, rts: Rts, state: object, init: bool) -> None:
+    def publish(self, rts: RtsView, state: object, init: bool) -> None:
         if init:
             rts.init_value(self.obj, "STATUS", 0, state)
         else:
@@ -142,14 +165,14 @@ class EncoderDevice(FollowerDevice):
             return (0, False)
         return (round(self.motor.position), abs(self.motor.velocity) > V_EPS)
 
-    def publish(self, rts: Rts, state: object, init: bool) -> None:
+    def publish(self, rts: RtsView, state: object, init: bool) -> None:
         if init or self.motor is None:
             return  # starts at POSITION 0, STOPPED, like the axis
         raw, moving = state  # type: ignore[misc]
         rts.write(self.obj, "POSITION", 0, raw + self.preset, "update")
         rts.write(self.obj, "OPERATING$CONDITION", 0, "RUNNING" if moving else "STOPPED", "update")
 
-    def call(self, rts: Rts, op: str, args: list[int], element: int) -> None:
+    def call(self, rts: RtsView, op: str, args: list[int], element: int) -> None:
         if op == "CONFIGURE":
             rts.write(self.obj, "CFG$STATUS", 0, "CONFIGURED", rts.origin())
             rts.write(self.obj, "CFG$UPDATE$REQUEST", 0, False, rts.origin())
@@ -160,7 +183,7 @@ class EncoderDevice(FollowerDevice):
         else:
             super().call(rts, op, args, element)
 
-    def on_write(self, rts: Rts, keyword: str, element: int, value: object) -> None:
+    def on_write(self, rts: RtsView, keyword: str, element: int, value: object) -> None:
         if keyword == "CFG$UPDATE$REQUEST" and value is True:
             rts.write(self.obj, "CFG$STATUS", 0, "NOT$CONFIGURED", "update")
 
@@ -172,17 +195,3 @@ FOLLOWER_CLASSES: dict[str, type[Device]] = {
 
 MOTOR_TYPES = ("DC$MOTOR$AXIS", "STEPPER$MOTOR", "STP$MOTOR$AXIS")
 """Object types that are machine axes (`motors.MotorDevice`)."""
-
-
-def create_device(obj: ObjectInfo, axis: object = None) -> Device:
-    """The device simulating `obj` (a do-nothing `Device` for pure data objects).
-
-    A motor needs its machine axis (`motors.assign_axes`).
-    """
-    if obj.type.name in MOTOR_TYPES:
-        from motionvm.lang.gdl.motors import MotorDevice  # motors builds on this module
-
-        if axis is None:
-            raise ValueError(f"motor {obj.name} has no machine axis")
-        return MotorDevice(obj, axis)  # type: ignore[arg-type]
-    return FOLLOWER_CLASSES.get(obj.type.name, Device)(obj)

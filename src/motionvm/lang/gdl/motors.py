@@ -45,12 +45,11 @@ from typing import TYPE_CHECKING
 
 from motionvm.lang.gdl.app import App, ObjectInfo
 from motionvm.lang.gdl.check_proc import dynamic_limit
-from motionvm.lang.gdl.devices import MOTOR_TYPES, Device, GdlFault
+from motionvm.lang.gdl.devices import MOTOR_TYPES, Device, GdlFault, RtsView
 from motionvm.motion.axis_status import AxisCommandError
 from motionvm.sim.machine import GdlMotorSpec
 
 if TYPE_CHECKING:
-    from motionvm.lang.gdl.rts import Rts
     from motionvm.motion.axis import Axis
 
 MOVE, JOG, STOP = "move", "jog", "stop"
@@ -162,7 +161,7 @@ class MotorDevice(Device):
     def a_max(self) -> float:
         return self._param("ACCELERATION", 30000)
 
-    def start(self, rts: Rts) -> None:
+    def start(self, rts: RtsView) -> None:
         self.home = next(
             (
                 o
@@ -184,7 +183,7 @@ class MotorDevice(Device):
 
     # ------------------------------------------------------------ operators
 
-    def _require_ready(self, rts: Rts, op: str) -> None:
+    def _require_ready(self, rts: RtsView, op: str) -> None:
         if rts.read(self.obj, "CONSTANT$STATUS", 0) != "ENABLED":
             raise GdlFault(
                 f"{op} OF {self.obj.name}: the motor is DISABLED (assign "
@@ -201,7 +200,7 @@ class MotorDevice(Device):
                 f"{dyn[0]}..{dyn[1]} of {self.obj.name}"
             )
 
-    def call(self, rts: Rts, op: str, args: list[int], element: int) -> None:
+    def call(self, rts: RtsView, op: str, args: list[int], element: int) -> None:
         if op == "STOP":
             self.homing = False
             self._stop()
@@ -280,7 +279,7 @@ class MotorDevice(Device):
         except AxisCommandError as exc:
             raise GdlFault(f"{self.obj.name}: machine axis {ax.axis_id}: {exc}") from None
 
-    def on_write(self, rts: Rts, keyword: str, element: int, value: object) -> None:
+    def on_write(self, rts: RtsView, keyword: str, element: int, value: object) -> None:
         if keyword == "CONSTANT$STATUS" and value == "DISABLED":
             self.homing = False
             self.pending = None
@@ -293,7 +292,7 @@ class MotorDevice(Device):
 
     # ------------------------------------------------------------ the cycle
 
-    def update(self, rts: Rts) -> None:
+    def update(self, rts: RtsView) -> None:
         ax = self.axis
         if self.pending is not None and ax.enabled and not ax.stopping:
             kind, arg = self.pending
@@ -336,7 +335,7 @@ class MotorDevice(Device):
         if self.mode is None:
             rts.write(self.obj, "OPERATING$CONDITION", 0, "STOPPED", "update")
 
-    def _fault(self, rts: Rts) -> None:
+    def _fault(self, rts: RtsView) -> None:
         """The axis left Operation Enabled on its own: the motor is stopped and faulty."""
         self.mode = None
         self.pending = None

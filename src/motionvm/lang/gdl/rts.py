@@ -36,7 +36,8 @@ from typing import TYPE_CHECKING
 
 from motionvm.lang.gdl.api import ProcedureApi
 from motionvm.lang.gdl.app import App, ObjectInfo, ProcInfo
-from motionvm.lang.gdl.devices import Device, GdlFault, create_device
+from motionvm.lang.gdl.device_factory import create_device
+from motionvm.lang.gdl.devices import Device, GdlFault
 from motionvm.lang.gdl.objects import format_value
 from motionvm.runtime.clock import Clock
 from motionvm.runtime.fault_position import Fault, user_frames

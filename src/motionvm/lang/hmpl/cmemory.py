@@ -138,10 +138,6 @@ class Memory:
             self.names[addr] = name
         return addr
 
-    @property
-    def static_top(self) -> int:
-        return self._static_top
-
     # ------------------------------------------------------------ checks
 
     def extent(self, addr: int) -> int:

@@ -3,13 +3,15 @@
 One pass in source order, as the drive's single-pass compiler: variables and
 procedures must be declared before use (prototypes exist for that), labels may be
 used before they are defined. Types of operands and statement forms are checked in
-`check_stmt.py`; this module owns scopes, declarations and the program-wide limits.
+`check_stmt.py`; this module owns declarations and the program-wide limits (the
+name scope is in `check_base.py`).
 """
 
 from __future__ import annotations
 
 from motionvm.lang.pdl import nodes as n
 from motionvm.lang.pdl import sysvars
+from motionvm.lang.pdl.check_base import Scope
 from motionvm.lang.pdl.check_stmt import StatementChecker
 from motionvm.lang.pdl.symbols import (
     BYTES_PER_CODE_UNIT,
@@ -29,42 +31,6 @@ from motionvm.lang.pdl.symbols import (
 from motionvm.source.diagnostics import DiagnosticSink
 from motionvm.source.files import SourcePos
 from motionvm.source.suggest import did_you_mean
-
-
-class Scope:
-    """Name lookup: procedure locals, then globals, then the drive's system names."""
-
-    def __init__(self, syms: Symbols) -> None:
-        self.syms = syms
-        self.proc: ProcSym | None = None
-        self._system: dict[str, VarSym] = {}
-
-    def lookup(self, name: str) -> VarSym | None:
-        if self.proc is not None and name in self.proc.locals:
-            return self.proc.locals[name]
-        if name in self.syms.globals:
-            return self.syms.globals[name]
-        sv = sysvars.lookup(name)
-        if sv is None:
-            return None
-        sym = self._system.get(sv.name)
-        if sym is None:
-            sym = VarSym(
-                sv.name, sv.kind, sv.size, "system", None, False, sv.read_only, sv.address, sv
-            )
-            self._system[sv.name] = sym
-        return sym
-
-    def visible_names(self) -> list[str]:
-        names = list(self.syms.globals) + sysvars.names()
-        if self.proc is not None:
-            names += list(self.proc.locals)
-        return names
-
-    def labels(self) -> dict[str, LabelSym]:
-        if self.proc is not None:
-            return self.syms.proc_labels.setdefault(self.proc.name, {})
-        return self.syms.labels
 
 
 class Checker:

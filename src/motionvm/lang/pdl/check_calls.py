@@ -27,14 +27,14 @@ INTEGER_LAST_ARG = {
 }
 
 if TYPE_CHECKING:
-    from motionvm.lang.pdl.check_stmt import StatementChecker
+    from motionvm.lang.pdl.check_base import Operands
 
 
 def _param_text(p: n.Param) -> str:
     return f"{p.type} {'*' if p.pointer else ''}{p.name}"
 
 
-def check_proc_call(sc: StatementChecker, s: n.ProcCall) -> None:
+def check_proc_call(sc: Operands, s: n.ProcCall) -> None:
     """Report an undeclared procedure, a wrong argument count or a mismatched argument."""
     syms = sc.c.syms
     proc = syms.procs.get(s.name)
@@ -75,7 +75,7 @@ def check_proc_call(sc: StatementChecker, s: n.ProcCall) -> None:
             )
 
 
-def _mismatch(sc: StatementChecker, a: n.Operand, k: str, p: n.Param) -> str:
+def _mismatch(sc: Operands, a: n.Operand, k: str, p: n.Param) -> str:
     """'' if argument `a` (of kind `k`) may be passed to `p`, else why not."""
     if p.type == "instate":
         if k == "state" or (k == "addr" and isinstance(a, n.AngleRef)):
@@ -122,7 +122,7 @@ def _what(a: n.Operand, k: str) -> str:
 
 
 def check_func_call(
-    sc: StatementChecker, f: n.FuncCall, tk: str | None, target: n.VarRef | n.Deref
+    sc: Operands, f: n.FuncCall, tk: str | None, target: n.VarRef | n.Deref
 ) -> None:
     """Argument count, variables-first rule and types of a built-in function (§2.3)."""
     want = 1 if f.func in ONE_ARG_FUNCS else 2

@@ -13,10 +13,10 @@ from motionvm.lang.pdl import nodes as n
 from motionvm.lang.pdl.symbols import describe, sym_kind_text
 
 if TYPE_CHECKING:
-    from motionvm.lang.pdl.check_stmt import StatementChecker
+    from motionvm.lang.pdl.check_base import Operands
 
 
-def check_cond(sc: StatementChecker, c: n.Cond) -> None:
+def check_cond(sc: Operands, c: n.Cond) -> None:
     """Report names and operands that do not fit a condition."""
     if isinstance(c, n.Logic):
         for t in c.terms:
@@ -35,7 +35,7 @@ def check_cond(sc: StatementChecker, c: n.Cond) -> None:
         _relation(sc, c)
 
 
-def _state_test(sc: StatementChecker, c: n.StateTest) -> None:
+def _state_test(sc: Operands, c: n.StateTest) -> None:
     ref = c.ref
     if isinstance(ref, n.AngleRef):
         sc.angle(ref, "state")
@@ -53,7 +53,7 @@ def _state_test(sc: StatementChecker, c: n.StateTest) -> None:
         )
 
 
-def _relation(sc: StatementChecker, c: n.Relation) -> None:
+def _relation(sc: Operands, c: n.Relation) -> None:
     lk, rk = sc.kind(c.left, "value"), sc.kind(c.right, "value")
     for side, k in ((c.left, lk), (c.right, rk)):
         if k in ("string",) or isinstance(side, n.AddressOf):

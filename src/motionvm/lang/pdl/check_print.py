@@ -21,10 +21,10 @@ from motionvm.lang.pdl.symbols import MAX_PRINT_ARGS, VarSym
 from motionvm.source.files import SourcePos
 
 if TYPE_CHECKING:
-    from motionvm.lang.pdl.check_stmt import StatementChecker
+    from motionvm.lang.pdl.check_base import Operands
 
 
-def check_print(sc: StatementChecker, s: n.Print) -> None:
+def check_print(sc: Operands, s: n.Print) -> None:
     """At most 8 arguments, a well-formed format, one argument per conversion."""
     for a in s.args:
         k = sc.kind(a)
@@ -63,7 +63,7 @@ def check_print(sc: StatementChecker, s: n.Print) -> None:
             )
 
 
-def _kind_quiet(sc: StatementChecker, op: n.Operand) -> str | None:
+def _kind_quiet(sc: Operands, op: n.Operand) -> str | None:
     """The kind of an already checked operand, without reporting anything again."""
     sym = sc.c.syms.resolved.get(id(op))
     if isinstance(op, n.FloatConst):

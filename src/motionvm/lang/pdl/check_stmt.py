@@ -23,7 +23,7 @@ from motionvm.source.files import SourcePos
 from motionvm.source.suggest import did_you_mean
 
 if TYPE_CHECKING:
-    from motionvm.lang.pdl.check import Checker
+    from motionvm.lang.pdl.check_base import Declarations
 
 INT_ONLY_OPS = ("%", "&", "|", "@", "%=", "&=", "|=", "@=")
 
@@ -31,7 +31,7 @@ INT_ONLY_OPS = ("%", "&", "|", "@", "%=", "&=", "|=", "@=")
 class StatementChecker:
     """The statement half of the checker; shares scopes and the sink with `Checker`."""
 
-    def __init__(self, checker: Checker) -> None:
+    def __init__(self, checker: Declarations) -> None:
         self.c = checker
         self.sink = checker.sink
         self.reported: set[tuple[str, str]] = set()

@@ -14,23 +14,19 @@ A task's request, as it yields (lower_body):
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
 from motionvm.lang.pdl.drive_sysvars import SYS_BASE
+from motionvm.lang.pdl.drive_task import DriveState
 from motionvm.lang.pdl.lower_body import SLEEP
 from motionvm.lang.pdl.rt_memory import round_int
 from motionvm.lang.pdl.sysvars import lookup
 from motionvm.motion.profile import IDLE
 from motionvm.runtime.errors import TaskExit
 
-if TYPE_CHECKING:
-    from motionvm.lang.pdl.drive_rt import Drive
-
 _WRAP = 1 << 32
 _FCLK_MAX = (1 << 31) - 1
 
 
-def run_phases(d: Drive, count: int | None) -> bool:
+def run_phases(d: DriveState, count: int | None) -> bool:
     """Run up to `count` phases (None: until idle); True if every task ended and the axis rests."""
     cfg = d.config
     budget = cfg.budget

@@ -16,21 +16,17 @@ generated code calls only the names of this module:
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
 from motionvm.lang.pdl import rt_builtins as bi
+from motionvm.lang.pdl.drive_task import DriveState, Task
 from motionvm.lang.pdl.rt_memory import round_int, w16, w32
 from motionvm.runtime.errors import RuntimeFault, TaskExit
-
-if TYPE_CHECKING:
-    from motionvm.lang.pdl.drive_rt import Drive, Task
 
 
 def _rnd(x: float, bits: int = 32) -> int:
     return round_int(x, bits)
 
 
-def runtime_namespace(drive: Drive) -> dict[str, object]:
+def runtime_namespace(drive: DriveState) -> dict[str, object]:
     """The globals of the compiled program, for one drive."""
     mem = drive.mem
     store = drive.sysvars

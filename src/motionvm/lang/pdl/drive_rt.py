@@ -19,11 +19,12 @@ A fault stops only its task:
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass, field
 
-from motionvm.lang.pdl.drive_axis import AxisConfig, PdlAxis
+from motionvm.lang.pdl.drive_axis import PdlAxis
+from motionvm.lang.pdl.drive_loop import run_phases
 from motionvm.lang.pdl.drive_ns import runtime_namespace
 from motionvm.lang.pdl.drive_sysvars import SYS_BASE, SysVarStore
+from motionvm.lang.pdl.drive_task import N_TASKS, DriveConfig, Message, Task
 from motionvm.lang.pdl.lower import PdlProgram
 from motionvm.lang.pdl.lower_body import SLEEP
 from motionvm.lang.pdl.rt_memory import Memory, round_int
@@ -31,55 +32,6 @@ from motionvm.lang.pdl.rt_print import format_message
 from motionvm.lang.pdl.symbols import USER_MEMORY_WORDS
 from motionvm.lang.pdl.sysvars import lookup
 from motionvm.runtime.errors import RuntimeFault, TaskExit
-
-N_TASKS = 4
-
-
-@dataclass
-class DriveConfig:
-    """Drive parameters; the defaults are the manual's."""
-
-    phase_rate: int = 15_000
-    """Phases per second [1/s] (configurable, 20000 for older drives)."""
-    budget: int = 1
-    """Statements a task executes per phase."""
-    wait_unit_us: int = 50
-    """`wait` unit [µs]."""
-    max_depth: int = 64
-    """Nested `call`s and procedure calls per task."""
-    stack_words: int = 4096
-    """Procedure frame memory per task [long words]."""
-    fclk_start: int = 0
-    """fclk at reset (tests start it near 2^31 to see the wrap-around)."""
-    axis: AxisConfig = field(default_factory=AxisConfig)
-
-
-class Task:
-    """One of the drive's 4 task slots."""
-
-    __slots__ = ("busy_until", "debt", "depth", "gen", "id", "label", "limit", "sp", "wake")
-
-    def __init__(self, tid: int, base: int, words: int) -> None:
-        self.id = tid
-        self.gen = None
-        self.sp = base
-        self.limit = base + words
-        self.depth = 0
-        self.wake = 0
-        self.busy_until = 0
-        self.debt = 0
-        self.label = ""
-
-
-@dataclass
-class Message:
-    """One printl/prints/retprintl message as the host receives it."""
-
-    phase: int
-    task: int
-    mode1: int
-    mode2: int
-    text: str
 
 
 class Drive:
@@ -326,8 +278,6 @@ class Drive:
 
     def run_phases(self, count: int | None) -> bool:
         """Run at most `count` phases (None: no limit); True once the drive is idle."""
-        from motionvm.lang.pdl.drive_loop import run_phases
-
         return run_phases(self, count)
 
 

@@ -39,8 +39,8 @@ from types import CodeType
 
 from motionvm.lang.pdl import nodes as n
 from motionvm.lang.pdl.drive_sysvars import SYS_BASE
+from motionvm.lang.pdl.lower_base import assign, const, nm, storage_kind, subscript
 from motionvm.lang.pdl.lower_body import BodyLowerer
-from motionvm.lang.pdl.lower_expr import assign, const, nm, storage_kind, subscript
 from motionvm.lang.pdl.rt_memory import FLOAT, SHORT, USER_BASE
 from motionvm.lang.pdl.rt_print import PrintFormat, compile_format
 from motionvm.lang.pdl.symbols import LabelSym, Symbols, VarSym, code_units

@@ -17,7 +17,8 @@ from __future__ import annotations
 import ast
 
 from motionvm.lang.pdl import nodes as n
-from motionvm.lang.pdl.lower_expr import FLT, I16, INT, WIDE, ExprLowering, assign, call, const, nm
+from motionvm.lang.pdl.lower_base import assign, call, const, nm
+from motionvm.lang.pdl.lower_expr import FLT, I16, INT, WIDE, ExprLowering
 from motionvm.lang.pdl.rt_memory import FLOAT, SHORT
 from motionvm.lang.pdl.symbols import VarSym
 
@@ -72,11 +73,6 @@ def lower_assign(x: ExprLowering, s: n.Assign) -> list[ast.stmt]:
         else ((v.operand,) if isinstance(v, n.Neg) else (v,))
     )
     return x.store(t, value, kind) + x.auto_increments(*sources, t)
-
-
-def _arg_kind(x: ExprLowering, a: n.Operand) -> int:
-    sym = x.sym(a)
-    return FLOAT if isinstance(sym, VarSym) and sym.type == "float" else 1
 
 
 def _func(x: ExprLowering, t: n.VarRef | n.Deref, f: n.FuncCall) -> list[ast.stmt]:

@@ -28,33 +28,22 @@ costs one comparison per segment before its label.
 from __future__ import annotations
 
 import ast
-from typing import TYPE_CHECKING
 
 from motionvm.lang.pdl import nodes as n
-from motionvm.lang.pdl.lower_expr import (
-    FLT,
-    ExprLowering,
-    assign,
-    binop,
-    call,
-    const,
-    nm,
-    subscript,
-)
+from motionvm.lang.pdl.lower_assign import lower_assign
+from motionvm.lang.pdl.lower_base import ProgramContext, assign, binop, call, const, nm, subscript
+from motionvm.lang.pdl.lower_expr import FLT, ExprLowering
 from motionvm.lang.pdl.lower_flow import SLEEP, WAIT, FlowLowering, check_budget, is_jumpy
 from motionvm.lang.pdl.rt_memory import FLOAT
 from motionvm.lang.pdl.symbols import LabelSym, ProcSym, VarSym, code_units
 from motionvm.source.files import SourcePos
-
-if TYPE_CHECKING:
-    from motionvm.lang.pdl.lower import ProgramLowering
 
 
 class BodyLowerer(FlowLowering):
     """Builds the segments of one body; `self.cur` is the statement list being filled."""
 
     def __init__(
-        self, prog: ProgramLowering, proc: ProcSym | None, frame: dict[int, int] | None
+        self, prog: ProgramContext, proc: ProcSym | None, frame: dict[int, int] | None
     ) -> None:
         self.prog = prog
         self.proc = proc
@@ -196,8 +185,6 @@ class BodyLowerer(FlowLowering):
     s_ProcProto = s_ProcDef
 
     def s_Assign(self, s: n.Assign, flat: bool) -> None:
-        from motionvm.lang.pdl.lower_assign import lower_assign
-
         self.pending += 1
         self.emit(lower_assign(self.x, s), s.pos)
 

@@ -59,35 +59,24 @@ each yield, before a pass that runs the checked code, at the end, and on a fault
 from __future__ import annotations
 
 import ast
-from typing import TYPE_CHECKING
 
 from motionvm.lang.pdl import nodes as n
-from motionvm.lang.pdl.lower_expr import assign, nm, storage_kind, subscript
+from motionvm.lang.pdl.lower_base import (
+    ProgramContext,
+    assign,
+    nm,
+    storage_kind,
+    subscript,
+    walk_nodes,
+)
 from motionvm.lang.pdl.rt_memory import FLOAT, LONG, SHORT
 from motionvm.lang.pdl.symbols import VarSym
 
-if TYPE_CHECKING:
-    from motionvm.lang.pdl.lower import ProgramLowering
-
 _BLOCKERS = (n.Deref, n.ProcCall, n.Delay, n.Till, n.InitList, n.StringConst, n.Kill, n.Label, n.Goto,
              n.CallLabel, n.VarDecl)  # fmt: skip
+MIN_COUNT = 8
+"""A loop with a constant count below this stays a plain `for` (a chunk costs a setup)."""
 _BLOCK_FUNCS = ("memcpy", "memset", "memmin", "memmax", "memsum")
-
-
-def _nodes(node: object):
-    """Every AST node under `node` (itself included)."""
-    yield node
-    fields = getattr(node, "__dataclass_fields__", None)
-    if not fields:
-        return
-    for f in fields:
-        v = getattr(node, f)
-        if isinstance(v, tuple):
-            for x in v:
-                if hasattr(x, "__dataclass_fields__"):
-                    yield from _nodes(x)
-        elif hasattr(v, "__dataclass_fields__") and f != "pos":
-            yield from _nodes(v)
 
 
 class Promotion:
@@ -178,7 +167,7 @@ class Promotion:
         return self.loads() + [guarded] + self.stores()
 
 
-def promote(prog: ProgramLowering, loop: n.Loop | n.While) -> Promotion | None:
+def promote(prog: ProgramContext, loop: n.Loop | n.While) -> Promotion | None:
     """The promotion for a top-level native loop, or None if it must stay in memory."""
     syms = prog.syms
     scalars: dict[int, VarSym] = {}
@@ -188,7 +177,7 @@ def promote(prog: ProgramLowering, loop: n.Loop | n.While) -> Promotion | None:
     """Half-words a constant index reaches."""
     indexed_arrays: list[VarSym] = []
     excluded_refs: set[int] = set()
-    for node in _nodes(loop):
+    for node in walk_nodes(loop):
         if isinstance(node, _BLOCKERS):
             return None
         if isinstance(node, n.Simple) and node.command in ("halt", "exitproc", "ret"):
@@ -254,7 +243,7 @@ MIN_LIST_WORDS = 16
 
 
 def _list_backed(
-    prog: ProgramLowering,
+    prog: ProgramContext,
     loop: n.Loop | n.While,
     indexed: list[VarSym],
     const_hits: set[int],
@@ -266,8 +255,6 @@ def _list_backed(
     it is `a[i]` with a variable i inside an innermost `loop`, nothing takes its
     address, and no constant index of another variable lands on it.
     """
-    from motionvm.lang.pdl.lower_chunk import MIN_COUNT
-
     arrays = {id(a): a for a in indexed}
     if len(arrays) != 1:
         return {}
@@ -283,20 +270,20 @@ def _list_backed(
     base = prog.global_index(a)
     if any(2 * base <= h < 2 * (base + a.size) for h in const_hits):
         return {}
-    for node in _nodes(loop):
+    for node in walk_nodes(loop):
         if isinstance(node, n.VarRef) and node.index is not None:
             sym = prog.syms.symbol_of(node)
             if isinstance(sym, VarSym) and sym.scope not in ("global", "system"):
                 return {}  # a frame index may run back into user memory
     inside: set[int] = set()
-    for node in _nodes(loop):
+    for node in walk_nodes(loop):
         if isinstance(node, n.Loop) and not any(
-            isinstance(x, (n.Loop, n.While)) for x in _nodes(node) if x is not node
+            isinstance(x, (n.Loop, n.While)) for x in walk_nodes(node) if x is not node
         ):
             if isinstance(node.count, n.IntConst) and 0 < (node.count.value & 0xFFFF) < MIN_COUNT:
                 continue
-            inside.update(id(x) for x in _nodes(node))
-    for node in _nodes(loop):
+            inside.update(id(x) for x in walk_nodes(node))
+    for node in walk_nodes(loop):
         if (
             isinstance(node, n.VarRef)
             and prog.syms.symbol_of(node) is a

@@ -43,17 +43,20 @@ from __future__ import annotations
 import ast
 import copy
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import Protocol
 
 from motionvm.lang.pdl import nodes as n
-from motionvm.lang.pdl.lower_expr import USER_END, assign, binop, const, nm, wrap_inline
+from motionvm.lang.pdl.lower_base import ProgramContext, assign, binop, const, nm, walk_nodes
+from motionvm.lang.pdl.lower_cache import MIN_COUNT, Promotion
+from motionvm.lang.pdl.lower_expr import USER_END, wrap_inline
 
-if TYPE_CHECKING:
-    from motionvm.lang.pdl.lower_body import BodyLowerer
-    from motionvm.lang.pdl.lower_cache import Promotion
 
-MIN_COUNT = 8
-"""A loop with a constant count below this stays a plain `for` (a chunk costs a setup)."""
+class LoopHost(Protocol):
+    """What a chunked loop uses of the body it stands in (`lower_body.BodyLowerer`)."""
+
+    prog: ProgramContext
+    counter: int  # numbers the temporaries of each loop
+
 
 _LIMITS = {32: (-0x8000_0000, 0x7FFF_FFFF), 16: (-0x8000, 0x7FFF)}
 _VIEW_END = {"M": USER_END, "H": USER_END * 2}
@@ -64,9 +67,7 @@ _F32_EXACT = 1 << 24
 
 
 def _nested_loop(s: n.Loop) -> bool:
-    from motionvm.lang.pdl.lower_cache import _nodes
-
-    return any(isinstance(x, (n.Loop, n.While)) for x in _nodes(s) if x is not s)
+    return any(isinstance(x, (n.Loop, n.While)) for x in walk_nodes(s) if x is not s)
 
 
 def _budget_only(body: list[ast.stmt]) -> bool:
@@ -672,7 +673,7 @@ def _check_sides(chk: ast.If, lo: int, hi: int) -> tuple[int | None, int | None]
 
 
 def chunk_loop(
-    body_lowerer: BodyLowerer,
+    body_lowerer: LoopHost,
     s: n.Loop,
     body: list[ast.stmt],
     times: ast.expr,

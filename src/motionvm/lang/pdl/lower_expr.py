@@ -30,48 +30,25 @@ import copy
 from typing import TYPE_CHECKING
 
 from motionvm.lang.pdl import nodes as n
+from motionvm.lang.pdl.lower_base import (
+    ProgramContext,
+    assign,
+    binop,
+    call,
+    const,
+    nm,
+    storage_kind,
+    subscript,
+)
 from motionvm.lang.pdl.rt_memory import FLOAT, LONG, SHORT, SHORT_TAG, USER_BASE
 from motionvm.lang.pdl.symbols import USER_MEMORY_WORDS, LabelSym, VarSym
 
 if TYPE_CHECKING:
-    from motionvm.lang.pdl.lower import ProgramLowering
     from motionvm.lang.pdl.lower_cache import Promotion
 
 # Value kinds: INT fits 32 bits, I16 fits 16 bits, WIDE may need wrapping, FLT is float.
 INT, I16, WIDE, FLT = "int", "i16", "wide", "float"
 USER_END = USER_BASE + USER_MEMORY_WORDS
-
-
-def nm(ident: str, store: bool = False) -> ast.Name:
-    return ast.Name(id=ident, ctx=ast.Store() if store else ast.Load())
-
-
-def const(v: object) -> ast.Constant:
-    return ast.Constant(value=v)
-
-
-def call(func: str, *args: ast.expr) -> ast.Call:
-    return ast.Call(func=nm(func), args=list(args), keywords=[])
-
-
-def binop(left: ast.expr, op: ast.operator, right: ast.expr) -> ast.expr:
-    if (
-        isinstance(left, ast.Constant)
-        and isinstance(right, ast.Constant)
-        and isinstance(op, ast.Add)
-    ):
-        return const(left.value + right.value)
-    if isinstance(right, ast.Constant) and right.value == 0 and isinstance(op, ast.Add):
-        return left
-    return ast.BinOp(left=left, op=op, right=right)
-
-
-def subscript(view: str, index: ast.expr, store: bool = False) -> ast.Subscript:
-    return ast.Subscript(value=nm(view), slice=index, ctx=ast.Store() if store else ast.Load())
-
-
-def assign(target: ast.expr, value: ast.expr) -> ast.stmt:
-    return ast.Assign(targets=[target], value=value)
 
 
 def _cmp(left: ast.expr, op: ast.cmpop, right: ast.expr) -> ast.Compare:
@@ -155,17 +132,10 @@ def _in_span(
     return ast.Compare(left=lo, ops=[ast.LtE(), ast.Lt()], comparators=[walrus, hi]), nm(tmp)
 
 
-def storage_kind(sym: VarSym) -> int:
-    """LONG, SHORT or FLOAT: how the variable's elements are stored."""
-    if sym.pointer or sym.type in ("long", "instate"):
-        return LONG
-    return SHORT if sym.type == "short" else FLOAT
-
-
 class ExprLowering:
     """Operands and stores of one body (the top level, or one procedure)."""
 
-    def __init__(self, prog: ProgramLowering, frame: dict[int, int] | None) -> None:
+    def __init__(self, prog: ProgramContext, frame: dict[int, int] | None) -> None:
         self.prog = prog
         self.syms = prog.syms
         self.frame = frame

@@ -15,15 +15,13 @@ jump is flattened into dispatcher segments (lower_body):
 from __future__ import annotations
 
 import ast
-from typing import TYPE_CHECKING
+from typing import Protocol
 
 from motionvm.lang.pdl import nodes as n
+from motionvm.lang.pdl.lower_base import ProgramContext, assign, binop, call, const, nm
 from motionvm.lang.pdl.lower_cache import Promotion, promote
 from motionvm.lang.pdl.lower_chunk import chunk_loop
-from motionvm.lang.pdl.lower_expr import assign, binop, call, const, nm
-
-if TYPE_CHECKING:
-    from motionvm.lang.pdl.lower_body import BodyLowerer
+from motionvm.lang.pdl.lower_expr import ExprLowering
 
 SLEEP, WAIT = 1, 2
 _JUMPY = (n.Label, n.Goto, n.CallLabel)
@@ -79,10 +77,44 @@ def check_budget(promo: Promotion | None = None) -> ast.stmt:
     return ast.If(test=test, body=body, orelse=[])
 
 
-class FlowLowering:
-    """The compound-statement half of `BodyLowerer` (a mixin: it uses its state)."""
+class BodyContext(Protocol):
+    """What the compound statements use of the body they stand in (`lower_body.BodyLowerer`,
+    which inherits them from `FlowLowering`)."""
 
-    def s_If(self: BodyLowerer, s: n.If, flat: bool) -> None:
+    prog: ProgramContext
+    x: ExprLowering
+    pending: int
+    counter: int
+    uses_dispatch: bool
+
+    def emit(self, stmts: list[ast.stmt], pos: object) -> None:
+        """Append statements placed at `pos` to the current segment."""
+
+    def flush(self) -> None:
+        """Charge the pending statements to the budget."""
+
+    def new_segment(self) -> int:
+        """Start a dispatcher segment; its number."""
+
+    def jump(self, target: ast.Constant, pos: object, check: bool) -> None:
+        """Go to the segment `target` names."""
+
+    def block(self, items: tuple[n.Item, ...], flat: bool) -> None:
+        """Lower the items of a nested block into the current segments."""
+
+    def native_block(self, items: tuple[n.Item, ...], depth: int, loop_top: bool) -> list[ast.stmt]:
+        """The items of a nested block as native Python statements."""
+
+    def begin_promotion(self, s: n.Loop | n.While) -> Promotion | None: ...
+
+    def end_promotion(self, promo: Promotion | None, stmts: list[ast.stmt]) -> list[ast.stmt]: ...
+
+
+class FlowLowering:
+    """The compound-statement half of `BodyLowerer` (a mixin: it uses its state,
+    `BodyContext`)."""
+
+    def s_If(self: BodyContext, s: n.If, flat: bool) -> None:
         self.pending += 1
         if not (flat and needs_flat(s)):
             self.flush()
@@ -105,7 +137,7 @@ class FlowLowering:
         else:
             skip.value = self.new_segment()
 
-    def s_While(self: BodyLowerer, s: n.While, flat: bool) -> None:
+    def s_While(self: BodyContext, s: n.While, flat: bool) -> None:
         if not (flat and needs_flat(s)):
             self.pending += 1
             self.flush()
@@ -128,7 +160,7 @@ class FlowLowering:
         self.jump(const(head), s.pos, check=True)
         exit_.value = self.new_segment()
 
-    def s_Loop(self: BodyLowerer, s: n.Loop, flat: bool) -> None:
+    def s_Loop(self: BodyContext, s: n.Loop, flat: bool) -> None:
         self.pending += 1
         count, _ = self.x.read(s.count)
         # n is read once as an unsigned 16-bit count, 0 meaning 65536.
@@ -168,7 +200,7 @@ class FlowLowering:
         self.emit([dec, ast.If(test=test, body=again, orelse=[])], s.pos)
         self.new_segment()
 
-    def begin_promotion(self: BodyLowerer, s: n.Loop | n.While) -> Promotion | None:
+    def begin_promotion(self: BodyContext, s: n.Loop | n.While) -> Promotion | None:
         """Keep the loop's global scalars in locals, if nothing else can see them (lower_cache)."""
         if self.x.promo is not None or not self.prog.promote:
             return None
@@ -176,7 +208,7 @@ class FlowLowering:
         return self.x.promo
 
     def end_promotion(
-        self: BodyLowerer, promo: Promotion | None, stmts: list[ast.stmt]
+        self: BodyContext, promo: Promotion | None, stmts: list[ast.stmt]
     ) -> list[ast.stmt]:
         if promo is None:
             return stmts

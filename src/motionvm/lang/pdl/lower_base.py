@@ -1,0 +1,108 @@
+"""What the PDL lowering's parts share: Python `ast` builders, a walk over PDL nodes, the
+storage of a variable, and the interface of the program lowering they are handed.
+
+`ProgramLowering` (lower.py) hands itself to the parts below it (`lower_expr.py`,
+`lower_cache.py`, `lower_body.py`) as a `ProgramContext`; the interface lives here, at the
+bottom, so that no lowering module imports one that imports it back.
+
+    nm("x")                  ->  x
+    assign(nm("x", True), const(1))  ->  x = 1
+    subscript("M", const(7)) ->  M[7]
+"""
+
+from __future__ import annotations
+
+import ast
+from typing import Protocol
+
+from motionvm.lang.pdl import nodes as n
+from motionvm.lang.pdl.rt_memory import FLOAT, LONG, SHORT
+from motionvm.lang.pdl.symbols import LabelSym, Symbols, VarSym
+
+
+def nm(ident: str, store: bool = False) -> ast.Name:
+    return ast.Name(id=ident, ctx=ast.Store() if store else ast.Load())
+
+
+def const(v: object) -> ast.Constant:
+    return ast.Constant(value=v)
+
+
+def call(func: str, *args: ast.expr) -> ast.Call:
+    return ast.Call(func=nm(func), args=list(args), keywords=[])
+
+
+def binop(left: ast.expr, op: ast.operator, right: ast.expr) -> ast.expr:
+    if (
+        isinstance(left, ast.Constant)
+        and isinstance(right, ast.Constant)
+        and isinstance(op, ast.Add)
+    ):
+        return const(left.value + right.value)
+    if isinstance(right, ast.Constant) and right.value == 0 and isinstance(op, ast.Add):
+        return left
+    return ast.BinOp(left=left, op=op, right=right)
+
+
+def subscript(view: str, index: ast.expr, store: bool = False) -> ast.Subscript:
+    return ast.Subscript(value=nm(view), slice=index, ctx=ast.Store() if store else ast.Load())
+
+
+def assign(target: ast.expr, value: ast.expr) -> ast.stmt:
+    return ast.Assign(targets=[target], value=value)
+
+
+def storage_kind(sym: VarSym) -> int:
+    """LONG, SHORT or FLOAT: how the variable's elements are stored."""
+    if sym.pointer or sym.type in ("long", "instate"):
+        return LONG
+    return SHORT if sym.type == "short" else FLOAT
+
+
+def walk_nodes(node: object):
+    """Every AST node under `node` (itself included)."""
+    yield node
+    fields = getattr(node, "__dataclass_fields__", None)
+    if not fields:
+        return
+    for f in fields:
+        v = getattr(node, f)
+        if isinstance(v, tuple):
+            for x in v:
+                if hasattr(x, "__dataclass_fields__"):
+                    yield from walk_nodes(x)
+        elif hasattr(v, "__dataclass_fields__") and f != "pos":
+            yield from walk_nodes(v)
+
+
+class ProgramContext(Protocol):
+    """What the bodies' lowering uses of the program lowering (`lower.ProgramLowering`)."""
+
+    syms: Symbols
+    sys_base: dict[str, int]
+    keep: list[object]
+    promote: bool
+    chunk: bool
+    views: dict[str, tuple[str, int, int]]
+    uses_lists: bool
+
+    def line_of(self, pos: object) -> int:
+        """The generated line of a source position (files after the first are offset)."""
+
+    def global_index(self, sym: VarSym) -> int:
+        """The index of a global variable in its memory view."""
+
+    def state_bit(self, sym: VarSym) -> int:
+        """The byte of a state in `ST`."""
+
+    def label_address(self, label: LabelSym, in_proc: bool) -> int:
+        """The address `<label>` denotes."""
+
+    def add_format(self, s: n.Print) -> int:
+        """The index of a printl statement's compiled format."""
+
+    def table_name(self, body, label: str) -> str:
+        """The name of the jump table of `body`'s label `label`."""
+
+    def proc_pyname(self, name: str) -> str:
+        """The Python name of procedure `name`."""
