@@ -1,6 +1,7 @@
 # One entry point: `make test` (what CI runs), `make check` (ruff lint + format check;
-# pip install -e '.[dev]'), `make bench` (all benchmarks, a few seconds each).
-.PHONY: test check bench
+# pip install -e '.[dev]'), `make bench` (all benchmarks, a few seconds each), `make docs`
+# (the documentation site into site/; pip install -e '.[docs]').
+.PHONY: test check bench docs
 
 test:
 	python -m pytest
@@ -13,3 +14,6 @@ bench:
 	python bench/lang.py
 	python bench/motion.py
 	python bench/pdl.py
+
+docs:
+	mkdocs build --strict
