@@ -31,7 +31,11 @@ LAYERS = [
     "sim",
     "lang",
     "session",
+    "debug",
     "api",
+    "dap",
+    "lsp",
+    "studio",
     "cli",
     "__main__",
 ]
@@ -100,6 +104,8 @@ def violations() -> list[str]:
             where = f"{path.relative_to(PACKAGE.parent)}:{line}: {me} imports {target}"
             if RANK[layer] > RANK[my_layer]:
                 found.append(f"{where} (a higher layer)")
+            elif lang and RANK[my_layer] > RANK["lang"]:
+                found.append(f"{where} (a language package: reach it through motionvm.lang)")
             elif my_lang and lang and lang != my_lang:
                 found.append(f"{where} (another language)")
     return found
@@ -119,6 +125,7 @@ def test_the_package_root_only_hands_names_on():
     "source, bad",
     [
         ("from motionvm.lang.hmpl.rtapi import X\n", True),
+        ("from motionvm.lang import LANGUAGES\n", True),
         ("def f():\n    from motionvm.session import Session\n", True),
         ("from motionvm import api\n", True),
         ("import motionvm.cli\n", True),
@@ -160,8 +167,11 @@ def test_no_import_circle_between_packages():
 
     for path in modules():
         me = pkg(module_name(path))
+        registry = module_name(path) == "motionvm.lang"  # lists the languages: left out
         for _line, target in imported_modules(path):
             other = pkg(target)
+            if registry and other.startswith("lang."):
+                continue
             if other != me and (other in RANK or other.startswith("lang.")):
                 graph.setdefault(me, set()).add(other)
     seen: dict[str, int] = {}
@@ -321,3 +331,50 @@ def test_from_package_import_submodule_is_an_edge_to_the_submodule():
     edges = dict((t, line) for line, t in module_imports(PACKAGE / "lang" / "pdl" / "lower.py"))
     assert "motionvm.lang.pdl.nodes" in edges  # `from motionvm.lang.pdl import nodes as n`
     assert "motionvm.lang.pdl" not in edges
+
+
+def test_a_face_reaches_a_language_only_through_the_registry(monkeypatch):
+    """The checker flags a module above `lang/` that imports a language package."""
+    fake = PACKAGE / "api.py"
+    monkeypatch.setattr(
+        Path,
+        "read_text",
+        lambda self, encoding=None: (
+            "from motionvm.lang.gdl.client import X\n" if self == fake else _read(self)
+        ),
+    )
+    assert any("reach it through motionvm.lang" in v for v in violations())
+
+
+LANGUAGE_WORDS = ("hmpl", "pdl", "gdl")
+
+
+def language_identifiers(path: Path) -> list[str]:
+    """Every identifier in `path` (names, attributes, definitions, parameters, keywords)
+    that names a language (`hmpl`, `pdl` or `gdl` in it, any case), once per use."""
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    found: list[str] = []
+    for node in ast.walk(tree):
+        names: list[str] = []
+        if isinstance(node, ast.Name):
+            names.append(node.id)
+        elif isinstance(node, ast.Attribute):
+            names.append(node.attr)
+        elif isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef | ast.ClassDef):
+            names.append(node.name)
+        elif isinstance(node, ast.arg):
+            names.append(node.arg)
+        elif isinstance(node, ast.keyword) and node.arg:
+            names.append(node.arg)
+        elif isinstance(node, ast.alias):
+            names.append(node.asname or node.name.split(".")[-1])
+        found += [n for n in names if any(w in n.lower() for w in LANGUAGE_WORDS)]
+    return found
+
+
+def test_the_session_and_the_command_line_hardly_name_a_language():
+    """They loop over the languages of `motionvm.lang` instead of naming them."""
+    files = [PACKAGE / "session.py", *sorted((PACKAGE / "cli").glob("*.py"))]
+    named = {str(p.relative_to(PACKAGE)): language_identifiers(p) for p in files}
+    total = sum(len(v) for v in named.values())
+    assert total <= 10, {k: v for k, v in named.items() if v}

@@ -23,7 +23,6 @@ from types import TracebackType
 from typing import Any
 
 from motionvm.comm.config import CommConfig
-from motionvm.lang.hmpl.compiler import TaskFile
 from motionvm.runtime.fault_position import Fault
 from motionvm.session import CompileFailed, RunResult, RunSpec, Session, SessionError, Source
 from motionvm.sim.machine import MachineConfig
@@ -137,7 +136,7 @@ class Simulation:
 
     def __init__(
         self,
-        tasks: Sequence[TaskFile] = (),
+        tasks: Sequence[Source] = (),
         machine: MachineConfig | str | Path | None = None,
         data_dir: str | Path | None = None,
         *,
@@ -149,7 +148,8 @@ class Simulation:
         shuffle_seed: int | None = None,
         raise_faults: bool = False,
     ) -> None:
-        """`tasks` place HMPL task files explicitly; `sources` are files of any language
+        """`tasks` place HMPL task files explicitly (each with `path`, `text` and `task`:
+        a `Source`); `sources` are files of any language
         (HMPL ones take the free task ids in order). `scenario`: a scenario file (input
         changes and faults, shared with a GDL application). GDL: `forces` (`REF = VALUE`
         texts applied at t=0), `shuffle_seed`. `skip=False` steps every
@@ -170,8 +170,7 @@ class Simulation:
             scenario=scenario,
             stamp=stamp,
             skip=skip,
-            gdl_forces=tuple(forces),
-            shuffle_seed=shuffle_seed,
+            options={"forces": tuple(forces), "shuffle_seed": shuffle_seed},
         )
         try:
             self.session = Session(spec, emit=log.messages.append, report=log.report)
@@ -179,7 +178,8 @@ class Simulation:
             raise CompileError(exc.diagnostics) from None
         log.to = log.faults
         self.controller = log.controller = self.session.controller
-        self.runtime = self.session.hmpl
+        hmpl = self.session.side("HMPL")
+        self.runtime = hmpl.runtime if hmpl is not None else None  # type: ignore[attr-defined]
         """The HMPL run time (None without HMPL files)."""
         self._variables: Variables | None = None
         self._serving: Serving | None = None
@@ -195,7 +195,7 @@ class Simulation:
     @classmethod
     def from_source(cls, text: str, name: str = "program.hmpl", **kw: Any) -> Simulation:
         """One HMPL program given as text, as task 0."""
-        return cls([TaskFile(0, name, text)], **kw)
+        return cls([Source(name, text, 0)], **kw)
 
     # ------------------------------------------------------------ life
 
@@ -296,13 +296,12 @@ class Simulation:
         return [f for f in self.faults if isinstance(f, Fault)]
 
     def on_event(self, callback: Callable[[str, object], None]) -> None:
-        """Call `callback(kind, payload)` for each SendEvent ('event', id) and SendMsgEvent ('msg', text)."""
-        self._hmpl().event_callbacks.append(callback)
-
-    def _hmpl(self):
+        """Call `callback(kind, payload)` for each SendEvent ('event', id) and SendMsgEvent
+        ('msg', text) of an HMPL program. KeyError if no program sends events."""
         if self.runtime is None:
             raise KeyError("this simulation runs no HMPL program")
-        return self.runtime
+        for side in self.session.sides:
+            side.on_event(callback)
 
     # ------------------------------------------------------------ variables
 

@@ -11,14 +11,16 @@ same inputs: the command line (`motionvm.cli`) and the host API (`motionvm.api`)
 Assembly, in order:
 1. The machine: a `MachineConfig`, a machine file (loaded; a bad file is a
    `SessionError`) or the built-in default machine.
-2. Each source's language by its suffix: `.hmpl` files are tasks (in the order given,
-   skipping ids placed explicitly), `.pdl` files go onto the drives of machine axes that
-   run no PDL program yet (a standalone `prog.pdl` on the default machine: axis 0),
-   `.gdl` files form one application.
+2. Each source's language by its suffix, through the language interface
+   (`motionvm.lang`; this module names no language): `.hmpl` files are tasks (in the
+   order given, skipping ids placed explicitly), `.pdl` files go onto the drives of
+   machine axes that run no PDL program yet (a standalone `prog.pdl` on the default
+   machine: axis 0), `.gdl` files form one application.
 3. Everything compiles before anything runs: any compile error in any language and
    nothing runs (`CompileFailed`, diagnostics already reported).
-4. One controller, one clock: each language's run side is a client of its cycle
-   (runtime/clients.py), added in a fixed order (HMPL, PDL drives, GDL, then the scope
+4. One controller, one clock: each language's run side (`Language.attach`) is a client
+   of its cycle (runtime/clients.py), added in registry order (HMPL, PDL drives, GDL, then
+   the scope
    recorder, which sees the state every other part left), so that within one cycle
    HMPL messages come before PDL drive messages, which come before GDL's.
 5. The scope channels are resolved before the first cycle (an unknown channel is a
@@ -28,15 +30,25 @@ Assembly, in order:
 
 from __future__ import annotations
 
-import dataclasses
 import math
 import os
-from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import Any
 
 from motionvm.comm.config import CommConfig
+from motionvm.lang import (
+    LANGUAGES,
+    CompileRequest,
+    Language,
+    LanguageInputError,
+    RunContext,
+    RunSide,
+    Source,
+    language_of,
+    suffix_list,
+)
 from motionvm.runtime.scope import ScopeError
 from motionvm.runtime.waits import Waiting
 from motionvm.sim.controller import FINISHED, UNTIL, Controller
@@ -44,19 +56,21 @@ from motionvm.sim.machine import (
     DEFAULT_MACHINE,
     MachineConfig,
     MachineFileError,
-    PdlDriveSpec,
     load_machine,
 )
 from motionvm.sim.scope import ChannelRegistry, ScopeRecorder, ScopeRequest
-from motionvm.source.diagnostics import Diagnostic, DiagnosticSink, render_diagnostic
+from motionvm.source.diagnostics import Diagnostic, render_diagnostic
 
-if TYPE_CHECKING:  # each language is imported when a run has a file of it
-    from motionvm.lang.hmpl.compiler import TaskFile
-    from motionvm.lang.hmpl.rtapi import HmplRuntime
-
-LANGUAGES = {".hmpl": "HMPL", ".pdl": "PDL", ".gdl": "GDL"}
-"""File suffix -> language."""
-N_TASKS = 64
+__all__ = [
+    "CompileFailed",
+    "RunResult",
+    "RunSpec",
+    "Session",
+    "SessionError",
+    "Source",
+    "check",
+    "check_sources",
+]
 
 
 class SessionError(Exception):
@@ -70,6 +84,10 @@ class SessionError(Exception):
         self.messages = list(messages)
         self.located = located
 
+    @classmethod
+    def of(cls, exc: LanguageInputError) -> SessionError:
+        return cls(*exc.messages, located=exc.located)
+
 
 class CompileFailed(Exception):
     """A program did not compile; its diagnostics were reported, nothing runs (exit 2)."""
@@ -77,21 +95,6 @@ class CompileFailed(Exception):
     def __init__(self, diagnostics: Sequence[Diagnostic]) -> None:
         super().__init__(diagnostics[0].headline() if diagnostics else "compile errors")
         self.diagnostics = list(diagnostics)
-
-
-@dataclass(frozen=True)
-class Source:
-    """One program file of a run."""
-
-    path: str
-    text: str | None = None
-    """The source text, for a program that is not in a file (HMPL only); None: read it."""
-    task: int | None = None
-    """HMPL: the task it runs as (None: the next free task id)."""
-
-    @property
-    def language(self) -> str | None:
-        return LANGUAGES.get(Path(self.path).suffix.lower())
 
 
 @dataclass
@@ -102,17 +105,16 @@ class RunSpec:
     machine: MachineConfig | str | Path | None = None
     """A loaded machine, a machine file, or None for the built-in machine."""
     scenario: str | None = None
-    """A scenario file of timed input changes and faults (sim/scenario.py), shared with
-    a GDL application."""
+    """A scenario file of timed input changes and faults (sim/scenario.py); each
+    language takes the entries that name its objects."""
     scope: ScopeRequest | None = None
     stamp: bool = False
     """Prefix every message with the simulated time and its source."""
-    pdl_starts: Sequence[str] = ()
-    """Labels the host starts on a PDL program given as a file (`--start`)."""
-    gdl_forces: Sequence[str] = ()
-    """GDL: `REF = VALUE` forces applied at t=0 (`--force`)."""
-    shuffle_seed: int | None = None
-    """GDL: permute the order of procedures sharing an activator."""
+    options: Mapping[str, Any] = field(default_factory=dict)
+    """Options that one language takes, by key (`Language.options`): `starts` (labels
+    the host starts on a PDL program given as a file, `--start`), `forces` (GDL:
+    `REF = VALUE` forces applied at t=0, `--force`), `shuffle_seed` (GDL: permute the
+    order of procedures sharing an activator)."""
     data_dir: str | Path | None = None
     """Folder of persistent data (user table); default: the machine's."""
     skip: bool = True
@@ -121,7 +123,7 @@ class RunSpec:
     scope_title: str = ""
     """The title of scope plots (the command line's files)."""
     werror: bool = False
-    """Compiler warnings (HMPL, GDL) fail the compile like errors (`--Werror`)."""
+    """Compiler warnings fail the compile like errors (`--Werror`)."""
 
 
 def load_machine_spec(machine: MachineConfig | str | Path | None) -> MachineConfig:
@@ -137,61 +139,46 @@ def load_machine_spec(machine: MachineConfig | str | Path | None) -> MachineConf
         raise SessionError(*exc.messages, located=exc.located) from None
 
 
-def place_tasks(sources: Sequence[Source]) -> list[TaskFile]:
-    """HMPL sources as tasks: explicit ids first, the others take 0, 1, 2, ... in order."""
-    placed: dict[int, Source] = {}
-    for s in sources:
-        if s.task is None:
-            continue
-        if not 0 <= s.task < N_TASKS:
-            raise SessionError(f"task {s.task}: task ids are 0..{N_TASKS - 1}")
-        if s.task in placed:
-            raise SessionError(f"task {s.task} given twice ({placed[s.task].path} and {s.path})")
-        placed[s.task] = s
-    nxt = 0
-    for s in sources:
-        if s.task is not None:
-            continue
-        while nxt in placed:
-            nxt += 1
-        if nxt >= N_TASKS:
-            raise SessionError(f"more than {N_TASKS} task files")
-        placed[nxt] = s
-        nxt += 1
-    from motionvm.lang.hmpl.compiler import TaskFile
-
-    return [TaskFile(t, s.path, s.text) for t, s in sorted(placed.items())]
-
-
 def check_sources(sources: Sequence[Source]) -> None:
     """Every source has a known language and, unless given as text, exists."""
     for s in sources:
-        if s.language is None:
+        lang = language_of(s.path)
+        if lang is None:
             suffix = Path(s.path).suffix.lower() or "(none)"
             raise SessionError(
-                f"unknown file type '{suffix}' of {s.path} (expected .hmpl, .pdl or .gdl)"
+                f"unknown file type '{suffix}' of {s.path} (expected {suffix_list()})"
             )
         if s.text is None and not Path(s.path).is_file():
             raise SessionError(f"{s.path}: no such file")
-        if s.text is not None and s.language != "HMPL":
-            raise SessionError(f"{s.path}: only HMPL programs can be given as text")
+        if s.text is not None and not lang.accepts_text:
+            takers = " or ".join(x.name for x in LANGUAGES if x.accepts_text)
+            raise SessionError(f"{s.path}: only {takers} programs can be given as text")
 
 
-@dataclass
-class Compiled:
-    """The compiled programs of a run, per language (None: the language is absent)."""
-
-    hmpl: tuple | None = None
-    """(CompiledProgram, Memory)"""
-    pdl: list | None = None
-    """Compiled PDL drives, by axis."""
-    gdl: object | None = None
-    """The GDL application (`lang.gdl.App`)."""
+def _by_language(sources: Sequence[Source]) -> dict[Language, list[Source]]:
+    """The sources of each language, in registry order (every language, maybe none)."""
+    out: dict[Language, list[Source]] = {lang: [] for lang in LANGUAGES}
+    for s in sources:
+        out[language_of(s.path)].append(s)  # type: ignore[index]
+    return out
 
 
-def _render(items: Sequence[Diagnostic], report: Callable[[str], None]) -> None:
-    for d in items:
-        report(render_diagnostic(d))
+def _check_options(spec: RunSpec, files: dict[Language, list[Source]]) -> None:
+    """A language's option needs a file of that language."""
+    for lang in LANGUAGES:
+        for option in lang.options:
+            given = spec.options.get(option.key)
+            if given not in (None, (), []) and not files[lang]:
+                raise SessionError(f"{option.flag} {option.unused}")
+
+
+def _alone(spec: RunSpec, lang: Language) -> bool:
+    """Only files of `lang` and no machine file."""
+    return (
+        spec.machine is None
+        and bool(spec.sources)
+        and all(language_of(s.path) is lang for s in spec.sources)
+    )
 
 
 def compile_run(
@@ -199,116 +186,57 @@ def compile_run(
     machine: MachineConfig,
     report: Callable[[str], None],
     *,
-    place: bool = True,
-    standalone: bool = False,
-) -> tuple[Compiled, MachineConfig]:
-    """Compile every program of `spec` (diagnostics reported, HMPL then PDL then GDL).
+    check_only: bool = False,
+) -> tuple[list[tuple[Language, object]], MachineConfig]:
+    """Compile every program of `spec`, language by language (diagnostics reported).
 
-    Returns the programs and the machine with the command line's PDL programs placed on
-    its drives. With `place` false (`motionvm check`) PDL files are compiled on their
-    own, any number of them, and the machine's programs are not. `standalone`: the one
-    PDL file runs alone on the default machine (see `Session`). Raises CompileFailed
-    after any error, SessionError for bad input.
+    Returns each language's program and the machine with the files placed on it (PDL
+    programs on drives). `check_only` (`motionvm check`): each language checks its files
+    on their own, nothing will run. Raises CompileFailed after any error, SessionError
+    for bad input.
     """
     check_sources(spec.sources)
-    by_lang: dict[str, list[Source]] = {"HMPL": [], "PDL": [], "GDL": []}
-    for s in spec.sources:
-        by_lang[s.language].append(s)  # type: ignore[index]
-    if place:
-        machine = _place_pdl(machine, by_lang["PDL"], spec.pdl_starts)
-    else:
-        machine = dataclasses.replace(
-            machine,
-            pdl_drives=tuple(PdlDriveSpec(i, Path(s.path)) for i, s in enumerate(by_lang["PDL"])),
-        )
-    if spec.pdl_starts and not by_lang["PDL"]:
-        raise SessionError("--start applies to a PDL program given as a file; none was given")
-    if not by_lang["GDL"]:
-        for given, option in (
-            (spec.gdl_forces, "--force"),
-            (spec.shuffle_seed is not None, "--shuffle-order"),
-        ):
-            if given:
-                raise SessionError(f"{option} applies to GDL applications; no .gdl file was given")
-    out = Compiled()
-    failed: list[Diagnostic] = []
-    pdl_failed = gdl_failed = False
-    if by_lang["HMPL"]:
-        from motionvm.lang.hmpl.compiler import compile_tasks
-
-        sink = DiagnosticSink()
-        prog, mem = compile_tasks(place_tasks(by_lang["HMPL"]), sink, bytecode=place)
-        _render(sink.items, report)
-        failed += _failures(sink, spec.werror)
-        out.hmpl = (prog, mem) if prog is not None else None
-    if machine.pdl_drives:
-        from motionvm.lang.pdl.machine_drives import (
-            PdlStartError,
-            compile_drives,
-            compile_program,
-        )
-
-        try:
-            if standalone:  # one program on the command line, the default machine
-                drives = compile_program(by_lang["PDL"][0].path, spec.pdl_starts, report, failed)
+    files = _by_language(spec.sources)
+    try:
+        for lang in LANGUAGES:
+            request = CompileRequest(machine, spec.options, check_only, _alone(spec, lang))
+            machine = lang.place(machine, files[lang], request)
+        _check_options(spec, files)
+        programs: list[tuple[Language, object]] = []
+        failed: list[Diagnostic] = []
+        broken = False
+        for lang in LANGUAGES:
+            if not lang.has_programs(files[lang], machine):
+                continue
+            request = CompileRequest(machine, spec.options, check_only, _alone(spec, lang))
+            result = lang.compile(files[lang], request)
+            for d in result.diagnostics:
+                report(render_diagnostic(d))
+            failed += [
+                d
+                for d in result.diagnostics
+                if d.severity == "error" or (spec.werror and d.severity == "warning")
+            ]
+            if result.program is None:
+                broken = True
             else:
-                drives = compile_drives(machine, report, failed)
-        except PdlStartError as exc:
-            raise SessionError(str(exc), located=True) from None
-        pdl_failed = drives is None
-        out.pdl = drives
-    if by_lang["GDL"]:
-        from motionvm.lang.gdl.compiler import compile_app
-
-        paths = [s.path for s in by_lang["GDL"]]
-        sink = DiagnosticSink()
-        app = compile_app(paths, sink=sink)
-        order = {p: i for i, p in enumerate(paths)}
-        _render(
-            sorted(sink.items, key=lambda d: (order.get(d.pos.file, -1), d.pos.line, d.pos.col)),
-            report,
-        )
-        failed += _failures(sink, spec.werror)
-        gdl_failed = app is None
-        out.gdl = app
-    if failed or pdl_failed or gdl_failed:
+                programs.append((lang, result.program))
+    except LanguageInputError as exc:
+        raise SessionError.of(exc) from None
+    if failed or broken:
         if spec.werror and any(d.severity == "warning" for d in failed):
             report(WERROR_NOTE)
         raise CompileFailed(failed)
-    return out, machine
+    return programs, machine
 
 
 WERROR_NOTE = "motionvm: all warnings being treated as errors (--Werror)"
 
 
-def _failures(sink: DiagnosticSink, werror: bool) -> list[Diagnostic]:
-    """The diagnostics that fail a compile: its errors, and with --Werror its warnings."""
-    return [d for d in sink.items if d.severity == "error" or (werror and d.severity == "warning")]
-
-
-def _place_pdl(
-    machine: MachineConfig, files: Sequence[Source], starts: Sequence[str]
-) -> MachineConfig:
-    """The machine with each PDL file on the next axis whose drive runs no program."""
-    if not files:
-        return machine
-    if len(files) > 1:
-        raise SessionError(
-            "one .pdl program per drive on the command line; a machine file puts programs "
-            'on several drives (pdl = "x.pdl" in an [[axis]] table)'
-        )
-    taken = {d.axis for d in machine.pdl_drives}
-    free = [i for i in range(len(machine.axes)) if i not in taken]
-    if not free:
-        raise SessionError(f"{files[0].path}: every axis of the machine runs a PDL program")
-    spec = PdlDriveSpec(free[0], Path(files[0].path), tuple(starts))  # no `where`: --start
-    return dataclasses.replace(machine, pdl_drives=(*machine.pdl_drives, spec))
-
-
 def check(spec: RunSpec, report: Callable[[str], None]) -> bool:
     """Compile only (`motionvm check`): True if every program compiles; diagnostics reported."""
     try:
-        compile_run(spec, DEFAULT_MACHINE, report, place=False)
+        compile_run(spec, DEFAULT_MACHINE, report, check_only=True)
     except CompileFailed:
         return False
     return True
@@ -355,15 +283,7 @@ class Session:
         self._emit = emit
         self._report = report
         base = load_machine_spec(spec.machine)
-        self.standalone_pdl = (
-            spec.machine is None
-            and bool(spec.sources)
-            and all(s.language == "PDL" for s in spec.sources)
-        )
-        """One PDL program alone, no machine file: it runs on axis 0 of the default
-        machine with the drive's own default parameters, and its messages and faults
-        name the task only (`[task N]`), as a single drive reports them."""
-        compiled, machine = compile_run(spec, base, report, standalone=self.standalone_pdl)
+        programs, machine = compile_run(spec, base, report)
         self.machine = machine
         self.controller = ctl = Controller(machine.cycle_time, machine=machine)
         ctl.skip = spec.skip and os.environ.get("MOTIONVM_NO_SKIP", "") in ("", "0")
@@ -374,53 +294,18 @@ class Session:
 
             self.scenario = ScenarioClient(ctl, report)
             ctl.add_client(self.scenario)
-        self.hmpl: HmplRuntime | None = None
-        self.pdl = None
-        self.gdl = None
-        if compiled.hmpl is not None:
-            from motionvm.lang.hmpl.rtapi import HmplRuntime, data_dir_default
-
-            prog, mem = compiled.hmpl
-            if spec.data_dir is not None:
-                data_dir = Path(spec.data_dir)
-            else:
-                data_dir = machine.data_dir or data_dir_default(
-                    machine.path.parent if machine.path else None
+        self.sides: list[RunSide] = []
+        """Each language's run side, in run order (`motionvm.lang.LANGUAGES`)."""
+        data_dir = Path(spec.data_dir) if spec.data_dir is not None else None
+        try:
+            for lang, program in programs:
+                context = RunContext(
+                    machine, emit, report, spec.stamp, spec.options, data_dir, _alone(spec, lang)
                 )
-            self.hmpl = HmplRuntime(
-                ctl,
-                prog,
-                mem,
-                emit=emit,
-                report=report,
-                data_dir=data_dir,
-                task_slice=machine.task_slice,
-            )
-            self.hmpl.stamp = spec.stamp
-            ctl.add_client(self.hmpl)
-            from motionvm.lang.hmpl.rtcomm import HmplComm
-
-            self.hmpl_comm = HmplComm(self.hmpl)  # Native ASCII, variables, ASCII agent
-            self.hmpl_comm.attach(ctl.comm)
-            ctl.add_client(self.hmpl_comm)
-            ctl.io.on_estop(self.hmpl.estop_input)  # E-stop input: tasks stop
-        if compiled.pdl:
-            from motionvm.lang.pdl.machine_drives import PdlDrives
-
-            self.pdl = PdlDrives(
-                ctl,
-                compiled.pdl,
-                machine,
-                emit=emit,
-                report=report,
-                stamp=spec.stamp,
-                standalone=self.standalone_pdl,
-            )
-            ctl.add_client(self.pdl)
-        shared = self._load_scenario(compiled.gdl is not None)
-        if compiled.gdl is not None:
-            self.gdl = self._gdl_client(compiled.gdl, shared)
-            ctl.add_client(self.gdl)
+                self.sides.append(lang.attach(ctl, program, context))
+        except LanguageInputError as exc:
+            raise SessionError.of(exc) from None
+        self._load_scenario()
         self.recorder: ScopeRecorder | None = None
         if spec.scope is not None:
             try:
@@ -432,11 +317,21 @@ class Session:
         self.closed = False
         """`close()` was called: the run can no longer step."""
 
-    def _load_scenario(self, with_gdl: bool):
-        """The scenario file's machine and program events, loaded onto the scenario
-        client; the events left to a GDL application are named in the result."""
+    def side(self, language: str) -> RunSide | None:
+        """The run side of the language called `language` ("HMPL"), None if the run has
+        no program of it."""
+        return next((s for s in self.sides if s.language.name == language), None)
+
+    @property
+    def has_programs(self) -> bool:
+        """Whether any language runs a program (files, or programs the machine names)."""
+        return bool(self.sides)
+
+    def _load_scenario(self) -> None:
+        """The scenario file's events: the machine's go to the scenario client, each
+        language's run side takes its own (sim/scenario.py, the one reader)."""
         if self.scenario is None:
-            return None
+            return
         from motionvm.sim.scenario import ScenarioError, load_scenario
         from motionvm.sim.variables import Variables
 
@@ -449,42 +344,14 @@ class Session:
                 raise ValueError(f"'{name}' is read-only")
             return lambda value: variables.write(name, value)
 
+        takers = [side for side in self.sides if side.takes_scenario()]
         try:
-            loaded = load_scenario(
-                self.spec.scenario, resolve, self.controller.io, with_gdl=with_gdl
-            )
+            loaded = load_scenario(self.spec.scenario, resolve, self.controller.io, takers)
         except ScenarioError as exc:
             raise SessionError(*exc.messages, located=exc.located) from None
         self.scenario.load(loaded)
-        return loaded
-
-    def _gdl_client(self, app, shared=None):
-        """The GDL application on this run's controller, with its scenario and forces."""
-        from motionvm.lang.gdl.client import GdlApplication
-        from motionvm.lang.gdl.motors import GdlMachineError
-        from motionvm.lang.gdl.scenario import Scenario, ScenarioError, load_scenario
-
-        spec = self.spec
-        try:
-            scenario = (
-                load_scenario(spec.scenario, app, shared.gdl_events, shared.gdl_initial)
-                if shared is not None
-                else Scenario((), (), None)
-            )
-            return GdlApplication(
-                self.controller,
-                app,
-                scenario,
-                emit=self._emit,
-                report=self._report,
-                forces=spec.gdl_forces,
-                shuffle_seed=spec.shuffle_seed,
-                motor_axes=self.machine.gdl_motors,
-            )
-        except ScenarioError as exc:  # a scenario file's problems, or a --force text
-            raise SessionError(*exc.messages, located=exc.located) from None
-        except GdlMachineError as exc:
-            raise SessionError(str(exc), located=True) from None
+        for side in takers:
+            side.scenario_loaded(loaded.until)
 
     # ------------------------------------------------------------ running
 
@@ -496,15 +363,11 @@ class Session:
         if self._booted:
             return
         self._booted = True
-        if self.pdl is not None:
-            from motionvm.lang.pdl.machine_drives import PdlStartError
-
-            try:
-                self.pdl.boot()
-            except PdlStartError as exc:  # a standalone drive refused a --start label
-                raise SessionError(str(exc), located=True) from None
-        if self.hmpl is not None:
-            self.hmpl.boot()
+        try:
+            for side in self.sides:
+                side.boot()
+        except LanguageInputError as exc:  # a standalone drive refused a --start label
+            raise SessionError.of(exc) from None
         if self.recorder is not None:
             self.recorder.attach(self.controller)
 
@@ -531,16 +394,15 @@ class Session:
         if by_timeout:
             asked = end = timeout
         else:
-            asked = end = until
-            if self.gdl is not None:  # a GDL end time is inclusive: events due at it apply
-                if asked is None:
-                    asked = self.gdl.scenario.until
-                end = self.gdl.run_until(end)
-            elif asked is None and self.scenario is not None:
-                asked = end = self.scenario.scenario.until
+            asked = until
+            if asked is None and self.scenario is not None:
+                asked = self.scenario.scenario.until
+            end = asked
+            for side in self.sides:  # a language's end-of-run rule (GDL: inclusive)
+                end = side.end_time(end)
         reason = self.controller.run(end, realtime=realtime, progress=progress)
-        if self.gdl is not None:
-            self.gdl.finish()
+        for side in self.sides:
+            side.finish()
         if reason == UNTIL and by_timeout:
             reason = TIMEOUT
         waiting = self.controller.still_running() if reason in (UNTIL, TIMEOUT) else []
@@ -589,20 +451,14 @@ class Session:
             return
         self.closed = True
         self.controller.comm.close()
-        if self.hmpl is not None:
-            self.hmpl.close()
+        for side in self.sides:
+            side.close()
 
     @property
     def fault_count(self) -> int:
         """Faults of tasks, drive tasks and procedures, and scenario writes the run
         refused, so far (0: the run is clean)."""
-        n = 0
-        if self.hmpl is not None:
-            n += self.hmpl.faults
-        if self.pdl is not None:
-            n += len(self.pdl.faults)
-        if self.gdl is not None:
-            n += self.gdl.error_count
+        n = sum(side.fault_count for side in self.sides)
         if self.scenario is not None:
             n += self.scenario.errors
         return n
@@ -613,7 +469,7 @@ class Session:
         """Every channel this run offers: the machine's, then each language's."""
         from motionvm.sim.scope_sources import registry_for
 
-        return registry_for(self.controller, self.hmpl, self.pdl, self.gdl)
+        return registry_for(self.controller, *self.sides)
 
     def scope_channels(self) -> list[tuple[str, str]]:
         """(name, unit) of every channel this run offers, in `scope_registry()` order

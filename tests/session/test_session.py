@@ -50,7 +50,7 @@ def test_a_pdl_file_goes_to_the_first_axis_without_a_program(tmp_path, monkeypat
     machine = EXAMPLES / "03_pdl_drives.toml"  # axes 1 and 2 run programs
     sim = Simulation.from_files([prog], machine=machine)
     sim.run()
-    assert [a for a, _d in sim.session.pdl.drives] == [0, 1, 2]
+    assert [a for a, _d in sim.session.side("PDL").drives.drives] == [0, 1, 2]
     assert "on" in sim.messages
 
 

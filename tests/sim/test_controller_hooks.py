@@ -64,7 +64,7 @@ def test_an_idle_run_calls_no_hook_of_the_io_comm_agent_or_triggers():
     ctl = sim.controller
     ctl.skip = False
     calls: list = []
-    for c in (ctl.io, ctl.comm, ctl.triggers, sim.session.hmpl_comm):
+    for c in (ctl.io, ctl.comm, ctl.triggers, sim.session.side("HMPL").comm):
         _count_calls(ctl, c, calls, "begin_cycle", "end_cycle")
     sim.run()
     assert ctl.cycles_computed >= 30 and calls == []
@@ -177,7 +177,7 @@ def test_a_line_for_the_ascii_agent_starts_in_the_cycle_the_hub_receives_it():
     void main() { START_ASCII_AGENT(First); for (;;) RunScheduler(); }
     """
     sim = Simulation.from_source(program, skip=False)
-    ctl, agent = sim.controller, sim.session.hmpl_comm
+    ctl, agent = sim.controller, sim.session.side("HMPL").comm
     ctl.step()  # main starts the agent
     assert agent.begin_cycle in ctl._begin_hooks
     reply: concurrent.futures.Future = concurrent.futures.Future()

@@ -16,6 +16,7 @@ from functools import lru_cache
 from importlib import resources
 
 from motionvm.cli.exits import EXIT_OK, UsageError
+from motionvm.lang import language_named
 
 WIDTH = 79
 """Text is wrapped to this many columns (fixed, so the output does not depend on the terminal)."""
@@ -42,23 +43,19 @@ def _chapter_of(section: str) -> int:
 def builtin_rows() -> list[dict]:
     """Every built-in in manual order, with the manual's description and whether
     motionvm implements it."""
-    from motionvm.lang.hmpl.catalog import builtin_signatures
-    from motionvm.lang.hmpl.lib import implemented_names
-
-    impl = implemented_names()
-    sigs = builtin_signatures()
+    docs = language_named("HMPL").docs()
     rows = []
     for e in _data("hmpl_api.json"):
         name = e["name"]
-        sig = sigs[name]
+        doc = docs[name]
         rows.append(
             {
                 "name": name,
-                "prototype": sig.prototype,
-                "section": sig.section,
-                "chapter": _chapter_of(sig.section),
+                "prototype": doc.signature,
+                "section": doc.section,
+                "chapter": _chapter_of(doc.section),
                 "chapter_title": e["chapter"],
-                "implemented": name in impl,
+                "implemented": doc.implemented,
                 "purpose": e["purpose"],
                 "returns": e["returns"],
                 "returns_desc": e["returns_desc"],
@@ -126,10 +123,8 @@ def _find_builtin(name: str, rows: list[dict]) -> dict:
             return r
     names = [r["name"] for r in rows]
     hint = _did_you_mean(name, names)
-    from motionvm.lang.hmpl.catalog import constants
-
-    const = constants().get(name)
-    if const is not None:
+    const = language_named("HMPL").docs().get(name)
+    if const is not None and const.kind == "constant":
         hint = f"; {name} is a constant (= {const.value:g}, manual {const.section})" + hint
     raise UsageError(f"no HMPL built-in is called '{name}'{hint}")
 

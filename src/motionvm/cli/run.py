@@ -5,11 +5,11 @@ from __future__ import annotations
 import os
 import sys
 import time
-from pathlib import Path
 
 from motionvm.cli.exits import EXIT_COMPILE, EXIT_OK, EXIT_RUNTIME, EXIT_TIMEOUT, UsageError
 from motionvm.cli.progress import RunProgress
 from motionvm.cli.progress import wanted as progress_wanted
+from motionvm.lang import LANGUAGES, LanguageInputError, language_of
 from motionvm.session import (
     TIMEOUT,
     CompileFailed,
@@ -29,8 +29,10 @@ def sources_of(args) -> list[Source]:
         num, eq, path = opt.partition("=")
         if not eq or not num.strip().isdigit() or not path:
             raise UsageError(f"--task expects N=FILE, got '{opt}'")
-        if Path(path).suffix.lower() != ".hmpl":
-            raise UsageError(f"--task {opt}: {path} is not an HMPL file")
+        lang = language_of(path)
+        if lang is None or not lang.places_tasks:
+            takers = " or ".join(x.name for x in LANGUAGES if x.places_tasks)
+            raise UsageError(f"--task {opt}: {path} is not an {takers} file")
         out.append(Source(path, task=int(num)))
     return out
 
@@ -89,32 +91,35 @@ def cmd_check(args) -> int:
 
 
 def cmd_compile(args) -> int:
-    from motionvm.lang.hmpl.compiler import compile_tasks
-    from motionvm.session import WERROR_NOTE, check_sources, place_tasks
-    from motionvm.source.diagnostics import DiagnosticSink, render_diagnostic
+    from motionvm.lang import CompileRequest
+    from motionvm.session import WERROR_NOTE, check_sources
+    from motionvm.sim.machine import DEFAULT_MACHINE
+    from motionvm.source.diagnostics import render_diagnostic
 
     sources = sources_of(args)
     try:
         check_sources(sources)
-        if any(s.language != "HMPL" for s in sources):
-            raise UsageError(
-                "'compile' supports HMPL files only (use 'motionvm dump --stage py' for PDL "
-                "and GDL)"
-            )
-        tasks = place_tasks(sources)
     except SessionError as exc:
         raise UsageError(str(exc), located=exc.located) from None
-    sink = DiagnosticSink()
-    prog, _mem = compile_tasks(tasks, sink)
-    for d in sink.items:
+    langs = {language_of(s.path) for s in sources}
+    if len(langs) != 1 or not next(iter(langs)).places_tasks:
+        raise UsageError(
+            "'compile' supports HMPL files only (use 'motionvm dump --stage py' for PDL and GDL)"
+        )
+    (lang,) = langs
+    try:
+        result = lang.compile(sources, CompileRequest(DEFAULT_MACHINE))
+    except LanguageInputError as exc:
+        raise UsageError(str(exc), located=exc.located) from None
+    for d in result.diagnostics:
         _report(render_diagnostic(d))
-    if prog is None:
+    if result.program is None:
         return EXIT_COMPILE
-    if args.werror and any(d.severity == "warning" for d in sink.items):
+    if args.werror and any(d.severity == "warning" for d in result.diagnostics):
         _report(WERROR_NOTE)
         return EXIT_COMPILE
     if args.emit_python:
-        sys.stdout.write(prog.python_source())
+        sys.stdout.write(lang.python_source(result.program))
     return EXIT_OK
 
 
@@ -128,9 +133,11 @@ def cmd_run(args) -> int:
         scenario=args.scenario,
         scope=_scope_request(args),
         stamp=bool(args.stamp),
-        pdl_starts=tuple(args.start),
-        gdl_forces=tuple(args.force),
-        shuffle_seed=args.shuffle_order,
+        options={
+            "starts": tuple(args.start),
+            "forces": tuple(args.force),
+            "shuffle_seed": args.shuffle_order,
+        },
         skip=not args.no_skip,
         scope_title=" ".join(list(args.files) + list(args.task)),
         werror=args.werror,
@@ -154,7 +161,7 @@ def cmd_run(args) -> int:
 
     try:
         session = Session(spec, emit=emit, report=_report)
-        if not sources and not session.machine.pdl_drives:
+        if not sources and not session.has_programs:
             raise UsageError("no input files (and the machine file puts no PDL program on a drive)")
         wall_0 = time.perf_counter()  # for the summary line only; the run never reads it
         ends = [t for t in (args.until, args.timeout) if t is not None]

@@ -29,6 +29,7 @@ from multiprocessing.connection import Connection, wait
 from pathlib import Path
 
 from motionvm.cli.cases import Case
+from motionvm.lang import LANGUAGES, language_of
 
 _READY = "ready"
 _RUNNING = "running"
@@ -36,19 +37,13 @@ _START_TIMEOUT_S = 120.0
 """Wall-clock time a new worker process may take to start and import motionvm [s]."""
 _RUN_MODULES = ("motionvm.cli.run", "motionvm.session")
 """What every run imports."""
-_LANGUAGE_MODULES = {
-    ".hmpl": ("motionvm.lang.hmpl.compiler", "motionvm.lang.hmpl.rtapi"),
-    ".pdl": ("motionvm.lang.pdl.machine_drives",),
-    ".gdl": ("motionvm.lang.gdl.compiler", "motionvm.lang.gdl.client"),
-}
-"""The compiler and run time of each language, by program suffix."""
 
 
 def preload_modules(cases: Sequence[Case]) -> tuple[str, ...]:
     """The modules a worker imports before the clock of a case starts: the run path and
     the languages of the program files the cases name."""
-    suffixes = {Path(arg).suffix for case in cases for arg in case.argv}
-    langs = [m for suffix, mods in _LANGUAGE_MODULES.items() if suffix in suffixes for m in mods]
+    used = {language_of(arg) for case in cases for arg in case.argv}
+    langs = [m for lang in LANGUAGES if lang in used for m in lang.run_modules]
     return (*_RUN_MODULES, *langs)
 
 

@@ -21,20 +21,23 @@ code = 0x7500                # drive: the alarm's error code (default 0x1000)
 
 `set` names are resolved by `resolve(name)` (the session's: the machine's I/O channels
 and every language's writable variables, sim/variables.py). An event or [initial] entry
-whose name it does not know is handed to the GDL application of the run, if there is
-one (its `KW OF object` names, `force`/`release`/`during`/`line`: lang/gdl/scenario.py),
-else it is an error. Events of one cycle are applied in file order, at the start of the
-cycle (before every language's tasks): a program reads an input set at `at = 0.1` in
-the cycle of 0.1 s. A bad file is one `ScenarioError` that lists every problem, each as
+whose name it does not know is offered, as a `ScenarioEntry`, to each `ScenarioTaker` of
+the run in turn (a language's run side: a GDL application takes its `KW OF object`
+names and `force`/`release`/`during`/`line` events); one that none takes is an error.
+This is the one reader of scenario files: each language gets the entries it understands.
+Events of one cycle are applied in file order, at the start of the cycle (before every
+language's tasks): a program reads an input set at `at = 0.1` in the cycle of 0.1 s. A
+bad file is one `ScenarioError` that lists every problem, each as
 `FILE:LINE:COL: error: event N: MESSAGE` at its key.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Protocol
 
 from motionvm.io.faults import check_fault, inject_fault
 from motionvm.runtime.clients import PassiveClient
@@ -42,7 +45,8 @@ from motionvm.runtime.waits import Waiting
 from motionvm.source.toml_places import TomlProblems, parse_toml
 
 KEYS = {"at", "set", "value", "fault", "axis", "slave", "code", "side"}
-GDL_KEYS = {"force", "release", "during", "line"}
+LANGUAGE_KEYS = {"force", "release", "during", "line"}
+"""Keys of events that only a language's objects take (GDL's forces and injections)."""
 
 Setter = Callable[[object], None]
 Resolver = Callable[[str], Setter | None]
@@ -74,16 +78,32 @@ class Action:
 
 @dataclass
 class Scenario:
-    """The events of a scenario file that are not a GDL application's."""
+    """The events of a scenario file that the machine applies (not a language's)."""
 
     path: str = ""
     until: float | None = None
     initial: list[Callable[[], None]] = field(default_factory=list)
     actions: list[Action] = field(default_factory=list)
-    gdl_events: frozenset[int] = frozenset()
-    """Indexes (from 0) of the events left to the GDL application."""
-    gdl_initial: frozenset[str] = frozenset()
-    """[initial] keys left to the GDL application."""
+
+
+@dataclass(frozen=True)
+class ScenarioEntry:
+    """An [initial] entry (`index` None: `key` and `value`) or the `index`-th (from 0)
+    [[event]] table (`value`: the table) that the machine does not know, offered to the
+    run's languages. A taker adds its problems to `problems`, at their keys."""
+
+    key: str | None
+    index: int | None
+    value: object
+    problems: TomlProblems
+
+
+class ScenarioTaker(Protocol):
+    """A part of the run that takes scenario entries of its own (a language's run side)."""
+
+    def take_scenario_entry(self, entry: ScenarioEntry) -> bool:
+        """True: the entry is its own (checked, its problems added); False: not its own."""
+        ...
 
 
 def _value(raw: object) -> object:
@@ -103,9 +123,11 @@ def _seconds(value: object, key: str) -> float:
     return float(value)
 
 
-def load_scenario(path: str, resolve: Resolver, io, *, with_gdl: bool) -> Scenario:
+def load_scenario(
+    path: str, resolve: Resolver, io, takers: Sequence[ScenarioTaker] = ()
+) -> Scenario:
     """Read a scenario file (see the module docstring); ScenarioError lists every problem.
-    `with_gdl`: events and [initial] keys `resolve` does not know go to the GDL side."""
+    Events and [initial] keys `resolve` does not know are offered to `takers`."""
     try:
         raw = Path(path).read_bytes()
     except OSError as exc:
@@ -125,7 +147,6 @@ def load_scenario(path: str, resolve: Resolver, io, *, with_gdl: bool) -> Scenar
     if not isinstance(table, dict):
         problems.at("", "initial", "[initial] must be a table")
         table = {}
-    gdl_initial = set()
     for name, raw_value in table.items():
         try:
             setter = resolve(name)
@@ -133,9 +154,7 @@ def load_scenario(path: str, resolve: Resolver, io, *, with_gdl: bool) -> Scenar
             problems.at("initial", name, f"[initial]: {name}: {exc}")
             continue
         if setter is None:
-            if with_gdl:
-                gdl_initial.add(name)
-            else:
+            if not _offer(takers, ScenarioEntry(name, None, raw_value, problems)):
                 problems.at("initial", name, f"[initial]: unknown input or variable '{name}'")
             continue
         try:
@@ -148,22 +167,36 @@ def load_scenario(path: str, resolve: Resolver, io, *, with_gdl: bool) -> Scenar
     if not isinstance(events, list):
         problems.at("", "event", "events are written [[event]]")
         events = []
-    gdl_events = set()
     for i, ev in enumerate(events):
-        action = _event(i, ev, resolve, io, problems, with_gdl)
-        if action == "gdl":
-            gdl_events.add(i)
-        elif action is not None:
+        if _a_language_event(ev, resolve) and _offer(
+            takers, ScenarioEntry(None, i, ev, problems)
+        ):
+            continue
+        action = _event(i, ev, resolve, io, problems)
+        if action is not None:
             out.actions.append(action)
     if problems.items:
         raise ScenarioError(*problems.headlines(), located=True)
-    out.gdl_events = frozenset(gdl_events)
-    out.gdl_initial = frozenset(gdl_initial)
     return out
 
 
-def _event(i: int, ev: object, resolve: Resolver, io, problems: TomlProblems, with_gdl: bool):
-    """The `i`-th event as an Action, "gdl" (the GDL side's), or None after problems."""
+def _offer(takers: Sequence[ScenarioTaker], entry: ScenarioEntry) -> bool:
+    """Whether one of `takers` took `entry` (the first that does)."""
+    return any(t.take_scenario_entry(entry) for t in takers)
+
+
+def _a_language_event(ev: object, resolve: Resolver) -> bool:
+    """An event that may be a language's: not a fault, and with a language's keys, or
+    no `set`, or a `set` the machine does not know."""
+    if not isinstance(ev, dict) or "fault" in ev:
+        return False
+    if "set" not in ev or set(ev) & LANGUAGE_KEYS:
+        return True
+    return _known(resolve, ev["set"]) is None
+
+
+def _event(i: int, ev: object, resolve: Resolver, io, problems: TomlProblems):
+    """The `i`-th event as an Action, or None after problems."""
     number = i + 1
 
     def bad(key: str | None, message: str) -> None:
@@ -172,14 +205,13 @@ def _event(i: int, ev: object, resolve: Resolver, io, problems: TomlProblems, wi
     if not isinstance(ev, dict):
         bad(None, "an event is a table")
         return None
-    if "fault" not in ev and ("set" not in ev or set(ev) & GDL_KEYS):
-        if with_gdl:
-            return "gdl"
-    if "fault" not in ev and "set" in ev and with_gdl and _known(resolve, ev["set"]) is None:
-        return "gdl"
     found = len(problems.items)
     for key in sorted(set(ev) - KEYS):
-        extra = " (force, release, during and line apply to GDL objects)" if key in GDL_KEYS else ""
+        extra = (
+            " (force, release, during and line apply to GDL objects)"
+            if key in LANGUAGE_KEYS
+            else ""
+        )
         bad(key, f"unknown key '{key}' (keys: {', '.join(sorted(KEYS))}){extra}")
     at = None
     if "at" not in ev:
@@ -197,6 +229,9 @@ def _event(i: int, ev: object, resolve: Resolver, io, problems: TomlProblems, wi
         if "value" in ev:
             bad("value", "'value' does not apply to a fault")
         args = {k: ev[k] for k in ("axis", "slave", "code", "side") if k in ev}
+        if io is None:
+            bad("fault", "fault events need a machine (a run of the scenario with programs)")
+            return None
         for key, message in check_fault(io, kind, args):
             bad(key, message)
         if len(problems.items) > found or at is None:

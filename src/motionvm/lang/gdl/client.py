@@ -37,14 +37,19 @@ from typing import TYPE_CHECKING
 from motionvm.lang.gdl.app import App, ProcInfo
 from motionvm.lang.gdl.motors import assign_axes
 from motionvm.lang.gdl.rts import Rts, format_time
-from motionvm.lang.gdl.scenario import Event, Scenario, ScenarioError, parse_target, parse_value
+from motionvm.lang.gdl.scenario import Event, Scenario, parse_target, parse_value
 from motionvm.lang.gdl.scope import GdlScopeSource
 from motionvm.runtime.waits import Waiting
+from motionvm.sim.scenario import ScenarioError
 
 if TYPE_CHECKING:
     from motionvm.runtime.scope import ChannelSource
     from motionvm.sim.controller import Controller
     from motionvm.sim.machine import GdlMotorSpec
+
+
+NO_SCENARIO = Scenario((), (), None)
+"""The scenario of a run without a scenario file."""
 
 
 def event_cycle(at: float, cycle_time: float) -> int:
@@ -105,7 +110,7 @@ class GdlApplication:
         self,
         controller: Controller,
         app: App,
-        scenario: Scenario,
+        scenario: Scenario = NO_SCENARIO,
         *,
         emit: Callable[[str], None],
         report: Callable[[str], None],
@@ -115,7 +120,6 @@ class GdlApplication:
     ) -> None:
         self.controller = controller
         self.app = app
-        self.scenario = scenario
         self._report = report
         self._forces = parse_forces(app, forces)
         self.axes = assign_axes(app, controller.axes, motor_axes)
@@ -123,19 +127,24 @@ class GdlApplication:
         self.rts = Rts(
             app, controller.clock, emit, report, axes=self.axes, shuffle_seed=shuffle_seed
         )
+        self._started = False
+        self.use_scenario(scenario)
+
+    def use_scenario(self, scenario: Scenario) -> None:
+        """Take `scenario`: its initial values now (not events), its events at their
+        cycles. Before the first cycle."""
+        self.scenario = scenario
         for target, value in scenario.initial:
             for e in target.elements:
                 self.rts.init_value(target.obj, target.spec.keyword, e, value)
-        ct = controller.cycle_time
+        ct = self.controller.cycle_time
         timed = [(event_cycle(ev.at, ct), ev) for ev in scenario.events if ev.during is None]
         timed.sort(key=lambda ce: (ce[0], ce[1].number))
         self._timed: deque[tuple[int, Event]] = deque(timed)
         self._injections = [
             (event_cycle(ev.at, ct), ev) for ev in scenario.events if ev.during is not None
         ]
-        if self._injections:
-            self.rts.apply_injection = self._inject
-        self._started = False
+        self.rts.apply_injection = self._inject if self._injections else None
 
     @property
     def error_count(self) -> int:

@@ -1,4 +1,8 @@
-"""Scenario files (TOML): initial values and timed input changes that drive a GDL run.
+"""A GDL application's part of a scenario file: initial values and timed input changes.
+
+The one reader of scenario files is `sim/scenario.py`; it offers this module
+(`ScenarioEntries`) the [initial] keys and events the machine does not know, which are
+checked against the application here:
 
 ```toml
 until = 2.0                          # optional: end of the run [s] (--until wins)
@@ -25,30 +29,17 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from pathlib import Path
 
 from motionvm.lang.gdl.app import App, ObjectInfo
 from motionvm.lang.gdl.lexer import tokenize
 from motionvm.lang.gdl.objects import INT_LIMIT, StateSpec
+from motionvm.sim.scenario import ScenarioEntry
+from motionvm.sim.scenario import load_scenario as read_scenario
 from motionvm.source.diagnostics import DiagnosticSink, TooManyErrors
 from motionvm.source.suggest import did_you_mean
-from motionvm.source.toml_places import TomlProblems, parse_toml
+from motionvm.source.toml_places import TomlProblems
 
 EVENT_KEYS = {"at", "set", "force", "release", "value", "during", "line"}
-
-
-class ScenarioError(Exception):
-    """A bad scenario (exit code 3).
-
-    `messages`: one complete line per problem; `located`: they read
-    `FILE:LINE:COL: error: MESSAGE` (a scenario file, every problem of it at once), else
-    they are errors of the command line (a `--force` text, an unreadable file).
-    """
-
-    def __init__(self, *messages: str, located: bool = False) -> None:
-        super().__init__("\n".join(messages))
-        self.messages = list(messages)
-        self.located = located
 
 
 @dataclass(frozen=True, slots=True)
@@ -143,14 +134,6 @@ def parse_value(target: Target, raw: object) -> object:
     raise ValueError(f"{ref} takes one of {', '.join(spec.values)}, not {raw!r}")
 
 
-class _Problems(TomlProblems):
-    """The problems of one scenario file."""
-
-    def raise_any(self) -> None:
-        if self.items:
-            raise ScenarioError(*self.headlines(), located=True)
-
-
 def _seconds(value: object, key: str = "at") -> float:
     """`value` of `key` as seconds: finite and >= 0 (nan and inf too are refused);
     raises ValueError naming key and value."""
@@ -159,7 +142,7 @@ def _seconds(value: object, key: str = "at") -> float:
     return float(value)
 
 
-def _event(app: App, index: int, raw: object, problems: _Problems) -> Event | None:
+def _event(app: App, index: int, raw: object, problems: TomlProblems) -> Event | None:
     """The `index`-th (from 0) event; None after adding its problems (each at its key)."""
     number = index + 1
     found = len(problems.items)
@@ -221,57 +204,38 @@ def _event(app: App, index: int, raw: object, problems: _Problems) -> Event | No
     return Event(number, at, actions[0], target, value, during, line, where)
 
 
-def load_scenario(
-    path: str,
-    app: App,
-    only_events: frozenset[int] | None = None,
-    only_initial: frozenset[str] | None = None,
-) -> Scenario:
-    """Read and validate a scenario file against the application; ScenarioError lists
-    every problem of it. `only_events` (indexes from 0) and `only_initial` (keys): the
-    events and [initial] entries that are the application's when the file is shared with
-    the machine (sim/scenario.py takes the others); None: all of them."""
-    try:
-        raw = Path(path).read_bytes()
-    except OSError as exc:
-        raise ScenarioError(f"cannot read the scenario {path}: {exc.strerror or exc}") from None
-    data, problems = parse_toml(raw, lambda text: _Problems(path, text))
-    if data is None:
-        problems.raise_any()
-    for key in sorted(set(data) - {"until", "initial", "event"}):
-        problems.at("", key, f"unknown key '{key}' (keys: event, initial, until)")
-    until = data.get("until")
-    if until is not None:
-        try:
-            until = _seconds(until, "until")
-        except ValueError as exc:
-            problems.at("", "until", str(exc))
-            until = None
-    initial: list[tuple[Target, object]] = []
-    table = data.get("initial", {})
-    if not isinstance(table, dict):
-        problems.at("", "initial", "[initial] must be a table")
-        table = {}
-    for ref, raw in table.items():
-        if only_initial is not None and ref not in only_initial:
-            continue
-        try:
-            target = parse_target(app, ref)
-            initial.append((target, parse_value(target, raw)))
-        except ValueError as exc:
-            problems.at("initial", ref, f"[initial]: {exc}")
-    raw_events = data.get("event", [])
-    if not isinstance(raw_events, list):
-        problems.at("", "event", "events are written [[event]]")
-        raw_events = []
-    events = [
-        _event(app, i, e, problems)
-        for i, e in enumerate(raw_events)
-        if only_events is None or i in only_events
-    ]
-    problems.raise_any()
-    return Scenario(
-        tuple(initial),
-        tuple(e for e in events if e is not None),
-        float(until) if until is not None else None,
-    )
+class ScenarioEntries:
+    """Takes the scenario entries of one application (a `sim.scenario.ScenarioTaker`):
+    the [initial] keys and events the machine does not know, checked against the
+    application; `scenario(until)` is what was taken."""
+
+    def __init__(self, app: App) -> None:
+        self.app = app
+        self.initial: list[tuple[Target, object]] = []
+        self.events: list[Event] = []
+
+    def take_scenario_entry(self, entry: ScenarioEntry) -> bool:
+        problems = entry.problems
+        if entry.index is None:
+            ref = str(entry.key)
+            try:
+                target = parse_target(self.app, ref)
+                self.initial.append((target, parse_value(target, entry.value)))
+            except ValueError as exc:
+                problems.at("initial", ref, f"[initial]: {exc}")
+            return True
+        event = _event(self.app, entry.index, entry.value, problems)
+        if event is not None:
+            self.events.append(event)
+        return True
+
+    def scenario(self, until: float | None) -> Scenario:
+        return Scenario(tuple(self.initial), tuple(self.events), until)
+
+
+def load_scenario(path: str, app: App) -> Scenario:
+    """A scenario file of this application alone (no machine around it: every entry
+    is the application's); ScenarioError lists every problem of it."""
+    entries = ScenarioEntries(app)
+    loaded = read_scenario(path, lambda name: None, None, (entries,))
+    return entries.scenario(loaded.until)

@@ -73,7 +73,7 @@ from motionvm.motion.axis_config import AxisConfig
 from motionvm.runtime.fault_position import Fault
 from motionvm.runtime.waits import Waiting, suspended_at
 from motionvm.sim.machine import MachineConfig, PdlDriveSpec
-from motionvm.source.diagnostics import DiagnosticSink, render_diagnostic
+from motionvm.source.diagnostics import Diagnostic, DiagnosticSink, render_diagnostic
 
 CONTROLLED_BY = "PDL drive"
 """`Axis.controlled_by` of an axis whose drive runs a PDL program."""
@@ -93,20 +93,34 @@ class CompiledDrive:
     program: PdlProgram
 
 
-def _compile(
-    specs: Sequence[tuple[PdlDriveSpec, str]], report, errors: list | None
-) -> list[CompiledDrive] | None:
+def compile_specs(
+    specs: Sequence[tuple[PdlDriveSpec, str]],
+) -> tuple[list[CompiledDrive] | None, list[Diagnostic]]:
+    """Compile the program of each (drive, path): the drives (None after any compile
+    error) and every diagnostic, by file and place. PdlStartError for a start label a
+    program lacks."""
     sink = DiagnosticSink()
     out: list[CompiledDrive] = []
     for spec, path in specs:
         program = compile_pdl(path, sink=sink)
         if program is not None:
             out.append(CompiledDrive(spec, program))
-    for d in sorted(sink.items, key=lambda d: (d.pos.file, d.pos.line, d.pos.col)):
+    diagnostics = sorted(sink.items, key=lambda d: (d.pos.file, d.pos.line, d.pos.col))
+    if sink.has_errors:
+        return None, diagnostics
+    _check_starts(out)
+    return out, diagnostics
+
+
+def _compile(
+    specs: Sequence[tuple[PdlDriveSpec, str]], report, errors: list | None
+) -> list[CompiledDrive] | None:
+    out, diagnostics = compile_specs(specs)
+    for d in diagnostics:
         report(render_diagnostic(d))
     if errors is not None:
-        errors.extend(sink.errors())
-    return None if sink.has_errors else out
+        errors.extend(d for d in diagnostics if d.severity == "error")
+    return out
 
 
 def _check_starts(drives: list[CompiledDrive] | None) -> None:
@@ -133,9 +147,7 @@ def compile_drives(
 
     Raises PdlStartError for a start label a program lacks.
     """
-    out = _compile([(spec, str(spec.path)) for spec in machine.pdl_drives], report, errors)
-    _check_starts(out)
-    return out
+    return _compile([(spec, str(spec.path)) for spec in machine.pdl_drives], report, errors)
 
 
 def compile_program(
@@ -146,10 +158,13 @@ def compile_program(
 
     Raises PdlStartError for a start label the program lacks.
     """
-    spec = PdlDriveSpec(axis=0, path=Path(path), starts=tuple(starts))
-    out = _compile([(spec, path)], report, errors)  # the path as given: faults name it so
-    _check_starts(out)
-    return out
+    return _compile(standalone_spec(path, starts), report, errors)
+
+
+def standalone_spec(path: str, starts: Sequence[str]) -> list[tuple[PdlDriveSpec, str]]:
+    """The one program of a standalone run, on the drive of axis 0 (the path as given:
+    faults name it so)."""
+    return [(PdlDriveSpec(axis=0, path=Path(path), starts=tuple(starts)), path)]
 
 
 def pdl_axis_config(axis: AxisConfig) -> PdlAxisConfig:

@@ -1,0 +1,169 @@
+"""GDL behind the language interface (`motionvm.lang.interface`): the files of a run form
+one application; its run side takes the scenario's GDL entries and ends a run inclusively."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+from motionvm.lang.interface import (
+    CompileRequest,
+    CompileResult,
+    Language,
+    LanguageInputError,
+    LanguageOption,
+    LineTable,
+    RunContext,
+    RunSide,
+    Source,
+    Symbol,
+)
+from motionvm.lang.tools import statement_lines
+from motionvm.source.diagnostics import Diagnostic, DiagnosticSink
+
+
+class GdlSide(RunSide):
+    """A GDL application on the controller (`client.GdlApplication`)."""
+
+    def __init__(self, language: Language, client) -> None:
+        from motionvm.lang.gdl.scenario import ScenarioEntries
+
+        self.language = language
+        self.client = client
+        """The application's cycle client (`client.GdlApplication`)."""
+        self._entries = ScenarioEntries(client.app)
+
+    @property
+    def fault_count(self) -> int:
+        return self.client.error_count
+
+    def scope_sources(self) -> list:
+        return self.client.scope_sources()
+
+    def takes_scenario(self) -> bool:
+        return True
+
+    def take_scenario_entry(self, entry) -> bool:
+        return self._entries.take_scenario_entry(entry)
+
+    def scenario_loaded(self, until: float | None) -> None:
+        self.client.use_scenario(self._entries.scenario(until))
+
+    def end_time(self, end: float | None) -> float | None:
+        """Inclusive: the events due at the end time still apply."""
+        return self.client.run_until(end)
+
+    def finish(self) -> None:
+        self.client.finish()
+
+
+_UNUSED = "applies to GDL applications; no .gdl file was given"
+
+
+class Gdl(Language):
+    name = "GDL"
+    language_id = "gdl"
+    suffixes = (".gdl",)
+    run_modules = ("motionvm.lang.gdl.compiler", "motionvm.lang.gdl.client")
+    options = (
+        LanguageOption("forces", "--force", _UNUSED),
+        LanguageOption("shuffle_seed", "--shuffle-order", _UNUSED),
+    )
+
+    def compile(self, sources: Sequence[Source], request: CompileRequest) -> CompileResult:
+        from motionvm.lang.gdl.compiler import compile_app
+
+        paths = [s.path for s in sources]
+        sink = DiagnosticSink()
+        app = compile_app(paths, sink=sink)
+        order = {p: i for i, p in enumerate(paths)}
+        diagnostics = sorted(
+            sink.items, key=lambda d: (order.get(d.pos.file, -1), d.pos.line, d.pos.col)
+        )
+        return CompileResult(app, diagnostics)
+
+    def dump(
+        self, path: str, stage: str, options: Mapping[str, Any]
+    ) -> tuple[str, list[Diagnostic]]:
+        from motionvm.lang.gdl.compiler import compile_app
+        from motionvm.lang.gdl.dump import dump_ast, dump_tokens
+        from motionvm.lang.gdl.lower import emit_python
+
+        sink = DiagnosticSink()
+        if stage == "py":
+            app = compile_app([path], sink=sink)
+            items = sorted(sink.items, key=lambda d: (d.pos.line, d.pos.col))
+            return ("" if app is None else emit_python(app)), items
+        try:
+            text = (dump_tokens if stage == "tokens" else dump_ast)(path, sink)
+        except OSError as exc:
+            raise LanguageInputError(f"error: cannot read {path}: {exc.strerror or exc}") from None
+        return text, list(sink.items)
+
+    def python_source(self, program: object) -> str:
+        from motionvm.lang.gdl.lower import emit_python
+
+        return emit_python(program)
+
+    def attach(self, controller, program: object, context: RunContext) -> GdlSide:
+        from motionvm.lang.gdl.client import GdlApplication
+        from motionvm.lang.gdl.motors import GdlMachineError
+        from motionvm.sim.scenario import ScenarioError
+
+        try:
+            client = GdlApplication(
+                controller,
+                program,
+                emit=context.emit,
+                report=context.report,
+                forces=context.options.get("forces", ()),
+                shuffle_seed=context.options.get("shuffle_seed"),
+                motor_axes=context.machine.gdl_motors,
+            )
+        except ScenarioError as exc:  # a --force text
+            raise LanguageInputError(*exc.messages, located=exc.located) from None
+        except GdlMachineError as exc:
+            raise LanguageInputError(str(exc), located=True) from None
+        controller.add_client(client)
+        return GdlSide(self, client)
+
+    # ---------------------------------------------------------------- tools
+
+    def _tree(self, path: str, text: str | None):
+        from motionvm.lang.gdl.lexer import tokenize
+        from motionvm.lang.gdl.parser import parse_tokens
+        from motionvm.source.files import SourceFile
+
+        sink = DiagnosticSink()
+        try:
+            text = SourceFile.read(path).text if text is None else text
+        except OSError:
+            return None
+        return parse_tokens(tokenize(path, text, sink), path, sink)
+
+    def line_table(self, path: str, text: str | None = None) -> LineTable:
+        from motionvm.lang.gdl import nodes as n
+
+        kinds = (n.Assign, n.OperatorCall, n.If, n.While, n.Return)
+        tree = self._tree(path, text)
+        return (
+            statement_lines(tree, kinds, path) if tree is not None else LineTable(path, frozenset())
+        )
+
+    def symbols(self, path: str, text: str | None = None) -> list[Symbol]:
+        tree = self._tree(path, text)
+        out: list[Symbol] = []
+        for module in tree.modules if tree is not None else ():
+            name = module.name
+            out.append(Symbol(name.text, "module", path, name.pos.line, name.pos.col))
+            for obj in module.objects:
+                out.append(Symbol(obj.name.text, "object", path, obj.name.pos.line,
+                                  obj.name.pos.col, name.text, f"{obj.type_kw} {obj.name.text}"))  # fmt: skip
+            for proc in module.procedures:
+                out.append(Symbol(proc.name.text, "procedure", path, proc.name.pos.line,
+                                  proc.name.pos.col, name.text))  # fmt: skip
+        out.sort(key=lambda s: (s.line, s.col))
+        return out
+
+
+LANGUAGE = Gdl()

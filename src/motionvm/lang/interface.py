@@ -1,0 +1,308 @@
+"""The language interface: what every language offers the session, the debugger and the tools.
+
+Each language package (`lang/hmpl`, `lang/pdl`, `lang/gdl`) exports one `Language` object
+from its `language.py`; the registry (`motionvm.lang`) lists them in run order. Everything
+above `lang/` -- the session, the API, the command line, the debugger, the language server,
+the studio -- reaches a language only through this interface and loops over the registry:
+
+- who it is: `name`, `language_id`, `suffixes`;
+- the compiler: `stages` and `dump` (what each stage makes of a file), `check` (the
+  diagnostics of files, nothing runs), `compile` (a program, or None after errors);
+- the run: `attach(controller, program, context) -> RunSide`, the language's run side
+  on the controller's one cycle. A run side counts its faults (the reports are
+  `runtime.fault_position.Fault` records, whatever the language), offers its scope
+  sources, takes the scenario entries it understands and states its end-of-run rule;
+- what tools see inside a program: `line_table` (which lines hold statements:
+  breakpoints, coverage), `symbols` (declarations with their places: outline,
+  go to definition, rename) and `docs` (built-ins, constants, keywords: hover, completion).
+
+A language's options on the command line (`--start`, `--force`, ...) are declared as
+`LanguageOption`s; the session checks that a given option has a language to take it.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from motionvm.source.diagnostics import Diagnostic
+
+if TYPE_CHECKING:
+    from motionvm.runtime.scope import ChannelSource
+    from motionvm.sim.machine import MachineConfig
+    from motionvm.sim.scenario import ScenarioEntry
+
+
+class LanguageInputError(Exception):
+    """Input a language cannot use that is not a compile error: a start label a program
+    lacks, a `--force` text, a machine with too few axes (the CLI's exit code 3).
+    `messages`: one complete line each; `located`: each starts `FILE:LINE:COL: error:`."""
+
+    def __init__(self, *messages: str, located: bool = False) -> None:
+        super().__init__("\n".join(messages))
+        self.messages = list(messages)
+        self.located = located
+
+
+@dataclass(frozen=True)
+class Source:
+    """One program file of a run."""
+
+    path: str
+    text: str | None = None
+    """The source text, for a program that is not in a file (languages with
+    `accepts_text`); None: read the file."""
+    task: int | None = None
+    """The task it runs as, for a language that places files as tasks (None: the next
+    free one)."""
+
+
+@dataclass(frozen=True)
+class LanguageOption:
+    """A run option that only one language takes (`RunSpec.options[key]`)."""
+
+    key: str
+    """Its key in `RunSpec.options` (`starts`, `forces`, `shuffle_seed`)."""
+    flag: str
+    """Its name on the command line (`--start`)."""
+    unused: str
+    """What is wrong when no file of the language was given, after the flag
+    ("applies to a PDL program given as a file; none was given")."""
+
+
+@dataclass(frozen=True)
+class CompileRequest:
+    """What a language's `compile` is given besides its files."""
+
+    machine: MachineConfig
+    """The run's machine (programs it names: PDL drive programs)."""
+    options: Mapping[str, Any] = field(default_factory=dict)
+    check_only: bool = False
+    """`motionvm check`: each file on its own, nothing will run (no bytecode needed)."""
+    alone: bool = False
+    """The language's files are all the run has and there is no machine file."""
+
+
+@dataclass
+class CompileResult:
+    """A compile's outcome: the program (None after an error) and every diagnostic, in
+    the order to report them."""
+
+    program: object | None
+    diagnostics: list[Diagnostic] = field(default_factory=list)
+
+
+@dataclass(frozen=True)
+class RunContext:
+    """What a run side is attached with."""
+
+    machine: MachineConfig
+    emit: Callable[[str], None]
+    """Receives every message line the program prints."""
+    report: Callable[[str], None]
+    """Receives every fault report (a `Fault`) and note."""
+    stamp: bool = False
+    """Prefix each message with the simulated time and its source."""
+    options: Mapping[str, Any] = field(default_factory=dict)
+    data_dir: Path | None = None
+    """Folder of persistent data (None: the machine's or the default)."""
+    alone: bool = False
+    """As `CompileRequest.alone`."""
+
+
+@dataclass(frozen=True)
+class Symbol:
+    """A declaration in a source file (outline, go to definition, rename)."""
+
+    name: str
+    kind: str
+    """"function", "variable", "constant", "macro", "struct", "member", "label", "task",
+    "module", "object", "procedure", "parameter"."""
+    file: str
+    line: int
+    """1-based."""
+    col: int
+    """1-based column of the name."""
+    container: str | None = None
+    """The enclosing function, struct, module or task (None: file level)."""
+    detail: str = ""
+    """The declaration as written (`int count`, `AXIS$MOTOR fan`)."""
+
+
+@dataclass(frozen=True)
+class NameDoc:
+    """Documentation of one name of the language (hover, completion, signature help)."""
+
+    name: str
+    kind: str
+    """"builtin", "constant", "keyword", "variable", "type", "error"."""
+    signature: str = ""
+    """The prototype (`int MoveAbs(int axis_id, double pos)`) or the value (`= 3`)."""
+    summary: str = ""
+    """One paragraph: what it is for."""
+    params: tuple[tuple[str, str], ...] = ()
+    """(name, description with its unit) of each parameter, in order."""
+    returns: str = ""
+    section: str = ""
+    """Where the manual describes it."""
+    value: float | None = None
+    """A constant's value."""
+    implemented: bool = True
+    """A built-in that motionvm runs (False: described by the manual only)."""
+
+    def markdown(self) -> str:
+        """The hover text."""
+        out = []
+        if self.signature:
+            out.append(f"```\n{self.signature}\n```")
+        if self.summary:
+            out.append(self.summary)
+        if self.params:
+            out.append("\n".join(f"- `{n}`: {d}" for n, d in self.params))
+        if self.returns:
+            out.append(f"Returns: {self.returns}")
+        if self.section:
+            out.append(f"Manual {self.section}")
+        return "\n\n".join(out)
+
+
+@dataclass(frozen=True)
+class LineTable:
+    """The lines of one file that hold a statement: where a breakpoint can stop and what
+    coverage counts."""
+
+    file: str
+    lines: frozenset[int]
+
+    def next_line(self, line: int) -> int | None:
+        """The first statement line at or after `line` (a breakpoint moves there)."""
+        after = [n for n in self.lines if n >= line]
+        return min(after) if after else None
+
+
+class RunSide:
+    """One language's part of a run, attached to the controller (`Language.attach`).
+
+    The defaults say: nothing to boot, no faults, no scope channels, no scenario entries,
+    the run ends when the caller says."""
+
+    language: Language
+
+    def boot(self) -> None:
+        """Power on: start what starts by itself (once, before the first cycle).
+        LanguageInputError for a start the program refuses."""
+
+    @property
+    def fault_count(self) -> int:
+        """Faults of its tasks, drive tasks or procedures so far."""
+        return 0
+
+    def scope_sources(self) -> list[ChannelSource]:
+        """Its scope channels (its variables), in the order they are offered."""
+        return []
+
+    def takes_scenario(self) -> bool:
+        """Whether a scenario's entries the machine does not know may be its own."""
+        return False
+
+    def take_scenario_entry(self, entry: ScenarioEntry) -> bool:
+        """Take one [initial] entry or event the machine did not know: True if it is
+        this language's (its problems added to `entry.problems`), False if not."""
+        return False
+
+    def scenario_loaded(self, until: float | None) -> None:
+        """Every entry of the scenario was offered; `until` is its end time (or None)."""
+
+    def end_time(self, end: float | None) -> float | None:
+        """The end time [s] to give the controller for a run asked to end at `end`."""
+        return end
+
+    def finish(self) -> None:
+        """After the run: notes of what never happened."""
+
+    def on_event(self, callback: Callable[[str, object], None]) -> None:
+        """Call `callback(kind, payload)` for each event the program sends (default: none)."""
+
+    def close(self) -> None:
+        """Free its memory; nothing runs afterwards."""
+
+
+class Language:
+    """One language of motionvm (see the module docstring); subclassed once per language."""
+
+    name: str = ""
+    """"HMPL", "PDL", "GDL"."""
+    language_id: str = ""
+    """The editor's language id ("hmpl")."""
+    suffixes: tuple[str, ...] = ()
+    """File suffixes, lower case, with the dot."""
+    stages: tuple[str, ...] = ("tokens", "ast", "py")
+    """What `dump` shows."""
+    accepts_text: bool = False
+    """A program may be given as text instead of a file."""
+    places_tasks: bool = False
+    """Files run as numbered tasks (`Source.task`)."""
+    options: tuple[LanguageOption, ...] = ()
+    run_modules: tuple[str, ...] = ()
+    """The modules of its compiler and run side, which a worker process imports before
+    the clock of a run starts."""
+
+    # ---------------------------------------------------------------- compiling
+
+    def has_programs(self, sources: Sequence[Source], machine: MachineConfig) -> bool:
+        """Whether a run has anything of this language: files, or programs the machine
+        names."""
+        return bool(sources)
+
+    def place(
+        self, machine: MachineConfig, sources: Sequence[Source], request: CompileRequest
+    ) -> MachineConfig:
+        """The machine with this language's files placed on it (default: unchanged).
+        LanguageInputError if they cannot be."""
+        return machine
+
+    def compile(self, sources: Sequence[Source], request: CompileRequest) -> CompileResult:
+        raise NotImplementedError
+
+    def check(self, sources: Sequence[Source]) -> list[Diagnostic]:
+        """The diagnostics of `sources`, each file on its own; nothing runs."""
+        from motionvm.sim.machine import DEFAULT_MACHINE
+
+        return self.compile(sources, CompileRequest(DEFAULT_MACHINE, check_only=True)).diagnostics
+
+    def dump(
+        self, path: str, stage: str, options: Mapping[str, Any]
+    ) -> tuple[str, list[Diagnostic]]:
+        """What compiler stage `stage` (one of `stages`) makes of the file: the text to
+        print ("" after errors) and the diagnostics."""
+        raise NotImplementedError
+
+    def python_source(self, program: object) -> str:
+        """The generated Python of a compiled program (`ast.unparse`)."""
+        return program.python_source()  # type: ignore[attr-defined]
+
+    # ---------------------------------------------------------------- running
+
+    def attach(self, controller, program: object, context: RunContext) -> RunSide:
+        """The run side of `program` on `controller`, added to its cycle.
+        LanguageInputError for options or a machine it cannot run with."""
+        raise NotImplementedError
+
+    # ---------------------------------------------------------------- tools
+
+    def line_table(self, path: str, text: str | None = None) -> LineTable:
+        """The statement lines of a file (`text`: its unsaved contents)."""
+        raise NotImplementedError
+
+    def symbols(self, path: str, text: str | None = None) -> list[Symbol]:
+        """The declarations of a file, in source order."""
+        raise NotImplementedError
+
+    def docs(self) -> Mapping[str, NameDoc]:
+        """The language's documented names (built-ins, constants, keywords) by name."""
+        return {}
+
+    def __repr__(self) -> str:
+        return f"<language {self.name}>"

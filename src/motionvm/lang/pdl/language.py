@@ -1,0 +1,185 @@
+"""PDL behind the language interface (`motionvm.lang.interface`): programs on drives (the
+machine file's, or one file on the next free axis), their run side, and what tools see."""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+from motionvm.lang.interface import (
+    CompileRequest,
+    CompileResult,
+    Language,
+    LanguageInputError,
+    LanguageOption,
+    LineTable,
+    RunContext,
+    RunSide,
+    Source,
+    Symbol,
+)
+from motionvm.lang.tools import nodes, statement_lines
+from motionvm.source.diagnostics import Diagnostic, DiagnosticSink
+
+
+class PdlSide(RunSide):
+    """PDL drives on the machine's axes (`machine_drives.PdlDrives`)."""
+
+    def __init__(self, language: Language, drives) -> None:
+        self.language = language
+        self.drives = drives
+        """The cycle client running the drives (`machine_drives.PdlDrives`)."""
+
+    def boot(self) -> None:
+        from motionvm.lang.pdl.machine_drives import PdlStartError
+
+        try:
+            self.drives.boot()
+        except PdlStartError as exc:  # a standalone drive refused a --start label
+            raise LanguageInputError(str(exc), located=True) from None
+
+    @property
+    def fault_count(self) -> int:
+        return len(self.drives.faults)
+
+    def scope_sources(self) -> list:
+        return self.drives.scope_sources()
+
+
+class Pdl(Language):
+    name = "PDL"
+    language_id = "pdl"
+    suffixes = (".pdl",)
+    run_modules = ("motionvm.lang.pdl.machine_drives",)
+    options = (
+        LanguageOption(
+            "starts", "--start", "applies to a PDL program given as a file; none was given"
+        ),
+    )
+
+    def has_programs(self, sources, machine) -> bool:
+        return bool(sources) or bool(machine.pdl_drives)
+
+    def place(self, machine, sources: Sequence[Source], request: CompileRequest):
+        """Check only: each file on a drive of its own. Else the file (one at most) on
+        the next axis whose drive runs no program."""
+        from motionvm.sim.machine import PdlDriveSpec
+
+        if request.check_only:
+            specs = tuple(PdlDriveSpec(i, Path(s.path)) for i, s in enumerate(sources))
+            return dataclasses.replace(machine, pdl_drives=specs)
+        if not sources:
+            return machine
+        if len(sources) > 1:
+            raise LanguageInputError(
+                "one .pdl program per drive on the command line; a machine file puts programs "
+                'on several drives (pdl = "x.pdl" in an [[axis]] table)'
+            )
+        taken = {d.axis for d in machine.pdl_drives}
+        free = [i for i in range(len(machine.axes)) if i not in taken]
+        if not free:
+            raise LanguageInputError(
+                f"{sources[0].path}: every axis of the machine runs a PDL program"
+            )
+        starts = tuple(request.options.get("starts", ()))
+        spec = PdlDriveSpec(free[0], Path(sources[0].path), starts)  # no `where`: --start
+        return dataclasses.replace(machine, pdl_drives=(*machine.pdl_drives, spec))
+
+    def compile(self, sources: Sequence[Source], request: CompileRequest) -> CompileResult:
+        from motionvm.lang.pdl.machine_drives import PdlStartError, compile_specs, standalone_spec
+
+        machine = request.machine
+        try:
+            if request.alone and not request.check_only:  # one program, the default machine
+                specs = standalone_spec(sources[0].path, request.options.get("starts", ()))
+            else:
+                specs = [(spec, str(spec.path)) for spec in machine.pdl_drives]
+            drives, diagnostics = compile_specs(specs)
+        except PdlStartError as exc:
+            raise LanguageInputError(str(exc), located=True) from None
+        return CompileResult(drives, diagnostics)
+
+    def dump(
+        self, path: str, stage: str, options: Mapping[str, Any]
+    ) -> tuple[str, list[Diagnostic]]:
+        from motionvm.lang.pdl import dump
+        from motionvm.lang.pdl.front import compile_front
+        from motionvm.lang.pdl.preprocess import preprocess
+        from motionvm.lang.pdl.program import compile_pdl
+
+        sink = DiagnosticSink()
+        text = ""
+        if stage == "tokens":
+            text = dump.dump_tokens(preprocess(path, sink)) + "\n"
+        elif stage == "ast":
+            prog = compile_front(path, sink=sink)
+            if prog is not None:
+                text = dump.dump_ast(prog) + "\n"
+        else:
+            prog = compile_pdl(path, sink=sink)
+            if prog is not None:
+                text = prog.python_source() + "\n"
+        return text, sorted(sink.items, key=lambda d: (d.pos.file, d.pos.line, d.pos.col))
+
+    def python_source(self, program: object) -> str:
+        return "\n".join(d.program.python_source() for d in program)  # type: ignore[attr-defined]
+
+    def attach(self, controller, program: object, context: RunContext) -> PdlSide:
+        from motionvm.lang.pdl.machine_drives import PdlDrives
+
+        drives = PdlDrives(
+            controller,
+            program,
+            context.machine,
+            emit=context.emit,
+            report=context.report,
+            stamp=context.stamp,
+            standalone=context.alone,
+        )
+        controller.add_client(drives)
+        return PdlSide(self, drives)
+
+    # ---------------------------------------------------------------- tools
+
+    def _tree(self, path: str, text: str | None):
+        from motionvm.lang.pdl.front import front_end
+
+        result = front_end(path, sink=DiagnosticSink(), text=text)
+        return None if result is None else result.program
+
+    def line_table(self, path: str, text: str | None = None) -> LineTable:
+        from motionvm.lang.pdl import nodes as n
+
+        kinds = (n.Assign, n.StateAssign, n.IncDec, n.Goto, n.CallLabel, n.ProcCall, n.Simple,
+                 n.Delay, n.Kill, n.SetState, n.Print, n.Loop, n.If, n.While, n.Till)  # fmt: skip
+        tree = self._tree(path, text)
+        return (
+            statement_lines(tree, kinds, path) if tree is not None else LineTable(path, frozenset())
+        )
+
+    def symbols(self, path: str, text: str | None = None) -> list[Symbol]:
+        from motionvm.lang.pdl import nodes as n
+
+        tree = self._tree(path, text)
+        out: list[Symbol] = []
+        for node in nodes(tree) if tree is not None else ():
+            pos = getattr(node, "pos", None)
+            if pos is None or pos.file != path:
+                continue
+            if isinstance(node, n.VarDecl):
+                for item in node.items:
+                    out.append(Symbol(item.name, "variable", path, item.pos.line, item.pos.col,
+                                      detail=f"{node.type} {item.name}"))  # fmt: skip
+            elif isinstance(node, n.Label):
+                out.append(Symbol(node.name, "label", path, pos.line, pos.col))
+            elif isinstance(node, n.ProcDef):
+                out.append(Symbol(node.name, "function", path, pos.line, pos.col))
+            elif isinstance(node, n.TaskDirective):
+                out.append(Symbol(f"#task/{node.task}", "task", path, pos.line, pos.col))
+        out.sort(key=lambda s: (s.line, s.col))
+        return out
+
+
+LANGUAGE = Pdl()
