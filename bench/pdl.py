@@ -229,7 +229,7 @@ def realtime_factors() -> tuple[float, float, Drive]:
             t0 = time.process_time()
             sim.run(until=SIM_SECONDS)
             t_machine = time.process_time() - t0
-            machine_drive = sim.session.pdl.drives[0][1]
+            machine_drive = sim.session.side("PDL").drives.drives[0][1]
             work = tuple(drive.read(v) for v in WORK)
             if tuple(machine_drive.read(v) for v in WORK) != work:
                 raise SystemExit("benchmark broken: the machine run did other work than the drive")

@@ -234,7 +234,6 @@ ALLOWED_CIRCLES = [
         "motionvm.motion.kernel",
     },
     {"motionvm.sim.scope", "motionvm.sim.scope_plot", "motionvm.sim.scope_writers"},
-    {"motionvm.cli", "motionvm.cli.report", "motionvm.cli.test", "motionvm.cli.workers"},
 ]
 
 

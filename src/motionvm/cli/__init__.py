@@ -10,8 +10,8 @@ finished at `--timeout`; 130 interrupted.
 from __future__ import annotations
 
 import sys
-import traceback
 
+from motionvm.cli.entry import run_command
 from motionvm.cli.exits import (
     EXIT_COMPILE,
     EXIT_INTERNAL,
@@ -22,7 +22,6 @@ from motionvm.cli.exits import (
     EXIT_USAGE,
     UsageError,
 )
-from motionvm.cli.options import build_parser
 
 __all__ = [
     "EXIT_COMPILE",
@@ -38,49 +37,8 @@ __all__ = [
 
 
 def main(argv: list[str] | None = None) -> int:
-    code = _main(argv)
-    try:  # flushed here, not at exit: a reader gone by now (`| head`) is no error
-        sys.stdout.flush()
-    except BrokenPipeError:
-        from motionvm.cli.run import stdout_gone
-
-        stdout_gone()
-    return code
-
-
-def _main(argv: list[str] | None) -> int:
-    parser = build_parser()
-    try:
-        args, rest = parser.parse_known_args(argv)
-        # files may come after options too: `run a.hmpl --machine m.toml app.gdl`
-        stray = [a for a in rest if a.startswith("-") and a != "-"]
-        if stray or (rest and not hasattr(args, "files")):
-            parser.error(f"unrecognized arguments: {' '.join(stray or rest)}")
-        if rest:
-            args.files = list(args.files) + rest
-    except SystemExit as exc:  # argparse already printed its message
-        return EXIT_OK if exc.code == 0 else EXIT_USAGE
-    try:
-        return _dispatch(args)
-    except UsageError as exc:
-        print(exc.rendered(), file=sys.stderr)
-        return EXIT_USAGE
-    except BrokenPipeError:  # output piped into e.g. `head`: stop quietly
-        from motionvm.cli.run import stdout_gone
-
-        stdout_gone()
-        return EXIT_OK
-    except KeyboardInterrupt:
-        print("motionvm: interrupted", file=sys.stderr)
-        return EXIT_INTERRUPTED
-    except Exception:  # noqa: BLE001 — a bug of ours, reported as such
-        print(
-            "motionvm: internal error (a bug in motionvm, not in your program); please file an issue "
-            "with this output and the program attached:",
-            file=sys.stderr,
-        )
-        traceback.print_exc()
-        return EXIT_INTERNAL
+    """The `motionvm` command with `argv` (default: the process's); its exit code."""
+    return run_command(argv, _dispatch)
 
 
 def _dispatch(args) -> int:

@@ -63,7 +63,8 @@ class Outcome:
 
 def execute(case: Case) -> Outcome:
     """Run `case` in this process: `motionvm run ARGV` in its folder, output captured."""
-    from motionvm.cli import main
+    from motionvm.cli.entry import run_command
+    from motionvm.cli.run import cmd_run
 
     out, err = io.StringIO(), io.StringIO()
     cwd, data_env = os.getcwd(), os.environ.get("MOTIONVM_DATA_DIR")
@@ -73,7 +74,7 @@ def execute(case: Case) -> Outcome:
         try:
             os.chdir(case.folder)
             with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
-                code = main(["run", *case.argv])
+                code = run_command(["run", *case.argv], cmd_run)
         finally:
             os.chdir(cwd)
             if data_env is None:
@@ -122,7 +123,7 @@ def _serve(conn: Connection) -> None:
     """A worker process: for each case it receives, import what the case needs, say it
     runs, run it and send back its Outcome; None ends it."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's to handle
-    import motionvm.cli  # noqa: F401 — imported once, before the first case's clock starts
+    import motionvm.cli.entry  # noqa: F401 — imported once, before the first case's clock starts
 
     conn.send(_READY)
     while True:

@@ -168,9 +168,7 @@ def load_scenario(
         problems.at("", "event", "events are written [[event]]")
         events = []
     for i, ev in enumerate(events):
-        if _a_language_event(ev, resolve) and _offer(
-            takers, ScenarioEntry(None, i, ev, problems)
-        ):
+        if _a_language_event(ev, resolve) and _offer(takers, ScenarioEntry(None, i, ev, problems)):
             continue
         action = _event(i, ev, resolve, io, problems)
         if action is not None:
