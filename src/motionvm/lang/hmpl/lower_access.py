@@ -1,9 +1,18 @@
 """Lower HMPL names, lvalues, indexing, members, assignments, `++`/`--` and calls.
 
-Memory-resident objects reached through names are trusted (their layout is known), so
-`a[i]` on `int a[10]` becomes `_I32[K + _ck(v_i, 10)]`: one bounds check, no shadow check.
-Accesses through pointers become checked helper calls (`_ld_i32(p)`, `_st_f64(p, v)`).
-Calls to functions that can block become `(yield from f(...))`.
+Objects reached through names are trusted (their layout is known): one bounds check,
+no shadow check. An access through a pointer tests the shadow memory inline and falls
+back to a checked helper (`_ld_i32(p)`, `_st_i32(p, v)`). A call of a function that
+can block becomes `yield from`:
+
+    int a[10]; int *q;  ...  a[i] = 1; *q = 2; f2();        (f2 sleeps)
+becomes
+    g_a[v_i if 0 <= v_i < 10 else _oob(v_i, 10)] = 1
+    if not g_q & -16777213 and _SH[g_q] > 3:
+        _I32[g_q >> 2] = 2
+    else:
+        _st_i32(g_q, 2)
+    yield from g_f2()
 """
 
 from __future__ import annotations
@@ -13,7 +22,9 @@ import ast
 from motionvm.lang.hmpl import ctypes_ as ct
 from motionvm.lang.hmpl import nodes as n
 from motionvm.lang.hmpl.formatcheck import check_format, is_printf_like
-from motionvm.lang.hmpl.lower_expr import SemanticError, Val
+from motionvm.lang.hmpl.lower_context import FunctionContext, SemanticError
+from motionvm.lang.hmpl.lower_expr import ExprLowerer
+from motionvm.lang.hmpl.lower_values import Val
 from motionvm.lang.hmpl.lvalues import (
     AggLV,
     GpoLV,
@@ -85,22 +96,36 @@ def _trusted_lv(t: ct.CType, addr: ast.expr) -> LValue:
     return AggLV(t, addr)
 
 
-class AccessLowering:
-    """Mixin of the function lowerer: places, assignment and calls."""
+class AccessLowerer:
+    """Lowers the places of one function (names, `a[i]`, `s.f`, `p->f`, `*p`, compound
+    literals), assignments, `++`/`--` and calls; values go through its expression
+    lowerer `x`."""
+
+    def __init__(self, ctx: FunctionContext, x: ExprLowerer) -> None:
+        self.ctx = ctx
+        self.x = x
+        self.prog = ctx.prog
+        self.fail = ctx.fail
+        self.temp = ctx.temp
+        self.trusted_ptrs: dict[str, int] = {}
+        """While a pointer walk's unchecked body is lowered (lower_walk.py): pointer
+        pyname -> bytes its `*p` may access without a check."""
+        self.lazy_sums: frozenset[str] = frozenset()
+        """... and the int locals whose sums wrap once per chunk."""
 
     # ------------------------------------------------------------ names
 
     def resolve(self, ident: str, pos):
-        sym = self.scope.lookup(ident)
+        sym = self.ctx.scope.lookup(ident)
         if sym is None:
-            sym = self.prog.global_symbol(ident, self.task)
+            sym = self.prog.global_symbol(ident, self.ctx.task)
         if sym is None:
             if ident in self.prog.builtins:
                 raise self.fail(
                     pos, f"built-in function '{ident}' used as a value (call it: {ident}(...))"
                 )
             hint = did_you_mean(
-                ident, self.scope.visible_names() + self.prog.global_names(self.task)
+                ident, self.ctx.scope.visible_names() + self.prog.global_names(self.ctx.task)
             )
             raise self.fail(pos, f"'{ident}' undeclared{hint}")
         if sym.type is ct.ERROR:  # its declaration failed and was reported
@@ -124,10 +149,10 @@ class AccessLowering:
             if isinstance(sym, FuncSym) or sym.const_value is not None:
                 raise self.fail(e.pos, f"'{e.id}' is not assignable")
             if sym.storage == "pyglobal":
-                self.globals_stored.add(sym.pyname)
+                self.ctx.globals_stored.add(sym.pyname)
             return self.var_lvalue(sym)
         if isinstance(e, n.Unary) and e.op == "*":
-            p = self.expr(e.operand)
+            p = self.x.expr(e.operand)
             if not isinstance(p.type, ct.PtrT):
                 raise self.fail(e.pos, f"cannot dereference a value of type '{p.type}'")
             t = p.type.target
@@ -154,12 +179,12 @@ class AccessLowering:
         if isinstance(e, n.Call) and isinstance(e.func, n.Name) and e.func.id == "HIMC_GPO":
             if len(e.args) != 1:
                 raise self.fail(e.pos, f"HIMC_GPO takes 1 argument, got {len(e.args)}")
-            return GpoLV(ct.INT, self.convert(self.expr(e.args[0]), ct.INT, e.pos))
+            return GpoLV(ct.INT, self.x.convert(self.x.expr(e.args[0]), ct.INT, e.pos))
         raise self.fail(e.pos, "expression is not assignable (not an lvalue)")
 
     def _index_lv(self, e: n.Index) -> LValue:
-        base = self._expr(e.base)
-        idx = self.expr(e.index)
+        base = self.x.value(e.base)
+        idx = self.x.expr(e.index)
         if not idx.type.is_integer:
             if idx.type.is_pointer and base.type.is_integer:
                 raise self.fail(e.pos, "write the array before the index: a[i], not i[a]")
@@ -171,7 +196,7 @@ class AccessLowering:
                 i_node = (
                     idx.node
                     if isinstance(idx.type, ct.IntT) and idx.type.size >= 4
-                    else self.exact(idx)
+                    else self.x.exact(idx)
                 )
                 if isinstance(idx.const, int):
                     if not 0 <= idx.const < count:
@@ -197,7 +222,7 @@ class AccessLowering:
                         test=chk, body=ref, orelse=call("_oob", ref, ast.Constant(count))
                     )
             else:
-                i_node = self.convert(idx, ct.I64, e.pos)
+                i_node = self.x.convert(idx, ct.I64, e.pos)
             if base.listy:
                 inner = 1
                 e2 = elem
@@ -225,7 +250,7 @@ class AccessLowering:
             if elem.is_scalar:
                 return PtrLV(elem, addr, self.temp())
             return AggLV(elem, addr)
-        base = self.expr(e.base)
+        base = self.x.expr(e.base)
         if not isinstance(base.type, ct.PtrT):
             raise self.fail(
                 e.pos, f"subscripted value is neither array nor pointer (it is '{base.type}')"
@@ -236,7 +261,7 @@ class AccessLowering:
         if isinstance(idx.const, int):
             off = const(idx.const * elem.size)
         else:
-            i_node = self.exact(idx)
+            i_node = self.x.exact(idx)
             off = (
                 i_node
                 if elem.size == 1
@@ -249,7 +274,7 @@ class AccessLowering:
 
     def _member_lv(self, e: n.Member) -> LValue:
         if e.arrow:
-            p = self.expr(e.base)
+            p = self.x.expr(e.base)
             if not (isinstance(p.type, ct.PtrT) and isinstance(p.type.target, ct.StructT)):
                 raise self.fail(
                     e.pos,
@@ -258,7 +283,7 @@ class AccessLowering:
             st = p.type.target
             base_addr = call("_chkp", p.node, ast.Constant(st.size), ast.Constant(st.align))
         else:
-            b = self._expr(e.base)
+            b = self.x.value(e.base)
             if not isinstance(b.type, ct.StructT):
                 hint = " (use '->' for a pointer)" if isinstance(b.type, ct.PtrT) else ""
                 raise self.fail(
@@ -279,7 +304,7 @@ class AccessLowering:
     def compound_type(self, e: n.CompoundLit) -> ct.CType:
         """The type of a compound literal (`(int[]){1, 2}` counts its elements)."""
         d = n.VarDecl(e.pos, e.type, "compound literal", e.dims, e.init)
-        t = self.prog.decl_type(d, self.scope, self.task)
+        t = self.prog.decl_type(d, self.ctx.scope, self.ctx.task)
         if isinstance(t, ct.VoidT) or t.size == 0:
             raise self.fail(e.pos, f"a compound literal of incomplete type '{t}'")
         return t
@@ -291,15 +316,15 @@ class AccessLowering:
         t = self.compound_type(e)
         prog = self.prog
         what = "compound literal"
-        if self.func is None:
+        if self.ctx.func is None:
             addr = prog.mem.alloc_static(t.size, what, align=max(8, t.align))
-            image, stores = prog.aggregate_init(self, t, e.init, ast.Constant(addr), what)
+            image, stores = prog.aggregate_init(self.x, t, e.init, ast.Constant(addr), what)
             if stores:
                 raise self.fail(e.pos, "a compound literal outside a function must be a constant")
             prog.mem.buf[addr : addr + len(image)] = image
             return _trusted_lv(t, ast.Constant(addr))
-        off = self.frame_alloc(t)
-        image, stores = prog.aggregate_init(self, t, e.init, _add(name("_fp"), off), what)
+        off = self.ctx.frame_alloc(t)
+        image, stores = prog.aggregate_init(self.x, t, e.init, _add(name("_fp"), off), what)
         steps: list[ast.expr] = [call("_fill", _add(name("_fp"), off), ast.Constant(bytes(image)))]
         steps.extend(_as_expr(st) for st in stores)
         steps.append(_add(name("_fp"), off))
@@ -308,17 +333,17 @@ class AccessLowering:
         )
         return _trusted_lv(t, seq)
 
-    def _x_CompoundLit(self, e: n.CompoundLit) -> Val:
+    def x_CompoundLit(self, e: n.CompoundLit) -> Val:
         lv = self._compound_lv(e)
         return Val(lv.load(), lv.type)
 
-    def _x_Index(self, e: n.Index) -> Val:
+    def x_Index(self, e: n.Index) -> Val:
         lv = self._index_lv(e)
         if isinstance(lv, _ListRow):
             return Val(name(lv.pyname), lv.type, True, None, None, lv.pyname, lv.offset)
         return Val(lv.load(), lv.type)
 
-    def _x_Member(self, e: n.Member) -> Val:
+    def x_Member(self, e: n.Member) -> Val:
         lv = self._member_lv(e)
         return Val(lv.load(), lv.type)
 
@@ -339,7 +364,7 @@ class AccessLowering:
 
     def _check_const(self, e, lv: LValue) -> None:
         if isinstance(e, n.Name):
-            sym = self.scope.lookup(e.id) or self.prog.global_symbol(e.id, self.task)
+            sym = self.ctx.scope.lookup(e.id) or self.prog.global_symbol(e.id, self.ctx.task)
             if isinstance(sym, VarSym) and sym.is_const:
                 raise self.fail(e.pos, f"assignment of read-only variable '{e.id}'")
         if isinstance(lv.type, ct.ArrayT):
@@ -353,8 +378,8 @@ class AccessLowering:
         lv = self.lvalue(e.target)
         self._check_const(e.target, lv)
         if e.op == "=":
-            v = self.expr(e.value)
-            node = self.assign_convert(v, lv.type, e.pos, " in assignment")
+            v = self.x.expr(e.value)
+            node = self.x.assign_convert(v, lv.type, e.pos, " in assignment")
             if as_stmt:
                 return lv.store(node)
             return Val(lv.store_expr(node), lv.type)
@@ -363,7 +388,7 @@ class AccessLowering:
         cur = Val(blv.load(), lv.type)
         if isinstance(lv.type, ct.StructT):
             raise self.fail(e.pos, f"invalid operands to '{e.op}' ('{lv.type}')")
-        res = self.binary(op, cur, self.expr(e.value), e.pos)
+        res = self.x.binary(op, cur, self.x.expr(e.value), e.pos)
         if (
             as_stmt
             and type(blv) is NameLV
@@ -373,12 +398,12 @@ class AccessLowering:
         ):
             # a pointer walk's sum, wrapped once per chunk (lower_walk.py)
             return blv.store(res.node)
-        node = self.convert(res, lv.type, e.pos)
+        node = self.x.convert(res, lv.type, e.pos)
         if as_stmt:
             return [ast.Expr(value=p) for p in pre] + blv.store(node)
         return Val(self._seq(pre, blv.store_expr(node)), lv.type)
 
-    def _x_Assign(self, e: n.Assign) -> Val:
+    def x_Assign(self, e: n.Assign) -> Val:
         return self.assignment(e, as_stmt=False)
 
     @staticmethod
@@ -397,14 +422,16 @@ class AccessLowering:
         one = Val(ast.Constant(1), ct.INT, True, 1)
         bop = "+" if op == "++" else "-"
         if as_stmt:
-            res = self.binary(bop, Val(blv.load(), lv.type), one, pos)
-            return [ast.Expr(value=p) for p in pre] + blv.store(self.convert(res, lv.type, pos))
+            res = self.x.binary(bop, Val(blv.load(), lv.type), one, pos)
+            return [ast.Expr(value=p) for p in pre] + blv.store(self.x.convert(res, lv.type, pos))
         if prefix:
-            res = self.binary(bop, Val(blv.load(), lv.type), one, pos)
-            return Val(self._seq(pre, blv.store_expr(self.convert(res, lv.type, pos))), lv.type)
+            res = self.x.binary(bop, Val(blv.load(), lv.type), one, pos)
+            return Val(self._seq(pre, blv.store_expr(self.x.convert(res, lv.type, pos))), lv.type)
         if not pre and isinstance(blv, NameLV) and isinstance(lv.type, ct.PtrT):
             # p++ on a pointer variable: `(p := p + k) - k`, the old value without a tuple
-            step = self.convert(self.binary(bop, Val(blv.load(), lv.type), one, pos), lv.type, pos)
+            step = self.x.convert(
+                self.x.binary(bop, Val(blv.load(), lv.type), one, pos), lv.type, pos
+            )
             if (
                 isinstance(step, ast.BinOp)
                 and isinstance(step.op, (ast.Add, ast.Sub))
@@ -416,14 +443,14 @@ class AccessLowering:
                 return Val(ast.BinOp(left=blv.store_expr(step), op=back, right=step.right), lv.type)
         t = self.temp()
         grab = ast.NamedExpr(target=name(t, True), value=blv.load())
-        res = self.binary(bop, Val(name(t), lv.type), one, pos)
-        store = blv.store_expr(self.convert(res, lv.type, pos))
+        res = self.x.binary(bop, Val(name(t), lv.type), one, pos)
+        store = blv.store_expr(self.x.convert(res, lv.type, pos))
         tup = ast.Tuple(elts=pre + [grab, store], ctx=ast.Load())
         return Val(ast.Subscript(value=tup, slice=ast.Constant(len(pre)), ctx=ast.Load()), lv.type)
 
     # ------------------------------------------------------------ calls
 
-    def _x_Call(self, e: n.Call) -> Val:
+    def x_Call(self, e: n.Call) -> Val:
         if not isinstance(e.func, n.Name):
             raise self.fail(e.pos, "called object is not a function")
         fname = e.func.id
@@ -435,9 +462,9 @@ class AccessLowering:
                     e.pos,
                     f"{fname} takes 1 argument ({'gpi' if fname == 'HIMC_GPI' else 'gpo'}_idx), got {len(e.args)}",
                 )
-            idx = self.convert(self.expr(e.args[0]), ct.INT, e.pos)
+            idx = self.x.convert(self.x.expr(e.args[0]), ct.INT, e.pos)
             return Val(call("_gpi" if fname == "HIMC_GPI" else "_gpo", idx), ct.INT)
-        sym = self.scope.lookup(fname) or self.prog.global_symbol(fname, self.task)
+        sym = self.ctx.scope.lookup(fname) or self.prog.global_symbol(fname, self.ctx.task)
         if sym is not None and sym.type is ct.ERROR:
             raise SemanticError(f"'{fname}' has no valid declaration")
         if isinstance(sym, VarSym):
@@ -454,11 +481,11 @@ class AccessLowering:
             node = call(sym.pyname, *args)
             if sym.is_generator:
                 node = ast.YieldFrom(value=node)
-                self.has_yield = True
+                self.ctx.has_yield = True
             return Val(node, sym.type.ret)
         sig = self.prog.builtins.get(fname)
         if sig is None:
-            cands = self.prog.function_names(self.task)
+            cands = self.prog.function_names(self.ctx.task)
             raise self.fail(
                 e.func.pos, f"call to undeclared function '{fname}'{did_you_mean(fname, cands)}"
             )
@@ -474,10 +501,10 @@ class AccessLowering:
             node = call("b_" + fname, *args)
             if fname == "RunScheduler":
                 node = ast.Yield(value=None)  # what b_RunScheduler does, without a generator
-                self.has_yield = True
+                self.ctx.has_yield = True
             elif impl:  # blocking
                 node = ast.YieldFrom(value=node)
-                self.has_yield = True
+                self.ctx.has_yield = True
         return Val(node, sig.ret)
 
     def _call_args(self, e: n.Call, fname: str, params, variadic: bool) -> list[ast.expr]:
@@ -485,18 +512,18 @@ class AccessLowering:
         if nargs < nparams or (nargs > nparams and not variadic):
             few = "few" if nargs < nparams else "many"
             expect = f"at least {nparams}" if variadic else str(nparams)
-            proto = self.prog.prototype(fname, self.task)
+            proto = self.prog.prototype(fname, self.ctx.task)
             raise self.fail(
                 e.pos, f"too {few} arguments to '{fname}' (expected {expect}, got {nargs}){proto}"
             )
         out: list[ast.expr] = []
         extra: list[tuple[ct.CType, object]] = []  # (type, pos) of each variadic argument
         for i, a in enumerate(e.args):
-            v = self.expr(a)
+            v = self.x.expr(a)
             if i < nparams:
                 pname, ptype = params[i]
                 what = f" (argument {i + 1} '{pname}' of '{fname}')"
-                out.append(self.assign_convert(v, ptype, a.pos, what))
+                out.append(self.x.assign_convert(v, ptype, a.pos, what))
             else:
                 out.append(self._vararg(v, a.pos))
                 extra.append((v.type, a.pos))
@@ -508,7 +535,7 @@ class AccessLowering:
     def _vararg(self, v: Val, pos) -> ast.expr:
         t = v.type
         if isinstance(t, ct.IntT):
-            return self.convert(v, ct.promote(t), pos)
+            return self.x.convert(v, ct.promote(t), pos)
         if isinstance(t, ct.FloatT):
             return v.node
         if isinstance(t, (ct.PtrT, ct.FuncT)):

@@ -1,27 +1,41 @@
 """Type-check HMPL expressions and lower them to Python `ast` expressions.
 
-Integers are Python ints kept in the range of their C type. Ring operations (+ - * << & | ^ ~)
-may defer that reduction: a `Val` with `exact=False` is only known modulo 2**bits, and is
-wrapped once, where an exact value is needed (a store, a comparison, a division, a call).
-Example: `int x = a * b + c;` lowers to
-`v_x = (v_a * v_b + v_c + 2147483648 & 4294967295) - 2147483648`.
+`ExprLowerer` owns conversions, operators, literals, names, `sizeof`, casts and
+conditions, and what range analysis knows of the function's integer locals
+(`known_ranges`); the values it builds are `lower_values.Val`s. Places (indexing,
+members, `*p`), assignments and calls belong to its `access` part (lower_access.py).
+
+    for (int i = 0; i < 10; i++) x = i / 4 + b;
+gives `x` (i known in 0..9: C's division is Python's floor division; the sum may
+leave int, so it is wrapped: lower_values.py)
+    v_x = _w if -2147483648 <= (_w := v_i // 4 + v_b) <= 2147483647 else _wrapi(_w)
+and `x << n` (an int n) becomes `v_x << _shc(v_n, 32)`, wrapped where it is used.
 """
 
 from __future__ import annotations
 
 import ast
-from dataclasses import dataclass
+from collections.abc import Callable
+from typing import Protocol
 
 from motionvm.lang.hmpl import ctypes_ as ct
 from motionvm.lang.hmpl import nodes as n
 from motionvm.lang.hmpl.cmemory import to_f32
-from motionvm.lang.hmpl.lvalues import (
-    call,
-    const,
-    name,
+from motionvm.lang.hmpl.lower_context import FunctionContext, SemanticError
+from motionvm.lang.hmpl.lower_values import (
+    Val,
+    const_truth,
+    exact,
+    fold_int,
+    literal_type,
+    step_node,
+    wrap_node,
 )
+from motionvm.lang.hmpl.lvalues import LValue, call, const, name
 from motionvm.lang.hmpl.rthelpers import float_to_int
 from motionvm.lang.hmpl.symbols import FuncSym, VarSym
+
+__all__ = ["ExprLowerer", "SemanticError", "Val", "step_node", "wrap_node"]
 
 _BINOPS = {
     "+": ast.Add,
@@ -41,102 +55,31 @@ _CMP_NODES = {k: v() for k, v in _CMPOPS.items()}
 _BITAND = _BINOP_NODES["&"]
 
 
-# node class -> its `_x_` method; one lowerer class exists (lower_stmt.FunctionLowerer)
-_X_METHODS: dict[type, object] = {}
+class ExprLowerer:
+    """Types and lowers the expressions of one function; places, assignments and calls
+    are its `access` part's (lower_access.py), which it hands the nodes it meets."""
 
+    def __init__(self, ctx: FunctionContext) -> None:
+        self.ctx = ctx
+        self.prog = ctx.prog
+        self.sink = ctx.sink
+        self.fail = ctx.fail
+        self.access: Places | None = None
+        self.known_ranges: dict[str, tuple[int, int]] = {}
+        """Python local -> the bounds its integer value is known to lie in (range-for
+        counters, guards): lets indexing drop its check and arithmetic its wrap."""
+        self._handlers: dict[type, Callable[..., Val]] = {}
 
-class SemanticError(Exception):
-    """Abandon lowering of the current statement after reporting to the sink."""
+    def attach(self, access: Places) -> None:
+        """Wire the part that lowers places, assignments and calls (`x_Index`, ...)."""
+        self.access = access
+        handlers = {t: getattr(self, m) for t, m in _OWN_HANDLERS}
+        handlers.update((t, getattr(access, m)) for t, m in _PLACE_HANDLERS)
+        self._handlers = handlers
 
-
-@dataclass(slots=True)
-class Val:
-    """A lowered rvalue: Python expression, C type, whether in range, folded constant."""
-
-    node: ast.expr
-    type: ct.CType
-    exact: bool = True
-    const: int | float | None = None
-    rng: tuple[int, int] | None = None  # known bounds of an integer value (range analysis)
-    listy: str = ""  # a list-backed array (or row of one): the list's Python name
-    loff: ast.expr | None = None  # ... and the flattened offset of this row
-    step: tuple[str, int] | None = None  # `x + k` of an exact signed name x: (x, k)
-
-
-_LE_LE = [ast.LtE(), ast.LtE()]  # operator objects are immutable and may be shared
-
-
-def wrap_node(node: ast.expr, t: ct.IntT) -> ast.expr:
-    """Reduce a Python int to the range of `t`.
-
-    Signed: `(_w if LO <= (_w := x) <= HI else _wrap(_w, BITS))` — two comparisons on the
-    common path, no big-int temporaries; unsigned: `x & MASK`.
-    """
-    bits = t.bits
-    if t.signed:
-        lo, hi = -(1 << (bits - 1)), (1 << (bits - 1)) - 1
-        grab = ast.NamedExpr(name("_w", True), node)
-        test = ast.Compare(ast.Constant(lo), _LE_LE, [grab, ast.Constant(hi)])
-        slow = (
-            call("_wrapi", name("_w"), ast.Constant(bits))
-            if bits != 32
-            else call("_wrapi", name("_w"))
-        )
-        return ast.IfExp(test, name("_w"), slow)
-    return ast.BinOp(node, _BITAND, ast.Constant((1 << bits) - 1))
-
-
-def step_node(var: str, k: int, t: ct.IntT) -> ast.expr:
-    """`x + k` in signed type t (x exact, 0 < |k| <= t.max) without a temporary: the sum
-    leaves t's range only past one end, and then by less than 2**bits.
-
-    before: `x + 1`    after: `(x + 1 if x != 2147483647 else -2147483648)`
-    before: `x - 5`    after: `(x - 5 if x >= -2147483643 else x + 4294967291)`
-    """
-    if k == 1 or k == -1:
-        edge = t.max if k == 1 else t.min
-        test = ast.Compare(name(var), [ast.NotEq()], [ast.Constant(edge)])
-        body = ast.BinOp(name(var), ast.Add() if k == 1 else ast.Sub(), ast.Constant(1))
-        return ast.IfExp(test, body, const(t.min if k == 1 else t.max))
-    m = 1 << t.bits
-    if k > 0:
-        test = ast.Compare(name(var), [ast.LtE()], [const(t.max - k)])
-        body = ast.BinOp(name(var), ast.Add(), ast.Constant(k))
-        over = ast.BinOp(name(var), ast.Sub(), ast.Constant(m - k))
-    else:
-        test = ast.Compare(name(var), [ast.GtE()], [const(t.min - k)])
-        body = ast.BinOp(name(var), ast.Sub(), ast.Constant(-k))
-        over = ast.BinOp(name(var), ast.Add(), ast.Constant(m + k))
-    return ast.IfExp(test, body, over)
-
-
-def _fold_int(v: int, t: ct.CType) -> int:
-    return ct.wrap_int(v, t) if isinstance(t, ct.IntT) else v
-
-
-class ExprLowering:
-    """Mixin of the function lowerer: everything about expressions."""
-
-    # provided by the host class
-    sink: object
-    scope: object
-    prog: object
-
-    # ------------------------------------------------------------ diagnostics
-
-    def fail(self, pos, message: str) -> SemanticError:
-        self.sink.error(pos, message)
-        return SemanticError(message)
+    exact = staticmethod(exact)
 
     # ------------------------------------------------------------ conversions
-
-    def exact(self, v: Val) -> ast.expr:
-        """The value's Python expression reduced to the range of its type."""
-        if v.exact or not isinstance(v.type, ct.IntT):
-            return v.node
-        if v.step is not None:
-            return step_node(*v.step, v.type)
-        return wrap_node(v.node, v.type)
 
     def convert(self, v: Val, to: ct.CType, pos=None, what: str = "") -> ast.expr:
         """Lower an implicit or explicit conversion of `v` to type `to` (exact result)."""
@@ -220,33 +163,32 @@ class ExprLowering:
 
     def expr(self, e) -> Val:
         """Lower an expression used for its value (arrays decay to pointers)."""
-        fn = _X_METHODS.get(type(e))
-        v = fn(self, e) if fn is not None else self._expr(e)
+        fn = self._handlers.get(type(e))
+        v = fn(e) if fn is not None else self.value(e)
         if type(v.type) is ct.ArrayT:
             return Val(v.node, ct.pointer_to(v.type.elem))
         return v
 
-    def _expr(self, e) -> Val:
-        fn = _X_METHODS.get(type(e))
+    def value(self, e) -> Val:
+        """Lower an expression as it is: an array stays an array (an operand of `[]`,
+        `.`, `sizeof`)."""
+        fn = self._handlers.get(type(e))
         if fn is None:
-            fn = getattr(type(self), "_x_" + type(e).__name__, None)
-            if fn is None:
-                raise self.fail(e.pos, f"unsupported expression '{type(e).__name__}'")
-            _X_METHODS[type(e)] = fn
-        return fn(self, e)
+            raise self.fail(e.pos, f"unsupported expression '{type(e).__name__}'")
+        return fn(e)
 
     def cond(self, e) -> ast.expr:
         """Lower an expression used as a condition (any truthy Python value)."""
         if isinstance(e, n.Binary) and e.op in ("&&", "||"):
             left, right = self.cond(e.left), self.cond(e.right)
-            lt, rt = _truth(left), _truth(right)
+            lt, rt = const_truth(left), const_truth(right)
             if lt is not None and rt is not None:  # an integer constant expression
                 return ast.Constant((lt and rt) if e.op == "&&" else (lt or rt))
             op = ast.And() if e.op == "&&" else ast.Or()
             return ast.BoolOp(op, [left, right])
         if isinstance(e, n.Unary) and e.op == "!":
             operand = self.cond(e.operand)
-            ot = _truth(operand)
+            ot = const_truth(operand)
             if ot is not None:
                 return ast.Constant(not ot)
             return ast.UnaryOp(ast.Not(), operand)
@@ -255,34 +197,34 @@ class ExprLowering:
             raise self.fail(e.pos, f"'{v.type}' used where a condition is required")
         return self.exact(v)
 
-    def _x_IntLit(self, e: n.IntLit) -> Val:
+    def x_IntLit(self, e: n.IntLit) -> Val:
         v = e.value
         if 0 <= v <= 2147483647 and not e.suffix:  # an int: the first candidate of every base
             return Val(ast.Constant(v), ct.INT, True, v, (v, v))
-        t = _literal_type(v, e.suffix, e.decimal)
-        v = _fold_int(v, t)
+        t = literal_type(v, e.suffix, e.decimal)
+        v = fold_int(v, t)
         return Val(const(v), t, True, v, (v, v))
 
-    def _x_FloatLit(self, e: n.FloatLit) -> Val:
+    def x_FloatLit(self, e: n.FloatLit) -> Val:
         if e.is_float:
             f = to_f32(e.value)
             return Val(ast.Constant(f), ct.FLOAT, True, f)
         return Val(ast.Constant(e.value), ct.DOUBLE, True, e.value)
 
-    def _x_CharLit(self, e: n.CharLit) -> Val:
+    def x_CharLit(self, e: n.CharLit) -> Val:
         return Val(const(e.value), ct.INT, True, e.value, (e.value, e.value))
 
-    def _x_StrLit(self, e: n.StrLit) -> Val:
+    def x_StrLit(self, e: n.StrLit) -> Val:
         addr = self.prog.string_literal(e.value)
         return Val(ast.Constant(addr), ct.array_of(ct.CHAR, len(e.value) + 1))
 
-    def _x_Name(self, e: n.Name) -> Val:
-        sym = self.scope.lookup(e.id)
+    def x_Name(self, e: n.Name) -> Val:
+        sym = self.ctx.scope.lookup(e.id)
         if sym is not None and sym.__class__ is VarSym and sym.storage == "local":
             if sym.type is not ct.ERROR and sym.const_value is None:  # the common case
                 pyname = sym.pyname
                 return Val(name(pyname), sym.type, True, None, self.known_ranges.get(pyname))
-        sym = self.resolve(e.id, e.pos)
+        sym = self.access.resolve(e.id, e.pos)
         if isinstance(sym, FuncSym):
             return Val(name(sym.pyname), sym.type)
         if sym.const_value is not None:
@@ -290,11 +232,11 @@ class ExprLowering:
             return Val(const(v), sym.type, True, v)
         if sym.storage == "pylist":
             return Val(name(sym.pyname), sym.type, True, None, None, sym.pyname, ast.Constant(0))
-        lv = self.var_lvalue(sym)
+        lv = self.access.var_lvalue(sym)
         rng = self.known_ranges.get(sym.pyname) if sym.storage == "local" else None
         return Val(lv.load(), sym.type, True, None, rng)
 
-    def _x_SizeOf(self, e: n.SizeOf) -> Val:
+    def x_SizeOf(self, e: n.SizeOf) -> Val:
         if isinstance(e.target, n.TypeRef):
             t = self.resolve_type(e.target)
             for d in reversed(e.dims):
@@ -309,11 +251,11 @@ class ExprLowering:
         """The type of an expression without generating code (sizeof operand)."""
         saved = self.sink.items[:]
         try:
-            return self._expr(e).type
+            return self.value(e).type
         finally:
             self.sink.items[:] = saved
 
-    def _x_Cast(self, e: n.Cast) -> Val:
+    def x_Cast(self, e: n.Cast) -> Val:
         to = self.resolve_type(e.type)
         v = self.expr(e.expr)
         if isinstance(to, ct.VoidT):
@@ -328,19 +270,19 @@ class ExprLowering:
                 c = -node.operand.value
         return Val(node, to, True, c)
 
-    def _x_Comma(self, e: n.Comma) -> Val:
+    def x_Comma(self, e: n.Comma) -> Val:
         parts = [self.expr(x) for x in e.items]
         last = parts[-1]
         tup = ast.Tuple(elts=[p.node for p in parts[:-1]] + [self.exact(last)], ctx=ast.Load())
         return Val(ast.Subscript(value=tup, slice=const(-1), ctx=ast.Load()), last.type)
 
-    def _x_Cond(self, e: n.Cond) -> Val:
+    def x_Cond(self, e: n.Cond) -> Val:
         c = self.cond(e.cond)
         a, b = self.expr(e.then), self.expr(e.else_)
         if a.type.is_arith and b.type.is_arith:
             t = ct.common_arith(a.type, b.type)
             an, bn = self.convert(a, t, e.pos), self.convert(b, t, e.pos)
-            ctruth = _truth(c)
+            ctruth = const_truth(c)
             chosen = a if ctruth else b
             if ctruth is not None and t.is_integer and isinstance(chosen.const, int):
                 k = ct.wrap_int(chosen.const, t)  # an integer constant expression
@@ -356,18 +298,18 @@ class ExprLowering:
 
     # ------------------------------------------------------------ operators
 
-    def _x_Unary(self, e: n.Unary) -> Val:
+    def x_Unary(self, e: n.Unary) -> Val:
         op = e.op
         if op in ("++", "--"):
-            return self.incdec(e.operand, op, prefix=True, pos=e.pos)
+            return self.access.incdec(e.operand, op, prefix=True, pos=e.pos)
         if op == "&":
-            return self.address_of(e.operand, e.pos)
+            return self.access.address_of(e.operand, e.pos)
         if op == "*":
-            lv = self.lvalue(e)
+            lv = self.access.lvalue(e)
             return Val(lv.load(), lv.type)
         if op == "!":
             test = self.cond(e)
-            if (truth := _truth(test)) is not None:
+            if (truth := const_truth(test)) is not None:
                 k = int(truth)
                 return Val(const(k), ct.INT, True, k, (k, k))
             return Val(test, ct.INT)
@@ -387,19 +329,19 @@ class ExprLowering:
             return Val(node, t, True, v.const)
         if v.const is not None:
             if t.is_integer:
-                c = _fold_int(-v.const, t)
+                c = fold_int(-v.const, t)
                 return Val(const(c), t, True, c, (c, c))
             return Val(const(-v.const), t, True, -v.const)
         return Val(ast.UnaryOp(op=ast.USub(), operand=node), t, not t.is_integer)
 
-    def _x_Postfix(self, e: n.Postfix) -> Val:
-        return self.incdec(e.operand, e.op, prefix=False, pos=e.pos)
+    def x_Postfix(self, e: n.Postfix) -> Val:
+        return self.access.incdec(e.operand, e.op, prefix=False, pos=e.pos)
 
-    def _x_Binary(self, e: n.Binary) -> Val:
+    def x_Binary(self, e: n.Binary) -> Val:
         op = e.op
         if op in ("&&", "||"):
             test = self.cond(e)
-            if (truth := _truth(test)) is not None:
+            if (truth := const_truth(test)) is not None:
                 k = int(truth)
                 return Val(const(k), ct.INT, True, k, (k, k))
             return Val(ast.IfExp(test=test, body=ast.Constant(1), orelse=ast.Constant(0)), ct.INT)
@@ -597,30 +539,17 @@ class ExprLowering:
         pyop = ast.Add() if op == "+" else ast.Sub()
         return Val(ast.BinOp(left=p.node, op=pyop, right=off), p.type)
 
+    # ------------------------------------------------------------ constants and types
 
-# C's candidate types of an integer constant, by suffix (long is 4 bytes in HMPL, so it
-# is int / uint32_t here); hexadecimal and octal constants may also take the unsigned ones
-_LITERAL_TYPES = {
-    ("", True): (ct.INT, ct.I64),
-    ("", False): (ct.INT, ct.U32, ct.I64, ct.U64),
-    ("l", True): (ct.INT, ct.I64),
-    ("l", False): (ct.INT, ct.U32, ct.I64, ct.U64),
-    ("ll", True): (ct.I64,),
-    ("ll", False): (ct.I64, ct.U64),
-    ("u", True): (ct.U32, ct.U64),
-    ("ul", True): (ct.U32, ct.U64),
-    ("ull", True): (ct.U64,),
-}
+    def const_int(self, e) -> int:
+        """The value of an integer constant expression; an error if `e` is none."""
+        v = self.expr(e)
+        if not isinstance(v.const, int):
+            raise self.fail(e.pos, "expression is not an integer constant")
+        return v.const
 
-
-def _literal_type(v: int, suffix: str, decimal: bool) -> ct.IntT:
-    """The type of integer constant `v`: the first candidate of its suffix that holds it
-    (C99 6.4.4.1); a decimal beyond long long is unsigned long long, as gcc makes it."""
-    cands = _LITERAL_TYPES.get((suffix, decimal)) or _LITERAL_TYPES[(suffix, True)]
-    for t in cands:
-        if v <= t.max:
-            return t
-    return ct.U64
+    def resolve_type(self, tr: n.TypeRef) -> ct.CType:
+        return self.prog.resolve_typeref(tr, self.ctx.scope, self.ctx.task)
 
 
 _CMP_FOLD = {
@@ -633,10 +562,28 @@ _CMP_FOLD = {
 }
 
 
-def _truth(node: ast.expr) -> bool | None:
-    """The truth of a lowered condition that is a constant (`1`, `-1`, `True`), else None."""
-    if type(node) is ast.UnaryOp and type(node.op) is ast.USub:
-        node = node.operand
-    if type(node) is ast.Constant and isinstance(node.value, (int, float)):
-        return bool(node.value)
-    return None
+class Places(Protocol):
+    """What the expression lowerer asks of the places part (`lower_access.AccessLowerer`)."""
+
+    def resolve(self, ident: str, pos) -> VarSym | FuncSym:
+        """The symbol `ident` names here; an error if none."""
+
+    def var_lvalue(self, sym: VarSym) -> LValue:
+        """The place of a variable."""
+
+    def lvalue(self, e) -> LValue:
+        """The place an expression designates; an error if it designates none."""
+
+    def address_of(self, operand, pos) -> Val:
+        """`&operand`."""
+
+    def incdec(self, operand, op: str, prefix: bool, pos, as_stmt: bool = False):
+        """`++`/`--` of `operand`."""
+
+
+_OWN_HANDLERS = [(getattr(n, m[2:]), m) for m in vars(ExprLowerer) if m.startswith("x_")]
+"""(node class, method) of the expressions the expression lowerer lowers itself."""
+_PLACE_HANDLERS = [
+    (getattr(n, m), "x_" + m) for m in ("Index", "Member", "Call", "Assign", "CompoundLit")
+]
+"""(node class, method of the places part) of the expressions that designate places."""

@@ -1,4 +1,7 @@
-"""Deep loop nests split into nested Python functions.
+"""The nesting of loops and switches, and deep loop nests split into nested Python functions.
+
+`Nesting` keeps the stack of enclosing loops and switches (`lower_util.LoopCtx`) that
+`break`, `continue` and `return` consult, and counts the Python blocks they take.
 
 Python compiles at most 20 statically nested blocks (loops, try) into one function, far
 fewer than the loops HMPL lets a function nest. A loop or switch that would pass the
@@ -26,7 +29,13 @@ from __future__ import annotations
 import ast
 
 from motionvm.lang.hmpl import ctypes_ as ct
-from motionvm.lang.hmpl.lower_util import child_fields
+from motionvm.lang.hmpl.lower_context import FunctionContext
+from motionvm.lang.hmpl.lower_util import (
+    LOOP_BLOCKS,
+    MAX_LOOP_NESTING,
+    LoopCtx,
+    child_fields,
+)
 from motionvm.lang.hmpl.lvalues import name
 
 _NO_ARGS = ast.arguments(
@@ -34,12 +43,51 @@ _NO_ARGS = ast.arguments(
 )
 
 
-class SplitLowering:
-    """Mixin of the function lowerer: loops lowered as nested functions."""
+class Nesting:
+    """The loops and switches enclosing the statement being lowered, the Python blocks
+    they take, and the nested functions that those past the limit become."""
+
+    def __init__(self, ctx: FunctionContext) -> None:
+        self.ctx = ctx
+        self.loops: list[LoopCtx] = []
+        """The enclosing loops and switches, innermost last."""
+        self.py_blocks = 0
+        """Python blocks of the enclosing loops and switches (in the generated function)."""
+        self.outer_blocks: list[int] = []
+        """`py_blocks` outside each enclosing loop."""
+        self.has_splits = False
+        """A loop became a nested function: `bind_splits` must declare its names."""
+
+    def nest(self, pos, blocks: int = 1) -> bool:
+        """Enter a loop or switch taking `blocks` Python blocks; past the limit of nested
+        loops and switches, a compile error at `pos`. True if it must be lowered as a
+        nested function (the generated one has no blocks left for it): `split_off`.
+        Pair with `unnest`."""
+        if len(self.loops) >= MAX_LOOP_NESTING:
+            raise self.ctx.fail(
+                pos,
+                f"loops and switches nested more than {MAX_LOOP_NESTING} deep in one function"
+                " (the limit of HMPL); move the inner ones into a function",
+            )
+        split = self.py_blocks + blocks > LOOP_BLOCKS
+        self.outer_blocks.append(self.py_blocks)
+        self.py_blocks = blocks if split else self.py_blocks + blocks
+        return split
+
+    def unnest(self) -> None:
+        self.py_blocks = self.outer_blocks.pop()
+
+    def room(self, blocks: int) -> bool:
+        """True if `blocks` more Python blocks fit inside the enclosing ones."""
+        return self.py_blocks + blocks <= LOOP_BLOCKS
+
+    def placed(self, ctx: LoopCtx, loop: ast.stmt) -> list[ast.stmt]:
+        """The loop where it stands, or the call of the nested function it became."""
+        return self.split_off(ctx, loop) if ctx.split else [loop]
 
     def split_off(self, ctx, loop: ast.stmt) -> list[ast.stmt]:
         """The call of a new nested function holding `loop` (ctx: the loop's LoopCtx)."""
-        fname = self.temp()
+        fname = self.ctx.temp()
         fn = ast.FunctionDef(
             name=fname,
             args=_NO_ARGS,
@@ -54,10 +102,10 @@ class SplitLowering:
             fcall = ast.YieldFrom(value=fcall)
         if not ctx.returns:
             return [fn, ast.Expr(value=fcall)]
-        code = self.temp()
+        code = self.ctx.temp()
         if any(c.split for c in self.loops):
             out: ast.expr | None = name(code)  # still inside a split: hand the code out
-        elif self.func is not None and isinstance(self.func.type.ret, ct.VoidT):
+        elif self.ctx.func is not None and isinstance(self.ctx.func.type.ret, ct.VoidT):
             out = None
         else:
             out = ast.Subscript(value=name(code), slice=ast.Constant(0), ctx=ast.Load())

@@ -1,10 +1,22 @@
 """Small pieces shared by the statement lowering modules: source positions on generated
-nodes, the loop context stack entries, and the budgeted back-edge every loop ends with."""
+nodes, the loop context stack entries, the loop bodies' interface, and the budgeted
+back-edge every loop ends with:
+
+    backedge("_t1")
+is
+    _t1 -= 1
+    if not _t1:
+        _t1 = 65
+        _budget -= 64
+        if _budget < 0:
+            yield
+"""
 
 from __future__ import annotations
 
 import ast
 from dataclasses import dataclass, field
+from typing import Protocol
 
 from motionvm.lang.hmpl.lvalues import name
 
@@ -22,11 +34,20 @@ class LoopCtx:
 
 @dataclass
 class PollCtx:
-    """The polling loop whose body is being lowered (lower_loops.py `_fixed_point`)."""
+    """The polling loop whose body is being lowered (`lower_poll.fixed_point`)."""
 
     mark: str  # the effect marker: set to 1 by each statement that may act
     on_events: bool = True  # its quiet iterations read only what a computed cycle changes
     inner: set[str] = field(default_factory=set)  # the Python locals its body declares
+
+
+class LoopBodies(Protocol):
+    """What the counting loops and pointer walks ask of the loop lowering
+    (`lower_loops.LoopLowerer`)."""
+
+    def loop_body(self, body, cont: list[ast.stmt], blocks: int = 1,
+                  polling: PollCtx | None = None) -> tuple[list[ast.stmt], LoopCtx]:  # fmt: skip
+        """The lowered body of a loop and its context; `cont`: what a `continue` runs."""
 
 
 # Python allows 20 statically nested blocks (loops, try) in one function. A function

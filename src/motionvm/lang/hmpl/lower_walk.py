@@ -42,14 +42,19 @@ import ast
 from motionvm.lang.hmpl import ctypes_ as ct
 from motionvm.lang.hmpl import nodes as n
 from motionvm.lang.hmpl.analysis import walk
-from motionvm.lang.hmpl.lower_expr import wrap_node
+from motionvm.lang.hmpl.lower_access import AccessLowerer
+from motionvm.lang.hmpl.lower_context import FunctionContext
+from motionvm.lang.hmpl.lower_expr import ExprLowerer
+from motionvm.lang.hmpl.lower_facts import assigned_in_nodes, invariant
+from motionvm.lang.hmpl.lower_split import Nesting
 from motionvm.lang.hmpl.lower_util import (
     CHUNK,
-    LOOP_BLOCKS,
+    LoopBodies,
     generated_fields,
     generated_fields_of,
     placed_like,
 )
+from motionvm.lang.hmpl.lower_values import wrap_node
 from motionvm.lang.hmpl.lvalues import VIEW_NAMES, call, name
 from motionvm.lang.hmpl.symbols import VarSym
 
@@ -57,15 +62,24 @@ _STRAIGHT = (n.Block, n.ExprStmt, n.If, n.Empty, n.DeclStmt)
 """Statements a walk's body may hold (any other: loop, switch, jump, label, return)."""
 
 
-class PointerWalkLowering:
-    """Mixin of the function lowerer: pointer walks (see the module docstring)."""
+class PointerWalkLowerer:
+    """Lowers the pointer walks of one function (see the module docstring)."""
 
-    # while a walk's unchecked body is lowered: pointer pyname -> bytes its `*p` may
-    # access unchecked, and the ints whose sums wrap once per chunk
-    trusted_ptrs: dict[str, int] = {}  # noqa: RUF012 - replaced, never mutated
-    lazy_sums: frozenset[str] = frozenset()
+    def __init__(
+        self,
+        ctx: FunctionContext,
+        x: ExprLowerer,
+        access: AccessLowerer,
+        nesting: Nesting,
+        loops: LoopBodies,
+    ) -> None:
+        self.ctx = ctx
+        self.x = x
+        self.access = access
+        self.nesting = nesting
+        self.loops = loops
 
-    def _pointer_walk(self, cond, step, body, rest_items, pos) -> list[ast.stmt] | None:
+    def pointer_walk(self, cond, step, body, rest_items, pos) -> list[ast.stmt] | None:
         """The chunked, checked-per-chunk form of `while (p < end) { BODY p++; }`, or
         None if the loop is not such a walk. `rest_items`: the body's statements
         without the step (for a `while`), or None to take `body` whole (a `for`)."""
@@ -73,11 +87,11 @@ class PointerWalkLowering:
             type(cond) is not n.Binary
             or cond.op not in ("<", "<=")
             or type(cond.left) is not n.Name
-            or self.py_blocks + 2 > LOOP_BLOCKS
+            or not self.nesting.room(2)
         ):
             return None
         pvar = cond.left.id
-        sym = self.scope.lookup(pvar)
+        sym = self.ctx.scope.lookup(pvar)
         if not isinstance(sym, VarSym) or sym.storage != "local":
             return None
         pt = sym.type
@@ -91,10 +105,10 @@ class PointerWalkLowering:
         nodes = walk(tuple(stmts))
         if not _straight(nodes):
             return None
-        assigned = self._assigned_in_nodes(nodes)
-        if pvar in assigned or not self._invariant(cond.right, assigned):
+        assigned = assigned_in_nodes(nodes)
+        if pvar in assigned or not invariant(self.ctx, cond.right, assigned):
             return None
-        test = self.cond(cond)
+        test = self.x.cond(cond)
         if not (
             type(test) is ast.Compare
             and type(test.left) is ast.Name
@@ -108,31 +122,21 @@ class PointerWalkLowering:
         stride = k * size
         sums = self._lazy_sums(nodes, {n_.id for n_ in walk(cond) if type(n_) is n.Name})
         block = n.Block(pos, tuple(stmts))
-        before = len(self.sink.items)
-        checked, _ = self._loop_body(block, [ast.Continue()], 2)
+        before = len(self.ctx.sink.items)
+        checked, _ = self.loops.loop_body(block, [ast.Continue()], 2)
         fast = None
-        if not any(d.severity == "error" for d in self.sink.items[before:]):
-            saved_items = self.sink.items[:]
-            saved_trust, saved_lazy = self.trusted_ptrs, self.lazy_sums
-            self.trusted_ptrs = {**saved_trust, sym.pyname: size}
-            self.lazy_sums = frozenset(s.pyname for s in sums)
+        if not any(d.severity == "error" for d in self.ctx.sink.items[before:]):
+            saved_items = self.ctx.sink.items[:]
+            access = self.access
+            saved_trust, saved_lazy = access.trusted_ptrs, access.lazy_sums
+            access.trusted_ptrs = {**saved_trust, sym.pyname: size}
+            access.lazy_sums = frozenset(s.pyname for s in sums)
             try:
-                fast, _ = self._loop_body(block, [ast.Continue()], 2)
+                fast, _ = self.loops.loop_body(block, [ast.Continue()], 2)
             finally:
-                self.trusted_ptrs, self.lazy_sums = saved_trust, saved_lazy
-                self.sink.items[:] = saved_items
-        return _chunked_walk(self, sym.pyname, stop, stride, size, checked, fast, sums)
-
-    def _assigned_in_nodes(self, nodes: list) -> set[str]:
-        out: set[str] = set()
-        for x in nodes:
-            t = type(x)
-            if t is n.Assign and type(x.target) is n.Name:
-                out.add(x.target.id)
-            elif (t is n.Postfix or t is n.Unary) and x.op in ("++", "--", "&"):
-                if type(x.operand) is n.Name:
-                    out.add(x.operand.id)
-        return out
+                access.trusted_ptrs, access.lazy_sums = saved_trust, saved_lazy
+                self.ctx.sink.items[:] = saved_items
+        return _chunked_walk(self.ctx, sym.pyname, stop, stride, size, checked, fast, sums)
 
     def _lazy_sums(self, nodes: list, in_cond: set[str]) -> list[VarSym]:
         """Local ints the body only adds to or subtracts from, as whole statements."""
@@ -158,7 +162,7 @@ class PointerWalkLowering:
         for v, count in summed.items():
             if uses.get(v) != count or v in declared or v in in_cond:
                 continue
-            sym = self.scope.lookup(v)
+            sym = self.ctx.scope.lookup(v)
             if isinstance(sym, VarSym) and sym.storage == "local" and sym.type == ct.INT:
                 out.append(sym)
         return out

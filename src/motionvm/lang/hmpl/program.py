@@ -24,8 +24,9 @@ from motionvm.lang.hmpl.cmemory import Memory
 from motionvm.lang.hmpl.initializers import Braces, ExcessError, array_length
 from motionvm.lang.hmpl.initializers import members as struct_members
 from motionvm.lang.hmpl.lint import lint_function
-from motionvm.lang.hmpl.lower_expr import SemanticError
-from motionvm.lang.hmpl.lower_stmt import FunctionLowerer
+from motionvm.lang.hmpl.lower_context import SemanticError
+from motionvm.lang.hmpl.lower_expr import ExprLowerer
+from motionvm.lang.hmpl.lower_function import FunctionLowerer
 from motionvm.lang.hmpl.lower_util import at as _at
 from motionvm.lang.hmpl.lvalues import VIEW_NAMES, call, name, view_code
 from motionvm.lang.hmpl.symbols import FuncSym, Scope, VarSym, error_symbol
@@ -252,18 +253,18 @@ class ProgramCompiler:
         init = getattr(d, "init", None)
         if init is None:
             return None
-        lw = FunctionLowerer(self, task, scope, None, set())
+        x = FunctionLowerer(self, task, scope, None, set()).x
         try:
-            count = array_length(self.braces(lw, d.name), ct.array_of(elem, None), init)
+            count = array_length(self.braces(x, d.name), ct.array_of(elem, None), init)
         except ExcessError as e:
             raise self._fail(e.pos, str(e)) from None
         return None if count is None else max(1, count)
 
-    def braces(self, lw: FunctionLowerer, vname: str) -> Braces:
+    def braces(self, lw: ExprLowerer, vname: str) -> Braces:
         """The brace-elision rewriter of variable `vname`'s initializer (initializers.py)."""
         return Braces(lw.const_int, lambda e: self._has_struct_type(lw, e), vname)
 
-    def _has_struct_type(self, lw: FunctionLowerer, e) -> bool:
+    def _has_struct_type(self, lw: ExprLowerer, e) -> bool:
         """Whether expression `e` has a struct type: it is lowered once to learn its type,
         and what that reports is taken back (the initialization lowers it again)."""
         if isinstance(e, (n.IntLit, n.FloatLit, n.CharLit, n.StrLit)):
@@ -282,8 +283,7 @@ class ProgramCompiler:
     def _const_int(self, e, scope: Scope, task: int) -> int:
         if type(e) is n.IntLit and not e.suffix and 0 <= e.value <= ct.INT.max:
             return e.value  # `char buf[32]`: what the lowerer would find, without one
-        lw = FunctionLowerer(self, task, scope, None, set())
-        return lw.const_int(e)
+        return FunctionLowerer(self, task, scope, None, set()).x.const_int(e)
 
     def _fail(self, pos, msg: str) -> SemanticError:
         self.sink.error(pos, msg)
@@ -291,7 +291,7 @@ class ProgramCompiler:
 
     # ------------------------------------------------------------ initializers
 
-    def aggregate_init(self, lw: FunctionLowerer, t: ct.CType, init, addr: ast.expr, vname: str):
+    def aggregate_init(self, lw: ExprLowerer, t: ct.CType, init, addr: ast.expr, vname: str):
         """(constant byte image of the object, statements for non-constant parts)."""
         image = bytearray(t.size)
         stores: list[ast.stmt] = []
