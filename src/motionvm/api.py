@@ -22,7 +22,7 @@ from pathlib import Path
 from types import TracebackType
 from typing import Any
 
-from motionvm.comm.config import CommConfig
+from motionvm.comm.config import COMM_KEYS, CommConfig, load_comm
 from motionvm.runtime.fault_position import Fault
 from motionvm.session import CompileFailed, RunResult, RunSpec, Session, SessionError, Source
 from motionvm.sim.machine import MachineConfig
@@ -252,16 +252,26 @@ class Simulation:
         user_ascii_port: int = 0,
         modbus_port: int = 0,
         until: float | None = None,
+        **access: Any,
     ) -> Serving:
         """Start the controller's TCP servers (Native ASCII, User ASCII, Modbus TCP; port
         0: a free port) and run the simulation paced to the wall clock in a background
         thread, as `motionvm serve` does, until `until` seconds or `Serving.stop()`.
+        `access`: other keys of the machine file's `[comm]` (`token`, `idle_timeout`,
+        `native_ascii_read_only`, `modbus_read_only`), each overriding the machine
+        file's; a bad value is a ValueError, another name a TypeError.
         Returns at once with the bound ports (`Serving.ports`); `SessionError` if a server
         cannot listen, or if it is already being served. `run`, `step` and `write` are
         refused (SessionError) while it serves; `close()` stops it first."""
         if self._serving is not None and self._serving.running:
             raise SessionError("this simulation is already being served")
-        comm = CommConfig(bind, native_ascii_port, user_ascii_port, modbus_port)
+        unknown = sorted(set(access) - COMM_KEYS)
+        if unknown:
+            raise TypeError(f"serve() got an unexpected keyword argument '{unknown[0]}'")
+        table = dict(vars(self.session.machine.comm))
+        table.update(access, bind=bind, native_ascii_port=native_ascii_port,
+                     user_ascii_port=user_ascii_port, modbus_port=modbus_port)  # fmt: skip
+        comm = load_comm(table, _RaiseValueError())
         self._serving = Serving(self, comm, until)
         return self._serving
 
@@ -392,6 +402,13 @@ class Simulation:
         recorder = ScopeRecorder(found, self.controller.cycle_time, every)
         recorder.attach(self.controller)
         return Recording(recorder, self.controller)
+
+
+class _RaiseValueError:
+    """`load_comm`'s problems of `Simulation.serve`'s arguments: the first is a ValueError."""
+
+    def at(self, section: str, key: str, message: str) -> None:
+        raise ValueError(message)
 
 
 class Serving:

@@ -418,7 +418,8 @@ class Session:
         `comm`: address and ports, default the machine file's `[comm]`), until `until`
         seconds, or until `controller.stop_requested` is set (STOPPED) or Ctrl-C (the
         KeyboardInterrupt goes on after the servers closed). The servers keep answering
-        after every task has ended. `ready(ports)` is called once they listen."""
+        after every task has ended. `ready(ports)` is called once they listen; then a
+        warning is reported if they listen beyond loopback."""
         from motionvm.comm.servers import CommError, CommServers
 
         self._check_open()  # before any server listens
@@ -430,6 +431,9 @@ class Session:
         try:
             if ready is not None:
                 ready(ports)
+            warning = servers.config.exposure_warning()
+            if warning is not None:
+                self._report(warning)
             return self.run(until, realtime=True)
         finally:
             servers.stop()

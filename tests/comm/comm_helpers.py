@@ -46,13 +46,25 @@ class LineClient:
     def close(self) -> None:
         self.sock.close()
 
+    def rest(self) -> bytes:
+        """Everything the server sends until it closes the connection (bounded by WAIT
+        per read and by 64 KiB)."""
+        data = self.buf
+        while len(data) < 65536:
+            chunk = self.sock.recv(4096)
+            if not chunk:
+                return data
+            data += chunk
+        raise AssertionError(f"still open after {len(data)} bytes")
+
 
 @contextlib.contextmanager
-def served(text: str, **kw) -> Iterator[tuple[Simulation, object]]:
-    """A one-task HMPL program served on free loopback ports: (simulation, Serving)."""
+def served(text: str, access: dict | None = None, **kw) -> Iterator[tuple[Simulation, object]]:
+    """A one-task HMPL program served on free loopback ports: (simulation, Serving);
+    `access`: `[comm]` keys for `Simulation.serve` (token, idle_timeout, ...)."""
     sim = Simulation.from_source(text, **kw)
     try:
-        with sim.serve() as srv:
+        with sim.serve(**(access or {})) as srv:
             yield sim, srv
     finally:
         sim.close()

@@ -225,3 +225,18 @@ def test_the_client_after_the_eighth_is_closed(server):
     extra.close()
     for c in clients:
         c.close()
+
+
+@pytest.mark.parametrize("refused", [0x2B, 0x41])
+def test_an_exception_reply_keeps_its_place_behind_an_earlier_request(server, refused):
+    """A read, then a request refused before the map (FC 0x2B, an unknown code), in ONE
+    packet: the replies come back in request order, every time."""
+    s = _raw(server[1].ports["modbus"])
+    for i in range(20):
+        read = struct.pack(">HHHBBHH", 2 * i, 0, 6, 1, 3, 6, 2)
+        other = struct.pack(">HHHBBBBB", 2 * i + 1, 0, 5, 1, refused, 0x0E, 1, 0)
+        s.sendall(read + other)
+        first, second = _reply(s), _reply(s)
+        assert first == struct.pack(">HHHBBB", 2 * i, 0, 7, 1, 3, 4) + b"\xff\xff\xff\xfe"
+        assert second == struct.pack(">HHHBBB", 2 * i + 1, 0, 3, 1, refused | 0x80, 0x01)
+    s.close()

@@ -124,5 +124,6 @@ def test_a_bad_comm_table_names_the_key(tmp_path):
         "m.toml:2:1: error: bind = 'localhost:80': must be an IP address such as \"127.0.0.1\"",
         "m.toml:3:1: error: modbus_port = 70000: must be a port from 0 to 65535",
         "m.toml:4:1: error: unknown key 'foo' in [comm] (known: bind, client_timeout_ms, "
-        "modbus_port, native_ascii_port, user_ascii_port)",
+        "idle_timeout, modbus_port, modbus_read_only, native_ascii_port, "
+        "native_ascii_read_only, token, user_ascii_port)",
     ]

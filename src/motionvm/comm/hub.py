@@ -50,6 +50,11 @@ class NativeTable(Protocol):
         """Store `value` in variable `name`; the reply line (`OK`)."""
         ...
 
+    def native_is_query(self, name: str, args: list) -> bool:
+        """Whether calling built-in `name` with `args` only reads the machine (a
+        read-only server serves nothing else)."""
+        ...
+
 
 class VariableTable(Protocol):
     """Named numeric variables of the controller (the Modbus register map's)."""

@@ -13,12 +13,22 @@ loses nothing: the complete lines it sent before are still carried out (their re
 are dropped). A broadcast (`send_all`) goes to every client whose unread backlog is at
 most `MAX_BACKLOG` bytes: a client that never reads misses broadcasts instead of
 growing the server's memory without bound.
+
+Access (comm/gate.py): a line that looks like HTTP closes the connection, and with a
+token the first request line must be it. A client that sends no complete request for
+`idle_timeout` seconds while the server waits for it (a slow trickle of bytes included)
+gets `ERR idle for N s` and is closed, so clients that stay connected without asking
+cannot hold the `MAX_CLIENTS` places for longer. Time spent answering a request does
+not count; only a request line served (a token included) restarts the count, not an
+empty line nor one too long.
 """
 
 from __future__ import annotations
 
 import asyncio
 from collections.abc import Awaitable, Callable
+
+from motionvm.comm import gate
 
 MAX_CLIENTS = 8
 """Connections per server."""
@@ -35,10 +45,19 @@ Handler = Callable[[str], Awaitable[str | None]]
 class LineServer:
     """Accepts connections and feeds their lines to `handler`, one at a time each."""
 
-    def __init__(self, name: str, handler: Handler) -> None:
+    def __init__(
+        self, name: str, handler: Handler, *, token: str | None = None, idle_timeout: float = 0.0
+    ) -> None:
         self.name = name
         self.handler = handler
+        self.token = token
+        """The first line each connection must send (None: none asked)."""
+        self.idle_timeout = idle_timeout
+        """[s wall] without a complete request before a client is closed; 0: never."""
         self.writers: set[asyncio.StreamWriter] = set()
+        """Every open connection."""
+        self.members: set[asyncio.StreamWriter] = set()
+        """The connections past the token (they receive broadcasts)."""
         self.server: asyncio.base_events.Server | None = None
 
     async def start(self, host: str, port: int) -> int:
@@ -57,7 +76,7 @@ class LineServer:
     def send_all(self, data: bytes) -> None:
         """Send `data` to every connected client (event loop thread); a client with more
         than `MAX_BACKLOG` bytes it has not read yet misses it."""
-        for w in list(self.writers):
+        for w in list(self.members):
             if not w.is_closing() and w.transport.get_write_buffer_size() <= MAX_BACKLOG:
                 w.write(data)
 
@@ -71,6 +90,8 @@ class LineServer:
             writer.close()
             return
         self.writers.add(writer)
+        if self.token is None:
+            self.members.add(writer)
         try:
             await self._lines(reader, writer)
         except (ConnectionError, asyncio.IncompleteReadError):
@@ -83,14 +104,27 @@ class LineServer:
             await _reply(writer, f"ERR internal error of motionvm (a bug): {exc}", True)
         finally:
             self.writers.discard(writer)
+            self.members.discard(writer)
             writer.close()
 
     async def _lines(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
         buf = bytearray()
         discarding = False  # inside a line that was too long, until its terminator
         alive = True  # the client can still receive replies
+        idle = self.idle_timeout
+        loop = asyncio.get_running_loop()
+        deadline = loop.time() + idle
         while True:
-            chunk = await reader.read(_CHUNK)
+            if idle:
+                try:
+                    chunk = await asyncio.wait_for(
+                        reader.read(_CHUNK), max(0.0, deadline - loop.time())
+                    )
+                except TimeoutError:
+                    await _reply(writer, f"ERR idle for {idle:g} s: connection closed", alive)
+                    return
+            else:
+                chunk = await reader.read(_CHUNK)
             eof = not chunk
             buf += chunk
             while True:
@@ -107,9 +141,21 @@ class LineServer:
                     continue
                 if not line:
                     continue
-                reply = await self.handler(line.decode("latin-1"))
+                text = line.decode("latin-1")
+                if gate.looks_like_http(text):
+                    await _reply(writer, gate.HTTP_REFUSED, alive)
+                    return  # nothing after it runs
+                if writer not in self.members:
+                    if not gate.token_matches(text, self.token or ""):
+                        await _reply(writer, gate.WRONG_TOKEN, alive)
+                        return
+                    self.members.add(writer)
+                    reply: str | None = "OK"
+                else:
+                    reply = await self.handler(text)
                 if reply is not None:
                     alive = await _reply(writer, reply, alive)
+                deadline = loop.time() + idle
             if len(buf) > MAX_LINE:
                 if not discarding:
                     alive = await _reply(writer, "ERR line too long", alive)

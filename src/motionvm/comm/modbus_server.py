@@ -10,7 +10,14 @@ each is answered, in order. Counts, byte counts and coil values the Modbus speci
 refuses get exception 03, and function codes other than those above exception 01
 (pymodbus would answer diagnostics, FIFO and file records from made-up data) (`check_pdu`). At most `MAX_CLIENTS` connections: the next one is accepted and closed at once.
 A frame whose header is not Modbus TCP's (protocol id 0, length 2..254), or more than
-260 bytes that hold no complete frame, close the connection; pymodbus's log messages are not printed (a NullHandler on its logger).
+260 bytes that hold no complete frame, close the connection; pymodbus's log messages are
+not printed (a NullHandler on its logger).
+
+Every reply, an exception included, leaves in the order of the requests. A read-only
+server answers the writing function codes (5, 6, 15, 16, 22, 23) with exception 01
+(illegal function) without reaching the map. A client that sends no complete frame for
+`idle_timeout` seconds while the server waits for it is closed (time spent answering
+does not count).
 """
 
 from __future__ import annotations
@@ -39,17 +46,20 @@ _COILS_MAX, _REGS_MAX, _RW_READ_MAX, _RW_WRITE_MAX = 1968, 123, 125, 121
 
 
 SERVED = frozenset({1, 2, 3, 4, 5, 6, 15, 16, 22, 23})
+WRITES = frozenset({5, 6, 15, 16, 22, 23})
+"""The function codes that change the machine: a read-only server refuses them."""
 """The function codes the register map serves; pymodbus would answer others (8
 diagnostics, 17 server id, 20/21 file records, 24 FIFO, 43 device id) from its own
 made-up data."""
 
 
-def check_pdu(pdu: bytes) -> int | None:
+def check_pdu(pdu: bytes, read_only: bool = False) -> int | None:
     """The exception code of a request refused before the map sees it: 01 (illegal
-    function) for a function code not served, 03 (illegal data value) for counts, a byte
-    count or a value the Modbus specification refuses; None for a request to decode."""
+    function) for a function code not served, or a write when `read_only`; 03 (illegal
+    data value) for counts, a byte count or a value the Modbus specification refuses;
+    None for a request to decode."""
     fc, n = (pdu[0], len(pdu)) if pdu else (0, 0)
-    if fc not in SERVED:
+    if fc not in SERVED or (read_only and fc in WRITES):
         return 0x01
     field = lambda i: int.from_bytes(pdu[i : i + 2], "big")  # noqa: E731
     if fc in _READ_MAX:
@@ -123,19 +133,48 @@ class _Handler(ServerRequestHandler):
     pymodbus decodes one frame per received chunk (a second frame in the same chunk waits
     for more data) and answers from `self.last_pdu` a moment later (a request arriving
     in between replaces it): a client that sends its next request before the last reply
-    lost requests. Here each complete frame is decoded on arrival and queued with its
-    own PDU; the queue is answered in order (at most `MAX_PENDING` requests, then the
-    connection stops reading until the queue drains). A request whose counts or values
+    lost requests. Here each complete frame is decoded on arrival and queued, with its
+    own PDU or with its ready exception reply; the queue is answered in order (at most
+    `MAX_PENDING` requests, then the connection stops reading until the queue drains), so
+    a refused request never overtakes an earlier one. A request whose counts or values
     the Modbus specification refuses gets exception 03 without reaching the map, and an
     unknown function code exception 01 with that code (pymodbus says function 0)."""
 
-    _frame = b""
     _pending: collections.deque | None = None
     _worker: asyncio.Task | None = None
     _paused = False
     _writable: asyncio.Event | None = None
     """Clear while the transport's send buffer is full (a client not reading its replies):
     no request is answered until it drains, so the queue fills and reading stops."""
+    _refused: ExceptionResponse | None = None
+    """pymodbus's exception reply to the frame being decoded (queued, not sent at once)."""
+    _decoding = False
+    _idle: asyncio.TimerHandle | None = None
+    _last_request = 0.0
+    """Event loop time [s wall] of the last complete frame or reply."""
+
+    def callback_connected(self) -> None:
+        super().callback_connected()
+        self._touch()
+        if self.server.idle_timeout:
+            self._idle = self.loop.call_later(self.server.idle_timeout, self._check_idle)
+
+    def _touch(self) -> None:
+        self._last_request = asyncio.get_running_loop().time()
+
+    def _check_idle(self) -> None:
+        """Close the connection if it has sent no complete frame for `idle_timeout`
+        seconds and has none waiting for its reply; else look again when it could be."""
+        timeout = self.server.idle_timeout
+        busy = bool(self._pending) or (self._worker is not None and not self._worker.done())
+        if busy:
+            self._touch()
+        left = self._last_request + timeout - self.loop.time()
+        if left > 0:
+            self._idle = self.loop.call_later(left, self._check_idle)
+        elif self.transport is not None:
+            self._idle = None
+            self.transport.close()
 
     def pause_writing(self) -> None:
         if self._writable is None:
@@ -148,6 +187,9 @@ class _Handler(ServerRequestHandler):
 
     def callback_disconnected(self, exc: Exception | None) -> None:
         self.resume_writing()  # a worker waiting to write ends
+        if self._idle is not None:
+            self._idle.cancel()
+            self._idle = None
         super().callback_disconnected(exc)
 
     def data_received(self, data: bytes) -> None:
@@ -179,21 +221,28 @@ class _Handler(ServerRequestHandler):
         return used
 
     def _one_frame(self, frame: bytes, addr: tuple | None) -> None:
-        self._frame = frame
-        code = check_pdu(frame[7:])
+        self._touch()
+        code = check_pdu(frame[7:], self.server.read_only)
         if code is not None:
-            reply = ExceptionResponse(frame[7], exception_code=ExcCodes(code))
-            reply.transaction_id = int.from_bytes(frame[0:2], "big")
-            reply.dev_id = frame[6]
-            self.server_send(reply, addr)
+            self._queue(_exception(frame, code), addr)
             return
-        super().callback_data(frame, addr)  # decodes into last_pdu, or answers exception 01
+        self._decoding, self._refused = True, None
+        try:
+            super().callback_data(frame, addr)  # decodes into last_pdu, or refuses it
+        finally:
+            self._decoding = False
         pdu, self.last_pdu = self.last_pdu, None  # no handle_later of pymodbus's
-        if pdu is None:
-            return
+        if self._refused is not None:
+            self._queue(_exception(frame, int(self._refused.exception_code)), addr)
+        elif pdu is not None:
+            self._queue(pdu, addr)
+
+    def _queue(self, item, addr: tuple | None) -> None:
+        """Answer `item` (a request PDU, or a ready exception reply) after every request
+        queued before it."""
         if self._pending is None:
             self._pending = collections.deque()
-        self._pending.append((pdu, addr))
+        self._pending.append((item, addr))
         if len(self._pending) >= MAX_PENDING and self.transport is not None:
             self.transport.pause_reading()
             self._paused = True
@@ -208,32 +257,45 @@ class _Handler(ServerRequestHandler):
         while pending:
             if self._writable is not None:
                 await self._writable.wait()
-            pdu, addr = pending.popleft()
-            try:
-                reply = await pdu.datastore_update(self.server.context, pdu.dev_id)
-            except Exception:  # noqa: BLE001 — a bug of ours: the client gets exception 04
-                reply = ExceptionResponse(pdu.function_code, ExcCodes.DEVICE_FAILURE)
-            reply.transaction_id = pdu.transaction_id
-            reply.dev_id = pdu.dev_id
+            item, addr = pending.popleft()
+            if isinstance(item, ExceptionResponse):
+                reply = item
+            else:
+                try:
+                    reply = await item.datastore_update(self.server.context, item.dev_id)
+                except Exception:  # noqa: BLE001 — a bug of ours: the client gets exception 04
+                    reply = ExceptionResponse(item.function_code, ExcCodes.DEVICE_FAILURE)
+                reply.transaction_id = item.transaction_id
+                reply.dev_id = item.dev_id
             if self.transport is None or self.transport.is_closing():
                 pending.clear()
                 return
-            self._frame = b""
-            self.server_send(reply, addr)
+            super().server_send(reply, addr)
+            self._touch()
             if self._paused and len(pending) < MAX_PENDING // 2:
                 self._paused = False
                 self.transport.resume_reading()
 
     def server_send(self, pdu, addr) -> None:
-        frame = self._frame
-        if isinstance(pdu, ExceptionResponse) and pdu.function_code == 0x80 and len(frame) > 7:
-            pdu.function_code = frame[7] | 0x80
-            pdu.transaction_id = int.from_bytes(frame[0:2], "big")
-            pdu.dev_id = frame[6]
+        if self._decoding and isinstance(pdu, ExceptionResponse):
+            self._refused = pdu  # queued behind the earlier requests by _one_frame
+            return
         super().server_send(pdu, addr)
 
 
+def _exception(frame: bytes, code: int) -> ExceptionResponse:
+    """The exception reply `code` to the request `frame` (its function code, transaction
+    and unit id)."""
+    reply = ExceptionResponse(frame[7], exception_code=ExcCodes(code))
+    reply.transaction_id = int.from_bytes(frame[0:2], "big")
+    reply.dev_id = frame[6]
+    return reply
+
+
 class _Server(ModbusTcpServer):
+    read_only = False
+    idle_timeout = 0.0
+
     def callback_new_connection(self):
         return _Handler(self, self.trace_packet, self.trace_pdu, self.trace_connect)
 
@@ -246,13 +308,19 @@ class _Server(ModbusTcpServer):
 class ModbusServer:
     """The Modbus TCP server of one hub, on the servers' event loop."""
 
-    def __init__(self, hub: CommHub) -> None:
+    def __init__(self, hub: CommHub, *, read_only: bool = False, idle_timeout: float = 0.0) -> None:
         self.hub = hub
+        self.read_only = read_only
+        """Writes get exception 01."""
+        self.idle_timeout = idle_timeout
+        """[s wall] without a complete frame before a client is closed; 0: never."""
         self._server: _Server | None = None
 
     async def start(self, host: str, port: int) -> int:
         """Listen on (host, port); the bound port (port 0: a free one)."""
         self._server = _Server(_MapContext(self.hub), address=(host, port))
+        self._server.read_only = self.read_only
+        self._server.idle_timeout = self.idle_timeout
         await self._server.serve_forever(background=True)
         listener = self._server.transport
         return listener.sockets[0].getsockname()[1]  # type: ignore[union-attr]

@@ -241,13 +241,25 @@ def _quote(data: bytes) -> str:
     return "".join(out)
 
 
-def execute(hub: CommHub, request: Request) -> str:
+def execute(hub: CommHub, request: Request, read_only: bool = False) -> str:
     """Run a parsed request (in the simulation thread): its reply line, `ERR ...` if it
-    cannot run."""
+    cannot run. A `read_only` server runs variable reads and the calls the table calls
+    queries (`NativeTable.native_is_query`) and refuses the rest."""
     table = hub.native
     try:
         if table is None:
             raise RequestError("this run has no HMPL program: built-ins and variables need one")
+        if read_only and request.kind == "write":
+            raise RequestError(f"read-only server: '{request.name}' cannot be written")
+        if (
+            read_only
+            and request.kind == "call"
+            and not table.native_is_query(request.name, list(request.args))
+        ):
+            raise RequestError(
+                f"read-only server: {request.name} may change the machine (only variable "
+                "reads and queries such as Get..., Is..., ReadSDO are served)"
+            )
         if request.kind == "call":
             return table.native_call(request.name, list(request.args))
         if request.kind == "read":

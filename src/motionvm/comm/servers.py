@@ -9,7 +9,9 @@ The server thread never touches the simulation: it parses lines and frames and h
 the work to the simulation thread through the hub (comm/hub.py), whose futures it
 awaits. Native ASCII (comm/native.py) replies with a built-in's results; User ASCII
 passes each line to the program's parser (START_ASCII_AGENT) and sends back what it
-wrote; Modbus TCP serves the register map (comm/modbus_map.py).
+wrote; Modbus TCP serves the register map (comm/modbus_map.py). The config's access
+rules apply to each: the idle timeout to all three, the token to both ASCII servers
+(comm/gate.py), read-only mode to Native ASCII (comm/native.py) and Modbus.
 """
 
 from __future__ import annotations
@@ -106,9 +108,15 @@ class CommServers:
         from motionvm.comm.modbus_server import ModbusServer  # pymodbus: only when serving
 
         cfg = self.config
-        native_srv = LineServer("native-ascii", self._native)
-        user_srv = LineServer("user-ascii", self._user)
-        modbus_srv = ModbusServer(self.hub)
+        native_srv = LineServer(
+            "native-ascii", self._native, token=cfg.token, idle_timeout=cfg.idle_timeout
+        )
+        user_srv = LineServer(
+            "user-ascii", self._user, token=cfg.token, idle_timeout=cfg.idle_timeout
+        )
+        modbus_srv = ModbusServer(
+            self.hub, read_only=cfg.read_only("modbus"), idle_timeout=cfg.idle_timeout
+        )
         ports: dict[str, int] = {}
         for name, srv, port in (
             ("native-ascii", native_srv, cfg.native_ascii_port),
@@ -140,7 +148,8 @@ class CommServers:
         if isinstance(req, str):
             return req
         hub = self.hub
-        return await asyncio.wrap_future(hub.post(lambda: native.execute(hub, req)))
+        read_only = self.config.read_only("native-ascii")
+        return await asyncio.wrap_future(hub.post(lambda: native.execute(hub, req, read_only)))
 
     async def _user(self, line: str) -> str:
         hub = self.hub

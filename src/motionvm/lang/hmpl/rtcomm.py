@@ -11,6 +11,9 @@ the controller's communication hub (comm/hub.py) as its
   C string literal, any other pointer as its first element). Built-ins that wait (Sleep,
   Till, MutexLock, the client functions) only make sense inside a task and are refused.
   `HIMC_GPI(n)` and `HIMC_GPO(n)` read the I/O, `HIMC_GPO(n, v)` sets an output.
+  `native_is_query` says which calls only read the machine (for a read-only server):
+  the `Get...` and `Is...` built-ins, ReadSDO/ReadPDO (and their *Ex), `HIMC_GPI(n)`,
+  `HIMC_GPO(n)`, and the math and string functions.
 - `VariableTable` and variable requests: system and global variables by name
   (`system_dtest0`, `count`, `table[3]`), read and written as an assignment would.
 - `AsciiAgentPort`: START_ASCII_AGENT's parser runs here, one received line at a time,
@@ -50,6 +53,12 @@ OUT_SIZE = 1024
 """Bytes reserved for each out-parameter."""
 READ_ONLY = frozenset({"system_timeInMs", "system_fclk"})
 """System variables the controller sets every cycle: a request cannot write them."""
+QUERIES = frozenset(
+    """ReadSDO ReadSDOEx ReadPDO ReadPDOEx HIMC_GPI StringLen IsStringEqual StrFindChar
+    StrFindCharEx StrFindStr sin cos tan asin acos atan atan2 abs fabs ceil floor ldexp exp
+    pow log log10 sqrt cbrt hypot""".split()
+)
+"""Built-ins that only read, besides every `Get...` and `Is...` one."""
 _CO_GENERATOR = 0x20
 """`co_flags` bit of a generator function (inspect.CO_GENERATOR, without importing inspect)."""
 NO_AGENT = "ERR no ASCII agent is running (the program calls START_ASCII_AGENT)"
@@ -140,6 +149,11 @@ class HmplComm(PassiveClient):
         return value
 
     # ------------------------------------------------------------ Native ASCII calls
+
+    def native_is_query(self, name: str, args: list) -> bool:
+        if name == "HIMC_GPO":
+            return len(args) <= 1  # HIMC_GPO(n, v) sets the output
+        return name in QUERIES or name.startswith(("Get", "Is"))
 
     def native_call(self, name: str, args: list) -> str:
         from motionvm.comm.native import format_value
