@@ -148,3 +148,57 @@ def test_idle_timeout_0_never_drops():
         c.sock.settimeout(WAIT)
         assert c.line().startswith("ERR unknown variable 'count'")
         c.close()
+
+
+def _reset_within(s: socket.socket, data: bytes, seconds: float) -> bool:
+    """Whether the server drops `s` within `seconds` [wall]: keep offering `data` without
+    ever reading until a send fails."""
+    s.setblocking(False)
+    for _ in range(int(seconds / 0.05)):
+        try:
+            s.send(data)
+        except BlockingIOError:  # the server does not read either: its buffers are full
+            pass
+        except OSError:  # reset, or a broken pipe
+            return True
+        time.sleep(0.05)
+    return False
+
+
+def _non_reader(port: int) -> socket.socket:
+    """A client with a small receive buffer, so unread replies back up soon."""
+    s = socket.socket()
+    s.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 4096)
+    s.settimeout(WAIT)
+    s.connect(("127.0.0.1", port))
+    return s
+
+
+BIG_REPLY = """
+void Agent(char *cmd, char *res) {
+    int i = 0;
+    for (; i < 2000; i++) { res[i] = 'y'; }
+    res[i] = 0;
+}
+void main() { START_ASCII_AGENT(Agent); }
+"""
+
+
+def test_a_client_that_reads_no_reply_is_dropped():
+    """Requests keep coming, replies are never read: once its replies fill the buffers,
+    the client is idle as far as the server can serve it, and is dropped."""
+    with served(BIG_REPLY, access={"idle_timeout": IDLE}) as (sim, srv):
+        s = _non_reader(srv.ports["user-ascii"])
+        assert _reset_within(s, b"a\n" * 50, 20.0)
+        s.close()
+        c = LineClient(srv.ports["user-ascii"])
+        assert len(c.ask("a")) == 2000  # the server goes on
+        c.close()
+
+
+def test_a_modbus_client_that_reads_no_reply_is_dropped(server):
+    port = server[1].ports["modbus"]
+    s = _non_reader(port)
+    read_40 = struct.pack(">HHHBBHH", 1, 0, 6, 1, 3, 100, 40)  # 89-byte replies
+    assert _reset_within(s, read_40 * 20, 20.0)
+    s.close()

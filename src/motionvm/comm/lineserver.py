@@ -17,8 +17,9 @@ growing the server's memory without bound.
 Access (comm/gate.py): a line that looks like HTTP closes the connection, and with a
 token the first request line must be it. A client that sends no complete request for
 `idle_timeout` seconds while the server waits for it (a slow trickle of bytes included)
-gets `ERR idle for N s` and is closed, so clients that stay connected without asking
-cannot hold the `MAX_CLIENTS` places for longer. Time spent answering a request does
+gets `ERR idle for N s` and is closed, and so is a client that reads no reply for as long
+(its unread replies fill the send buffer): clients that stay connected without asking
+or reading cannot hold the `MAX_CLIENTS` places for longer. Time spent answering a request does
 not count; only a request line served (a token included) restarts the count, not an
 empty line nor one too long.
 """
@@ -26,6 +27,7 @@ empty line nor one too long.
 from __future__ import annotations
 
 import asyncio
+import socket
 from collections.abc import Awaitable, Callable
 
 from motionvm.comm import gate
@@ -36,6 +38,10 @@ MAX_LINE = 1024
 """Bytes per request line, terminator excluded."""
 MAX_BACKLOG = 64 * 1024
 """Bytes of broadcasts a client may leave unread before it misses the next ones."""
+SEND_BUFFER = 64 * 1024
+"""The kernel's send buffer of each connection [bytes] (Linux doubles it; without a size
+it grows to megabytes for a client that reads nothing, which then takes that long to be
+found out)."""
 _CHUNK = 4096
 
 Handler = Callable[[str], Awaitable[str | None]]
@@ -89,6 +95,7 @@ class LineServer:
                 pass
             writer.close()
             return
+        bound_send_buffer(writer.get_extra_info("socket"))
         self.writers.add(writer)
         if self.token is None:
             self.members.add(writer)
@@ -101,7 +108,7 @@ class LineServer:
             # never returns): end quietly, not as a cancelled task asyncio reports
             pass
         except Exception as exc:  # noqa: BLE001 — a bug of ours: tell the client, close
-            await _reply(writer, f"ERR internal error of motionvm (a bug): {exc}", True)
+            await self._reply(writer, f"ERR internal error of motionvm (a bug): {exc}", True)
         finally:
             self.writers.discard(writer)
             self.members.discard(writer)
@@ -121,7 +128,7 @@ class LineServer:
                         reader.read(_CHUNK), max(0.0, deadline - loop.time())
                     )
                 except TimeoutError:
-                    await _reply(writer, f"ERR idle for {idle:g} s: connection closed", alive)
+                    await self._reply(writer, f"ERR idle for {idle:g} s: connection closed", alive)
                     return
             else:
                 chunk = await reader.read(_CHUNK)
@@ -137,32 +144,59 @@ class LineServer:
                     discarding = False
                     continue
                 if len(line) > MAX_LINE:
-                    alive = await _reply(writer, "ERR line too long", alive)
+                    alive = await self._reply(writer, "ERR line too long", alive)
                     continue
                 if not line:
                     continue
                 text = line.decode("latin-1")
                 if gate.looks_like_http(text):
-                    await _reply(writer, gate.HTTP_REFUSED, alive)
+                    await self._reply(writer, gate.HTTP_REFUSED, alive)
                     return  # nothing after it runs
                 if writer not in self.members:
                     if not gate.token_matches(text, self.token or ""):
-                        await _reply(writer, gate.WRONG_TOKEN, alive)
+                        await self._reply(writer, gate.WRONG_TOKEN, alive)
                         return
                     self.members.add(writer)
                     reply: str | None = "OK"
                 else:
                     reply = await self.handler(text)
                 if reply is not None:
-                    alive = await _reply(writer, reply, alive)
+                    alive = await self._reply(writer, reply, alive)
                 deadline = loop.time() + idle
             if len(buf) > MAX_LINE:
                 if not discarding:
-                    alive = await _reply(writer, "ERR line too long", alive)
+                    alive = await self._reply(writer, "ERR line too long", alive)
                 discarding = True
                 buf.clear()
             if eof:
                 return  # an unterminated rest is not a request
+
+    async def _reply(self, writer: asyncio.StreamWriter, text: str, alive: bool) -> bool:
+        """Send one reply line; False once the client is gone (later replies are dropped).
+        A client that reads none of it for `idle_timeout` seconds (its unread replies
+        fill the send buffer) is dropped at once, as an idle one."""
+        if not alive or writer.is_closing():
+            return False
+        try:
+            writer.write(text.encode("latin-1", "replace") + b"\r\n")
+            if self.idle_timeout:
+                await asyncio.wait_for(writer.drain(), self.idle_timeout)
+            else:
+                await writer.drain()
+        except TimeoutError:
+            writer.transport.abort()  # close() would wait for the client to read
+            return False
+        except (ConnectionError, OSError):
+            return False
+        return True
+
+
+def bound_send_buffer(sock: object) -> None:
+    """Give a connection's socket `SEND_BUFFER` bytes of send buffer."""
+    try:
+        sock.setsockopt(socket.SOL_SOCKET, socket.SO_SNDBUF, SEND_BUFFER)  # type: ignore[attr-defined]
+    except (AttributeError, OSError):  # not a socket of this system's kind: its default
+        pass
 
 
 def _terminator(buf: bytearray) -> int:
@@ -173,15 +207,3 @@ def _terminator(buf: bytearray) -> int:
     if lf < 0:
         return cr
     return min(cr, lf)
-
-
-async def _reply(writer: asyncio.StreamWriter, text: str, alive: bool) -> bool:
-    """Send one reply line; False once the client is gone (later replies are dropped)."""
-    if not alive or writer.is_closing():
-        return False
-    try:
-        writer.write(text.encode("latin-1", "replace") + b"\r\n")
-        await writer.drain()
-    except (ConnectionError, OSError):
-        return False
-    return True

@@ -17,7 +17,7 @@ Every reply, an exception included, leaves in the order of the requests. A read-
 server answers the writing function codes (5, 6, 15, 16, 22, 23) with exception 01
 (illegal function) without reaching the map. A client that sends no complete frame for
 `idle_timeout` seconds while the server waits for it is closed (time spent answering
-does not count).
+does not count), and so is one that reads no reply for as long.
 """
 
 from __future__ import annotations
@@ -35,7 +35,7 @@ from pymodbus.server.requesthandler import ServerRequestHandler
 
 from motionvm.comm import modbus_map
 from motionvm.comm.hub import CommHub
-from motionvm.comm.lineserver import MAX_CLIENTS
+from motionvm.comm.lineserver import MAX_CLIENTS, bound_send_buffer
 
 MAX_PENDING = 16
 """Requests a connection may have waiting for their replies before it stops reading."""
@@ -155,6 +155,8 @@ class _Handler(ServerRequestHandler):
 
     def callback_connected(self) -> None:
         super().callback_connected()
+        if self.transport is not None:
+            bound_send_buffer(self.transport.get_extra_info("socket"))
         self._touch()
         if self.server.idle_timeout:
             self._idle = self.loop.call_later(self.server.idle_timeout, self._check_idle)
@@ -255,8 +257,9 @@ class _Handler(ServerRequestHandler):
     async def _answer_all(self) -> None:
         pending = self._pending
         while pending:
-            if self._writable is not None:
-                await self._writable.wait()
+            if self._writable is not None and not await self._can_write():
+                pending.clear()
+                return
             item, addr = pending.popleft()
             if isinstance(item, ExceptionResponse):
                 reply = item
@@ -275,6 +278,19 @@ class _Handler(ServerRequestHandler):
             if self._paused and len(pending) < MAX_PENDING // 2:
                 self._paused = False
                 self.transport.resume_reading()
+
+    async def _can_write(self) -> bool:
+        """Wait until the send buffer drains; False (the connection dropped at once) if
+        the client reads nothing for `idle_timeout` seconds."""
+        assert self._writable is not None
+        timeout = self.server.idle_timeout or None
+        try:
+            await asyncio.wait_for(self._writable.wait(), timeout)
+        except TimeoutError:
+            if self.transport is not None:
+                self.transport.abort()  # close() would wait for the client to read
+            return False
+        return True
 
     def server_send(self, pdu, addr) -> None:
         if self._decoding and isinstance(pdu, ExceptionResponse):
