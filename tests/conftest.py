@@ -1,9 +1,12 @@
 """Fixtures shared by the tests of every folder: files written into the test's own
-temporary folder, and the check that a bad file's error stands at its place; the
-hypothesis profiles `ci` (bounded, derandomized: CI's) and `thorough` that property
+temporary folder, the check that a bad file's error stands at its place, golden files
+and their one regeneration switch (MOTIONVM_UPDATE_GOLDEN=1); the hypothesis profiles `ci` (bounded, derandomized: CI's) and `thorough` that property
 tests without profiles of their own take (`settings.get_profile(...)`)."""
 
 from __future__ import annotations
+
+import os
+from pathlib import Path
 
 import pytest
 from hypothesis import HealthCheck, settings
@@ -42,3 +45,40 @@ def error_at():
         assert heads[0].startswith(f"{path}:{where}: error: "), heads[0]
 
     return check
+
+
+UPDATE_GOLDEN = "MOTIONVM_UPDATE_GOLDEN"
+"""The one switch that regenerates every golden file (the `.out` files of the golden
+programs, generated-Python and AST snapshots): `MOTIONVM_UPDATE_GOLDEN=1 python -m pytest`,
+then review the diff."""
+
+
+class Golden:
+    """Golden files: compared with what a test produced, or rewritten by the switch."""
+
+    def __init__(self) -> None:
+        self.update = os.environ.get(UPDATE_GOLDEN, "") not in ("", "0")
+        """Whether this run rewrites golden files instead of comparing with them."""
+
+    def write(self, path: Path, text: str) -> None:
+        """Write a golden file atomically (a temporary file renamed into place)."""
+        path.parent.mkdir(parents=True, exist_ok=True)
+        tmp = path.with_name(f".{path.name}.tmp")
+        tmp.write_text(text, encoding="utf-8")
+        tmp.replace(path)
+
+    def __call__(self, path: Path, text: str) -> None:
+        """`text` must equal the golden file `path` (with the switch: it is written there)."""
+        if self.update:
+            self.write(path, text)
+        assert path.is_file(), f"no golden file {path.name}: run with {UPDATE_GOLDEN}=1"
+        assert text == path.read_text(encoding="utf-8"), (
+            f"{path.name} differs: review the change, then rerun with {UPDATE_GOLDEN}=1"
+        )
+
+
+@pytest.fixture
+def golden() -> Golden:
+    """`golden(path, text)`: `text` must equal the golden file `path`; with
+    MOTIONVM_UPDATE_GOLDEN=1 it is written there instead (`golden.update` says which)."""
+    return Golden()

@@ -10,8 +10,8 @@ not examples of their own. A GDL example `NN_topic.gdl` runs with its scenario
 `NN_topic.scenario.toml` when there is one; a GDL application beside it,
 `NN_topic.NAME.gdl`, is passed after the tasks (all three languages on one machine). These are the conventions of
 `motionvm test` (`motionvm.cli.cases.run_arguments`), shared here. Set MOTIONVM_TEST_CMD
-to run another command instead of `python -m motionvm` (see
-tests/lang/hmpl/test_hmpl_programs.py).
+to run another command instead of `python -m motionvm` (shell-style), e.g. an installed
+`motionvm`.
 """
 
 from __future__ import annotations

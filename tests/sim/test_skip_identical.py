@@ -21,6 +21,8 @@ from motionvm.cli.cases import collect
 
 REPO = Path(__file__).resolve().parents[2]
 CASES = collect([str(REPO / "tests" / "programs"), str(REPO / "examples")])
+RUNS = [c for c in CASES if c.problem is None and c.command == "run"]
+"""The cases that run (`check:` cases only compile)."""
 
 
 def _run(folder: str, argv: list[str], env: dict[str, str]) -> tuple[int, str, str]:
@@ -42,7 +44,7 @@ def _run(folder: str, argv: list[str], env: dict[str, str]) -> tuple[int, str, s
     return code, out.getvalue(), err.getvalue()
 
 
-@pytest.mark.parametrize("case", [c for c in CASES if c.problem is None], ids=lambda c: c.id)
+@pytest.mark.parametrize("case", RUNS, ids=lambda c: c.id)
 def test_skipping_and_stepping_print_the_same(case, tmp_path):
     argv = ["run", "--stamp", "--timeout", "120", *case.argv]
     env = {"MOTIONVM_DATA_DIR": str(tmp_path / "a"), "MOTIONVM_NO_SKIP": "0"}
@@ -60,7 +62,7 @@ def _channels(case) -> str:
     return "axis0.pos_fb,axis0.ref_vel,axis1.pos_fb" + (",system_timeInMs" if hmpl_only else "")
 
 
-@pytest.mark.parametrize("case", [c for c in CASES if c.problem is None], ids=lambda c: c.id)
+@pytest.mark.parametrize("case", RUNS, ids=lambda c: c.id)
 def test_skipping_and_stepping_record_the_same_scope(case, tmp_path):
     files = []
     for skip in (True, False):

@@ -1,120 +1,20 @@
-"""`motionvm test`'s verdicts and reports: a case's outcome judged, pytest-style text, JUnit XML."""
+"""`motionvm test`'s reports of the verdicts (cli/judge.py): pytest-style text, JUnit XML."""
 
 from __future__ import annotations
 
 import contextlib
-import difflib
 import os
 import re
-import shlex
 import tempfile
 import xml.etree.ElementTree as ET
 from collections.abc import Sequence
-from dataclasses import dataclass
 from pathlib import Path
 from typing import TextIO
 
-from motionvm.cli.cases import Case, Expectations
-from motionvm.cli.workers import Outcome
+from motionvm.cli.judge import ERROR, FAILED, PASSED, XFAILED, Verdict
 
-PASSED, FAILED, ERROR = "passed", "failed", "error"
-_LETTER = {PASSED: ".", FAILED: "F", ERROR: "E"}
-_WORD = {PASSED: "PASSED", FAILED: "FAILED", ERROR: "ERROR"}
-
-
-@dataclass(frozen=True)
-class Verdict:
-    """A case's result: passed, failed (expectations not met) or error (could not run)."""
-
-    case: Case
-    status: str
-    details: str = ""
-    """What went wrong, for the report: the command, the problems, diffs, stderr."""
-    wall_time: float = 0.0
-    stdout: str = ""
-    stderr: str = ""
-
-
-def judge(case: Case, outcome: Outcome | None, timeout: float) -> Verdict:
-    """The verdict on `case` given what its run did (None: it could not run)."""
-    if case.problem is not None or outcome is None:
-        return Verdict(case, ERROR, case.problem or "not run")
-    command = f"$ motionvm run {shlex.join(case.argv)}  (in {case.folder})"
-    t = outcome.wall_time
-    if outcome.crashed is not None:
-        return Verdict(case, ERROR, f"{command}\nthe worker running it died: {outcome.crashed}", t)
-    if outcome.timed_out:
-        text = f"{command}\ntimed out after {timeout:g} s of wall-clock time (--case-timeout)"
-        return Verdict(case, FAILED, text, t, outcome.stdout, outcome.stderr)
-    exp = case.expect
-    problems = []
-    if outcome.returncode != exp.exit_code:
-        problems.append(f"exit code {outcome.returncode}, expected {exp.exit_code}")
-    if exp.compile_errors:
-        if outcome.stdout:
-            problems.append("a program with compile errors printed to stdout")
-    elif exp.stdout_file is not None:
-        if outcome.stdout != exp.stdout_text:
-            diff = difflib.unified_diff(
-                exp.stdout_text.splitlines(keepends=True),
-                outcome.stdout.splitlines(keepends=True),
-                exp.stdout_file,
-                "actual stdout",
-            )
-            problems.append("stdout differs:\n" + _ended("".join(diff)).rstrip("\n"))
-    else:
-        diff = _lines_diff(exp.stdout, outcome.stdout.splitlines())
-        if diff:
-            problems.append(diff)
-    problems += _error_problems(exp, outcome.stderr)
-    if "Traceback (most recent call last)" in outcome.stderr:
-        problems.append("a Python traceback on stderr")
-    if not problems:
-        return Verdict(case, PASSED, "", t)
-    text = "\n".join([command, *problems])
-    return Verdict(case, FAILED, text, t, outcome.stdout, outcome.stderr)
-
-
-def _ended(diff: str) -> str:
-    """A unified diff whose lines all end in a newline (a last line without one is marked)."""
-    return "".join(
-        line if line.endswith("\n") else line + "\n\\ No newline at end of file\n"
-        for line in diff.splitlines(keepends=True)
-    )
-
-
-def _lines_diff(expected: Sequence[tuple[str, str]], actual: list[str]) -> str:
-    """'' when the lines match the `expect:` directives, else a unified diff."""
-    ok = len(expected) == len(actual) and all(
-        (re.fullmatch(v, a) is not None) if k == "regex" else v == a
-        for (k, v), a in zip(expected, actual)
-    )
-    if ok:
-        return ""
-    shown = []
-    for i, (k, v) in enumerate(expected):
-        if k == "regex" and i < len(actual) and re.fullmatch(v, actual[i]):
-            shown.append(actual[i])  # a matching regex line is no difference
-        else:
-            shown.append(f"/{v}/" if k == "regex" else v)
-    diff = difflib.unified_diff(shown, actual, "expected stdout", "actual stdout", lineterm="")
-    return "stdout differs:\n" + "\n".join(diff)
-
-
-def _error_problems(exp: Expectations, stderr: str) -> list[str]:
-    problems = []
-    lines = stderr.splitlines()
-    for file, line, col, text in exp.compile_errors:
-        head = re.compile(rf"(?:^|.*[/\\]){re.escape(file)}:{line}:{col}: error: (?P<msg>.*)")
-        found = [" ".join(m.group("msg").split()) for m in map(head.fullmatch, lines) if m]
-        if not any(text in msg for msg in found):
-            there = f" (errors there: {found})" if found else ""
-            problems.append(f"missing compile error {file}:{line}:{col}: ...{text}...{there}")
-    flat = [" ".join(s.split()) for s in lines]
-    for text in exp.runtime_errors:
-        if not any(text in s for s in flat):
-            problems.append(f"missing runtime error containing {text!r}")
-    return problems
+_LETTER = {PASSED: ".", FAILED: "F", ERROR: "E", XFAILED: "x"}
+_WORD = {PASSED: "PASSED", FAILED: "FAILED", ERROR: "ERROR", XFAILED: "XFAIL"}
 
 
 class TextReport:
@@ -145,7 +45,7 @@ class TextReport:
     def finish(self, verdicts: Sequence[Verdict], wall_time: float, stopped: bool) -> None:
         if self._column:
             self.out.write("\n")
-        bad = [v for v in verdicts if v.status != PASSED]
+        bad = [v for v in verdicts if v.status in (FAILED, ERROR)]
         if bad:
             self.out.write("\n" + _rule("FAILURES", "=") + "\n")
         for v in bad:
@@ -163,11 +63,13 @@ class TextReport:
 
 
 def summary(verdicts: Sequence[Verdict], wall_time: float) -> str:
-    """`N passed, M failed[, K errors] in S s`."""
-    count = {s: sum(v.status == s for v in verdicts) for s in (PASSED, FAILED, ERROR)}
+    """`N passed, M failed[, K errors][, X xfailed] in S s`."""
+    count = {s: sum(v.status == s for v in verdicts) for s in _WORD}
     parts = [f"{count[PASSED]} passed", f"{count[FAILED]} failed"]
     if count[ERROR]:
         parts.append(f"{count[ERROR]} error" + ("s" if count[ERROR] > 1 else ""))
+    if count[XFAILED]:
+        parts.append(f"{count[XFAILED]} xfailed")
     return f"{', '.join(parts)} in {wall_time:.2f} s"
 
 
@@ -178,7 +80,7 @@ def _rule(title: str, char: str) -> str:
 
 def write_junit(path: str, verdicts: Sequence[Verdict], wall_time: float) -> None:
     """A JUnit XML report at `path`, written to a temporary file and renamed into place."""
-    count = {s: sum(v.status == s for v in verdicts) for s in (FAILED, ERROR)}
+    count = {s: sum(v.status == s for v in verdicts) for s in _WORD}
     suites = ET.Element("testsuites")
     suite = ET.SubElement(
         suites,
@@ -187,7 +89,7 @@ def write_junit(path: str, verdicts: Sequence[Verdict], wall_time: float) -> Non
         tests=str(len(verdicts)),
         failures=str(count[FAILED]),
         errors=str(count[ERROR]),
-        skipped="0",
+        skipped=str(count[XFAILED]),
         time=f"{wall_time:.3f}",
     )
     for v in verdicts:
@@ -200,7 +102,9 @@ def write_junit(path: str, verdicts: Sequence[Verdict], wall_time: float) -> Non
             file=v.case.id,
             time=f"{v.wall_time:.3f}",
         )
-        if v.status != PASSED:
+        if v.status == XFAILED:
+            ET.SubElement(case, "skipped", message=v.details)
+        elif v.status != PASSED:
             tag = "failure" if v.status == FAILED else "error"
             first = v.details.splitlines()[1:2] or v.details.splitlines()[:1] or [v.status]
             node = ET.SubElement(case, tag, message=first[0])

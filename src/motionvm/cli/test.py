@@ -1,10 +1,10 @@
 """`motionvm test [PATHS]`: run the programs that carry expectations, report like pytest.
 
 Cases are found by `cli/cases.py`, run by `cli/workers.py` (a process pool, or a Dask
-cluster with `--dask`) and judged and reported by `cli/report.py`. The report is the
-same whatever the scheduling: cases are sorted by path and their results printed in
-that order. Exit codes (pytest's): 0 every case passed, 1 some failed, 3 bad usage,
-5 no case was collected.
+cluster with `--dask`), judged by `cli/judge.py` and reported by `cli/report.py`. The
+report is the same whatever the scheduling: cases are sorted by path and their results
+printed in that order. Exit codes (pytest's): 0 every case passed (or, if `pending:`,
+failed), 1 some failed, 3 bad usage, 5 no case was collected.
 """
 
 from __future__ import annotations
@@ -15,7 +15,8 @@ import time
 
 from motionvm.cli.cases import Case, CollectError, collect
 from motionvm.cli.exits import EXIT_OK, EXIT_RUNTIME, UsageError
-from motionvm.cli.report import PASSED, TextReport, Verdict, judge, write_junit
+from motionvm.cli.judge import ERROR, FAILED, Verdict, judge
+from motionvm.cli.report import TextReport, write_junit
 
 EXIT_NO_CASES = 5
 """No case was collected (pytest's exit code for 'no tests ran')."""
@@ -76,7 +77,7 @@ def cmd_test(args) -> int:
             write_junit(args.junitxml, verdicts, wall_time)
         except (OSError, ValueError) as exc:  # unreachable, or not an address
             raise UsageError(f"--junitxml {args.junitxml}: {exc.strerror or exc}") from None
-    return EXIT_OK if all(v.status == PASSED for v in verdicts) else EXIT_RUNTIME
+    return EXIT_RUNTIME if any(v.status in (FAILED, ERROR) for v in verdicts) else EXIT_OK
 
 
 def _run(cases: list[Case], args, jobs: int, report: TextReport) -> tuple[list[Verdict], bool]:
@@ -93,7 +94,7 @@ def _run(cases: list[Case], args, jobs: int, report: TextReport) -> tuple[list[V
             v = done.pop(len(verdicts))
             verdicts.append(v)
             report.progress(v)
-            if args.exitfirst and v.status != PASSED:
+            if args.exitfirst and v.status in (FAILED, ERROR):
                 return True
         return False
 

@@ -61,26 +61,45 @@ class Outcome:
     """Why the worker running the case died (the case could not be judged)."""
 
 
-def execute(case: Case) -> Outcome:
-    """Run `case` in this process: `motionvm run ARGV` in its folder, output captured."""
-    from motionvm.cli.entry import run_command
-    from motionvm.cli.run import cmd_run
+def runs(case: Case) -> list[list[str]]:
+    """The command lines of a case after `motionvm`: its run (or check), and the run after
+    the power cycle of a `restart:`."""
+    return [[case.command, *case.argv]] + ([["run", *case.restart]] if case.restart else [])
 
+
+def _combined(codes: list[int], expected: int) -> int:
+    """The exit code of a case's runs: the first that is not the expected one, else it."""
+    return next((c for c in codes if c != expected), codes[-1])
+
+
+def execute(case: Case) -> Outcome:
+    """Run `case` in this process: `motionvm run ARGV` (or `check`) in its folder, output
+    captured. A restart runs only if the first run ended as expected; both share one data
+    folder."""
+    from motionvm.cli.entry import run_command
+    from motionvm.cli.run import cmd_check, cmd_run
+
+    commands = {"run": cmd_run, "check": cmd_check}
     out, err = io.StringIO(), io.StringIO()
     cwd, data_env = os.getcwd(), os.environ.get("MOTIONVM_DATA_DIR")
     start = time.perf_counter()
+    codes: list[int] = []
     with tempfile.TemporaryDirectory(prefix="motionvm-test-") as data:
         os.environ["MOTIONVM_DATA_DIR"] = data
         try:
             os.chdir(case.folder)
             with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
-                code = run_command(["run", *case.argv], cmd_run)
+                for argv in runs(case):
+                    if codes and codes[-1] != case.expect.exit_code:
+                        break
+                    codes.append(run_command(argv, commands[argv[0]]))
         finally:
             os.chdir(cwd)
             if data_env is None:
                 os.environ.pop("MOTIONVM_DATA_DIR", None)
             else:
                 os.environ["MOTIONVM_DATA_DIR"] = data_env
+    code = _combined(codes, case.expect.exit_code)
     return Outcome(code, out.getvalue(), err.getvalue(), time.perf_counter() - start)
 
 
@@ -92,25 +111,35 @@ def execute_subprocess(case: Case, timeout: float) -> Outcome:
     src = str(Path(motionvm.__file__).resolve().parents[1])
     env["PYTHONPATH"] = src + (os.pathsep + env["PYTHONPATH"] if env.get("PYTHONPATH") else "")
     start = time.perf_counter()
+    codes: list[int] = []
+    out, err = [], []
     with tempfile.TemporaryDirectory(prefix="motionvm-test-") as data:
         env["MOTIONVM_DATA_DIR"] = data
-        try:
-            proc = subprocess.run(
-                [sys.executable, "-m", "motionvm", "run", *case.argv],
-                cwd=case.folder,
-                env=env,
-                capture_output=True,
-                text=True,
-                encoding="utf-8",
-                errors="replace",
-                timeout=timeout,
-                check=False,
-            )
-        except subprocess.TimeoutExpired as exc:
-            return Outcome(
-                None, _text(exc.stdout), _text(exc.stderr), time.perf_counter() - start, True
-            )
-    return Outcome(proc.returncode, proc.stdout, proc.stderr, time.perf_counter() - start)
+        for argv in runs(case):
+            if codes and codes[-1] != case.expect.exit_code:
+                break
+            left = timeout - (time.perf_counter() - start)
+            try:
+                proc = subprocess.run(
+                    [sys.executable, "-m", "motionvm", *argv],
+                    cwd=case.folder,
+                    env=env,
+                    capture_output=True,
+                    text=True,
+                    encoding="utf-8",
+                    errors="replace",
+                    timeout=max(left, 0.001),
+                    check=False,
+                )
+            except subprocess.TimeoutExpired as exc:
+                out.append(_text(exc.stdout))
+                err.append(_text(exc.stderr))
+                return Outcome(None, "".join(out), "".join(err), time.perf_counter() - start, True)
+            codes.append(proc.returncode)
+            out.append(proc.stdout)
+            err.append(proc.stderr)
+    code = _combined(codes, case.expect.exit_code)
+    return Outcome(code, "".join(out), "".join(err), time.perf_counter() - start)
 
 
 def _text(data: bytes | str | None) -> str:

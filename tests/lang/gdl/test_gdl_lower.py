@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import os
 import re
 from pathlib import Path
 
@@ -13,17 +12,14 @@ from motionvm.lang.gdl.lower import emit_python
 from motionvm.source.diagnostics import DiagnosticSink
 
 PROGRAMS = Path(__file__).resolve().parents[2] / "programs" / "gdl"
+GOLDEN = Path(__file__).resolve().parents[2] / "golden" / "gdl"
 
 
-def test_gdl_generated_python_of_the_example(monkeypatch: pytest.MonkeyPatch) -> None:
+def test_gdl_generated_python_of_the_example(monkeypatch: pytest.MonkeyPatch, golden) -> None:
     monkeypatch.chdir(PROGRAMS)
     app = compile_app(["packer.gdl"], sink=DiagnosticSink())
     assert app is not None
-    got = emit_python(app)
-    snapshot = PROGRAMS / "packer.py.txt"
-    if os.environ.get("GDL_REGEN"):
-        snapshot.write_text(got)
-    assert got == snapshot.read_text()
+    golden(GOLDEN / "packer.py.txt", emit_python(app))
 
 
 FAULTS = """MODULE m;

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import os
 from pathlib import Path
 
 import pytest
@@ -15,18 +14,13 @@ from motionvm.lang.gdl.parser import Parser
 from motionvm.source.diagnostics import DiagnosticSink
 
 PROGRAMS = Path(__file__).resolve().parents[2] / "programs" / "gdl"
+GOLDEN = Path(__file__).resolve().parents[2] / "golden" / "gdl"
 
 
-def _golden(path: Path, got: str) -> None:
-    if os.environ.get("GDL_REGEN"):
-        path.write_text(got)
-    assert got == path.read_text()
-
-
-def test_gdl_ast_dump_of_the_example(monkeypatch: pytest.MonkeyPatch) -> None:
+def test_gdl_ast_dump_of_the_example(monkeypatch: pytest.MonkeyPatch, golden) -> None:
     monkeypatch.chdir(PROGRAMS)
     sink = DiagnosticSink()
-    _golden(PROGRAMS / "packer.ast", dump_ast("packer.gdl", sink))
+    golden(GOLDEN / "packer.ast", dump_ast("packer.gdl", sink))
     assert sink.items == []
 
 

@@ -1,9 +1,9 @@
 """Snapshots of the generated Python for a few programs: a change in the
-lowering shows up as a reviewed diff. Refresh with MOTIONVM_REGEN=1."""
+lowering shows up as a reviewed diff. Refresh with MOTIONVM_UPDATE_GOLDEN=1 (the one
+switch of every golden file, tests/conftest.py)."""
 
 from __future__ import annotations
 
-import os
 from pathlib import Path
 
 import pytest
@@ -24,18 +24,10 @@ PROGRAMS = [
 
 
 @pytest.mark.parametrize("rel", PROGRAMS)
-def test_generated_python_matches_snapshot(rel: str, monkeypatch) -> None:
+def test_generated_python_matches_snapshot(rel: str, monkeypatch, golden) -> None:
     path = REPO / rel
     monkeypatch.chdir(path.parent)
     sink = DiagnosticSink()
     prog, _mem = compile_tasks([TaskFile(0, path.name)], sink)
     assert prog is not None, [d.headline() for d in sink.items]
-    text = prog.python_source()
-    snap = GOLDEN / (path.stem + ".py.txt")
-    if os.environ.get("MOTIONVM_REGEN"):
-        snap.parent.mkdir(parents=True, exist_ok=True)
-        snap.write_text(text, encoding="utf-8")
-    assert snap.is_file(), f"no snapshot {snap.name}: run with MOTIONVM_REGEN=1"
-    assert text == snap.read_text(encoding="utf-8"), (
-        f"{snap.name} changed: review, then MOTIONVM_REGEN=1"
-    )
+    golden(GOLDEN / (path.stem + ".py.txt"), prog.python_source())

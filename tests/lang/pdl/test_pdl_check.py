@@ -1,16 +1,12 @@
-"""PDL checker: the manual's examples check clean; every error class has its exact message.
+"""PDL checker: rendered diagnostics, limits, symbols, names, code units, the catalog.
 
-Programs under tests/programs/pdl/manual/ (the manual's examples, typos corrected) and
-valid/ must compile without any diagnostic.
-
-Programs under tests/programs/pdl/errors/ and manual_typos/ list their diagnostics in
-comments, `// error: LINE:COL: message` (or `warning:`); the test compares them, in
-position order, with what the front end reports for that file.
+The programs under tests/programs/pdl/ carry their expected diagnostics (`// error:`,
+`// warning:`, `// diagnostics: exact`) or `// check:` (they must compile clean); the
+runner of all golden programs, tests/programs/test_programs.py, checks them.
 """
 
 from __future__ import annotations
 
-import re
 from pathlib import Path
 
 import pytest
@@ -22,37 +18,13 @@ from motionvm.source import DiagnosticSink, render_diagnostic
 
 PROGRAMS = Path(__file__).parents[2] / "programs" / "pdl"
 CLEAN = sorted((PROGRAMS / "manual").rglob("*.pdl")) + sorted((PROGRAMS / "valid").glob("*.pdl"))
-EXPECTING = sorted((PROGRAMS / "errors").glob("*.pdl")) + sorted(
-    (PROGRAMS / "manual_typos").glob("*.pdl")
-)
-EXPECT = re.compile(r"^// (error|warning): (\d+):(\d+): (.*)$", re.MULTILINE)
 
 
-def rel(path: Path) -> str:
-    return str(path.relative_to(PROGRAMS.parents[1]))
-
-
-@pytest.mark.parametrize("path", CLEAN, ids=rel)
-def test_program_checks_clean(path: Path) -> None:
-    sink = DiagnosticSink()
-    program = compile_front(str(path), sink=sink)
-    assert [render_diagnostic(d) for d in sink.items] == []
-    assert program is not None and program.items
-
-
-@pytest.mark.parametrize("path", EXPECTING, ids=rel)
-def test_program_gives_its_expected_diagnostics(path: Path) -> None:
-    expected = [(int(m[2]), int(m[3]), m[1], m[4]) for m in EXPECT.finditer(path.read_text())]
-    assert expected, "no expectations in the file"
-    sink = DiagnosticSink()
-    result = front_end(str(path), sink=sink)
-    got = sorted(
-        (d.pos.line, d.pos.col, d.severity, d.message)
-        for d in sink.items
-        if d.pos.file == str(path)
-    )
-    assert got == sorted(expected)
-    assert (result is None) == any(e[2] == "error" for e in expected)
+def test_clean_programs_are_programs() -> None:
+    """The programs that must compile clean (checked by the golden runner) have code."""
+    for path in CLEAN:
+        program = compile_front(str(path), sink=DiagnosticSink())
+        assert program is not None and program.items, path.name
 
 
 def check_text(text: str) -> tuple[object, list[str]]:
