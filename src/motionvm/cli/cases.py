@@ -47,20 +47,16 @@ Files whose stem has a dot are never cases of their own.
 
 from __future__ import annotations
 
+import glob
 import re
 import shlex
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from motionvm.cli.directives import (
-    CaseError,
-    Directive,
-    comment_form,
-    directives,
-    program_suffixes,
-)
+from motionvm.cli.directives import CaseError, Directive, comment_form, directives
+from motionvm.lang import LANGUAGES, language_of, suffixes
 
-PROGRAM_SUFFIXES = program_suffixes()
+PROGRAM_SUFFIXES = suffixes()
 _ERROR_AT = re.compile(r"(?:(?P<file>[^:\s]+):)?(?P<line>\d+):(?P<col>\d+): (?P<text>.+)")
 
 __all__ = ["Case", "CaseError", "CollectError", "Expectations", "collect", "make_case"]
@@ -128,10 +124,12 @@ def _natural(path: Path) -> tuple:
 
 
 def task_files(program: Path) -> list[str]:
-    """An HMPL program's task files `X.task1.hmpl`, `X.task2.hmpl`, ... in task order."""
-    if program.suffix != ".hmpl":
+    """The task files `X.task1<suffix>`, `X.task2<suffix>`, ... of a program whose language
+    places files as tasks, in task order."""
+    lang = language_of(program)
+    if lang is None or not lang.places_tasks:
         return []
-    pattern = re.compile(rf"{re.escape(program.stem)}\.task(\d+)\.hmpl")
+    pattern = re.compile(rf"{re.escape(program.stem)}\.task(\d+){re.escape(program.suffix)}")
     found = {}
     for p in program.parent.iterdir():
         m = pattern.fullmatch(p.name)
@@ -143,21 +141,29 @@ def task_files(program: Path) -> list[str]:
     return [found[n] for n in numbers]
 
 
-def gdl_companions(program: Path) -> list[str]:
-    """The GDL files `X.NAME.gdl` linked after the program, in natural order."""
-    return [p.name for p in sorted(program.parent.glob(f"{program.stem}.*.gdl"), key=_natural)]
+def linked_files(program: Path) -> list[str]:
+    """The files `X.NAME<suffix>` of the languages that link several files into one program
+    (a GDL application), passed after the program, in natural order."""
+    return [
+        p.name
+        for lang in LANGUAGES
+        if lang.links_files
+        for suffix in lang.suffixes
+        for p in sorted(program.parent.glob(f"{glob.escape(program.stem)}.*{suffix}"), key=_natural)
+    ]
 
 
 def run_arguments(program: Path) -> list[str]:
     """The `motionvm run` arguments of a program given by its file names (in its folder)."""
+    lang = language_of(program)
     argv = [program.name, *task_files(program)]
+    toml_option = lang.case_toml_option if lang is not None else "--machine"
     toml = program.with_suffix(".toml")
     if toml.is_file():
-        argv += ["--scenario" if program.suffix == ".gdl" else "--machine", toml.name]
-    more = gdl_companions(program)
-    argv += more
+        argv += [toml_option, toml.name]
+    argv += linked_files(program)
     scenario = program.with_name(f"{program.stem}.scenario.toml")
-    if program.suffix != ".gdl" and scenario.is_file():
+    if toml_option != "--scenario" and scenario.is_file():
         argv += ["--scenario", scenario.name]
     return argv
 
@@ -228,7 +234,7 @@ class _Found:
 
 def _gather(program: Path) -> _Found:
     found = _Found()
-    files = [program] + [program.with_name(n) for n in gdl_companions(program)]
+    files = [program] + [program.with_name(n) for n in linked_files(program)]
     for path in files:
         text = path.read_text(encoding="utf-8", errors="replace")
         for d in directives(text, path.name, comment_form(path)):
@@ -256,7 +262,8 @@ def _expectations(program: Path, found: _Found) -> Expectations | None:
     diagnostics = dict(
         compile_errors=tuple(found.errors),
         warnings=tuple(found.warnings),
-        exact_diagnostics=found.exact,
+        # a `check:` case that lists no diagnostic must compile without any
+        exact_diagnostics=found.exact or (found.check and not found.errors + found.warnings),
     )
     if out_file.is_file():
         if found.stdout or found.errors or found.check:

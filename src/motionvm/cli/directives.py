@@ -1,7 +1,7 @@
 """The directives of `motionvm test` cases: `expect: ...` and its kin, read from comments.
 
-Each language says how a one-line comment that holds a directive opens and closes (its
-`directive_comment`): `("//", "")` runs to the end of the line and holds one directive,
+Each language says how a one-line comment that holds a directive opens and closes
+(`Language.directive_comment`): `("//", "")` runs to the end of the line and holds one directive,
 `("|", "|")` may hold several on one line. The kinds are listed in cli/cases.py.
 """
 
@@ -11,6 +11,8 @@ import re
 from dataclasses import dataclass
 from functools import cache
 from pathlib import Path
+
+from motionvm.lang import language_of
 
 _KINDS = (
     r"expect regex|expect runtime error|expect|error|warning|diagnostics|check|args"
@@ -45,17 +47,12 @@ CommentForm = tuple[str, str]
 """How a one-line comment opens and closes ('' closes at the end of the line)."""
 
 
-def program_suffixes() -> tuple[str, ...]:
-    """The suffixes of program files, every language's."""
-    return tuple(s for lang in _languages() for s in lang.suffixes)
-
-
 def comment_form(path: Path) -> CommentForm:
     """The directive comment form of the language of `path`."""
-    for lang in _languages():
-        if path.suffix in lang.suffixes:
-            return lang.directive_comment
-    raise CaseError(f"{path.name}: not a program of any language")
+    lang = language_of(path)
+    if lang is None:
+        raise CaseError(f"{path.name}: not a program of any language")
+    return lang.directive_comment
 
 
 @cache
@@ -87,17 +84,3 @@ def directives(text: str, file: str, form: CommentForm) -> list[Directive]:
             kind = " ".join(m.group("kind").split())
             out.append(Directive(kind, m.group("text") or "", file, lineno, m.group("task")))
     return out
-
-
-@dataclass(frozen=True)
-class _Language:
-    suffixes: tuple[str, ...]
-    directive_comment: CommentForm
-
-
-def _languages() -> tuple[_Language, ...]:
-    return (
-        _Language((".hmpl",), ("//", "")),
-        _Language((".pdl",), ("//", "")),
-        _Language((".gdl",), ("|", "|")),
-    )

@@ -248,6 +248,14 @@ class Language:
     run_modules: tuple[str, ...] = ()
     """The modules of its compiler and run side, which a worker process imports before
     the clock of a run starts."""
+    directive_comment: tuple[str, str] = ("//", "")
+    """How a one-line comment opens and closes ("": at the end of the line): the comments
+    that hold the expectations of a test case (`// expect: 42`, `| expect: 42 |`)."""
+    links_files: bool = False
+    """Several files form one program, linked in the order given (a test case `X` links
+    its companions `X.NAME<suffix>` after it)."""
+    case_toml_option: str = "--machine"
+    """What a test case's `X.toml` beside `X<suffix>` is: `--machine` or `--scenario`."""
 
     # ---------------------------------------------------------------- compiling
 

@@ -65,6 +65,9 @@ class Gdl(Language):
     language_id = "gdl"
     suffixes = (".gdl",)
     run_modules = ("motionvm.lang.gdl.compiler", "motionvm.lang.gdl.client")
+    directive_comment = ("|", "|")
+    links_files = True
+    case_toml_option = "--scenario"
     options = (
         LanguageOption("forces", "--force", _UNUSED),
         LanguageOption("shuffle_seed", "--shuffle-order", _UNUSED),

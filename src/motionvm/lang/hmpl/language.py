@@ -84,6 +84,7 @@ class Hmpl(Language):
     language_id = "hmpl"
     suffixes = (".hmpl",)
     run_modules = ("motionvm.lang.hmpl.compiler", "motionvm.lang.hmpl.rtapi")
+    directive_comment = ("//", "")
     accepts_text = True
     places_tasks = True
 

@@ -53,6 +53,7 @@ class Pdl(Language):
     language_id = "pdl"
     suffixes = (".pdl",)
     run_modules = ("motionvm.lang.pdl.machine_drives",)
+    directive_comment = ("//", "")
     options = (
         LanguageOption(
             "starts", "--start", "applies to a PDL program given as a file; none was given"
