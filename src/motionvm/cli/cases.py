@@ -108,11 +108,6 @@ class Case:
     pending: str | None = None
     """Why the case is expected to fail (None: it must pass)."""
 
-    @property
-    def program(self) -> Path:
-        """The program file of the case."""
-        return Path(self.folder) / self.id.rsplit("/", 1)[-1]
-
 
 def is_case_file(path: Path) -> bool:
     """A program whose stem has no dot (`X.task1.hmpl`, `X.cell.gdl` are companions)."""
