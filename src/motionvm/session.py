@@ -187,12 +187,14 @@ def compile_run(
     report: Callable[[str], None],
     *,
     check_only: bool = False,
+    diagnostics: list[Diagnostic] | None = None,
 ) -> tuple[list[tuple[Language, object]], MachineConfig]:
     """Compile every program of `spec`, language by language (diagnostics reported).
 
     Returns each language's program and the machine with the files placed on it (PDL
     programs on drives). `check_only` (`motionvm check`): each language checks its files
-    on their own, nothing will run. Raises CompileFailed after any error, SessionError
+    on their own, nothing will run. `diagnostics` receives every diagnostic reported.
+    Raises CompileFailed after any error, SessionError
     for bad input.
     """
     check_sources(spec.sources)
@@ -212,6 +214,8 @@ def compile_run(
             result = lang.compile(files[lang], request)
             for d in result.diagnostics:
                 report(render_diagnostic(d))
+            if diagnostics is not None:
+                diagnostics += result.diagnostics
             failed += [
                 d
                 for d in result.diagnostics
@@ -233,10 +237,15 @@ def compile_run(
 WERROR_NOTE = "motionvm: all warnings being treated as errors (--Werror)"
 
 
-def check(spec: RunSpec, report: Callable[[str], None]) -> bool:
-    """Compile only (`motionvm check`): True if every program compiles; diagnostics reported."""
+def check(
+    spec: RunSpec,
+    report: Callable[[str], None],
+    diagnostics: list[Diagnostic] | None = None,
+) -> bool:
+    """Compile only (`motionvm check`): True if every program compiles; diagnostics
+    reported, and each added to `diagnostics` too (the language server's)."""
     try:
-        compile_run(spec, DEFAULT_MACHINE, report, check_only=True)
+        compile_run(spec, DEFAULT_MACHINE, report, check_only=True, diagnostics=diagnostics)
     except CompileFailed:
         return False
     return True

@@ -1,4 +1,5 @@
-"""The `motionvm` command: run | check | compile | builtins | errors | dump | scope | test | serve.
+"""The `motionvm` command: run | check | compile | builtins | errors | dump | scope | test |
+serve | lsp.
 
 Parsing arguments and printing only: every run is assembled by `motionvm.session`, the
 same code the Python API uses. Exit codes: 0 ok; 1 a task stopped with a runtime
@@ -62,6 +63,11 @@ def _dispatch(args) -> int:
         from motionvm.cli.test import cmd_test
 
         return cmd_test(args)
+    if args.cmd == "lsp":
+        from motionvm.lsp import serve
+
+        serve(args.tcp)
+        return EXIT_OK
     if args.cmd == "serve":
         from motionvm.cli.serve import cmd_serve
 

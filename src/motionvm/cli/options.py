@@ -212,7 +212,27 @@ def build_parser() -> argparse.ArgumentParser:
     _task(s)
     add_test_parser(sub)
     add_serve_parser(sub)
+    add_lsp_parser(sub)
     return p
+
+
+def add_lsp_parser(sub) -> None:
+    """`motionvm lsp`: the language server (motionvm/lsp)."""
+    s = sub.add_parser(
+        "lsp",
+        help="a Language Server Protocol server for editors (stdin/stdout, or --tcp PORT)",
+        description="Serve the Language Server Protocol for .hmpl, .pdl and .gdl files: "
+        "diagnostics as 'motionvm check' reports them, hover, completion, signature help, "
+        "definition, references, rename and document symbols. Speaks on stdin/stdout "
+        "unless --tcp is given.",
+        formatter_class=_Formatter,
+    )
+    s.add_argument(
+        "--tcp", type=int, metavar="PORT", help="listen on 127.0.0.1:PORT instead of stdin/stdout"
+    )
+    s.add_argument(
+        "--stdio", action="store_true", help="speak on stdin/stdout (the default; editors pass it)"
+    )
 
 
 _FILES_HELP = ".hmpl tasks (first = task 0), .pdl drive programs, .gdl application files"

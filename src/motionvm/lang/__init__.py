@@ -17,6 +17,7 @@ from pathlib import Path
 
 from motionvm.lang.gdl.language import LANGUAGE as _GDL
 from motionvm.lang.hmpl.language import LANGUAGE as _HMPL
+from motionvm.lang.index import Completion, Occurrence, Signature, SourceIndex
 from motionvm.lang.interface import (
     CompileRequest,
     CompileResult,
@@ -68,14 +69,18 @@ __all__ = [
     "LANGUAGES",
     "CompileRequest",
     "CompileResult",
+    "Completion",
     "Language",
     "LanguageInputError",
     "LanguageOption",
     "LineTable",
     "NameDoc",
+    "Occurrence",
     "RunContext",
     "RunSide",
+    "Signature",
     "Source",
+    "SourceIndex",
     "Symbol",
     "language_named",
     "language_of",

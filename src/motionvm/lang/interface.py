@@ -14,7 +14,10 @@ the studio -- reaches a language only through this interface and loops over the 
   sources, takes the scenario entries it understands and states its end-of-run rule;
 - what tools see inside a program: `line_table` (which lines hold statements:
   breakpoints, coverage), `symbols` (declarations with their places: outline,
-  go to definition, rename) and `docs` (built-ins, constants, keywords: hover, completion).
+  go to definition, rename) and `docs` (built-ins, constants, keywords: hover, completion);
+- what an editor asks of a file's (unsaved) text: `index` (every name resolved to its
+  declaration: definition, references, rename), `hover`, `completions`, `signature`
+  (`motionvm.lang.index` holds their types and the text helpers they share).
 
 A language's options on the command line (`--start`, `--force`, ...) are declared as
 `LanguageOption`s; the session checks that a given option has a language to take it.
@@ -22,11 +25,24 @@ A language's options on the command line (`--start`, `--force`, ...) are declare
 
 from __future__ import annotations
 
+import re
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from motionvm.lang.index import (
+    Completion,
+    Signature,
+    SourceIndex,
+    Symbol,
+    call_at,
+    param_spans,
+    resolve,
+    snippet_of,
+    token_end,
+    word_at,
+)
 from motionvm.source.diagnostics import Diagnostic
 
 if TYPE_CHECKING:
@@ -110,25 +126,6 @@ class RunContext:
     """Folder of persistent data (None: the machine's or the default)."""
     alone: bool = False
     """As `CompileRequest.alone`."""
-
-
-@dataclass(frozen=True)
-class Symbol:
-    """A declaration in a source file (outline, go to definition, rename)."""
-
-    name: str
-    kind: str
-    """"function", "variable", "constant", "macro", "struct", "member", "label", "task",
-    "module", "object", "procedure", "parameter"."""
-    file: str
-    line: int
-    """1-based."""
-    col: int
-    """1-based column of the name."""
-    container: str | None = None
-    """The enclosing function, struct, module or task (None: file level)."""
-    detail: str = ""
-    """The declaration as written (`int count`, `AXIS$MOTOR fan`)."""
 
 
 @dataclass(frozen=True)
@@ -229,6 +226,35 @@ class RunSide:
         """Free its memory; nothing runs afterwards."""
 
 
+_LITERAL = re.compile(r"-?0[xX][0-9A-Fa-f]+|-?\d+")
+
+
+def visible_completions(index: SourceIndex, line: int, col: int) -> list[Completion]:
+    """A completion of each declaration of `index` visible at 1-based (line, col): file
+    level ones, and the locals and parameters of the function around it declared before."""
+    scope = index.enclosing(line, ("function", "procedure"))
+    out = []
+    seen = set()
+    for s in index.symbols:
+        if s.kind in ("member", "task"):
+            continue
+        if s.container is not None and s.kind not in ("object", "procedure"):
+            if scope is None or s.container != scope.name:
+                continue
+            if s.kind not in ("parameter", "label") and (
+                (s.line, s.col) > (line, col) or (s.end_line and line > s.end_line)
+            ):
+                continue
+        if (s.name, s.kind) in seen:
+            continue
+        seen.add((s.name, s.kind))
+        snippet = (
+            snippet_of(s.name, s.detail) if s.kind in ("function",) and "(" in s.detail else ""
+        )
+        out.append(Completion(s.name, s.kind, s.detail, snippet))
+    return out
+
+
 class Language:
     """One language of motionvm (see the module docstring); subclassed once per language."""
 
@@ -278,7 +304,10 @@ class Language:
         """The diagnostics of `sources`, each file on its own; nothing runs."""
         from motionvm.sim.machine import DEFAULT_MACHINE
 
-        return self.compile(sources, CompileRequest(DEFAULT_MACHINE, check_only=True)).diagnostics
+        request = CompileRequest(DEFAULT_MACHINE, check_only=True, alone=True)
+        machine = self.place(DEFAULT_MACHINE, sources, request)
+        request = CompileRequest(machine, check_only=True, alone=True)
+        return self.compile(sources, request).diagnostics
 
     def dump(
         self, path: str, stage: str, options: Mapping[str, Any]
@@ -311,6 +340,93 @@ class Language:
     def docs(self) -> Mapping[str, NameDoc]:
         """The language's documented names (built-ins, constants, keywords) by name."""
         return {}
+
+    # ---------------------------------------------------------------- editing
+
+    fold_case: bool = False
+    """Names are case-insensitive."""
+
+    def index(self, path: str, text: str) -> SourceIndex:
+        """Every name of a file's text resolved to its declaration. Default: the name
+        tokens are the words of `symbols`' names, resolved by scope (`index.resolve`)."""
+        from motionvm.lang.index import words
+
+        symbols = self.symbols(path, text)
+        names = {self._key(s.name) for s in symbols}
+        found = [w for w in words(text) if self._key(w[0]) in names]
+        return resolve(path, text, symbols, found, fold=self.fold_case)
+
+    def _key(self, name: str) -> str:
+        return name.lower() if self.fold_case else name
+
+    def doc_of(self, name: str) -> NameDoc | None:
+        """The documentation of a name of the language (`docs`), case folded if names are."""
+        docs = self.docs()
+        found = docs.get(name)
+        if found is None and self.fold_case:
+            found = docs.get(name.upper()) or docs.get(name.lower())
+        return found
+
+    def literal_doc(self, word: str) -> str | None:
+        """Markdown about a literal (an error code), or None."""
+        return None
+
+    def hover(self, index: SourceIndex, line: int, col: int) -> str | None:
+        """Markdown about what is under 1-based (line, col): a declaration as written, a
+        documented name, a literal; None: nothing to say."""
+        occ = index.at(line, col)
+        if occ is not None and occ.symbol is not None:
+            s = occ.symbol
+            where = f" (in {s.container})" if s.container else ""
+            return f"```\n{s.detail or s.name}\n```\n\n{s.kind}{where}, line {s.line}"
+        text = index.line_text(line)
+        lit = word_at(text, col, _LITERAL)
+        if lit is not None:
+            said = self.literal_doc(lit[0])
+            if said:
+                return said
+        w = word_at(text, col)
+        if w is None:
+            return None
+        doc = self.doc_of(w[0])
+        return doc.markdown() if doc is not None else None
+
+    def completions(self, index: SourceIndex, line: int, col: int) -> list[Completion]:
+        """What may be written at 1-based (line, col). Default: the documented names and
+        the file's declarations visible there."""
+        return self.doc_completions() + visible_completions(index, line, col)
+
+    def doc_completions(self) -> list[Completion]:
+        """A completion of each documented name (built-ins with a snippet of their
+        arguments)."""
+        out = []
+        for doc in self.docs().values():
+            kind = {"builtin": "function", "type": "type", "error": "constant"}.get(
+                doc.kind, doc.kind
+            )
+            snippet = snippet_of(doc.name, doc.signature) if doc.kind == "builtin" else ""
+            out.append(Completion(doc.name, kind, doc.signature, snippet, doc.markdown()))
+        return out
+
+    def signature(self, index: SourceIndex, line: int, col: int) -> tuple[Signature, int] | None:
+        """The call around 1-based (line, col): the callee's signature and the index of the
+        argument being written; None outside a call of a known function."""
+        call = call_at(index.lines, line, col)
+        if call is None:
+            return None
+        name, arg = call
+        doc = self.doc_of(name)
+        if doc is not None and doc.signature and "(" in doc.signature:
+            return Signature(doc.signature, param_spans(doc.signature), doc.summary), arg
+        for s in index.symbols:
+            if self._key(s.name) == self._key(name) and s.kind in ("function", "procedure"):
+                label = s.detail or s.name
+                return Signature(label, param_spans(label)), arg
+        return None
+
+    def token_end(self, line_text: str, col: int) -> int:
+        """1-based column just after the token at 1-based `col` (a diagnostic's range)."""
+        return token_end(line_text, col)
 
     def __repr__(self) -> str:
         return f"<language {self.name}>"

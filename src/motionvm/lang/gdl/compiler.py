@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+
 from motionvm.lang.gdl import nodes as n
 from motionvm.lang.gdl.app import App
 from motionvm.lang.gdl.check import check_app
@@ -13,8 +15,14 @@ from motionvm.source.diagnostics import DiagnosticSink, TooManyErrors
 from motionvm.source.files import SourceFile, SourcePos
 
 
-def parse_file(path: str, sink: DiagnosticSink) -> n.GdlFile | None:
-    """Read and parse one file; None if it cannot be read (reported to `sink`)."""
+def parse_file(path: str, sink: DiagnosticSink, text: str | None = None) -> n.GdlFile | None:
+    """Read and parse one file (or `text` under its name); None if it cannot be read
+    (reported to `sink`)."""
+    if text is not None:
+        if "\r" in text:  # as SourceFile.read does: CRLF and CR line ends become LF
+            text = text.replace("\r\n", "\n").replace("\r", "\n")
+        sf = SourceFile.register(path, text)
+        return parse_tokens(tokenize(path, sf.text, sink), path, sink)
     try:
         sf = SourceFile.read(path)
     except OSError as exc:
@@ -23,18 +31,22 @@ def parse_file(path: str, sink: DiagnosticSink) -> n.GdlFile | None:
     return parse_tokens(tokenize(path, sf.text, sink), path, sink)
 
 
-def compile_app(paths: list[str], *, sink: DiagnosticSink) -> App | None:
+def compile_app(
+    paths: list[str], *, sink: DiagnosticSink, texts: Mapping[str, str] | None = None
+) -> App | None:
     """Compile several files as one application; None when any error was reported.
+    `texts`: the contents of files by path, instead of reading them.
 
     Never raises for a user's mistake: every problem becomes a diagnostic in `sink`.
     Runs with room for deep recursion (long expressions, deep nests: `run_deep`).
     """
-    return run_deep(_compile_app, paths, sink)
+    return run_deep(_compile_app, paths, sink, texts or {})
 
 
-def _compile_app(paths: list[str], sink: DiagnosticSink) -> App | None:
+def _compile_app(paths: list[str], sink: DiagnosticSink, texts: Mapping[str, str]) -> App | None:
     try:
-        files = [f for f in (parse_file(p, sink) for p in paths) if f is not None]
+        parsed = (parse_file(p, sink, texts.get(p)) for p in paths)
+        files = [f for f in parsed if f is not None]
         if sink.has_errors:
             # Names and types are checked only on a syntactically clean application, so
             # one typo does not cascade into "unknown object" errors elsewhere.

@@ -6,6 +6,7 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from typing import Any
 
+from motionvm.lang.index import Completion, SourceIndex
 from motionvm.lang.interface import (
     CompileRequest,
     CompileResult,
@@ -13,10 +14,12 @@ from motionvm.lang.interface import (
     LanguageInputError,
     LanguageOption,
     LineTable,
+    NameDoc,
     RunContext,
     RunSide,
     Source,
     Symbol,
+    visible_completions,
 )
 from motionvm.lang.tools import statement_lines
 from motionvm.source.diagnostics import Diagnostic, DiagnosticSink
@@ -64,6 +67,8 @@ class Gdl(Language):
     name = "GDL"
     language_id = "gdl"
     suffixes = (".gdl",)
+    accepts_text = True
+    fold_case = True
     run_modules = ("motionvm.lang.gdl.compiler", "motionvm.lang.gdl.client")
     directive_comment = ("|", "|")
     links_files = True
@@ -77,8 +82,9 @@ class Gdl(Language):
         from motionvm.lang.gdl.compiler import compile_app
 
         paths = [s.path for s in sources]
+        texts = {s.path: s.text for s in sources if s.text is not None}
         sink = DiagnosticSink()
-        app = compile_app(paths, sink=sink)
+        app = compile_app(paths, sink=sink, texts=texts)
         order = {p: i for i, p in enumerate(paths)}
         diagnostics = sorted(
             sink.items, key=lambda d: (order.get(d.pos.file, -1), d.pos.line, d.pos.col)
@@ -154,19 +160,24 @@ class Gdl(Language):
         )
 
     def symbols(self, path: str, text: str | None = None) -> list[Symbol]:
-        tree = self._tree(path, text)
-        out: list[Symbol] = []
-        for module in tree.modules if tree is not None else ():
-            name = module.name
-            out.append(Symbol(name.text, "module", path, name.pos.line, name.pos.col))
-            for obj in module.objects:
-                out.append(Symbol(obj.name.text, "object", path, obj.name.pos.line,
-                                  obj.name.pos.col, name.text, f"{obj.type_kw} {obj.name.text}"))  # fmt: skip
-            for proc in module.procedures:
-                out.append(Symbol(proc.name.text, "procedure", path, proc.name.pos.line,
-                                  proc.name.pos.col, name.text))  # fmt: skip
-        out.sort(key=lambda s: (s.line, s.col))
-        return out
+        from motionvm.lang.gdl.editing import symbols
+
+        return symbols(path, text)
+
+    def index(self, path: str, text: str) -> SourceIndex:
+        from motionvm.lang.gdl.editing import build_index
+
+        return build_index(path, text)
+
+    def docs(self) -> Mapping[str, NameDoc]:
+        from motionvm.lang.gdl.editing import docs
+
+        return docs()
+
+    def completions(self, index: SourceIndex, line: int, col: int) -> list[Completion]:
+        from motionvm.lang.gdl.editing import completions
+
+        return completions(index, line, col, visible_completions)
 
 
 LANGUAGE = Gdl()

@@ -4,9 +4,11 @@ program for all of them, its run side (tasks, Native ASCII, E-stop), and what to
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping, Sequence
+from dataclasses import replace
 from functools import lru_cache
 from typing import Any
 
+from motionvm.lang.index import Completion, SourceIndex
 from motionvm.lang.interface import (
     CompileRequest,
     CompileResult,
@@ -18,6 +20,7 @@ from motionvm.lang.interface import (
     RunSide,
     Source,
     Symbol,
+    visible_completions,
 )
 from motionvm.lang.tools import nodes
 from motionvm.source.diagnostics import Diagnostic, DiagnosticSink
@@ -207,6 +210,39 @@ class Hmpl(Language):
 
     def docs(self) -> Mapping[str, NameDoc]:
         return _docs()
+
+    def index(self, path: str, text: str) -> SourceIndex:
+        from motionvm.lang.hmpl.editing import build_index
+
+        return build_index(path, text)
+
+    def completions(self, index: SourceIndex, line: int, col: int) -> list[Completion]:
+        from motionvm.lang.hmpl.editing import keyword_completions, member_completions
+
+        members = member_completions(index, line, col)
+        if members is not None:
+            return members
+        return (
+            self.doc_completions()
+            + keyword_completions()
+            + [
+                c if c.kind != "struct" else replace(c, label=c.label.split(" ", 1)[1])
+                for c in visible_completions(index, line, col)
+            ]
+        )
+
+    def doc_completions(self) -> list[Completion]:
+        return _doc_completions(self)
+
+    def literal_doc(self, word: str) -> str | None:
+        from motionvm.lang.hmpl.editing import error_code_doc
+
+        return error_code_doc(word)
+
+
+@lru_cache(maxsize=1)
+def _doc_completions(lang: Language) -> list[Completion]:
+    return Language.doc_completions(lang)
 
 
 @lru_cache(maxsize=1)

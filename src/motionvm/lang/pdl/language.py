@@ -8,6 +8,7 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
+from motionvm.lang.index import Completion, SourceIndex
 from motionvm.lang.interface import (
     CompileRequest,
     CompileResult,
@@ -15,12 +16,14 @@ from motionvm.lang.interface import (
     LanguageInputError,
     LanguageOption,
     LineTable,
+    NameDoc,
     RunContext,
     RunSide,
     Source,
     Symbol,
+    visible_completions,
 )
-from motionvm.lang.tools import nodes, statement_lines
+from motionvm.lang.tools import statement_lines
 from motionvm.source.diagnostics import Diagnostic, DiagnosticSink
 
 
@@ -52,6 +55,7 @@ class Pdl(Language):
     name = "PDL"
     language_id = "pdl"
     suffixes = (".pdl",)
+    accepts_text = True
     run_modules = ("motionvm.lang.pdl.machine_drives",)
     directive_comment = ("//", "")
     options = (
@@ -92,12 +96,14 @@ class Pdl(Language):
         from motionvm.lang.pdl.machine_drives import PdlStartError, compile_specs, standalone_spec
 
         machine = request.machine
+        texts = {str(Path(s.path)): s.text for s in sources if s.text is not None}
+        texts.update({s.path: s.text for s in sources if s.text is not None})
         try:
             if request.alone and not request.check_only:  # one program, the default machine
                 specs = standalone_spec(sources[0].path, request.options.get("starts", ()))
             else:
                 specs = [(spec, str(spec.path)) for spec in machine.pdl_drives]
-            drives, diagnostics = compile_specs(specs)
+            drives, diagnostics = compile_specs(specs, texts)
         except PdlStartError as exc:
             raise LanguageInputError(str(exc), located=True) from None
         return CompileResult(drives, diagnostics)
@@ -161,26 +167,24 @@ class Pdl(Language):
         )
 
     def symbols(self, path: str, text: str | None = None) -> list[Symbol]:
-        from motionvm.lang.pdl import nodes as n
+        from motionvm.lang.pdl.editing import symbols
 
-        tree = self._tree(path, text)
-        out: list[Symbol] = []
-        for node in nodes(tree) if tree is not None else ():
-            pos = getattr(node, "pos", None)
-            if pos is None or pos.file != path:
-                continue
-            if isinstance(node, n.VarDecl):
-                for item in node.items:
-                    out.append(Symbol(item.name, "variable", path, item.pos.line, item.pos.col,
-                                      detail=f"{node.type} {item.name}"))  # fmt: skip
-            elif isinstance(node, n.Label):
-                out.append(Symbol(node.name, "label", path, pos.line, pos.col))
-            elif isinstance(node, n.ProcDef):
-                out.append(Symbol(node.name, "function", path, pos.line, pos.col))
-            elif isinstance(node, n.TaskDirective):
-                out.append(Symbol(f"#task/{node.task}", "task", path, pos.line, pos.col))
-        out.sort(key=lambda s: (s.line, s.col))
-        return out
+        return symbols(path, text)
+
+    def index(self, path: str, text: str) -> SourceIndex:
+        from motionvm.lang.pdl.editing import build_index
+
+        return build_index(path, text)
+
+    def docs(self) -> Mapping[str, NameDoc]:
+        from motionvm.lang.pdl.editing import docs
+
+        return docs()
+
+    def completions(self, index: SourceIndex, line: int, col: int) -> list[Completion]:
+        from motionvm.lang.pdl.editing import completions
+
+        return completions(index, line, col, visible_completions)
 
 
 LANGUAGE = Pdl()

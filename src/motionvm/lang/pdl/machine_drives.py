@@ -60,7 +60,7 @@ follow. Like every run, it ends at a cycle boundary (`--until` rounds up to one)
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -94,15 +94,15 @@ class CompiledDrive:
 
 
 def compile_specs(
-    specs: Sequence[tuple[PdlDriveSpec, str]],
+    specs: Sequence[tuple[PdlDriveSpec, str]], texts: Mapping[str, str] | None = None
 ) -> tuple[list[CompiledDrive] | None, list[Diagnostic]]:
     """Compile the program of each (drive, path): the drives (None after any compile
-    error) and every diagnostic, by file and place. PdlStartError for a start label a
-    program lacks."""
+    error) and every diagnostic, by file and place. `texts`: programs' contents by path,
+    instead of reading them. PdlStartError for a start label a program lacks."""
     sink = DiagnosticSink()
     out: list[CompiledDrive] = []
     for spec, path in specs:
-        program = compile_pdl(path, sink=sink)
+        program = compile_pdl(path, sink=sink, text=(texts or {}).get(path))
         if program is not None:
             out.append(CompiledDrive(spec, program))
     diagnostics = sorted(sink.items, key=lambda d: (d.pos.file, d.pos.line, d.pos.col))
