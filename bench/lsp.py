@@ -58,7 +58,7 @@ def program(seed: int = 0, lines: int = LINES) -> str:
             "            where = where + moves[k].pos;",
             "        }",
             "    }",
-            f"    if (ret != 0) Print(\"step {i}: error %d\", ret);",
+            f'    if (ret != 0) Print("step {i}: error %d", ret);',
             "    done_count++;",
             f"    return ret + (int)where + {i % 7};",
             "}",
