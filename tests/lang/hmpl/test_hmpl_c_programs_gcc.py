@@ -18,7 +18,14 @@ PROGRAMS = Path(__file__).resolve().parents[2] / "programs" / "hmpl" / "c"
 GCC = shutil.which("gcc")
 # block_prototypes calls a function after the block of its prototype: C89's implicit
 # declaration, hence gnu89 (which also has compound literals and designators)
-C_PROGRAMS = ["brace_elision", "compound_literals", "line_directive", "block_prototypes"]
+C_PROGRAMS = [
+    "brace_elision",
+    "compound_literals",
+    "line_directive",
+    "block_prototypes",
+    "switch_case_in_block",
+    "forward_typedef",
+]
 PRELUDE = '#include <stdio.h>\n#define Print(...) (printf(__VA_ARGS__), printf("\\n"))\n'
 
 

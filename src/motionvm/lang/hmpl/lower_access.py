@@ -293,6 +293,8 @@ class AccessLowerer:
             st = b.type
             base_addr = b.node
         found = st.field(e.name)
+        if not st.fields:
+            raise self.fail(e.pos, f"'{st}' is an incomplete type (declared, never defined)")
         if found is None or e.name.startswith("_") and st.tag == "Timer":
             names = [f for f, _, _ in st.fields if not f.startswith("_")]
             raise self.fail(e.pos, f"'{st}' has no member '{e.name}'{did_you_mean(e.name, names)}")

@@ -58,6 +58,7 @@ class DeclLowerer:
             raise self.fail(d.pos, f"variable '{d.name}' declared void")
         if not d.name:  # `struct S { ... };` in a block: the definition alone
             return []
+        self.prog.require_complete(d, t)
         if d.is_static and self.ctx.func is not None:
             return self._declare_static_local(d, t)
         if self.prog.list_backed(d, t):

@@ -73,7 +73,7 @@ class FunctionLowerer:
         self.decls = decls = DeclLowerer(ctx, x, access)
         self.stmts = stmts = StatementLowerer(ctx, x, access, nesting)
         self.jumps = jumps = JumpLowerer(ctx, stmts, nesting)
-        switch = SwitchLowerer(ctx, x, stmts, nesting, jumps)
+        switch = SwitchLowerer(ctx, x, stmts, nesting, jumps, decls)
         loops = LoopLowerer(ctx, x, access, stmts, nesting, self.assigned)
         for part in (decls, jumps, switch, loops):
             stmts.attach(part.handlers())

@@ -26,6 +26,7 @@ from __future__ import annotations
 import ast
 
 from motionvm.lang.hmpl import nodes as n
+from motionvm.lang.hmpl.analysis import walk
 from motionvm.lang.hmpl.lower_context import FunctionContext
 from motionvm.lang.hmpl.lower_split import Nesting
 from motionvm.lang.hmpl.lower_stmt import StatementLowerer
@@ -45,6 +46,8 @@ class JumpLowerer:
         self.fail = ctx.fail
         self.labels: dict[str, int] = {}
         """Label name -> the index of the segment it starts (`function_body`)."""
+        self.body: n.Block | None = None
+        """The function body (`function_body`), where `s_Label` looks for a `goto`."""
 
     def handlers(self) -> dict[type, object]:
         """The statements this part lowers: node class -> method."""
@@ -105,9 +108,10 @@ class JumpLowerer:
                     _lbl = _g.args[0]   # plus a budgeted back-edge
 
         `goto L` raises `_Goto(index of L)`, so it leaves nested loops and switches too.
-        Labels must stand at the top level of the function body.
+        A `goto` targets labels at the top level of the function body only.
         """
         labels = [it for it in body.items if isinstance(it, n.Label)]
+        self.body = body
         self.labels = {}
         ctx = self.ctx
         for lab in labels:
@@ -161,7 +165,13 @@ class JumpLowerer:
         return [ast.Raise(call("_Goto", ast.Constant(k)), None)]
 
     def s_Label(self, s: n.Label) -> list[ast.stmt]:
-        raise self.fail(s.pos, f"label '{s.name}' must stand at the top level of the function body")
+        """A label inside a nested statement: nothing, if no `goto` names it."""
+        body = self.body
+        if body is None or any(type(x) is n.Goto and x.label == s.name for x in walk(body)):
+            raise self.fail(
+                s.pos, f"label '{s.name}' must stand at the top level of the function body"
+            )
+        return []
 
 
 def _copy_tree(node: ast.AST) -> ast.AST:

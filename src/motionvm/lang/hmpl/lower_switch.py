@@ -2,8 +2,10 @@
 
 A `switch` becomes a one-pass `while True:` whose groups test `matched or value == case`,
 so C fall-through and `break` keep their meaning; a `continue` inside it sets a flag,
-leaves the switch and continues the enclosing loop. When no group falls into the next
-and every `break` ends a group, it is an if-chain instead:
+leaves the switch and continues the enclosing loop. A block of the body that holds a
+label of the switch is opened into the body (`_open_blocks`), its scope kept; the
+Python locals a label may jump past get their zero before the groups. When no group
+falls into the next and every `break` ends a group, it is an if-chain instead:
 
     switch (a) { case 1: s++; break; case 2: t = 0;   default: s = 0; }
 becomes
@@ -28,13 +30,14 @@ import ast
 from motionvm.lang.hmpl import ctypes_ as ct
 from motionvm.lang.hmpl import nodes as n
 from motionvm.lang.hmpl.lower_context import FunctionContext, SemanticError
+from motionvm.lang.hmpl.lower_decl import DeclLowerer
 from motionvm.lang.hmpl.lower_expr import ExprLowerer
 from motionvm.lang.hmpl.lower_jumps import JumpLowerer
 from motionvm.lang.hmpl.lower_split import Nesting
 from motionvm.lang.hmpl.lower_stmt import StatementLowerer
 from motionvm.lang.hmpl.lower_util import LoopCtx, at, placed_like
 from motionvm.lang.hmpl.lvalues import const, name
-from motionvm.lang.hmpl.symbols import Scope
+from motionvm.lang.hmpl.symbols import Scope, VarSym
 
 
 class SwitchLowerer:
@@ -47,12 +50,14 @@ class SwitchLowerer:
         stmts: StatementLowerer,
         nesting: Nesting,
         jumps: JumpLowerer,
+        decls: DeclLowerer,
     ) -> None:
         self.ctx = ctx
         self.x = x
         self.stmts = stmts
         self.nesting = nesting
         self.jumps = jumps
+        self.decls = decls
         self.fail = ctx.fail
 
     def handlers(self) -> dict[type, object]:
@@ -68,21 +73,26 @@ class SwitchLowerer:
         sw, matched, flag = ctx.temp(), ctx.temp(), ctx.temp()
         subject = self.x.convert(v, t, s.pos)
         out: list[ast.stmt] = [ast.Assign([name(sw, True)], subject)]
-        items = s.body.items if isinstance(s.body, n.Block) else (s.body,)
+        items = _open_blocks(s.body.items if isinstance(s.body, n.Block) else (s.body,))
         for it in items:
-            nested = _nested_label(it) if type(it) in _NESTS else None
+            nested = _nested_label(it) if type(it) in _LOOPS_AND_IFS else None
             if nested is not None:
                 what = "case" if isinstance(nested, n.Case) else "default"
                 raise self.fail(
                     nested.pos,
                     f"'{what}' label inside a nested statement of the switch is not supported"
-                    " (a jump into a block, loop or 'if'); put it directly in the switch body",
+                    " (a jump into a loop or 'if'); put it in the switch body or a block of it",
                 )
         groups: list[tuple[list, list]] = []  # (labels, statements)
+        prelude: list = []  # before the first label: declared, never executed
         values: dict[int, object] = {}
         label_value: dict[int, int] = {}  # id(case label) -> its value, once lowered
+        jumped_decl = False  # a declaration a label lies after: it may be jumped over
         for it in items:
             if isinstance(it, (n.Case, n.Default)):
+                jumped_decl = jumped_decl or any(
+                    type(x) is n.DeclStmt for x in (groups[-1][1] if groups else prelude)
+                )
                 if groups and not groups[-1][1]:
                     groups[-1][0].append(it)
                 else:
@@ -98,15 +108,21 @@ class SwitchLowerer:
                     values[cv] = it
             elif groups:
                 groups[-1][1].append(it)
-            elif not isinstance(it, n.Empty):
-                ctx.sink.warning(it.pos, "statement before the first case label is never executed")
+            else:
+                prelude.append(it)
+                if not isinstance(it, (n.Empty, n.DeclStmt, n.Label, _Open, _Close)):
+                    ctx.sink.warning(
+                        it.pos, "statement before the first case label is never executed"
+                    )
         here = LoopCtx("switch", flag=flag)
         nesting = self.nesting
         here.split = nesting.nest(s.pos)
         nesting.loops.append(here)
         saved = ctx.scope
         ctx.scope = Scope(saved, "block")
+        scopes = [ctx.scope]  # the body's and its opened blocks': a label may enter them
         try:
+            self._group_stmts(prelude, scopes)  # declares; its code never runs
             lowered: list[tuple[ast.expr, list[ast.stmt], object]] = []  # each group's
             chain: list[tuple[ast.expr | None, list[ast.stmt], object]] = []  # the if-chain
             stripped = 0  # groups whose final `break` the if-chain form leaves out
@@ -129,12 +145,13 @@ class SwitchLowerer:
                             except SemanticError:
                                 continue
                         tests.append(ast.Compare(name(sw), [ast.Eq()], [const(cv)]))
-                if not tests:
-                    continue  # its labels failed (reported)
+                if not tests:  # its labels failed (reported); its blocks still open
+                    self._group_stmts(stmts, scopes)
+                    continue
                 inner: list[ast.stmt] = []
                 if falls[g] and g + 1 < len(groups):
                     inner.append(ast.Assign([name(matched, True)], ast.Constant(True)))
-                inner += self.stmts.stmts(stmts)
+                inner += self._group_stmts(stmts, scopes)
                 test = tests[0] if len(tests) == 1 else ast.BoolOp(ast.Or(), tests)
                 is_default = any(isinstance(lab, n.Default) for lab in labels)
                 pos = labels[0].pos
@@ -143,6 +160,9 @@ class SwitchLowerer:
                 lowered.append((test, inner, pos))
                 if inner and type(inner[-1]) is ast.Break:
                     stripped += 1
+            # a variable whose declaration a label jumps over exists all the same (C: its
+            # value is indeterminate): a Python local or list gets its zero before the groups
+            pre = self._jumped_locals(scopes, s.pos) if jumped_decl else []
         finally:
             ctx.scope = saved
             nesting.loops.pop()
@@ -150,9 +170,9 @@ class SwitchLowerer:
         if not (here.split or here.flag_used or any(falls[:-1]) or stripped != here.breaks):
             # no group falls into the next and every `break` ends a group: the groups'
             # tests exclude each other, so an if-chain without the loop does the same
-            return self._switch_chain(out, subject, chain)
+            return pre + self._switch_chain(out, subject, chain)
         # the loop form's groups (an empty one, `case 2: }`, gets a `pass` at its label)
-        body = [
+        body = pre + [
             at([ast.If(test, inner or [ast.Pass()], [])], pos)[0] for test, inner, pos in lowered
         ]
         body.append(ast.Break())
@@ -167,6 +187,35 @@ class SwitchLowerer:
                 ast.If(name(flag), self.jumps.continue_from(len(nesting.loops) - 1, s.pos), [])
             )
         return out
+
+    def _group_stmts(self, items: list, scopes: list[Scope]) -> list[ast.stmt]:
+        """The statements of a switch group; an opened block's marks open and close its
+        scope (kept in `scopes`), each run between them lowered as a statement list."""
+        ctx = self.ctx
+        out: list[ast.stmt] = []
+        run: list = []
+        for it in items:
+            if type(it) is _Open or type(it) is _Close:
+                out += self.stmts.stmts(run)
+                run = []
+                if type(it) is _Open:
+                    ctx.scope = Scope(ctx.scope, "block")
+                    scopes.append(ctx.scope)
+                else:
+                    ctx.scope = ctx.scope.parent  # type: ignore[assignment]
+            else:
+                run.append(it)
+        return out + self.stmts.stmts(run)
+
+    def _jumped_locals(self, scopes: list[Scope], pos) -> list[ast.stmt]:
+        """`v = 0` or `v = [0] * N` for each Python local or list the switch's body and
+        its opened blocks declare (frame and static objects exist from the call on)."""
+        out: list[ast.stmt] = []
+        for sc in scopes:
+            for sym in sc.names.values():
+                if isinstance(sym, VarSym) and sym.storage in ("local", "pylist"):
+                    out += self.decls.init_var(sym, None, pos)
+        return at(out, pos)
 
     def _switch_chain(self, out: list[ast.stmt], subject: ast.expr, chain) -> list[ast.stmt]:
         """`if sw == 1: ... elif sw == 2: ... else: <default>` without the groups' final
@@ -197,6 +246,41 @@ class SwitchLowerer:
 
 _NESTS = frozenset((n.Block, n.If, n.While, n.DoWhile, n.For))
 """Statements that `_nested_label` looks into (any other holds no label)."""
+_LOOPS_AND_IFS = _NESTS - {n.Block}
+
+
+class _Open:
+    """In a switch body's items: a block holding a label of the switch opens here."""
+
+    __slots__ = ("pos",)
+
+    def __init__(self, pos) -> None:
+        self.pos = pos
+
+
+class _Close(_Open):
+    """... and closes here (its scope ends)."""
+
+    __slots__ = ()
+
+
+def _open_blocks(items) -> list:
+    """The switch body's items with each block that holds a `case` or `default` label of
+    the switch (not in a loop or `if` of it) opened: its items between `_Open` and
+    `_Close` marks, so that its labels are labels of the body and its scope still ends.
+
+    before: `switch (x) { { x = 2; case 1: return 1; } }`
+    after:  `_Open, x = 2;, case 1:, return 1;, _Close`
+    """
+    out: list = []
+    for it in items:
+        if type(it) is n.Block and _nested_label(it) is not None:
+            out.append(_Open(it.pos))
+            out += _open_blocks(it.items)
+            out.append(_Close(it.pos))
+        else:
+            out.append(it)
+    return out
 
 
 def _nested_label(s) -> n.Case | n.Default | None:
@@ -236,6 +320,8 @@ _JUMP_STMTS = (n.Break, n.Continue, n.Return, n.Goto)
 
 def _ends_in_jump(stmts) -> bool:
     """The statements end in a break, continue, return or goto (never fall off the end)."""
+    while stmts and type(stmts[-1]) is _Close:
+        stmts = stmts[:-1]
     while stmts:
         last = stmts[-1]
         if isinstance(last, _JUMP_STMTS):

@@ -143,6 +143,8 @@ class Parser:
         self.sink = sink
         self.typedefs: set[str] = set(PREDEFINED_TYPES)
         self.block_typedefs: list[str] = []  # names typedef'd in the open blocks
+        # typedef names an ordinary identifier of an open block hides (`struct s s;`)
+        self.hidden_typedefs: list[str] = []
         # enum constants are replaced by their values as they are parsed
         self.enumerators: dict[str, int] = {}
         self.items: list = []
@@ -395,7 +397,13 @@ class Parser:
         params = self._parse_parameter_list()
         ret = _with_pointers(spec, pointers)
         if self.keys[self.i] == "{":
-            body = self._parse_compound_statement()
+            mark, hidden = len(self.block_typedefs), len(self.hidden_typedefs)
+            for p in params:  # a parameter's name hides a typedef name in the body
+                self._hide_typedef(p.name)
+            try:
+                body = self._parse_compound_statement()
+            finally:
+                self._end_scope(mark, hidden)
             return n.FuncDef(name_tok.pos, ret, name_tok.text, params, body, autorun is not None)
         if not more:  # else the caller reads `,` (more declarators) or `;`
             self._expect(";", "after function declaration")
@@ -778,13 +786,26 @@ class Parser:
     # BNF: compound_statement = "{" { block_item } "}"
     def _parse_compound_statement(self) -> n.Block:
         lbrace = self._expect("{")
-        mark = len(self.block_typedefs)
+        mark, hidden = len(self.block_typedefs), len(self.hidden_typedefs)
         try:
             return self._compound_items(lbrace)
         finally:
-            for name in self.block_typedefs[mark:]:
-                self.typedefs.discard(name)  # a block's typedef names end with it
-            del self.block_typedefs[mark:]
+            self._end_scope(mark, hidden)
+
+    def _end_scope(self, mark: int, hidden: int) -> None:
+        """A block ends: its typedef names end with it, those its names hid are back."""
+        for name in self.block_typedefs[mark:]:
+            self.typedefs.discard(name)
+        del self.block_typedefs[mark:]
+        self.typedefs.update(self.hidden_typedefs[hidden:])
+        del self.hidden_typedefs[hidden:]
+
+    def _hide_typedef(self, name: str) -> None:
+        """An ordinary identifier declared in a block hides a typedef name of the same
+        spelling until the block ends (C 6.2.1: `struct s s;` makes `s` a variable)."""
+        if name in self.typedefs:
+            self.typedefs.discard(name)
+            self.hidden_typedefs.append(name)
 
     def _compound_items(self, lbrace: Token) -> n.Block:
         self._enter()
@@ -810,7 +831,9 @@ class Parser:
 
     # BNF: block_item = declaration | statement
     def _parse_block_item(self) -> n.Stmt:
-        if self._starts_declaration():
+        if self._starts_declaration() and not (
+            self.kinds[self.i] == "name" and self._peek_key() == ":"
+        ):  # `T:` with T a typedef name is a label (labels have their own name space)
             return self._parse_declaration()
         return self._parse_statement()
 
@@ -829,6 +852,8 @@ class Parser:
         if self.keys[self.i] != ";":
             while True:
                 pointers, name_tok, dims = self._parse_declarator()
+                if name_tok is not None:
+                    self._hide_typedef(name_tok.text)
                 if self.keys[self.i] == "(":  # a prototype: checked against the definition
                     assert name_tok is not None
                     params = self._parse_parameter_list()
@@ -970,6 +995,13 @@ class Parser:
 
     # BNF: for_statement = "for" "(" ( declaration | [ expression ] ";" ) [ expression ] ";" [ expression ] ")" statement
     def _parse_for_statement(self) -> n.For:
+        mark, hidden = len(self.block_typedefs), len(self.hidden_typedefs)
+        try:  # the names the first clause declares end with the loop
+            return self._for_statement_rest()
+        finally:
+            self._end_scope(mark, hidden)
+
+    def _for_statement_rest(self) -> n.For:
         kw = self._advance()
         if self.keys[self.i] != "(":
             raise self._fail_here("expected '(' after 'for'")

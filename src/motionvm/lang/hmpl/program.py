@@ -96,6 +96,7 @@ class ProgramCompiler:
         self.tasks: dict[int, TaskInfo] = {}
         self._strings: dict[bytes, int] = {}
         self._structs: dict[int, ct.StructT] = {}  # id(StructDef) -> its type
+        self._declared_only: set[int] = set()  # ids of struct types declared, not defined
         # (task, name) -> the first prototype inside a function of a function that the
         # file did not declare before it: a later declaration must agree with it
         self._block_protos: dict[tuple[int, str], FuncSym] = {}
@@ -166,9 +167,13 @@ class ProgramCompiler:
             if tr.struct_def is not None:
                 t = self.define_struct(tr.struct_def, scope, task)
             elif base.startswith(("struct ", "union ")):
-                t = scope.lookup_tag(base.split(" ", 1)[1])
-                if t is None:
-                    raise self._fail(tr.pos, f"unknown type '{base}'")
+                kind, tag = base.split(" ", 1)
+                t = scope.lookup_tag(tag)
+                if t is None:  # C: declares the tag, an incomplete type until defined
+                    t = scope.tags[tag] = ct.StructT(0, 1, kind, tag, ())
+                    self._declared_only.add(id(t))
+                elif t is not ct.ERROR and t.kind != kind:
+                    raise self._fail(tr.pos, f"'{base}' defined as the wrong kind of tag")
             else:
                 t = scope.lookup_type(base)
                 if t is None:
@@ -191,6 +196,14 @@ class ProgramCompiler:
                 scope.tags[sd.tag] = st
             return st
         st = ct.StructT(0, 1, sd.kind, sd.tag or f"<anonymous {sd.kind}>", ())
+        ahead = scope.tags.get(sd.tag) if sd.tag else None
+        if ahead is not None and id(ahead) in self._declared_only:
+            # `typedef struct s s;` (or a pointer) before `struct s { ... };` in this
+            # scope: the definition completes that type
+            if ahead.kind != sd.kind:
+                raise self._fail(sd.pos, f"'{sd.kind} {sd.tag}' defined as the wrong kind of tag")
+            self._declared_only.discard(id(ahead))
+            st = ahead
         self._structs[id(sd)] = st
         if sd.tag:
             scope.tags[sd.tag] = st  # members may point to it
@@ -247,6 +260,17 @@ class ProgramCompiler:
         if isinstance(d, n.Param) and isinstance(t, ct.ArrayT):
             return ct.pointer_to(t.elem)
         return t
+
+    def require_complete(self, d, t: ct.CType) -> None:
+        """A variable's type must be complete: its size known (not a struct only
+        declared, as by `typedef struct s s;`, nor an array of one)."""
+        elem = t
+        while isinstance(elem, ct.ArrayT):
+            elem = elem.elem
+        if isinstance(elem, ct.StructT) and not elem.fields:
+            raise self._fail(
+                d.pos, f"storage size of '{d.name}' is not known: '{elem}' is an incomplete type"
+            )
 
     def _count_from_init(self, d, elem: ct.CType, scope: Scope, task: int) -> int | None:
         """The length of `T a[] = init` from its initializer (brace elision counted)."""
@@ -437,6 +461,7 @@ class ProgramCompiler:
                 t = self.decl_type(item, scope, task)
                 if isinstance(t, ct.VoidT):
                     raise self._fail(item.pos, f"variable '{item.name}' declared void")
+                self.require_complete(item, t)
             except SemanticError:
                 scope.names[item.name] = error_symbol(item.name, item.pos)
                 raise
