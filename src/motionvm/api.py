@@ -15,6 +15,7 @@ channels (sim/variables.py); docs/api.md has the whole API with examples.
 
 from __future__ import annotations
 
+import math
 import threading
 import weakref
 from collections.abc import Callable, Sequence
@@ -23,6 +24,7 @@ from types import TracebackType
 from typing import Any
 
 from motionvm.comm.config import COMM_KEYS, CommConfig, load_comm
+from motionvm.lang import CallError
 from motionvm.runtime.fault_position import Fault
 from motionvm.session import CompileFailed, RunResult, RunSpec, Session, SessionError, Source
 from motionvm.sim.machine import MachineConfig
@@ -32,6 +34,7 @@ from motionvm.source.diagnostics import CompileError
 
 __all__ = [
     "AxisState",
+    "CallError",
     "CompileError",
     "Fault",
     "Recording",
@@ -114,12 +117,18 @@ class Recording:
         return out
 
     def data(self) -> Any:
-        """A pandas DataFrame (index `time` [s], one column per channel) when pandas is
-        installed (`pip install 'motionvm[pandas]'`), else `as_dict()`."""
+        """A pandas DataFrame (index `time` [s], one column per channel). Needs pandas
+        (`pip install 'motionvm[pandas]'`): without it, an ImportError that says so
+        (`as_dict()` needs nothing)."""
         try:
             import pandas as pd
         except ImportError:
-            return self.as_dict()
+            raise ImportError(
+                "Recording.data() returns a pandas DataFrame and pandas is not installed: "
+                "pip install 'motionvm[pandas]' (or use Recording.as_dict(), which needs "
+                "nothing)",
+                name="pandas",
+            ) from None
         data = self.as_dict()
         times = data.pop("time")
         return pd.DataFrame(data, index=pd.Index(times, name="time"))
@@ -234,6 +243,43 @@ class Simulation:
         result = self.session.run(until, timeout=timeout)
         self._log.raise_pending()
         return result
+
+    def advance(self, seconds: float, timeout: float | None = None) -> RunResult:
+        """Run `seconds` more of simulated time from now: `run(until=time + seconds)`.
+        The end is counted in whole cycles from the cycle the clock shows now, so that
+        `advance(0.1)` ten times ends where `run(until=1.0)` does. `timeout`: seconds
+        from now, as `run`'s. ValueError for a negative or infinite duration."""
+        if not (seconds >= 0 and math.isfinite(seconds)):
+            raise ValueError(f"advance takes a finite, non-negative duration [s], got {seconds}")
+        dt = self.controller.cycle_time
+        now = self.controller.cycle
+        until = (now + round(seconds / dt)) * dt
+        end = None if timeout is None else (now + round(timeout / dt)) * dt
+        return self.run(until=until, timeout=end)
+
+    def call(self, name: str, *args: Any) -> Any:
+        """Call the HMPL built-in `name` now, between cycles, as a task's call would: the
+        manual's checks, C's conversions of the arguments (a `str` is a `char *`
+        string), and its value. A call the built-in refuses returns the manual's error
+        code, as in HMPL (`call("MoveAbs", 99, 1.0)` -> the code of a bad axis id).
+        Out-parameters are left out of `args`: the value is then the tuple (return
+        value, each out-parameter's value). `CallError` (a ValueError) for a call that
+        cannot be made: an unknown or unimplemented name (with the closest names), a
+        wrong number or kind of arguments, a built-in that waits (Sleep, Till, the
+        client functions: only a task can wait). Needs a run side with built-ins (an
+        HMPL program)."""
+        self._not_serving("call")
+        self.session.boot()
+        for side in self.session.sides:
+            if name in side.builtin_names():
+                return side.call(name, args)
+        for side in self.session.sides:
+            if side.builtin_names():  # its message names the closest built-ins
+                return side.call(name, args)
+        raise CallError(
+            f"call('{name}'): this simulation runs no program whose built-ins can be called "
+            "(an HMPL program)"
+        )
 
     def _not_serving(self, what: str) -> None:
         """SessionError while `serve` runs the simulation in its thread: a second thread

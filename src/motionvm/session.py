@@ -452,6 +452,7 @@ class Session:
         self.boot()
         for _ in range(cycles):
             self.controller.step()
+        self.controller.show_clock()
 
     def _check_open(self) -> None:
         if self.closed:

@@ -40,11 +40,13 @@ def test_every_nth_cycle_and_stop():
     assert rec.as_dict()["count"] == [3, 5]
 
 
-def test_without_pandas_the_data_is_a_dict_of_lists(monkeypatch):
+def test_without_pandas_data_names_the_extra_to_install(monkeypatch):
     monkeypatch.setitem(sys.modules, "pandas", None)  # import pandas -> ImportError
     sim, rec = recording()
     sim.step(2)
-    assert rec.data() == rec.as_dict()
+    with pytest.raises(ImportError, match=r"pip install 'motionvm\[pandas\]'"):
+        rec.data()
+    assert rec.as_dict()["count"] == [3, 4]  # needs nothing
 
 
 def test_with_pandas_the_data_is_a_dataframe_indexed_by_time():

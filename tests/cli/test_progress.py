@@ -82,7 +82,9 @@ def test_a_long_run_shows_a_bar_towards_until(tmp_path, motionvm):
     assert re.search(rb"\d+%", err)
     assert COLOUR.search(err)
     lines = _lines_after_the_bar(err)
-    assert lines[0] == "busy.hmpl:5:9: note: task 0 still ran when the run ended at t=1.2 s"
+    assert (
+        lines[0] == "busy.hmpl:5:9: note: task 0 (in Sleep) still ran when the run ended at t=1.2 s"
+    )
     assert re.fullmatch(r"motionvm: 1\.200 s simulated in .*, 0 faults", lines[1])
     # the same output as a run nobody watches
     piped = motionvm("run", *PACED, "busy.hmpl", cwd=tmp_path)
@@ -118,7 +120,10 @@ def test_no_bar_when_stderr_is_not_a_terminal(tmp_path, motionvm):
     (tmp_path / "busy.hmpl").write_text(BUSY, "utf-8")
     r = motionvm("run", *PACED, "busy.hmpl", cwd=tmp_path)
     assert r.returncode == 0
-    assert r.stderr == "busy.hmpl:5:9: note: task 0 still ran when the run ended at t=1.2 s\n"
+    assert (
+        r.stderr
+        == "busy.hmpl:5:9: note: task 0 (in Sleep) still ran when the run ended at t=1.2 s\n"
+    )
 
 
 def test_the_progress_callback_sees_the_run_without_changing_it(tmp_path):

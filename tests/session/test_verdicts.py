@@ -36,8 +36,8 @@ def test_until_is_exit_0_with_a_note_of_where_each_task_waits(tmp_path):
     r = motionvm("run", *programs(tmp_path), "--until", "5", cwd=tmp_path)
     assert r.returncode == 0 and r.stdout == ""
     assert r.stderr.splitlines() == [
-        "t0.hmpl:3:5: note: task 0 still ran when the run ended at t=5 s",
-        "t1.hmpl:3:9: note: task 1 still ran when the run ended at t=5 s",
+        "t0.hmpl:3:5: note: task 0 (in Till) still ran when the run ended at t=5 s",
+        "t1.hmpl:3:9: note: task 1 (sleeping until t=5.001 s) still ran when the run ended at t=5 s",
     ]
 
 
@@ -45,8 +45,8 @@ def test_timeout_fails_naming_where_each_task_waits(tmp_path):
     r = motionvm("run", *programs(tmp_path), "--timeout", "2", cwd=tmp_path)
     assert r.returncode == 124
     assert r.stderr.splitlines() == [
-        "t0.hmpl:3:5: error: task 0 had not finished after --timeout 2 s",
-        "t1.hmpl:3:9: error: task 1 had not finished after --timeout 2 s",
+        "t0.hmpl:3:5: error: task 0 (in Till) had not finished after --timeout 2 s",
+        "t1.hmpl:3:9: error: task 1 (sleeping until t=2.001 s) had not finished after --timeout 2 s",
         "motionvm: error: the run did not finish within --timeout 2 s of simulated time",
     ]
 
@@ -59,7 +59,7 @@ def test_a_run_that_finishes_in_time_passes_without_a_word(tmp_path):
 
 def test_an_earlier_until_wins_over_the_timeout(tmp_path):
     r = motionvm("run", *programs(tmp_path), "--timeout", "2", "--until", "1", cwd=tmp_path)
-    assert r.returncode == 0 and ": note: task 0 still ran" in r.stderr
+    assert r.returncode == 0 and ": note: task 0 (in Till) still ran" in r.stderr
 
 
 def test_pdl_drive_tasks_and_moving_axes_are_named(tmp_path):
@@ -67,7 +67,7 @@ def test_pdl_drive_tasks_and_moving_axes_are_named(tmp_path):
     r = motionvm(*argv, cwd=EXAMPLES)
     assert r.returncode == 0
     notes = r.stderr.splitlines()
-    assert "03_pdl_drives.mover.pdl:6:1: note: drive 1 task 0 still ran" in notes[1]
+    assert "03_pdl_drives.mover.pdl:6:1: note: drive 1 task 0 (in till) still ran" in notes[1]
     assert any(n.startswith("motionvm: note: axis 0 (moving) still ran") for n in notes)
 
 

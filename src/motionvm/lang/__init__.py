@@ -19,6 +19,7 @@ from motionvm.lang.gdl.language import LANGUAGE as _GDL
 from motionvm.lang.hmpl.language import LANGUAGE as _HMPL
 from motionvm.lang.index import Completion, Occurrence, Signature, SourceIndex
 from motionvm.lang.interface import (
+    CallError,
     CompileRequest,
     CompileResult,
     Language,
@@ -67,6 +68,7 @@ def suffix_list() -> str:
 
 __all__ = [
     "LANGUAGES",
+    "CallError",
     "CompileRequest",
     "CompileResult",
     "Completion",

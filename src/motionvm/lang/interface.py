@@ -62,6 +62,13 @@ class LanguageInputError(Exception):
         self.located = located
 
 
+class CallError(ValueError):
+    """A host's call of a built-in that cannot be made (`RunSide.call`): an unknown or
+    unimplemented name, a wrong number or kind of arguments, a built-in that waits and
+    so only runs inside a task. A call the built-in itself refuses is no CallError: it
+    returns the manual's error code, as it does to a program."""
+
+
 @dataclass(frozen=True)
 class Source:
     """One program file of a run."""
@@ -221,6 +228,16 @@ class RunSide:
 
     def on_event(self, callback: Callable[[str, object], None]) -> None:
         """Call `callback(kind, payload)` for each event the program sends (default: none)."""
+
+    def builtin_names(self) -> frozenset[str]:
+        """The built-ins a host may `call` (default: none)."""
+        return frozenset()
+
+    def call(self, name: str, args: Sequence[object]) -> object:
+        """Call built-in `name` from the host, between cycles, with the checks and
+        argument conversions of a program's call; its value (see the language's
+        run side). CallError if it cannot be called."""
+        raise CallError(f"{self.language.name} has no built-ins to call")
 
     def close(self) -> None:
         """Free its memory; nothing runs afterwards."""

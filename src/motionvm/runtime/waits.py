@@ -8,8 +8,14 @@ waits. Used to tell the user which task still ran when a run ended (`--until`,
 
 from __future__ import annotations
 
+import re
 from collections.abc import Callable, Generator
 from dataclasses import dataclass
+
+from motionvm.source.files import SourceFile
+
+_WORD = re.compile(r"\s*([A-Za-z_]\w*)")
+_LOOPS = frozenset({"while", "for", "do", "goto", "loop", "until", "repeat", "if", "else"})
 
 
 @dataclass(frozen=True, slots=True)
@@ -52,3 +58,24 @@ def suspended_at(
             found = (code.co_filename, frame.f_lineno, col)
         gen = getattr(gen, "gi_yieldfrom", None)
     return found
+
+
+def why_waiting(place: tuple[str, int, int] | None, wake_time: float | None = None) -> str:
+    """What a suspended task waits for, for `Waiting.why`: `sleeping until t=S s` while it
+    sleeps (`wake_time` [s]), else the name of the call or statement at its `place`
+    (file, line, col) in the user's source: `in Till`, `in MutexLock`, `in a loop` (a
+    loop that used up its slice of the cycle), `running` when the source says nothing."""
+    if wake_time is not None:
+        return f"sleeping until t={wake_time:.6g} s"
+    if place is None:
+        return "running"
+    file, line, col = place
+    sf = SourceFile.lookup(file)
+    text = sf.line(line) if sf is not None else ""
+    m = _WORD.match(text, max(0, col - 1)) if text else None
+    if m is None and text:
+        m = _WORD.match(text)
+    if m is None:
+        return "running"
+    word = m.group(1)
+    return "in a loop" if word.lower() in _LOOPS else f"in {word}"

@@ -187,21 +187,34 @@ class Controller:
         self.kernel.recorder = self.motion if self.skip else None
         next_report = _NEVER if progress is None else clock.cycle
         active = self.kernel._active  # a running task keeps the run busy: no call
-        while active or self.busy():
-            if self.stop_requested:
-                return STOPPED
-            if clock.cycle >= next_report and progress is not None:
-                progress(self.sim_time)
-                next_report = clock.cycle + progress_every
-            if pacer is not None:
-                pacer.wait(self.sim_time)
-                self.jumps.forget()  # a client may have written a variable meanwhile
-            if end_cycle is not None and clock.cycle >= end_cycle:
-                return UNTIL
-            if self.skip and self.jumps.jump(end_cycle):
-                continue
-            self.step(end_cycle, fold=pacer is None)  # (paced: a jump waits at its start)
-        return FINISHED
+        try:
+            while active or self.busy():
+                if self.stop_requested:
+                    return STOPPED
+                if clock.cycle >= next_report and progress is not None:
+                    progress(self.sim_time)
+                    next_report = clock.cycle + progress_every
+                if pacer is not None:
+                    pacer.wait(self.sim_time)
+                    self.jumps.forget()  # a client may have written a variable meanwhile
+                if end_cycle is not None and clock.cycle >= end_cycle:
+                    return UNTIL
+                if self.skip and self.jumps.jump(end_cycle):
+                    continue
+                self.step(end_cycle, fold=pacer is None)  # (paced: a jump waits at its start)
+            return FINISHED
+        finally:
+            self.show_clock()
+
+    def show_clock(self) -> None:
+        """Between cycles: the values computed from the clock alone (the HMPL system
+        time, `clock_driven` clients) show the clock as it is now. Each cycle's
+        `begin_cycle` sets them for that cycle, so after cycle k they would still show k
+        (or an earlier cycle, after a jump) while the clock reads k + 1; the next
+        `begin_cycle` writes the same values again."""
+        for c in self.clients:
+            if getattr(c, "clock_driven", False):
+                c.begin_cycle()
 
     def still_running(self) -> list[Waiting]:
         """What keeps the run busy: each client's tasks and programs (where they wait),

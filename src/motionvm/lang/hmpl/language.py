@@ -10,6 +10,7 @@ from typing import Any
 
 from motionvm.lang.index import Completion, SourceIndex
 from motionvm.lang.interface import (
+    CallError,
     CompileRequest,
     CompileResult,
     Language,
@@ -77,6 +78,22 @@ class HmplSide(RunSide):
 
     def on_event(self, callback: Callable[[str, object], None]) -> None:
         self.runtime.event_callbacks.append(callback)
+
+    def builtin_names(self) -> frozenset[str]:
+        from motionvm.lang.hmpl.lib import implemented_builtins
+
+        return frozenset(implemented_builtins())
+
+    def call(self, name: str, args: Sequence[object]) -> object:
+        """As a task's call (`rtcomm.HmplComm.call_builtin`): `str` arguments are C
+        strings; with out-parameters (left out of `args`) the value is the tuple
+        (return value, each out-parameter's value)."""
+        from motionvm.comm.hub import RequestError
+
+        try:
+            return self.comm.call_builtin(name, list(args))
+        except RequestError as exc:
+            raise CallError(str(exc)) from None
 
     def close(self) -> None:
         self.runtime.close()

@@ -214,17 +214,20 @@ class HmplRuntime(PassiveClient):
 
     def still_running(self) -> list:
         """Every running task and the line of the user's code where it waits."""
-        from motionvm.runtime.waits import Waiting, suspended_at
+        from motionvm.runtime.waits import Waiting, suspended_at, why_waiting
 
         out = []
+        cycle = self.kernel.cycle
         for t in self.kernel.tasks:
             if t.gen is None:
                 continue
             at = suspended_at(t.gen, self.user_files.__contains__)
             if at is None:
                 out.append(Waiting(f"task {t.id}", why="not started yet"))
-            else:
-                out.append(Waiting(f"task {t.id}", *at))
+                continue
+            asleep = t.wake_cycle > cycle and not t.event_wait
+            wake = t.wake_cycle * self.controller.cycle_time if asleep else None
+            out.append(Waiting(f"task {t.id}", *at, why=why_waiting(at, wake)))
         return out
 
     def scope_sources(self) -> list:

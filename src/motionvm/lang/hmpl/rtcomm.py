@@ -64,6 +64,15 @@ _CO_GENERATOR = 0x20
 NO_AGENT = "ERR no ASCII agent is running (the program calls START_ASCII_AGENT)"
 
 
+def _literal(value: object) -> object:
+    """A host's Python argument as a Native ASCII literal: a str is a C string (bytes)."""
+    if isinstance(value, str):
+        return value.encode("utf-8")
+    if isinstance(value, bool):
+        return int(value)
+    return value
+
+
 @lru_cache(maxsize=1)
 def _param_dirs() -> dict[str, list[str]]:
     """Built-in name -> the direction ("in", "out") of each parameter (manual [in]/[out])."""
@@ -160,8 +169,31 @@ class HmplComm(PassiveClient):
 
         if name in ("HIMC_GPI", "HIMC_GPO"):
             return self._gpio(name, [self._constant(a) for a in args])
+        sig, result, outs = self._call(name, args, "over Native ASCII")
+        parts = ["OK" if sig.ret == ct.VOID or result is None else format_value(result)]
+        parts += [format_value(self._out_value(addr, ptype)) for addr, ptype in outs]
+        return " ".join(parts)
+
+    def call_builtin(self, name: str, args: list) -> object:
+        """The host's call of built-in `name` with Python values (the API's
+        `Simulation.call`): the value it returns, or with out-parameters (left out of
+        `args`) the tuple (return value, each out-parameter's value); a `char *` out
+        value is a str. RequestError for a call that cannot be made."""
+        sig, result, outs = self._call(name, [_literal(a) for a in args], "from the host")
+        if sig.ret == ct.VOID:
+            result = None
+        if not outs:
+            return result
+        values = [self._out_value(addr, ptype) for addr, ptype in outs]
+        text = [v.decode("utf-8", "replace") if isinstance(v, bytes) else v for v in values]
+        return (result, *text)
+
+    def _call(self, name: str, args: list, via: str) -> tuple:
+        """Call built-in `name` as a task's call would, arguments converted as C converts
+        them: (signature, return value, [(address, type) of each out-parameter]). `via`
+        says in a refusal how it was called ("over Native ASCII")."""
         if name == "Till":
-            raise RequestError("Till waits inside a task; it cannot be called over Native ASCII")
+            raise RequestError(f"Till waits inside a task; it cannot be called {via}")
         sigs = builtin_signatures()  # the tables are read at the first request (cached)
         sig = sigs.get(name)
         if sig is None:
@@ -170,7 +202,7 @@ class HmplComm(PassiveClient):
         if blocking is None:
             raise RequestError(f"{name} (manual {sig.section}) is not implemented")
         if blocking or name == "START_ASCII_AGENT":
-            raise RequestError(f"{name} only makes sense inside a task; it cannot be called over Native ASCII")  # fmt: skip
+            raise RequestError(f"{name} only makes sense inside a task; it cannot be called {via}")
         dirs = _param_dirs().get(name, [])
         ins = [i for i, (_pn, pt) in enumerate(sig.params) if not self._is_out(dirs, i, pt)]
         if len(args) < len(ins) or (len(args) > len(ins) and not sig.variadic):
@@ -201,9 +233,7 @@ class HmplComm(PassiveClient):
             result = None
         except (AttributeError, TypeError):
             raise RequestError(f"{name} only makes sense inside a task") from None
-        parts = ["OK" if sig.ret == ct.VOID or result is None else format_value(result)]
-        parts += [self._out_value(addr, ptype) for addr, ptype in outs]
-        return " ".join(parts)
+        return sig, result, outs
 
     @staticmethod
     def _is_out(dirs: list[str], i: int, ptype: ct.CType) -> bool:
@@ -238,16 +268,15 @@ class HmplComm(PassiveClient):
         self.rt.mem.write_bytes(addr, data + b"\0")
         return addr
 
-    def _out_value(self, addr: int, ptype: ct.CType) -> str:
-        from motionvm.comm.native import format_value
-
+    def _out_value(self, addr: int, ptype: ct.CType) -> object:
+        """An out-parameter's value: a `char *` as bytes, any other pointer's first element."""
         target = ptype.target if isinstance(ptype, ct.PtrT) else ct.INT
         mem = self.rt.mem
         if isinstance(target, ct.IntT) and target.size == 1 and target.signed:
-            return format_value(mem.read_cstr(addr))
+            return mem.read_cstr(addr)
         if isinstance(target, (ct.IntT, ct.FloatT)):
-            return format_value(mem.load(addr, target.code))
-        return format_value(mem.load(addr, "i64"))
+            return mem.load(addr, target.code)
+        return mem.load(addr, "i64")
 
     def _gpio(self, name: str, args: list) -> str:
         from motionvm.comm.native import format_value

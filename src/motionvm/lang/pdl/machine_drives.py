@@ -71,7 +71,7 @@ from motionvm.lang.pdl.lower import PdlProgram
 from motionvm.lang.pdl.program import compile_pdl
 from motionvm.motion.axis_config import AxisConfig
 from motionvm.runtime.fault_position import Fault
-from motionvm.runtime.waits import Waiting, suspended_at
+from motionvm.runtime.waits import Waiting, suspended_at, why_waiting
 from motionvm.sim.machine import MachineConfig, PdlDriveSpec
 from motionvm.source.diagnostics import Diagnostic, DiagnosticSink, render_diagnostic
 
@@ -357,11 +357,13 @@ class PdlDrives:
                 if t.gen is None:
                     continue
                 at = suspended_at(t.gen, program.path.__eq__)
+                wake = t.wake / drive.config.phase_rate if t.wake > drive.phase else None
                 if at is None:
-                    out.append(Waiting(f"{who}task {t.id}"))
+                    out.append(Waiting(f"{who}task {t.id}", why=why_waiting(None, wake)))
                 else:
                     file, line = program.where(at[1])
-                    out.append(Waiting(f"{who}task {t.id}", file, line))
+                    why = why_waiting((file, line, 1), wake)
+                    out.append(Waiting(f"{who}task {t.id}", file, line, why=why))
             if drive.axis.moving:
                 out.append(Waiting(f"the profile of {who.strip() or 'the drive'}", why="moving"))
         return out
