@@ -33,7 +33,7 @@ def test_run_prints_messages_and_exits_0(tmp_path):
 def test_stamp_prefixes_time_and_task(tmp_path):
     write(tmp_path, "a.hmpl", 'void main() { Sleep(5); Print("x"); }\n')
     r = run(["run", "--stamp", "a.hmpl"], tmp_path)
-    assert r.stdout == "[t=0.005][task 0] x\n"
+    assert r.stdout == "[t=0.005000][task 0] x\n"
 
 
 def test_compile_error_format_and_exit_2(tmp_path):

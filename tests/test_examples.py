@@ -8,7 +8,8 @@ not examples of their own. A GDL example `NN_topic.gdl` runs with its scenario
 `NN_topic.toml` when there is one; an HMPL example runs on the machine file
 `NN_topic.toml` when there is one (`--machine`) and its scenario
 `NN_topic.scenario.toml` when there is one; a GDL application beside it,
-`NN_topic.NAME.gdl`, is passed after the tasks (all three languages on one machine). These are the conventions of
+`NN_topic.NAME.gdl`, is passed after the tasks (all three languages on one machine); an
+`args:` comment adds the options the documentation runs it with (`// args: --stamp`). These are the conventions of
 `motionvm test` (`motionvm.cli.cases.run_arguments`), shared here. Set MOTIONVM_TEST_CMD
 to run another command instead of `python -m motionvm` (shell-style), e.g. an installed
 `motionvm`.
@@ -25,7 +26,7 @@ from pathlib import Path
 
 import pytest
 
-from motionvm.cli.cases import CaseError, is_case_file, run_arguments
+from motionvm.cli.cases import CaseError, expectations_of, is_case_file, run_arguments
 
 REPO = Path(__file__).resolve().parents[1]
 EXAMPLES = REPO / "examples"
@@ -55,9 +56,11 @@ def test_example(example: Path, tmp_path: Path) -> None:
     env["PYTHONPATH"] = src + (os.pathsep + env["PYTHONPATH"] if env.get("PYTHONPATH") else "")
     try:
         argv = run_arguments(example)  # task files, machine or scenario, companions
+        case = expectations_of(example)
     except CaseError as exc:
         pytest.fail(str(exc), pytrace=False)
-    cmd = base_command() + ["run", *argv]
+    options = case[1] if case is not None else []  # `args: --stamp`, as the docs run it
+    cmd = base_command() + ["run", *argv, *options]
     try:
         proc = subprocess.run(
             cmd,

@@ -305,4 +305,4 @@ def test_the_same_run_gives_the_same_stamped_output():
             with Simulation.from_source(program, stamp=True) as sim:
                 sim.run(until=10)
                 runs.append(list(sim.messages))
-    assert runs[0] == runs[1] == ["[t=5.000][task 0] 12", "[t=5.000][task 0] 34"]
+    assert runs[0] == runs[1] == ["[t=5.000000][task 0] 12", "[t=5.000000][task 0] 34"]

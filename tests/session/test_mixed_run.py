@@ -13,7 +13,8 @@ EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 FILES = ["04_one_machine.hmpl", "04_one_machine.cell.gdl"]
 MACHINE = "04_one_machine.toml"
 SCENARIO = "04_one_machine.scenario.toml"
-STAMP = re.compile(r"^(?:\[t=(\d+\.\d+)\]|t=(\d+\.\d+) )")
+STAMP = re.compile(r"^\[t=(\d+\.\d{6})\]\[(task \d+|drive \d+ task \d+|gdl(?: \w+)?)\] \S")
+"""The one `--stamp` prefix of every language: 6 decimals, then the source."""
 
 
 def test_stamped_lines_of_three_languages_are_in_time_order(monkeypatch, tmp_path):
@@ -27,10 +28,24 @@ def test_stamped_lines_of_three_languages_are_in_time_order(monkeypatch, tmp_pat
     for line in sim.messages:
         m = STAMP.match(line)
         assert m, line
-        times.append(float(m.group(1) or m.group(2)))
-        kinds.add("gdl" if m.group(2) else "drive" if "[drive" in line else "task")
+        times.append(float(m.group(1)))
+        kinds.add(m.group(2).split()[0])
     assert kinds == {"gdl", "drive", "task"}
     assert times == sorted(times)
+    # GDL: its event trace is stamped `[gdl]`, a procedure's lines name the procedure
+    assert "[t=0.050000][gdl] input STATUS OF start_button = ON" in sim.messages
+    assert "[t=0.050000][gdl run_conveyor] set OPERATING$CONDITION OF conveyor = RUNNING" in (
+        sim.messages
+    )
+
+
+def test_without_stamp_gdl_keeps_its_trace_format(monkeypatch, tmp_path):
+    monkeypatch.chdir(EXAMPLES)
+    monkeypatch.setenv("MOTIONVM_DATA_DIR", str(tmp_path))
+    sim = Simulation.from_files(FILES, machine=MACHINE, scenario=SCENARIO)
+    sim.run()
+    assert "t=0.050 input STATUS OF start_button = ON" in sim.messages
+    assert not any(line.startswith("[t=") for line in sim.messages)
 
 
 def test_each_language_moves_its_own_axis_of_one_machine(monkeypatch, tmp_path):

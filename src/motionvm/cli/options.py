@@ -88,7 +88,7 @@ def build_parser() -> argparse.ArgumentParser:
         help="a run that has not finished after this much simulated time fails (exit 124), "
         "naming where each task waits",
     )
-    r.add_argument("--stamp", action="store_true", help="prefix messages with [t=SECONDS][task N]")
+    r.add_argument("--stamp", action="store_true", help=STAMP_HELP)
     _task(r)
     r.add_argument("--realtime", action="store_true", help="pace the simulation to the wall clock")
     r.add_argument(
@@ -235,6 +235,10 @@ def add_lsp_parser(sub) -> None:
     )
 
 
+STAMP_HELP = (
+    "prefix every stdout line with the simulated time and its source: [t=S.SSSSSS][task N], "
+    "[t=...][drive A task N], [t=...][gdl PROC] (GDL's event trace: [t=...][gdl])"
+)
 _FILES_HELP = ".hmpl tasks (first = task 0), .pdl drive programs, .gdl application files"
 
 
@@ -297,7 +301,7 @@ def add_serve_parser(sub) -> None:
     s.add_argument(
         "--until", type=duration, metavar="TIME", help="stop after this much time (1.5, 2s, 1min)"
     )
-    s.add_argument("--stamp", action="store_true", help="prefix messages with [t=SECONDS][task N]")
+    s.add_argument("--stamp", action="store_true", help=STAMP_HELP)
     s.add_argument(
         "--task",
         action="append",

@@ -28,3 +28,13 @@ class Clock:
     def sim_time(self) -> float:
         """Simulated time [s]."""
         return self.cycle * self.cycle_time
+
+
+STAMP_DECIMALS = 6
+"""Decimals of the simulated time in a `--stamp` prefix, in every language."""
+
+
+def stamp_prefix(sim_time: float, source: str) -> str:
+    """The `--stamp` prefix of a message line, the same for every language:
+    `[t=S.SSSSSS][SOURCE] ` (SOURCE: `task 3`, `drive 1 task 0`, `gdl PROC`, `gdl`)."""
+    return f"[t={sim_time:.{STAMP_DECIMALS}f}][{source}] "

@@ -145,7 +145,7 @@ def test_sleep_and_till_inside_deep_loops(tmp_path):
     prog = f"""int t;
 void main() {{ int n = 0; {_nest(DEEP, inner)} Print("%d", n); }}
 """
-    assert _run(tmp_path, prog, "--stamp") == "[t=0.030][task 0] 3\n"
+    assert _run(tmp_path, prog, "--stamp") == "[t=0.030000][task 0] 3\n"
 
 
 def test_recursion_through_split_loops(tmp_path):

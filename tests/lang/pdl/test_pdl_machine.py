@@ -82,10 +82,10 @@ def test_two_drives_and_an_hmpl_task_exact_stdout(machine: Path, capsys) -> None
     # 2 mm at 100 mm/s with 10000 mm/s^2: 10 ms ramp up, 10 ms cruise, 10 ms down;
     # drive 2 keeps the timing of `motionvm run counter.pdl --start _count`.
     assert out == (
-        "[t=0.000][task 0] refused 0x830100f0\n"
+        "[t=0.000000][task 0] refused 0x830100f0\n"
         "[t=0.010133][drive 2 task 0] count 1\n"
         "[t=0.020333][drive 2 task 0] count 2\n"
-        "[t=0.025][task 0] last error 0x830100f0\n"
+        "[t=0.025000][task 0] last error 0x830100f0\n"
         "[t=0.030133][drive 1 task 0] mover at 20000\n"
         "[t=0.030533][drive 2 task 0] count 3\n"
     )
@@ -132,7 +132,7 @@ def test_a_sleeping_drive_keeps_the_run_going(tmp_path: Path, capsys, monkeypatc
     code, out, _ = run(capsys, "--machine", str(m), str(tmp_path / "main.hmpl"), "--stamp")
     assert code == 0
     assert out == (
-        "[t=0.500000][drive 0 task 0] a\n[t=1.000][task 0] hmpl\n[t=1.200067][drive 0 task 0] b\n"
+        "[t=0.500000][drive 0 task 0] a\n[t=1.000000][task 0] hmpl\n[t=1.200067][drive 0 task 0] b\n"
     )
 
 

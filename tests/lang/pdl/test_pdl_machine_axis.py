@@ -211,7 +211,7 @@ def test_a_run_with_hmpl_tasks_is_the_same_without_jumps(
     assert capsys.readouterr() == jumped
     # mid-move: the task of cycle 60 reads the feedback of cycle 59, which shows the
     # drive's reference of cycle 57 (3200 counts)
-    assert "[t=0.060][task 0] 0.3200\n" in jumped.out
+    assert "[t=0.060000][task 0] 0.3200\n" in jumped.out
 
 
 def test_next_event_is_the_cycle_of_the_next_wake_up(tmp_path: Path) -> None:

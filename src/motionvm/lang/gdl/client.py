@@ -117,6 +117,7 @@ class GdlApplication:
         forces: Sequence[str] = (),
         shuffle_seed: int | None = None,
         motor_axes: Sequence[GdlMotorSpec] = (),
+        stamp: bool = False,
     ) -> None:
         self.controller = controller
         self.app = app
@@ -127,6 +128,7 @@ class GdlApplication:
         self.rts = Rts(
             app, controller.clock, emit, report, axes=self.axes, shuffle_seed=shuffle_seed
         )
+        self.rts.stamped = stamp
         self._started = False
         self.use_scenario(scenario)
 

@@ -128,6 +128,7 @@ class Gdl(Language):
                 forces=context.options.get("forces", ()),
                 shuffle_seed=context.options.get("shuffle_seed"),
                 motor_axes=context.machine.gdl_motors,
+                stamp=context.stamp,
             )
         except ScenarioError as exc:  # a --force text
             raise LanguageInputError(*exc.messages, located=exc.located) from None

@@ -39,7 +39,7 @@ from motionvm.lang.gdl.app import App, ObjectInfo, ProcInfo
 from motionvm.lang.gdl.device_factory import create_device
 from motionvm.lang.gdl.devices import Device, GdlFault
 from motionvm.lang.gdl.objects import format_value
-from motionvm.runtime.clock import Clock
+from motionvm.runtime.clock import Clock, stamp_prefix
 from motionvm.runtime.fault_position import Fault, user_frames
 
 if TYPE_CHECKING:
@@ -107,6 +107,8 @@ class Rts:
         self._emit = emit
         self._report = report
         self._stamp = time_formatter(clock.cycle_time)
+        self.stamped = False
+        """Lines carry the `--stamp` prefix of every language (runtime/clock.py)."""
         self.order = list(app.procedures)
         if shuffle_seed is not None:
             random.Random(shuffle_seed).shuffle(self.order)
@@ -294,7 +296,15 @@ class Rts:
         return self._stamp(self.clock.cycle if cycle is None else cycle)
 
     def emit(self, text: str) -> None:
-        self._emit(f"t={self.stamp()} {text}")
+        """One trace line: `t=S.mmm TEXT`; with `stamped`, the `--stamp` prefix of every
+        language instead, naming the procedure that runs (`[t=...][gdl PROC] `) or none
+        (`[t=...][gdl] `: an input, a scenario's force)."""
+        if self.stamped:
+            proc = self.current
+            source = "gdl" if proc is None else f"gdl {proc.name}"
+            self._emit(stamp_prefix(self.clock.cycle * self.clock.cycle_time, source) + text)
+        else:
+            self._emit(f"t={self.stamp()} {text}")
 
     def report(self, file: str, place: tuple[int, int], proc: str, message: str) -> None:
         """A procedure's run-time error at (line, column) of `file`, now."""

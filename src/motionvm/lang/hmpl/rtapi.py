@@ -29,6 +29,7 @@ from motionvm.motion.position_watch import PositionWatch
 from motionvm.runtime.clients import PassiveClient
 from motionvm.runtime.errors import RuntimeFault
 from motionvm.runtime.fault_position import Fault, user_frames
+from motionvm.runtime.clock import stamp_prefix
 from motionvm.runtime.kernel import Kernel, Task
 
 N_MUTEXES = 8
@@ -241,7 +242,7 @@ class HmplRuntime(PassiveClient):
     def emit(self, text: str) -> None:
         """One message line from the current task (Print, SendMsgEvent, ...)."""
         if self.stamp:
-            text = f"[t={self.sim_time:.3f}][task {self.current_task_id}] {text}"
+            text = stamp_prefix(self.sim_time, f"task {self.current_task_id}") + text
         self._emit(text)
 
     def emit_event(self, kind: str, payload: object) -> None:

@@ -71,6 +71,7 @@ from motionvm.lang.pdl.lower import PdlProgram
 from motionvm.lang.pdl.program import compile_pdl
 from motionvm.motion.axis_config import AxisConfig
 from motionvm.runtime.fault_position import Fault
+from motionvm.runtime.clock import stamp_prefix
 from motionvm.runtime.waits import Waiting, suspended_at, why_waiting
 from motionvm.sim.machine import MachineConfig, PdlDriveSpec
 from motionvm.source.diagnostics import Diagnostic, DiagnosticSink, render_diagnostic
@@ -265,7 +266,7 @@ class PdlDrives:
 
         def show(m: Message) -> None:
             if self.stamp:
-                self._emit(f"[t={m.phase / rate:.6f}][{who}task {m.task}] {m.text}")
+                self._emit(stamp_prefix(m.phase / rate, f"{who}task {m.task}") + m.text)
             else:
                 self._emit(m.text)
 
