@@ -27,9 +27,9 @@ from motionvm.lang.hmpl.rthelpers import make_helpers
 from motionvm.motion.commands import MotionCommands
 from motionvm.motion.position_watch import PositionWatch
 from motionvm.runtime.clients import PassiveClient
+from motionvm.runtime.clock import stamp_prefix
 from motionvm.runtime.errors import RuntimeFault
 from motionvm.runtime.fault_position import Fault, user_frames
-from motionvm.runtime.clock import stamp_prefix
 from motionvm.runtime.kernel import Kernel, Task
 
 N_MUTEXES = 8

@@ -70,8 +70,8 @@ from motionvm.lang.pdl.drive_scope import PdlDriveSource
 from motionvm.lang.pdl.lower import PdlProgram
 from motionvm.lang.pdl.program import compile_pdl
 from motionvm.motion.axis_config import AxisConfig
-from motionvm.runtime.fault_position import Fault
 from motionvm.runtime.clock import stamp_prefix
+from motionvm.runtime.fault_position import Fault
 from motionvm.runtime.waits import Waiting, suspended_at, why_waiting
 from motionvm.sim.machine import MachineConfig, PdlDriveSpec
 from motionvm.source.diagnostics import Diagnostic, DiagnosticSink, render_diagnostic
