@@ -403,19 +403,30 @@ class Session:
         if by_timeout:
             asked = end = timeout
         else:
-            asked = until
-            if asked is None and self.scenario is not None:
-                asked = self.scenario.scenario.until
-            end = asked
-            for side in self.sides:  # a language's end-of-run rule (GDL: inclusive)
-                end = side.end_time(end)
+            asked, end = self.end_time(until)
         reason = self.controller.run(end, realtime=realtime, progress=progress)
-        for side in self.sides:
-            side.finish()
+        self.finish()
         if reason == UNTIL and by_timeout:
             reason = TIMEOUT
         waiting = self.controller.still_running() if reason in (UNTIL, TIMEOUT) else []
         return RunResult(reason, self.controller.sim_time, waiting, asked)
+
+    def end_time(self, until: float | None) -> tuple[float | None, float | None]:
+        """(asked, end) of a run asked to last `until` seconds (None: the scenario's end,
+        or none): the time asked for, and the end time to give the controller after each
+        language's end-of-run rule (GDL: inclusive, the events due at it still apply)."""
+        asked = until
+        if asked is None and self.scenario is not None:
+            asked = self.scenario.scenario.until
+        end = asked
+        for side in self.sides:
+            end = side.end_time(end)
+        return asked, end
+
+    def finish(self) -> None:
+        """After a run: each language's notes of what never happened."""
+        for side in self.sides:
+            side.finish()
 
     def serve(
         self,

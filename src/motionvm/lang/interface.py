@@ -186,11 +186,24 @@ class LineTable:
         return min(after) if after else None
 
 
+@dataclass(frozen=True)
+class DebugThread:
+    """A task, drive task or procedure as a debugger shows it (a thread)."""
+
+    key: tuple
+    """Its identity across the run (`("task", 3)`, `("drive", 1, 0)`), stable while the
+    program runs and from one run of the same files to the next."""
+    name: str
+    """`task 3`, `drive 1 task 0`, `procedure fan_control`."""
+    generator: object | None = None
+    """The running task's generator (its suspended frames); None: not suspended."""
+
+
 class RunSide:
     """One language's part of a run, attached to the controller (`Language.attach`).
 
     The defaults say: nothing to boot, no faults, no scope channels, no scenario entries,
-    the run ends when the caller says."""
+    the run ends when the caller says, no threads to show a debugger."""
 
     language: Language
 
@@ -241,6 +254,30 @@ class RunSide:
 
     def close(self) -> None:
         """Free its memory; nothing runs afterwards."""
+
+    # ---------------------------------------------------------------- debugging
+
+    def debug_threads(self) -> list[DebugThread]:
+        """Its tasks that run now (a suspended generator each)."""
+        return []
+
+    def thread_of(self, root) -> DebugThread | None:
+        """The thread whose outermost frame of the user's code is `root` (a Python frame
+        running now), None if it is not this language's."""
+        for thread in self.debug_threads():
+            gen = thread.generator
+            if gen is not None and getattr(gen, "gi_frame", None) is root:
+                return thread
+        return None
+
+    def frame_variables(self, frame) -> dict[str, object]:
+        """The user's local variables of a frame of generated code, by their names in the
+        source."""
+        return {k: v for k, v in frame.f_locals.items() if not k.startswith("_")}
+
+    def global_variables(self, frame) -> dict[str, object]:
+        """The user's global variables seen from a frame, by their names in the source."""
+        return {}
 
 
 _LITERAL = re.compile(r"-?0[xX][0-9A-Fa-f]+|-?\d+")

@@ -9,6 +9,7 @@ from typing import Any
 from motionvm.lang.index import Completion, SourceIndex
 from motionvm.lang.interface import (
     CompileRequest,
+    DebugThread,
     CompileResult,
     Language,
     LanguageInputError,
@@ -58,6 +59,16 @@ class GdlSide(RunSide):
 
     def finish(self) -> None:
         self.client.finish()
+
+    def thread_of(self, root) -> DebugThread | None:
+        """A procedure runs to its end within one cycle: its frame is its thread."""
+        name = root.f_code.co_name
+        if name.startswith("p_") and root.f_code.co_filename.lower().endswith(".gdl"):
+            return DebugThread(("procedure", name[2:]), f"procedure {name[2:]}")
+        return None
+
+    def frame_variables(self, frame) -> dict[str, object]:
+        return {}
 
 
 _UNUSED = "applies to GDL applications; no .gdl file was given"

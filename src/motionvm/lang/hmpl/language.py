@@ -12,6 +12,7 @@ from motionvm.lang.index import Completion, SourceIndex
 from motionvm.lang.interface import (
     CallError,
     CompileRequest,
+    DebugThread,
     CompileResult,
     Language,
     LanguageInputError,
@@ -97,6 +98,32 @@ class HmplSide(RunSide):
 
     def close(self) -> None:
         self.runtime.close()
+
+    def debug_threads(self) -> list[DebugThread]:
+        return [
+            DebugThread(("task", t.id), f"task {t.id}", t.gen)
+            for t in self.runtime.kernel.tasks
+            if t.gen is not None
+        ]
+
+    def thread_of(self, root) -> DebugThread | None:
+        current = self.runtime.kernel.current
+        if current is not None and current.gen is not None and current.gen.gi_frame is root:
+            return DebugThread(("task", current.id), f"task {current.id}", current.gen)
+        return super().thread_of(root)
+
+    def frame_variables(self, frame) -> dict[str, object]:
+        """Locals kept as Python locals (`v_NAME`); those whose address is taken live in the
+        task's stack memory and are not shown."""
+        return {k[2:]: v for k, v in frame.f_locals.items() if k.startswith("v_")}
+
+    def global_variables(self, frame) -> dict[str, object]:
+        """Globals kept in the namespace (`g_NAME`: scalars and arrays of numbers)."""
+        return {
+            k[2:]: v
+            for k, v in frame.f_globals.items()
+            if k.startswith("g_") and isinstance(v, int | float | list)
+        }
 
 
 class Hmpl(Language):

@@ -11,6 +11,7 @@ from typing import Any
 from motionvm.lang.index import Completion, SourceIndex
 from motionvm.lang.interface import (
     CompileRequest,
+    DebugThread,
     CompileResult,
     Language,
     LanguageInputError,
@@ -49,6 +50,14 @@ class PdlSide(RunSide):
 
     def scope_sources(self) -> list:
         return self.drives.scope_sources()
+
+    def debug_threads(self) -> list[DebugThread]:
+        return [
+            DebugThread(("drive", axis_id, task.id), f"drive {axis_id} task {task.id}", task.gen)
+            for axis_id, drive in self.drives.drives
+            for task in drive.tasks
+            if task.gen is not None
+        ]
 
 
 class Pdl(Language):
