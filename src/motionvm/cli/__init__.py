@@ -68,6 +68,10 @@ def _dispatch(args) -> int:
 
         serve(args.tcp)
         return EXIT_OK
+    if args.cmd == "debug":
+        from motionvm.cli.debug import cmd_debug
+
+        return cmd_debug(args)
     if args.cmd == "serve":
         from motionvm.cli.serve import cmd_serve
 

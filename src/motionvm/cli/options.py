@@ -213,6 +213,7 @@ def build_parser() -> argparse.ArgumentParser:
     add_test_parser(sub)
     add_serve_parser(sub)
     add_lsp_parser(sub)
+    add_debug_parser(sub)
     return p
 
 
@@ -337,4 +338,23 @@ def _task(p: argparse.ArgumentParser) -> None:
 def _werror(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--Werror", dest="werror", action="store_true", help="treat compiler warnings as errors"
+    )
+
+
+def add_debug_parser(sub) -> None:
+    """`motionvm debug`: the Debug Adapter Protocol server (dap/server.py)."""
+    d = sub.add_parser(
+        "debug",
+        help="a Debug Adapter Protocol server (VS Code, nvim-dap, ...) on stdin/stdout",
+        description="Serve the Debug Adapter Protocol on stdin/stdout (or on "
+        "127.0.0.1:PORT with --port): an editor launches programs with the launch "
+        "arguments program, machine, scenario, stopOnEntry, noDebug and cwd, sets "
+        "breakpoints, steps one controller cycle (stepCycle), steps back and goes to any "
+        "time (goToTime).",
+    )
+    d.add_argument(
+        "--port",
+        type=int,
+        metavar="N",
+        help="listen on 127.0.0.1:N for one client instead (0: a free port, printed on stderr)",
     )

@@ -86,6 +86,7 @@ class DebugEngine:
         self._axis_errors_seen: set[int] = set()
         self._lock = threading.RLock()
         self._frames: dict[int, Frame] = {}
+        self.timeline: Timeline | None = None
         self.timeline = self._new_timeline([])  # compiles: errors raise here
 
     # ---------------------------------------------------------------- timelines
@@ -104,8 +105,8 @@ class DebugEngine:
             self._emit_out(line)
 
     def _report(self, line: str) -> None:
-        if isinstance(line, Fault):
-            self.timeline.fault(line.text) if hasattr(self, "timeline") else None
+        if isinstance(line, Fault) and self.timeline is not None:
+            self.timeline.fault(line.text)
         self._emit_out_report(line)
 
     def _emit_out_report(self, line: str) -> None:
@@ -186,9 +187,7 @@ class DebugEngine:
         with self._lock:
             self.timeline.abandon()
             self.session.close()
-            self.timeline = self._new_timeline(
-                [i for i in self.history.inputs if i.position <= target]
-            )
+            self.timeline = self._new_timeline(list(self.history.inputs))
             self._frames.clear()
             return self.timeline.start(Goal("to", target, reason=reason))
 
@@ -353,7 +352,9 @@ class DebugEngine:
         for i, axis in enumerate(controller.axes):
             if axis.error_stop and i not in self._axis_errors_seen:
                 self._axis_errors_seen.add(i)
-                return f"axis {i} stopped with an error (error code {getattr(axis, 'error_code', 0)})"
+                return (
+                    f"axis {i} stopped with an error (error code {getattr(axis, 'error_code', 0)})"
+                )
             if not axis.error_stop:
                 self._axis_errors_seen.discard(i)
         return ""
@@ -438,13 +439,14 @@ class DebugEngine:
 
     def machine_view(self) -> dict[str, dict[str, object]]:
         """Axes, I/O and system variables now, by group."""
+        import dataclasses
+
         from motionvm.sim.variables import AxisState
 
         ctl = self.controller
         axes = {}
         for i, axis in enumerate(ctl.axes):
-            state = AxisState.of(axis, ctl.sim_time)
-            axes[f"axis{i}"] = {k: v for k, v in vars(state).items() if not k.startswith("_")}
+            axes[f"axis{i}"] = dataclasses.asdict(AxisState.of(axis, ctl.sim_time))
         io = {}
         gpio = ctl.io.gpio
         for n in range(1, len(gpio.inputs) + 1):
@@ -492,6 +494,7 @@ class DebugEngine:
         self.apply_input(self.timeline, entry, pyframe)
         self.history.cut(here)
         self.history.inputs.append(entry)
+        self.timeline.inputs = [i for i in self.timeline.inputs if i.position <= here]
         self._lines_shown = self._lines_now  # the future differs: show what comes
 
     def force_input(self, name: str, value: object) -> None:
@@ -619,7 +622,9 @@ class _Scan:
         try:
             while ctl.cycle < end and ctl.busy():
                 cycle = ctl.cycle
-                while inputs and inputs[0].position.cycle <= cycle and inputs[0].position.count == 0:
+                while (
+                    inputs and inputs[0].position.cycle <= cycle and inputs[0].position.count == 0
+                ):
                     _apply_plain(session, inputs.pop(0))
                 mid = inputs and inputs[0].position.cycle == cycle
                 if cycle >= first or mid or watches:
@@ -670,7 +675,9 @@ def _apply_plain(session: Session, entry: Input) -> None:
 
 
 def _safe_true(engine: DebugEngine, condition: str, frame, session: Session) -> bool:
-    side = next((s for s in session.sides if s.language is language_of(frame.f_code.co_filename)), None)
+    side = next(
+        (s for s in session.sides if s.language is language_of(frame.f_code.co_filename)), None
+    )
     local = side.frame_variables(frame) if side else {}
     glob = side.global_variables(frame) if side else {}
     variables = Variables(session.scope_registry(), session.controller)
@@ -706,7 +713,7 @@ def _function_name(frame) -> str:
     name = frame.f_code.co_name
     for prefix in ("g_", "p_"):
         if name.startswith(prefix):
-            return name[len(prefix):]
+            return name[len(prefix) :]
     return name
 
 

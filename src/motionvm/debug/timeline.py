@@ -139,7 +139,9 @@ class Timeline:
         except BaseException as exc:  # noqa: BLE001 — handed to the caller
             with self._cond:
                 self._error = exc
-                self.stop = Stop("exited", Position(self.controller.cycle), self.controller.sim_time)
+                self.stop = Stop(
+                    "exited", Position(self.controller.cycle), self.controller.sim_time
+                )
                 self._cond.notify_all()
         finally:
             sys.settrace(None)
@@ -155,25 +157,24 @@ class Timeline:
     def _run(self) -> None:
         """The simulation thread's loop, one cycle boundary at a time."""
         ctl = self.controller
-        goal = self.goal
-        if goal is not None and goal.kind == "entry":
-            goal = self._publish(self._stop_at_boundary("entry"))
+        if self.goal is not None and self.goal.kind == "entry":
+            self.goal = self._publish(self._stop_at_boundary("entry"))
         while True:
-            self.goal = goal
+            goal = self.goal  # (a pause inside a statement may have set a new one)
             cycle = ctl.cycle
             self._apply_inputs(Position(cycle, 0))
+            stop = None
             if goal.kind == "to" and goal.target is not None and goal.target.count == 0:
                 if cycle >= goal.target.cycle:
-                    goal = self._publish(self._stop_at_boundary(goal.reason))
-                    continue
-            if self._boundary_stop is not None:
+                    stop = self._stop_at_boundary(goal.reason)
+            if stop is None and self._boundary_stop is not None:
                 stop, self._boundary_stop = self._boundary_stop, None
-                goal = self._publish(stop)
-                continue
-            if self._pause_asked:
+            if stop is None and self._pause_asked:
                 self._pause_asked = False
                 ctl.stop_requested = False
-                goal = self._publish(self._stop_at_boundary("pause"))
+                stop = self._stop_at_boundary("pause")
+            if stop is not None:
+                self.goal = self._publish(stop)
                 continue
             end = self._asked_end
             if (end is not None and cycle >= end) or not ctl.busy():
@@ -308,7 +309,7 @@ class Timeline:
         origin = goal.skip_origin
         if origin is not None and origin[0] is frame and origin[1] == frame.f_lineno:
             return False
-        if self.engine.thread_key(frame) != goal.thread:
+        if goal.thread is not None and self.engine.thread_key(frame) != goal.thread:
             return False
         return goal.depth is None or user_depth(frame) <= goal.depth
 

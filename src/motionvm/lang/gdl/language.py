@@ -9,8 +9,8 @@ from typing import Any
 from motionvm.lang.index import Completion, SourceIndex
 from motionvm.lang.interface import (
     CompileRequest,
-    DebugThread,
     CompileResult,
+    DebugThread,
     Language,
     LanguageInputError,
     LanguageOption,

@@ -12,8 +12,8 @@ from motionvm.lang.index import Completion, SourceIndex
 from motionvm.lang.interface import (
     CallError,
     CompileRequest,
-    DebugThread,
     CompileResult,
+    DebugThread,
     Language,
     LanguageInputError,
     LineTable,
