@@ -24,9 +24,11 @@ from types import TracebackType
 from typing import Any
 
 from motionvm.comm.config import COMM_KEYS, CommConfig, load_comm
+from motionvm.debug import Breakpoint, BreakpointSpec, DebugEngine, Frame, Position, Stop
 from motionvm.lang import CallError
 from motionvm.runtime.fault_position import Fault
 from motionvm.session import CompileFailed, RunResult, RunSpec, Session, SessionError, Source
+from motionvm.sim.controller import FINISHED, UNTIL, until_cycle
 from motionvm.sim.machine import MachineConfig
 from motionvm.sim.scope import ScopeRecorder
 from motionvm.sim.variables import AxisState, Variables, WriteError
@@ -35,6 +37,9 @@ from motionvm.source.diagnostics import CompileError
 __all__ = [
     "AxisState",
     "CallError",
+    "Breakpoint",
+    "Frame",
+    "Stop",
     "CompileError",
     "Fault",
     "Recording",
@@ -156,6 +161,7 @@ class Simulation:
         forces: Sequence[str] = (),
         shuffle_seed: int | None = None,
         raise_faults: bool = False,
+        debug: bool = False,
     ) -> None:
         """`tasks` place HMPL task files explicitly (each with `path`, `text` and `task`:
         a `Source`); `sources` are files of any language
@@ -163,7 +169,10 @@ class Simulation:
         changes and faults, shared with a GDL application). GDL: `forces` (`REF = VALUE`
         texts applied at t=0), `shuffle_seed`. `skip=False` steps every
         cycle (the same results, slower). `raise_faults`: `run` and `step` raise
-        `TaskFault` at the end of the cycle in which the first (next) fault happened."""
+        `TaskFault` at the end of the cycle in which the first (next) fault happened.
+        `debug`: run under the debug engine (`motionvm.debug`): breakpoints (`break_at`),
+        inspection when paused (`threads`, `stack`, `locals`, `evaluate`) and time travel
+        (`step_back`, `go_to`); `debugger` is the engine itself."""
         self._log = log = _Log(raise_faults)
         self.messages: list[str] = log.messages
         """Every message line the programs printed, as the CLI prints them."""
@@ -181,19 +190,45 @@ class Simulation:
             skip=skip,
             options={"forces": tuple(forces), "shuffle_seed": shuffle_seed},
         )
+        self.debugger: DebugEngine | None = None
+        """The debug engine of a `debug=True` simulation (None otherwise)."""
         try:
-            self.session = Session(spec, emit=log.messages.append, report=log.report)
+            if debug:
+                if raise_faults:
+                    raise SessionError("raise_faults does not apply to a debugged simulation")
+                self.debugger = DebugEngine(spec, emit=log.messages.append, report=log.report)
+                self._session = self.debugger.session
+            else:
+                self._session = Session(spec, emit=log.messages.append, report=log.report)
         except CompileFailed as exc:
             raise CompileError(exc.diagnostics) from None
         log.to = log.faults
-        self.controller = log.controller = self.session.controller
-        hmpl = self.session.side("HMPL")
-        self.runtime = hmpl.runtime if hmpl is not None else None  # type: ignore[attr-defined]
-        """The HMPL run time (None without HMPL files)."""
+        log.controller = self._session.controller
         self._variables: Variables | None = None
         self._serving: Serving | None = None
-        self._finalizer = weakref.finalize(self, self.session.close)
-        self.session.boot()
+        self.pause_reason: Stop | None = None
+        """Why a debugged simulation is paused (None: not debugged, or not paused)."""
+        if self.debugger is not None:
+            self._finalizer = weakref.finalize(self, self.debugger.close)
+            self.pause_reason = self.debugger.start(stop_on_entry=True)
+        else:
+            self._finalizer = weakref.finalize(self, self._session.close)
+            self._session.boot()
+
+    @property
+    def session(self) -> Session:
+        """The session now (a debugged simulation gets a fresh one when it goes back)."""
+        return self.debugger.session if self.debugger is not None else self._session
+
+    @property
+    def controller(self):
+        return self.session.controller
+
+    @property
+    def runtime(self):
+        """The HMPL run time (None without HMPL files)."""
+        side = self.session.side("HMPL")
+        return side.runtime if side is not None else None  # type: ignore[attr-defined]
 
     @classmethod
     def from_files(cls, paths: Sequence[str | Path], **kw: Any) -> Simulation:
@@ -240,6 +275,8 @@ class Simulation:
         `still_running`: each task, drive task, scenario and axis and where it waits.
         With `raise_faults`, raises `TaskFault` instead at the first fault."""
         self._not_serving("run")
+        if self.debugger is not None:
+            return self._debug_run(until)
         result = self.session.run(until, timeout=timeout)
         self._log.raise_pending()
         return result
@@ -280,6 +317,89 @@ class Simulation:
             f"call('{name}'): this simulation runs no program whose built-ins can be called "
             "(an HMPL program)"
         )
+
+    def _debug_run(self, until: float | None) -> RunResult:
+        engine = self.debugger
+        target = None
+        if until is not None:
+            target = Position(until_cycle(until, self.controller.cycle_time))
+        stop = self.pause_reason = engine.resume_to(target)
+        reason = {"exited": FINISHED}.get(stop.reason, "paused")
+        if target is not None and stop.reason == "goto":
+            reason = UNTIL
+        return RunResult(reason, stop.time, [], until)
+
+    # ------------------------------------------------------------ debugging
+
+    def _engine(self) -> DebugEngine:
+        if self.debugger is None:
+            raise SessionError("this simulation is not debugged: create it with debug=True")
+        return self.debugger
+
+    def break_at(
+        self,
+        file: str | Path,
+        line: int,
+        condition: str | None = None,
+        hit_condition: str | None = None,
+        log: str | None = None,
+    ) -> Breakpoint:
+        """A breakpoint at `line` of `file` (moved to the next line with a statement:
+        `Breakpoint.line`, `verified`), added to the file's others. `condition`: an
+        expression of the file's language; `hit_condition`: `N`, `>= N`, `% N`; `log`: a
+        logpoint's message (`{expr}` replaced) instead of a stop."""
+        engine = self._engine()
+        path = str(file)
+        kept = [BreakpointSpec(b.line, b.condition, b.hit_condition, b.log_message)
+                for b in engine.breakpoints_of(path)]  # fmt: skip
+        found = engine.set_breakpoints(
+            path, [*kept, BreakpointSpec(line, condition, hit_condition, log)]
+        )
+        return found[-1]
+
+    def clear_breakpoints(self, file: str | Path) -> None:
+        self._engine().set_breakpoints(str(file), [])
+
+    def threads(self) -> list[tuple[tuple, str]]:
+        """(key, name) of every task, drive task and procedure running now."""
+        return [(t.key, t.name) for t in self._engine().threads()]
+
+    def stack(self, thread: tuple | None = None) -> list[Frame]:
+        """The frames of `thread` (default: the paused one), innermost first."""
+        engine = self._engine()
+        key = thread or (self.pause_reason.thread if self.pause_reason else None)
+        if key is None:
+            threads = engine.threads()
+            if not threads:
+                return []
+            key = threads[0].key
+        return engine.stack(key)
+
+    def locals(self, frame: Frame | None = None) -> dict[str, object]:
+        """The local variables of `frame` (default: the paused statement's frame)."""
+        engine = self._engine()
+        pyframe = frame.python if frame is not None else engine.timeline.paused_frame
+        return engine.locals_of(pyframe) if pyframe is not None else {}
+
+    def evaluate(self, expression: str, frame: Frame | None = None) -> object:
+        """An expression of the program's language, on `frame` or the paused statement
+        (`count > 3 && !done`, `axis0.pos_fb`, `VALUE OF fan`)."""
+        engine = self._engine()
+        return engine.evaluate_in(
+            expression, frame.python if frame is not None else engine.timeline.paused_frame
+        )
+
+    def step_back(self) -> Stop:
+        """Back to the statement before the paused one (a fresh run to it)."""
+        self.pause_reason = self._engine().step_back()
+        self._variables = None
+        return self.pause_reason
+
+    def go_to(self, time: float) -> Stop:
+        """To the start of the cycle at `time` seconds, earlier or later."""
+        self.pause_reason = self._engine().go_to_time(time)
+        self._variables = None
+        return self.pause_reason
 
     def _not_serving(self, what: str) -> None:
         """SessionError while `serve` runs the simulation in its thread: a second thread
@@ -325,6 +445,9 @@ class Simulation:
         """Run exactly `cycles` controller cycles (with `raise_faults`: fewer, if a fault
         raises `TaskFault` at the end of its cycle)."""
         self._not_serving("step")
+        if self.debugger is not None:
+            self.pause_reason = self.debugger.step_cycle(cycles)
+            return
         session, log = self.session, self._log
         if not log.raise_faults:
             session.step(cycles)
@@ -364,6 +487,8 @@ class Simulation:
     @property
     def variables(self) -> Variables:
         """Every variable of the run by its scope channel name (read, write, units)."""
+        if self.debugger is not None:
+            return Variables(self.session.scope_registry(), self.controller)
         if self._variables is None:
             self._variables = Variables(self.session.scope_registry(), self.controller)
         return self._variables
@@ -387,6 +512,10 @@ class Simulation:
         scenario input. KeyError for an unknown name, `WriteError` for a read-only
         variable or a refused value (with the manual's error code)."""
         self._not_serving("write")
+        if self.debugger is not None:  # an input of the run: replayed when going back
+            self.variables.channel(name)
+            self.debugger.set_value(name, value)
+            return
         self.variables.write(name, value)
 
     def axis(self, n: int) -> AxisState:

@@ -145,6 +145,12 @@ class DebugEngine:
     def resume(self) -> Stop:
         return self._go(Goal("continue"))
 
+    def resume_to(self, target: Position | None) -> Stop:
+        """Continue, stopping at `target` too (reason "goto") if nothing stops before."""
+        if target is not None and target <= self.position():
+            return self.go_to(target)
+        return self._go(Goal("continue", target, reason="goto"))
+
     def pause(self) -> None:
         """From another thread: the running program stops at the next cycle boundary."""
         self.timeline.ask_pause()
@@ -203,24 +209,9 @@ class DebugEngine:
 
     def _last_statement_before(self, cycle: int) -> Position | None:
         """The last statement of the latest cycle before `cycle` that ran one."""
-        counts = self.timeline.cycle_counts
-        window = 64
-        while True:
-            first = max(0, cycle - window)
-            missing = [c for c in range(first, cycle) if c not in counts]
-            if missing:
-                counts.update(self._count_statements(first, cycle))
-            for c in range(cycle - 1, first - 1, -1):
-                if counts.get(c, 0) > 0:
-                    return Position(c, counts[c])
-            if first == 0:
-                return None
-            window *= 4
-
-    def _count_statements(self, first: int, end: int) -> dict[int, int]:
-        """Statements per cycle of cycles first..end-1, from a scan of a fresh run."""
-        scan = _Scan(self, self.history.inputs)
-        return scan.count_statements(first, end)
+        counts = _Scan(self, self.history.inputs).count_statements(cycle)
+        earlier = [c for c in counts if c < cycle]
+        return Position(max(earlier), counts[max(earlier)]) if earlier else None
 
     def reverse_continue(self) -> Stop:
         """Back to the latest breakpoint hit (or data breakpoint change) before now; to the
@@ -263,6 +254,9 @@ class DebugEngine:
             out.append(bp)
         self._bp_by_file[_norm(file)] = out
         return out
+
+    def breakpoints_of(self, file: str) -> list[Breakpoint]:
+        return list(self._bp_by_file.get(_norm(file), ()))
 
     def breakpoints_set(self) -> bool:
         return any(bp.verified for bps in self._bp_by_file.values() for bp in bps)
@@ -531,14 +525,9 @@ class _Scan:
     def _session(self) -> Session:
         return Session(self.engine.spec, emit=lambda line: None, report=lambda line: None)
 
-    def count_statements(self, first: int, end: int) -> dict[int, int]:
-        found: dict[int, int] = {}
-
-        def on_line(frame, count):
-            pass
-
-        self._run(end, first, on_line, found)
-        return found
+    def count_statements(self, end: int) -> dict[int, int]:
+        """Statements of the user's code per cycle of cycles 0..end-1 that ran any."""
+        return self._run(end, lambda frame, count: None)
 
     def last_hit_before(self, here: Position) -> Position | None:
         engine = self.engine
@@ -562,7 +551,7 @@ class _Scan:
                 last.append(Position(cycle, 0))
 
         try:
-            self._run(here.cycle + 1, 0, on_line, {}, session, on_boundary)
+            self._run(here.cycle + 1, on_line, session, on_boundary)
         finally:
             for f, hits in saved.items():
                 for bp, h in zip(engine._bp_by_file.get(f, ()), hits):
@@ -594,9 +583,9 @@ class _Scan:
         del engine
         return changes[-1] if changes else None
 
-    def _run(self, end: int, first: int, on_line, counts, session=None, on_boundary=None):
-        """Run cycles 0..end-1; trace cycles >= first (their statement counts in
-        `counts`)."""
+    def _run(self, end: int, on_line, session=None, on_boundary=None) -> dict[int, int]:
+        """Run cycles 0..end-1 traced (with time skipping, unless data breakpoints are
+        watched at every boundary); the statement counts of the cycles that ran any."""
         import sys
 
         from motionvm.debug.tracer import LineTracer
@@ -604,8 +593,8 @@ class _Scan:
         session = session or self._session()
         engine = self.engine
         ctl = session.controller
-        tracer = LineTracer(on_line)
         inputs = list(self.inputs)
+        tracer = LineTracer(_with_inputs(on_line, inputs, session, ctl), ctl.clock)
         session.boot()
         watches = engine._watches if on_boundary is not None else []
 
@@ -619,37 +608,27 @@ class _Scan:
                     out.append(None)
             return out
 
+        tracer.enable()
         try:
             while ctl.cycle < end and ctl.busy():
                 cycle = ctl.cycle
-                while (
-                    inputs and inputs[0].position.cycle <= cycle and inputs[0].position.count == 0
-                ):
+                while inputs and inputs[0].position <= Position(cycle, 0):
                     _apply_plain(session, inputs.pop(0))
-                mid = inputs and inputs[0].position.cycle == cycle
-                if cycle >= first or mid or watches:
-                    before = watch() if watches else None
-                    tracer.start_cycle()
-                    traced = cycle >= first or mid
-                    if traced:
-                        tracer.on_line = _with_inputs(on_line, inputs, session, ctl)
-                        tracer.enable()
-                    try:
-                        ctl.step()
-                    finally:
-                        if traced:
-                            tracer.disable()
-                            counts[cycle] = tracer.count
-                    if watches and on_boundary is not None:
-                        on_boundary(before, watch(), ctl.cycle)
-                else:
-                    nxt = [first]
-                    if inputs:
-                        nxt.append(inputs[0].position.cycle)
-                    ctl.run(min(min(nxt), end) * ctl.cycle_time)
+                if watches:
+                    before = watch()
+                    ctl.step()
+                    on_boundary(before, watch(), ctl.cycle)
+                    continue
+                nxt = [end]
+                if inputs:
+                    entry = inputs[0].position
+                    nxt.append(entry.cycle + 1 if entry.count > 0 else entry.cycle)
+                ctl.run(min(nxt) * ctl.cycle_time)
         finally:
+            tracer.disable()
             sys.settrace(None)
             session.close()
+        return tracer.counts
 
 
 def _with_inputs(on_line, inputs, session, ctl):

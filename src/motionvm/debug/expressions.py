@@ -19,6 +19,7 @@ from collections.abc import Callable
 _TOKEN = re.compile(
     r"\s*(?:(?P<num>0[xX][0-9a-fA-F]+|\d+\.\d*(?:[eE][-+]?\d+)?|\.\d+(?:[eE][-+]?\d+)?|\d+(?:[eE][-+]?\d+)?)"
     r"|(?P<of>[A-Za-z_][\w$]*\s+OF\s+[A-Za-z_]\w*(?:\{[^}]*\})?)"
+    r"|(?P<item>[A-Za-z_][\w.$]*\s*\[\s*\d+\s*\])"
     r"|(?P<name>[A-Za-z_][\w.$]*)"
     r"|(?P<op>&&|\|\||==|!=|<=|>=|<<|>>|[-+*/%<>!()\[\]&|^~]))"
 )
@@ -49,6 +50,8 @@ def to_python(text: str) -> str:
                 obj, _, rest = obj.partition("{")
                 index = f"[{rest.rstrip('}')}]"
             out.append(_name(f"{obj.strip()}.{kw.strip()}{index}"))
+        elif m.group("item"):
+            out.append(_name(re.sub(r"\s+", "", m.group("item"))))
         elif m.group("name"):
             word = m.group("name")
             upper = word.upper()
@@ -112,7 +115,14 @@ def evaluate(text: str, resolve: Callable[[str], object]):
         try:
             return resolve(name)
         except KeyError:
-            raise ExpressionError(f"unknown name '{name}'") from None
+            pass
+        base, bracket, index = name.partition("[")
+        if bracket:  # an element of an array that is one value: `cells[2]`
+            try:
+                return resolve(base)[int(index.rstrip("]"))]
+            except (KeyError, IndexError, TypeError, ValueError):
+                pass
+        raise ExpressionError(f"unknown name '{name}'")
 
     try:
         return eval(code, {"__builtins__": {}, "_v": lookup})  # noqa: S307 — checked above

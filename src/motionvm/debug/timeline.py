@@ -57,9 +57,7 @@ class Timeline:
         self.controller = session.controller
         self.inputs = sorted(inputs, key=lambda i: i.position)
         """Recorded inputs still to apply, by position."""
-        self.tracer = LineTracer(self._on_line)
-        self.cycle_counts: dict[int, int] = {}
-        """Statements of the user's code per cycle, for the cycles run traced."""
+        self.tracer = LineTracer(self._on_line, self.controller.clock)
         self.goal: Goal | None = None
         self.stop: Stop | None = None
         self.paused_frame = None
@@ -113,7 +111,7 @@ class Timeline:
     # ---------------------------------------------------------------- the sim thread
 
     def position(self) -> Position:
-        if self.paused_frame is not None or self.tracer.active:
+        if self.paused_frame is not None:
             return Position(self.controller.cycle, self.tracer.count)
         return Position(self.controller.cycle, 0)
 
@@ -144,6 +142,7 @@ class Timeline:
                 )
                 self._cond.notify_all()
         finally:
+            self.tracer.disable()
             sys.settrace(None)
 
     def _stop_at_boundary(self, reason: str, text: str = "") -> Stop:
@@ -164,7 +163,11 @@ class Timeline:
             cycle = ctl.cycle
             self._apply_inputs(Position(cycle, 0))
             stop = None
-            if goal.kind == "to" and goal.target is not None and goal.target.count == 0:
+            if (
+                goal.kind in ("to", "continue")
+                and goal.target is not None
+                and goal.target.count == 0
+            ):
                 if cycle >= goal.target.cycle:
                     stop = self._stop_at_boundary(goal.reason)
             if stop is None and self._boundary_stop is not None:
@@ -185,41 +188,23 @@ class Timeline:
             else:
                 self._free_run(goal)
 
+    def _traced(self, goal: Goal) -> bool:
+        """Whether statements must be seen from this cycle boundary on."""
+        if goal.kind == "step" or (goal.kind == "continue" and self.engine.breakpoints_set()):
+            return True
+        if self.inputs and self.inputs[0].position.count > 0:
+            return True
+        return goal.target is not None and goal.target.count > 0
+
     def _needs_cycles(self, goal: Goal) -> bool:
-        """Whether the next cycle must run on its own, traced or watched."""
-        engine = self.engine
-        if goal.kind == "step" or engine.watching():
-            return True
-        if goal.kind == "continue" and engine.breakpoints_set():
-            return True
-        nxt = self.inputs[0].position if self.inputs else None
-        cycle = self.controller.cycle
-        if nxt is not None and nxt.cycle == cycle and nxt.count > 0:
-            return True
-        target = self.goal.target if self.goal is not None else None
-        return target is not None and target.count > 0 and target.cycle == cycle
+        """Whether the next cycle must run on its own: a change must be seen at its end."""
+        return self.engine.watching()
 
     def _one_cycle(self) -> None:
         ctl = self.controller
-        goal = self.goal
-        traced = (
-            goal.kind == "step"
-            or (goal.kind == "continue" and self.engine.breakpoints_set())
-            or (self.inputs and self.inputs[0].position.cycle == ctl.cycle)
-            or (goal.target is not None and goal.target.count > 0)
-        )
         before = self.engine.watch_values() if self.engine.watching() else None
-        self.tracer.start_cycle()
-        cycle = ctl.cycle
-        if traced:
-            self.tracer.enable()
-        try:
-            ctl.step()
-        finally:
-            if traced:
-                self.tracer.disable()
-                self.cycle_counts[cycle] = self.tracer.count
-            self.tracer.count = 0
+        self._trace(self._traced(self.goal))
+        ctl.step()
         ctl.stop_requested = False
         if before is not None and self._boundary_stop is None:
             change = self.engine.watch_changed(before)
@@ -230,19 +215,29 @@ class Timeline:
             if text:
                 self._boundary_stop = self._stop_at_boundary("exception", text)
 
+    def _trace(self, on: bool) -> None:
+        if on:
+            self.tracer.enable()
+        else:
+            self.tracer.disable()
+
     def _free_run(self, goal: Goal) -> None:
-        """Run with time skipping up to the next place something must be seen."""
+        """Run with time skipping up to the next place something must be seen (the
+        tracer on while statements must be seen)."""
         ctl = self.controller
         limits = [self._asked_end]
-        if goal.kind == "to" and goal.target is not None:
-            limits.append(goal.target.cycle)
+        if goal.kind in ("to", "continue") and goal.target is not None:
+            target = goal.target
+            limits.append(target.cycle + 1 if target.count > 0 else target.cycle)
         if self.inputs:
-            limits.append(self.inputs[0].position.cycle)
+            entry = self.inputs[0].position
+            limits.append(entry.cycle + 1 if entry.count > 0 else entry.cycle)
         limits = [c for c in limits if c is not None]
-        until = min(limits) * ctl.cycle_time if limits else None
         if limits and min(limits) <= ctl.cycle:
             self._one_cycle()
             return
+        until = min(limits) * ctl.cycle_time if limits else None
+        self._trace(self._traced(goal))
         if ctl.run(until) == STOPPED and not self._pause_asked:
             ctl.stop_requested = False  # a fault asked for a stop at this boundary
 
@@ -250,9 +245,8 @@ class Timeline:
         self.finished = True
         self.session.finish()
         ctl = self.controller
-        goal = self._publish(Stop("exited", Position(ctl.cycle), ctl.sim_time))
         while True:  # nothing runs any more: every later goal stops here again
-            goal = self._publish(Stop("exited", Position(ctl.cycle), ctl.sim_time))
+            self._publish(Stop("exited", Position(ctl.cycle), ctl.sim_time))
 
     # ---------------------------------------------------------------- inside a cycle
 
@@ -299,6 +293,7 @@ class Timeline:
         if nxt.kind == "step" and nxt.skip_origin is None:
             nxt.skip_origin = (frame, frame.f_lineno)
         self.goal = nxt
+        ctl.stop_requested = True  # the run's plan changes: made anew at the next boundary
 
     def _here(self, reason: str, frame, hits: tuple[int, ...] = ()) -> Stop:
         ctl = self.controller

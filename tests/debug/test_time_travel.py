@@ -1,0 +1,109 @@
+"""Going back in time is exact: the state shown after going back to a position equals the
+state of a fresh run stopped there (random programs, random stop points)."""
+
+from __future__ import annotations
+
+import dataclasses
+import os
+
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from motionvm.debug import BreakpointSpec, DebugEngine, Position
+from motionvm.session import RunSpec, Source
+from motionvm.sim.variables import AxisState
+
+settings.register_profile("travel-ci", max_examples=4, derandomize=True, deadline=None,
+                          suppress_health_check=[HealthCheck.too_slow])  # fmt: skip
+settings.register_profile("travel-thorough", max_examples=150, derandomize=True, deadline=None,
+                          suppress_health_check=[HealthCheck.too_slow])  # fmt: skip
+PROFILE = settings.get_profile("travel-" + os.environ.get("HYPOTHESIS_PROFILE", "ci"))
+
+statement = st.one_of(
+    st.builds(lambda a, p: f"MoveAbs({a}, {p});", st.integers(0, 1), st.integers(-300, 300)),
+    st.builds(lambda t: f"Sleep({t});", st.integers(0, 40)),
+    st.builds(lambda k: f"n = n * 3 + {k}; total = total + n;", st.integers(-5, 5)),
+    st.builds(lambda a: f"Till(IsInPos({a}));", st.integers(0, 1)),
+    st.just('Print("%d n=%d pos=%.6f", system_timeInMs, n, GetPosFb(0));'),
+    st.builds(lambda i: f"cells[{i}] = cells[{i}] + n;", st.integers(0, 3)),
+)
+
+
+def _task(body: list[str]) -> str:
+    lines = "\n        ".join(body)
+    return f"""int n = 1;
+int total = 0;
+int cells[4];
+
+void main()
+{{
+    int k;
+    for (k = 0; k < 3; k++) {{
+        {lines}
+    }}
+    Print("done %d %d", n, total);
+}}
+"""
+
+
+def _snapshot(engine: DebugEngine) -> dict:
+    ctl = engine.controller
+    state = {"time": ctl.sim_time, "position": engine.position()}
+    for name in ("n", "total", "cells[0]", "cells[1]", "cells[2]", "cells[3]"):
+        state[name] = engine.evaluate(name)
+    for i, axis in enumerate(ctl.axes[:2]):
+        state[f"axis{i}"] = dataclasses.asdict(AxisState.of(axis, ctl.sim_time))
+    frame = engine.timeline.paused_frame
+    if frame is not None:
+        state["line"] = frame.f_lineno
+        state["locals"] = engine.locals_of(frame)
+    return state
+
+
+def _engine(path: str) -> DebugEngine:
+    return DebugEngine(RunSpec([Source(path)]), emit=lambda s: None, report=lambda s: None)
+
+
+@PROFILE
+@given(
+    body=st.lists(statement, min_size=1, max_size=4),
+    first=st.integers(0, 120),
+    later=st.integers(1, 80),
+    hits=st.integers(1, 4),
+)
+def test_going_back_shows_the_state_of_a_fresh_run_stopped_there(
+    tmp_path_factory, body, first, later, hits
+):
+    path = str(tmp_path_factory.mktemp("travel") / "p.hmpl")
+    with open(path, "w") as f:
+        f.write(_task(body))
+    # a cycle boundary: forward past it, then back
+    engine = _engine(path)
+    engine.start()
+    engine.go_to(Position(first + later))
+    engine.go_to(Position(first))
+    back = _snapshot(engine)
+    fresh = _engine(path)
+    fresh.start()
+    fresh.go_to(Position(first))
+    assert back == _snapshot(fresh)
+    fresh.close()
+    # inside a statement: a breakpoint's hit, then on, then back to it
+    engine.go_to(Position(0))
+    engine.set_breakpoints(path, [BreakpointSpec(9, hit_condition=str(hits))])
+    stop = engine.resume()
+    if stop.reason == "breakpoint":
+        there = _snapshot(engine)
+        engine.set_breakpoints(path, [])
+        engine.step_cycle(later)
+        engine.go_to(stop.position)
+        assert _snapshot(engine) == there
+        engine.step_back()
+        before = _snapshot(engine)
+        assert before["position"] < stop.position
+        other = _engine(path)
+        other.start()
+        other.go_to(before["position"])
+        assert _snapshot(other) == before
+        other.close()
+    engine.close()
