@@ -94,7 +94,7 @@ def test_symbols_are_the_declarations_with_their_places(tmp_path):
             ("r", "variable", 6, "twice"), ("main", "function", 10, None),
             ("i", "variable", 12, "main")} <= found  # fmt: skip
     pdl = {(s.name, s.kind, s.line) for s in language_named("PDL").symbols("a.pdl", PDL)}
-    assert {("add3", "function", 1), ("s", "variable", 4), ("#task/0", "task", 5),
+    assert {("add3", "procedure", 1), ("s", "variable", 4), ("#task/0", "task", 5),
             ("start", "label", 6)} <= pdl  # fmt: skip
     gdl_path = tmp_path / "a.gdl"
     gdl_path.write_text(GDL)
