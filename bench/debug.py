@@ -46,7 +46,7 @@ void main()
 BUSY_LINE = 9  # count = count + 1
 
 MOVER = """\
-void main()
+_AUTORUN_ void main()
 {
     int k;
     Enable(AXIS); Till(IsEnabled(AXIS));
@@ -115,6 +115,7 @@ def main() -> None:
             times[name].append(dt)
             assert results.setdefault(name, result) == result, name
     assert results["plain"] == results["debug"] == results["debug_bp"]
+    assert results["plain"][0] == ["count=3000"], results["plain"]
     med = {k: statistics.median(v) for k, v in times.items()}
     print(f"RESULT debug_no_breakpoint_ratio={med['debug'] / med['plain']:.2f}")
     print(f"RESULT debug_breakpoint_every_cycle_ratio={med['debug_bp'] / med['plain']:.2f}")
@@ -122,13 +123,15 @@ def main() -> None:
     spec = RunSpec([Source(p) for p in movers])
     travel: dict[str, list[float]] = {"goto": [], "back": [], "reverse": []}
     for _ in range(opts.repeat):
-        engine = DebugEngine(spec, emit=lambda s: None, report=lambda s: None)
+        lines: list[str] = []
+        engine = DebugEngine(spec, emit=lines.append, report=lambda s: None)
         stop = engine.start(stop_on_entry=False)
         assert stop.reason == "exited" and stop.time > 55, stop
+        assert len(lines) == 8, lines
         dt, stop = _timed(engine.go_to_time, 30.0)
         assert stop.position == Position(30000), stop
         travel["goto"].append(dt)
-        engine.set_breakpoints(movers[3], [BreakpointSpec(MOVER_LINE, hit_condition=">= 100")])
+        engine.set_breakpoints(movers[3], [BreakpointSpec(MOVER_LINE, hit_condition=">= 10")])
         hit = engine.resume()
         assert hit.reason == "breakpoint", hit
         dt, back = _timed(engine.step_back)

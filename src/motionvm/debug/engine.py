@@ -22,9 +22,11 @@ variables; the line tables that place breakpoints).
 
 from __future__ import annotations
 
+import os
 import threading
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from functools import lru_cache
 
 from motionvm.debug.expressions import ExpressionError, evaluate
 from motionvm.debug.positions import Breakpoint, History, Input, Position, Stop
@@ -452,16 +454,16 @@ class DebugEngine:
 
     def evaluate_in(self, expression: str, pyframe) -> object:
         """An expression of the user's language on `pyframe` (None: at the run's level)."""
-        local = self.locals_of(pyframe) if pyframe is not None else {}
-        glob = self.globals_of(pyframe) if pyframe is not None else {}
+        side = self._side_of(pyframe) if pyframe is not None else None
         variables = None
 
         def resolve(name: str):
             nonlocal variables
-            if name in local:
-                return local[name]
-            if name in glob:
-                return glob[name]
+            if side is not None:
+                try:
+                    return side.variable(pyframe, name)
+                except KeyError:
+                    pass
             if variables is None:
                 variables = self.variables()
             return variables.read(name)
@@ -709,9 +711,8 @@ def _set_local(frame, name: str, value: object) -> None:
     raise KeyError(name)
 
 
+@lru_cache(maxsize=1024)
 def _norm(path: str) -> str:
-    import os
-
     return os.path.normcase(os.path.abspath(path))
 
 

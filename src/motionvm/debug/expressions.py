@@ -15,6 +15,7 @@ from __future__ import annotations
 import ast
 import re
 from collections.abc import Callable
+from functools import lru_cache
 
 _TOKEN = re.compile(
     r"\s*(?:(?P<num>0[xX][0-9a-fA-F]+|\d+\.\d*(?:[eE][-+]?\d+)?|\.\d+(?:[eE][-+]?\d+)?|\d+(?:[eE][-+]?\d+)?)"
@@ -82,6 +83,7 @@ _ALLOWED = (
 )  # fmt: skip
 
 
+@lru_cache(maxsize=256)
 def compile_expression(text: str):
     """The code of an expression (ExpressionError if it is not one we evaluate)."""
     source = to_python(text)

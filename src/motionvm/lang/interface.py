@@ -279,6 +279,13 @@ class RunSide:
         """The user's global variables seen from a frame, by their names in the source."""
         return {}
 
+    def variable(self, frame, name: str) -> object:
+        """One variable seen from a frame: a local, else a global (KeyError: neither)."""
+        local = self.frame_variables(frame)
+        if name in local:
+            return local[name]
+        return self.global_variables(frame)[name]
+
 
 _LITERAL = re.compile(r"-?0[xX][0-9A-Fa-f]+|-?\d+")
 

@@ -117,6 +117,14 @@ class HmplSide(RunSide):
         task's stack memory and are not shown."""
         return {k[2:]: v for k, v in frame.f_locals.items() if k.startswith("v_")}
 
+    def variable(self, frame, name: str) -> object:
+        for key, space in (("v_" + name, frame.f_locals), ("g_" + name, frame.f_globals)):
+            if key in space:
+                value = space[key]
+                if isinstance(value, int | float | list):
+                    return value
+        raise KeyError(name)
+
     def global_variables(self, frame) -> dict[str, object]:
         """Globals kept in the namespace (`g_NAME`: scalars and arrays of numbers)."""
         return {
