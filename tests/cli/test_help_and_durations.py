@@ -109,3 +109,19 @@ def test_case_timeout_takes_a_duration(motionvm, tmp_path):
     assert "--case-timeout" not in r.stderr
     r = motionvm("test", "--case-timeout", "later", str(tmp_path), cwd=tmp_path)
     assert r.returncode == 3 and "argument --case-timeout: 'later'" in r.stderr
+
+
+@pytest.mark.parametrize(
+    ("argv", "usage"),
+    [
+        (["run", "--bogus", "a.hmpl"], "usage: motionvm run "),
+        (["builtins", "--nope"], "usage: motionvm builtins "),
+        (["check", "--fast", "a.hmpl"], "usage: motionvm check "),
+    ],
+)
+def test_an_unknown_option_prints_the_usage_of_its_command(motionvm, tmp_path, argv, usage):
+    r = motionvm(*argv, cwd=tmp_path)
+    assert r.returncode == 3 and r.stdout == ""
+    assert r.stderr.startswith(usage)
+    assert f"motionvm {argv[0]}: error: unrecognized arguments: {argv[1]}" in r.stderr
+    assert "COMMAND" not in r.stderr  # not the top-level usage

@@ -80,6 +80,8 @@ def test_a_long_run_shows_a_bar_towards_until(tmp_path, motionvm):
     assert code == 0
     assert re.search(rb"t=\d\.\d{3} / 1\.2 s", err), err[:500]
     assert re.search(rb"\d+%", err)
+    assert re.search(rb"\d+\.\dx real time", err)  # paced: about 1.0x
+    assert re.search(rb"ETA 0:00:0\d", err)
     assert COLOUR.search(err)
     lines = _lines_after_the_bar(err)
     assert (
@@ -147,3 +149,34 @@ def test_the_progress_callback_sees_the_run_without_changing_it(tmp_path):
     stepped: list[float] = []
     assert run(stepped.append, skip=False) == run()
     assert stepped == seen
+
+
+def test_a_short_run_gets_no_speed_nonsense_in_its_summary(tmp_path):
+    (tmp_path / "quick.hmpl").write_text('void main() { Print("hi"); }\n', "utf-8")
+    code, stdout, err = run_on_terminal("run", "quick.hmpl", cwd=tmp_path)
+    assert code == 0 and stdout == "hi\n"
+    (line,) = err.decode().splitlines()
+    wall = r"(?:\d+\.\d{2} s|\d+\.\d{1,2} ms)"
+    m = re.fullmatch(
+        rf"motionvm: 0\.00[01] s simulated in ({wall})(?: \(\d+x real time\))?, 0 faults", line
+    )
+    assert m, line
+    if "real time" in line:  # a speed only for a wall time long enough to measure it
+        assert not m.group(1).endswith(" ms") or float(m.group(1).split()[0]) >= 10
+
+
+@pytest.mark.parametrize(
+    ("wall", "text"), [(2.5, "2.50 s"), (0.0456, "45.6 ms"), (0.00084, "0.84 ms")]
+)
+def test_wall_times_keep_their_precision(wall, text):
+    from motionvm.cli.run import wall_text
+
+    assert wall_text(wall) == text
+
+
+def test_rate_and_eta():
+    from motionvm.cli.progress import rate_and_eta
+
+    assert rate_and_eta(10.0, 2.0, 20.0, 10.0) == ("5.0x real time", "ETA 0:00:02")
+    assert rate_and_eta(500.0, 1.0, None, 500.0) == ("500x real time", "")
+    assert rate_and_eta(0.0, 1.0, 5.0, 0.0) == ("", "")

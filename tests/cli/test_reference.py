@@ -35,7 +35,7 @@ def test_builtins_name_json_has_the_manual_entry(motionvm, tmp_path):
 @pytest.mark.parametrize(
     ("name", "hint"),
     [
-        ("MovAbs", "did you mean MoveAbs?"),
+        ("MovAbs", "did you mean MoveAbs,"),  # the closest first
         ("moveabs", "did you mean MoveAbs"),
         ("PI", "PI is a constant"),
     ],
@@ -139,3 +139,36 @@ def test_errors_without_a_code_lists_every_code(motionvm, tmp_path):
     assert len(lines) == 208
     assert lines[0].split()[:2] == ["0x00000001", "eERR_HCV_ID_NOT_FOUND"]
     assert any(line.split()[:2] == ["0x83XX0136", "eERR_AXIS_CMD_INVALID_POS"] for line in lines)
+
+
+def test_builtins_takes_a_glob(motionvm, tmp_path):
+    r = motionvm("builtins", "Move*", cwd=tmp_path)
+    assert r.returncode == 0
+    names = [line.split()[0] for line in r.stdout.splitlines()[:-1]]
+    assert names and all(n.startswith("Move") for n in names)
+    assert {"MoveAbs", "MoveRel", "MoveVel"} <= set(names)
+    assert r.stdout.splitlines()[-1] == f"{len(names)} built-ins match 'Move*', the closest first"
+    same = motionvm("builtins", "move*", "--json", cwd=tmp_path)
+    assert [row["name"] for row in json.loads(same.stdout)] == names  # case-insensitive
+
+
+def test_builtins_takes_a_search_word_closest_names_first(motionvm, tmp_path):
+    r = motionvm("builtins", "home", cwd=tmp_path)
+    assert r.returncode == 0
+    names = [line.split()[0] for line in r.stdout.splitlines()[:-1]]
+    assert {"MoveHome", "IsHomed", "SetHomeMethod"} <= set(names)
+    by_name = [n for n in names if "home" in n.lower()]
+    assert names[: len(by_name)] == by_name  # names that hold the word before purposes
+
+
+def test_builtins_ranks_the_closest_names_first(motionvm, tmp_path):
+    r = motionvm("builtins", "movabs", cwd=tmp_path)
+    assert r.returncode == 3
+    hint = r.stderr.split("did you mean ", 1)[1]
+    assert hint.startswith("MoveAbs") and hint.index("MoveAbs") < hint.index("abs,")
+
+
+def test_a_glob_that_finds_nothing_is_exit_3(motionvm, tmp_path):
+    r = motionvm("builtins", "Zork*", cwd=tmp_path)
+    assert r.returncode == 3 and r.stdout == ""
+    assert r.stderr.startswith("motionvm: error: no HMPL built-in matches 'Zork*'")

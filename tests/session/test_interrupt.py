@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import csv
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -37,6 +38,41 @@ def test_ctrl_c_exits_130_after_writing_the_scope(tmp_path):
         if proc.poll() is None:
             proc.kill()
     assert proc.returncode == 130
-    assert "motionvm: interrupted" in err and "Traceback" not in err
+    assert "Traceback" not in err
+    # at once, before the scope is written: where it stopped and what it writes
+    assert re.fullmatch(
+        r"motionvm: interrupted at t=\d+\.\d{3} s, writing scope s\.csv \.\.\.\n", err
+    )
     rows = list(csv.reader((tmp_path / "s.csv").read_text().splitlines()))
     assert rows[0] == ["time", "system_ltest0"] and len(rows) >= 2
+
+
+def test_the_interrupt_message_comes_at_once_and_the_exit_is_130(tmp_path):
+    """A real SIGINT to a run that is not paced: the message is on stderr well within a
+    bounded time, with no scope to write."""
+    (tmp_path / "a.hmpl").write_text(
+        'void main() { Print("started"); for (;;) { system_ltest0++; } }\n', "utf-8"
+    )
+    env = dict(os.environ, PYTHONUNBUFFERED="1", MOTIONVM_DATA_DIR=str(tmp_path / "data"))
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "motionvm", "run", "a.hmpl"],
+        cwd=tmp_path,
+        env=env,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
+    )
+    try:
+        assert proc.stdout.readline() == "started\n"
+        time.sleep(0.2)
+        sent = time.monotonic()
+        proc.send_signal(signal.SIGINT)
+        _out, err = proc.communicate(timeout=30)
+        took = time.monotonic() - sent
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+    assert proc.returncode == 130
+    assert re.fullmatch(r"motionvm: interrupted at t=\d+\.\d{3} s\n", err), err
+    assert took < 10

@@ -9,6 +9,7 @@ command; a test worker (`workers.py`) runs its cases' `run` commands through it 
 
 from __future__ import annotations
 
+import argparse
 import sys
 import traceback
 from collections.abc import Callable
@@ -28,6 +29,14 @@ def run_command(argv: list[str] | None, dispatch: Callable[[object], int]) -> in
     return code
 
 
+def subcommand_parser(parser: argparse.ArgumentParser, args) -> argparse.ArgumentParser:
+    """The parser of the subcommand `args` were parsed for (`parser` without one)."""
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            return action.choices.get(getattr(args, "cmd", None), parser)
+    return parser
+
+
 def _guarded(argv: list[str] | None, dispatch: Callable[[object], int]) -> int:
     parser = build_parser()
     try:
@@ -35,7 +44,10 @@ def _guarded(argv: list[str] | None, dispatch: Callable[[object], int]) -> int:
         # files may come after options too: `run a.hmpl --machine m.toml app.gdl`
         stray = [a for a in rest if a.startswith("-") and a != "-"]
         if stray or (rest and not hasattr(args, "files")):
-            parser.error(f"unrecognized arguments: {' '.join(stray or rest)}")
+            # the usage of the command given (`motionvm run: error: ...`), not motionvm's
+            subcommand_parser(parser, args).error(
+                f"unrecognized arguments: {' '.join(stray or rest)}"
+            )
         if rest:
             args.files = list(args.files) + rest
     except SystemExit as exc:  # argparse already printed its message

@@ -248,10 +248,17 @@ def _add_builtins_parser(sub) -> None:
         "builtins",
         help="the HMPL built-ins: one described, or all listed with whether each is implemented",
         description="Without NAME, one line per built-in: name, implemented or not, manual "
-        "section, prototype. With NAME, its purpose, parameters, return value and remarks.",
+        "section, prototype. With NAME, its purpose, parameters, return value and remarks. "
+        "With a glob ('Move*') or a word that names no built-in (home), the built-ins it "
+        "finds in names and purposes, the closest names first.",
         formatter_class=_Formatter,
     )
-    b.add_argument("name", nargs="?", metavar="NAME", help="describe this built-in (e.g. MoveAbs)")
+    b.add_argument(
+        "name",
+        nargs="?",
+        metavar="NAME",
+        help="describe this built-in (MoveAbs), or list those a glob ('Move*') or a word finds",
+    )
     b.add_argument("--missing", action="store_true", help="only the built-ins not implemented")
     b.add_argument(
         "--chapter", type=int, metavar="N", help="only the built-ins of manual chapter N (2-21)"

@@ -6,7 +6,7 @@ Both read the package's copies of the manual's tables (`data/hmpl_api.json`,
 
 from __future__ import annotations
 
-import difflib
+import fnmatch
 import json
 import re
 import sys
@@ -17,6 +17,7 @@ from importlib import resources
 
 from motionvm.cli.exits import EXIT_OK, UsageError
 from motionvm.lang import language_named
+from motionvm.source.suggest import ranked
 
 WIDTH = 79
 """Text is wrapped to this many columns (fixed, so the output does not depend on the terminal)."""
@@ -27,9 +28,7 @@ def _data(name: str):
 
 
 def _did_you_mean(word: str, names: list[str]) -> str:
-    by_lower = {n.lower(): n for n in names}
-    close = [by_lower[word.lower()]] if word.lower() in by_lower else []
-    close += [n for n in difflib.get_close_matches(word, names, n=3, cutoff=0.6) if n not in close]
+    close = ranked(word, names)
     return f"; did you mean {', '.join(close)}?" if close else ""
 
 
@@ -80,17 +79,21 @@ _LIST_FIELDS = (
 
 def cmd_builtins(args) -> int:
     rows = builtin_rows()
+    search = None
     if args.name is not None:
-        if args.missing or args.chapter is not None:
+        if not any(r["name"] == args.name for r in rows) and _is_search(args.name, rows):
+            search = args.name
+        elif args.missing or args.chapter is not None:
             raise UsageError(
                 "builtins NAME describes one built-in; --missing and --chapter filter the list"
             )
-        row = _find_builtin(args.name, rows)
-        if args.json:
-            _write_json(row)
         else:
-            sys.stdout.write(describe_builtin(row))
-        return EXIT_OK
+            row = _find_builtin(args.name, rows)
+            if args.json:
+                _write_json(row)
+            else:
+                sys.stdout.write(describe_builtin(row))
+            return EXIT_OK
     if args.chapter is not None:
         chapters = sorted({r["chapter"] for r in rows})
         if args.chapter not in chapters:
@@ -100,6 +103,11 @@ def cmd_builtins(args) -> int:
             )
         rows = [r for r in rows if r["chapter"] == args.chapter]
     shown = [r for r in rows if not r["implemented"]] if args.missing else rows
+    if search is not None:
+        shown = matching(search, shown)
+        if not shown:
+            names = [r["name"] for r in rows]
+            raise UsageError(f"no HMPL built-in matches '{search}'{_did_you_mean(search, names)}")
     if args.json:
         _write_json([{k: r[k] for k in _LIST_FIELDS} for r in shown])
         return EXIT_OK
@@ -108,6 +116,10 @@ def cmd_builtins(args) -> int:
         for r in shown:
             mark = "yes" if r["implemented"] else "no "
             sys.stdout.write(f"{r['name']:<{width}}  {mark}  {r['section']:<7} {r['prototype']}\n")
+    if search is not None:
+        plural = "" if len(shown) == 1 else "s"
+        sys.stdout.write(f"{len(shown)} built-in{plural} match '{search}', the closest first\n")
+        return EXIT_OK
     done = sum(r["implemented"] for r in rows)
     where = f" of chapter {args.chapter} ({rows[0]['chapter_title']})" if args.chapter else ""
     if args.missing:
@@ -115,6 +127,45 @@ def cmd_builtins(args) -> int:
     else:
         sys.stdout.write(f"{done} of {len(rows)} built-ins{where} implemented\n")
     return EXIT_OK
+
+
+_GLOB = re.compile(r"[*?\[]")
+
+
+def _is_search(word: str, rows: list[dict]) -> bool:
+    """Whether `builtins WORD` lists the built-ins WORD finds rather than describing one:
+    a glob (`Move*`), or a word that names no built-in but is part of some name or
+    purpose. A name in the wrong case (`moveabs`: HMPL tells case) or of a constant
+    (`PI`) is no search."""
+    if _GLOB.search(word):
+        return True
+    lower = word.lower()
+    if any(r["name"].lower() == lower for r in rows) or word in language_named("HMPL").docs():
+        return False  # a name in the wrong case, or a constant: `_find_builtin` says so
+    return bool(matching(word, rows))
+
+
+def matching(word: str, rows: list[dict]) -> list[dict]:
+    """The rows `word` finds, the closest names first (`ranked`): with `*`, `?` or `[...]`
+    the names that match it as a glob, case-insensitively; else the names that contain
+    it, then the built-ins whose purpose mentions it."""
+    lower = word.lower()
+    if _GLOB.search(word):
+        found = [r for r in rows if fnmatch.fnmatchcase(r["name"].lower(), lower)]
+        return _by_closeness(word.strip("*?"), found)
+    by_name = [r for r in rows if lower in r["name"].lower()]
+    by_purpose = [
+        r
+        for r in rows
+        if r not in by_name and re.search(rf"\b{re.escape(lower)}", r["purpose"].lower())
+    ]
+    return _by_closeness(word, by_name) + _by_closeness(word, by_purpose)
+
+
+def _by_closeness(word: str, rows: list[dict]) -> list[dict]:
+    order = ranked(word, [r["name"] for r in rows], n=len(rows), cutoff=0.0)
+    at = {name: i for i, name in enumerate(order)}
+    return sorted(rows, key=lambda r: at[r["name"]])
 
 
 def _find_builtin(name: str, rows: list[dict]) -> dict:

@@ -6,7 +6,14 @@ import os
 import sys
 import time
 
-from motionvm.cli.exits import EXIT_COMPILE, EXIT_OK, EXIT_RUNTIME, EXIT_TIMEOUT, UsageError
+from motionvm.cli.exits import (
+    EXIT_COMPILE,
+    EXIT_INTERRUPTED,
+    EXIT_OK,
+    EXIT_RUNTIME,
+    EXIT_TIMEOUT,
+    UsageError,
+)
 from motionvm.cli.progress import RunProgress
 from motionvm.cli.progress import wanted as progress_wanted
 from motionvm.lang import LANGUAGES, LanguageInputError, language_of
@@ -171,8 +178,10 @@ def cmd_run(args) -> int:
                 args.until, realtime=bool(args.realtime), timeout=args.timeout, progress=bar
             )
         except KeyboardInterrupt:
-            session.save_scope()  # keep what was recorded up to the interrupt
-            raise
+            if bar is not None:
+                bar.close()
+            _interrupted(session)
+            return EXIT_INTERRUPTED
         finally:
             if bar is not None:
                 bar.close()
@@ -230,11 +239,35 @@ def _verdict(result, args) -> None:
         )
 
 
+def _interrupted(session: Session) -> None:
+    """Ctrl-C during a run: say so at once, with the simulated time it stopped at and the
+    scope files still to write, then write them (what was recorded up to the interrupt)."""
+    request = session.spec.scope
+    files = [str(p) for p in request.outputs if not request.is_stdout(p)] if request else []
+    note = f", writing scope {', '.join(files)} ..." if files else ""
+    _report(f"motionvm: interrupted at t={session.controller.sim_time:.3f} s{note}")
+    sys.stderr.flush()
+    session.save_scope()
+
+
+MEASURABLE_WALL = 0.01
+"""Wall time [s] below which a run is too short for its speed to mean anything."""
+
+
+def wall_text(wall: float) -> str:
+    """A wall time with the precision it has: `1.23 s`, `45.6 ms`, `0.84 ms`."""
+    if wall >= 1.0:
+        return f"{wall:.2f} s"
+    ms = wall * 1000.0
+    return f"{ms:.1f} ms" if ms >= 1.0 else f"{ms:.2f} ms"
+
+
 def _summary(result, wall: float, faults: int) -> None:
-    """One line for a person at a terminal: simulated time, wall time, speed, faults."""
-    factor = f"{result.sim_time / wall:.0f}x real time" if wall > 0 else "instant"
+    """One line for a person at a terminal: simulated time, wall time, speed, faults. A
+    run shorter than MEASURABLE_WALL gets no speed (its factor would be noise)."""
+    speed = f" ({result.sim_time / wall:.0f}x real time)" if wall >= MEASURABLE_WALL else ""
     plural = "" if faults == 1 else "s"
     _report(
-        f"motionvm: {result.sim_time:.3f} s simulated in {wall:.2f} s ({factor}), "
+        f"motionvm: {result.sim_time:.3f} s simulated in {wall_text(wall)}{speed}, "
         f"{faults} fault{plural}"
     )

@@ -25,3 +25,17 @@ def did_you_mean(name: str, candidates: Iterable[str]) -> str:
     """' (did you mean 'X'?)' or ''."""
     c = closest(name, candidates)
     return f" (did you mean '{c}'?)" if c else ""
+
+
+def ranked(name: str, candidates: Iterable[str], n: int = 3, cutoff: float = 0.6) -> list[str]:
+    """Up to `n` candidates like `name`, the closest first: compared case-insensitively
+    (`movabs` is nearer `MoveAbs` than `abs`), an exact case-insensitive match first;
+    ties keep the candidates' order."""
+    lower = name.lower()
+    scored = []
+    for i, c in enumerate(candidates):
+        low = c.lower()
+        score = 2.0 if low == lower else difflib.SequenceMatcher(None, lower, low).ratio()
+        if score >= cutoff:
+            scored.append((-score, i, c))
+    return [c for _, _, c in sorted(scored)[:n]]
