@@ -93,10 +93,15 @@ class DebugEngine:
 
     # ---------------------------------------------------------------- timelines
 
-    def _new_timeline(self, inputs: list[Input]) -> Timeline:
+    def _new_timeline(self, inputs: list[Input], stepped: bool = False) -> Timeline:
+        """A fresh session; `stepped`: every cycle stepped, no time skipping (a position
+        inside a cycle is that of a run stepped from its start: jumps over idle cycles
+        change which cycles a polling task runs in, not what the program does)."""
         self._lines_now = 0
         self._axis_errors_seen = set()
         session = Session(self.spec, emit=self._emit, report=self._report)
+        if stepped:
+            session.controller.skip = False
         self.session = session
         return Timeline(session, self, inputs)
 
@@ -195,7 +200,7 @@ class DebugEngine:
         with self._lock:
             self.timeline.abandon()
             self.session.close()
-            self.timeline = self._new_timeline(list(self.history.inputs))
+            self.timeline = self._new_timeline(list(self.history.inputs), target.count > 0)
             self._frames.clear()
             return self.timeline.start(Goal("to", target, reason=reason))
 
@@ -210,20 +215,32 @@ class DebugEngine:
         return self._replay_to(target or Position(0, 0), "step")
 
     def _last_statement_before(self, cycle: int) -> Position | None:
-        """The last statement of the latest cycle before `cycle` that ran one."""
-        counts = _Scan(self, self.history.inputs).count_statements(cycle)
-        earlier = [c for c in counts if c < cycle]
-        return Position(max(earlier), counts[max(earlier)]) if earlier else None
+        """The last statement of the latest cycle before `cycle` that ran one (scanning
+        back in windows of cycles, each stepped and traced)."""
+        window = 64
+        while True:
+            first = max(0, cycle - window)
+            counts = _Scan(self, self.history.inputs).count_statements(first, cycle)
+            if counts:
+                last = max(counts)
+                return Position(last, counts[last])
+            if first == 0:
+                return None
+            window *= 8
 
     def reverse_continue(self) -> Stop:
         """Back to the latest breakpoint hit (or data breakpoint change) before now; to the
-        start if there is none."""
+        start if there is none (scanning back in windows of cycles)."""
         here = self.position()
-        scan = _Scan(self, self.history.inputs)
-        hit = scan.last_hit_before(here)
-        if hit is None:
-            return self._replay_to(Position(0, 0), "entry")
-        return self._replay_to(hit, "breakpoint")
+        window = 256
+        while True:
+            first = max(0, here.cycle - window)
+            hit = _Scan(self, self.history.inputs).last_hit_before(here, first)
+            if hit is not None:
+                return self._replay_to(hit, "breakpoint")
+            if first == 0:
+                return self._replay_to(Position(0, 0), "entry")
+            window *= 8
 
     def last_change(self, expression: str) -> tuple[float, object, object] | None:
         """When the value of `expression` (at cycle boundaries) last changed before now:
@@ -525,13 +542,15 @@ class _Scan:
         self.inputs = list(inputs)
 
     def _session(self) -> Session:
-        return Session(self.engine.spec, emit=lambda line: None, report=lambda line: None)
+        session = Session(self.engine.spec, emit=lambda line: None, report=lambda line: None)
+        session.controller.skip = False  # positions inside cycles: those of a stepped run
+        return session
 
-    def count_statements(self, end: int) -> dict[int, int]:
-        """Statements of the user's code per cycle of cycles 0..end-1 that ran any."""
-        return self._run(end, lambda frame, count: None)
+    def count_statements(self, first: int, end: int) -> dict[int, int]:
+        """Statements of the user's code per cycle of cycles first..end-1 that ran any."""
+        return self._run(end, lambda frame, count: None, first=first)
 
-    def last_hit_before(self, here: Position) -> Position | None:
+    def last_hit_before(self, here: Position, first: int = 0) -> Position | None:
         engine = self.engine
         last: list[Position] = []
         saved = {f: [(b.hits) for b in bps] for f, bps in engine._bp_by_file.items()}
@@ -553,7 +572,7 @@ class _Scan:
                 last.append(Position(cycle, 0))
 
         try:
-            self._run(here.cycle + 1, on_line, session, on_boundary)
+            self._run(here.cycle + 1, on_line, session, on_boundary, first=first)
         finally:
             for f, hits in saved.items():
                 for bp, h in zip(engine._bp_by_file.get(f, ()), hits):
@@ -585,9 +604,10 @@ class _Scan:
         del engine
         return changes[-1] if changes else None
 
-    def _run(self, end: int, on_line, session=None, on_boundary=None) -> dict[int, int]:
-        """Run cycles 0..end-1 traced (with time skipping, unless data breakpoints are
-        watched at every boundary); the statement counts of the cycles that ran any."""
+    def _run(self, end: int, on_line, session=None, on_boundary=None, first: int = 0):
+        """Run to the start of cycle `first` with time skipping, then cycles first..end-1
+        stepped and traced (a position within a cycle is that of the cycle stepped);
+        the statement counts of the traced cycles that ran any."""
         import sys
 
         from motionvm.debug.tracer import LineTracer
@@ -610,27 +630,31 @@ class _Scan:
                     out.append(None)
             return out
 
-        tracer.enable()
         try:
             while ctl.cycle < end and ctl.busy():
                 cycle = ctl.cycle
                 while inputs and inputs[0].position <= Position(cycle, 0):
                     _apply_plain(session, inputs.pop(0))
-                if watches:
-                    before = watch()
-                    ctl.step()
-                    on_boundary(before, watch(), ctl.cycle)
+                mid = bool(inputs) and inputs[0].position.cycle == cycle
+                if cycle < first and not mid:
+                    nxt = [first]
+                    if inputs:
+                        nxt.append(inputs[0].position.cycle)
+                    ctl.run(min(nxt) * ctl.cycle_time)
                     continue
-                nxt = [end]
-                if inputs:
-                    entry = inputs[0].position
-                    nxt.append(entry.cycle + 1 if entry.count > 0 else entry.cycle)
-                ctl.run(min(nxt) * ctl.cycle_time)
+                before = watch() if watches else None
+                tracer.enable()
+                try:
+                    ctl.step()
+                finally:
+                    tracer.disable()
+                if watches:
+                    on_boundary(before, watch(), ctl.cycle)
         finally:
             tracer.disable()
             sys.settrace(None)
             session.close()
-        return tracer.counts
+        return {c: n for c, n in tracer.counts.items() if c >= first}
 
 
 def _with_inputs(on_line, inputs, session, ctl):

@@ -197,8 +197,12 @@ class Timeline:
         return goal.target is not None and goal.target.count > 0
 
     def _needs_cycles(self, goal: Goal) -> bool:
-        """Whether the next cycle must run on its own: a change must be seen at its end."""
-        return self.engine.watching()
+        """Whether the next cycle must run on its own: a change must be seen at its end,
+        or its statements (a position within a cycle is that of the cycle stepped: a
+        jump over idle cycles changes which cycles a polling task runs in)."""
+        if self.engine.watching():
+            return True
+        return self._traced(goal)
 
     def _one_cycle(self) -> None:
         ctl = self.controller
@@ -227,17 +231,15 @@ class Timeline:
         ctl = self.controller
         limits = [self._asked_end]
         if goal.kind in ("to", "continue") and goal.target is not None:
-            target = goal.target
-            limits.append(target.cycle + 1 if target.count > 0 else target.cycle)
+            limits.append(goal.target.cycle)
         if self.inputs:
-            entry = self.inputs[0].position
-            limits.append(entry.cycle + 1 if entry.count > 0 else entry.cycle)
+            limits.append(self.inputs[0].position.cycle)
         limits = [c for c in limits if c is not None]
         if limits and min(limits) <= ctl.cycle:
             self._one_cycle()
             return
         until = min(limits) * ctl.cycle_time if limits else None
-        self._trace(self._traced(goal))
+        self._trace(False)
         if ctl.run(until) == STOPPED and not self._pause_asked:
             ctl.stop_requested = False  # a fault asked for a stop at this boundary
 
