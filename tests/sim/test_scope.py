@@ -12,6 +12,7 @@ import pytest
 from motionvm.api import Simulation
 from motionvm.cli import main
 from motionvm.runtime.clients import PassiveClient
+from motionvm.runtime.scope import ScopeAxis
 from motionvm.sim.controller import Controller
 from motionvm.sim.scope import (
     ChannelRegistry,
@@ -20,7 +21,7 @@ from motionvm.sim.scope import (
     ScopeRequest,
     parse_channel_list,
 )
-from motionvm.sim.scope_sources import registry_for
+from motionvm.sim.scope_sources import AxisSource, registry_for
 from motionvm.sim.scope_writers import write_csv
 
 LOOP = """\
@@ -244,7 +245,7 @@ def test_channel_list_parsing():
 # ---------------------------------------------------------------- axes (stand-in for motion/axis.py)
 
 
-class StandInAxis:
+class StandInAxis(ScopeAxis):
     """The axis layer's interface as the scope uses it: variable(name), variable_names()."""
 
     def __init__(self, rotary: bool = False) -> None:
@@ -304,15 +305,15 @@ def test_axis_channels_and_units():
 
 def test_no_axes():
     with pytest.raises(ScopeError, match="this controller has no axes"):
-        registry_for(SimpleNamespace()).resolve("axis0.ref_pos")
+        ChannelRegistry([AxisSource(SimpleNamespace(axes=None))]).resolve("axis0.ref_pos")
 
 
 def test_axis_without_variable_names_offers_the_manuals_variables():
-    class Minimal:
+    class Minimal(ScopeAxis):
         def variable(self, name):
             return 1.5
 
-    reg = registry_for(SimpleNamespace(motion=SimpleNamespace(axes=[Minimal()])))
+    reg = ChannelRegistry([AxisSource(SimpleNamespace(axes=[Minimal()]))])
     assert reg.resolve("axis0.settlingtime").unit == "ms"
     assert reg.resolve("axis0.coe_vel_fb").getter() == 1.5
     with pytest.raises(ScopeError, match="did you mean axis0.vel_fb"):

@@ -51,7 +51,7 @@ from collections.abc import Callable, Iterable, Sequence
 from motionvm.motion import axis_status as st
 from motionvm.motion.axis_status import AxisCommandError
 from motionvm.runtime.clients import PassiveClient
-from motionvm.runtime.scope import BIT_UNIT, RAW_UNIT, ScopeError
+from motionvm.runtime.scope import BIT_UNIT, RAW_UNIT, ChannelSource, EdgeGetter, ScopeError
 from motionvm.runtime.waits import Waiting
 
 N_POSITIONS = 256
@@ -313,7 +313,7 @@ class _Interval:
         return self.start + i * self.step, True
 
 
-class _Output:
+class _Output(EdgeGetter):
     """The scope getter of `axisN.pt_out`: the level now, and its exact edges (VCD) since
     a recording started keeping them (the pulse times it keeps go with it)."""
 
@@ -336,7 +336,7 @@ class _Output:
 CHANNELS = ("pt_count", "pt_out", "pt_enabled")
 
 
-class PositionTriggers(PassiveClient):
+class PositionTriggers(PassiveClient, ChannelSource):
     """The PT of every axis: a cycle client of the controller and a scope source
     (nothing before the tasks: `begin_cycle` is `PassiveClient`'s)."""
 

@@ -120,9 +120,3 @@ class SlaveBus:
             return None
         module = slave.module(slot)
         return None if module is None else (slave, module)
-
-    def drive_slave(self, axis_id: int) -> Slave | None:
-        for s in self.slaves:
-            if s.axis == axis_id:
-                return s
-        return None

@@ -29,7 +29,6 @@ from __future__ import annotations
 import math
 
 from motionvm.drives.objects import (
-    DI_HOME_SWITCH,
     DI_NEGATIVE_LIMIT,
     DI_POSITIVE_LIMIT,
     MODE_CSP,
@@ -537,8 +536,3 @@ class AxisCycle:
         for d in self._comp_dependents:
             d.resting = False
             d._still_cycles = 0
-
-    @property
-    def home_switch(self) -> bool:
-        """The home switch input (0x60FD bit 2)."""
-        return bool(self.drive.digital_inputs & DI_HOME_SWITCH)

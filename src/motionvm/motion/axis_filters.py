@@ -37,16 +37,12 @@ the compensation held at the limit.
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING
 
 from motionvm.motion import axis_status as st
 from motionvm.motion import inshape, vsf
-from motionvm.motion.axis_cycle import EXT, TORQUE
+from motionvm.motion.axis_cycle import EXT, TORQUE, AxisCycle
 from motionvm.motion.axis_status import AxisCommandError
 from motionvm.motion.compensation import ALG_LINEAR, ALG_SPLINE, COMP_LIMIT, ErrorMap
-
-if TYPE_CHECKING:  # pragma: no cover
-    from motionvm.motion.axis import Axis
 
 INSHAPE_FREQUENCY = (1.5, 300.0)
 """[Hz] SetAxisInShape's frequency range (15.7)."""
@@ -68,7 +64,7 @@ class AxisFilters:
         "inshape", "vsf",
     )  # fmt: skip
 
-    def __init__(self, axis: Axis) -> None:
+    def __init__(self, axis: AxisCycle) -> None:
         self.axis = axis
         self.inshape = inshape.InShapeSettings()
         self.vsf = vsf.VsfSettings()
@@ -81,11 +77,11 @@ class AxisFilters:
         self.comp_limit = COMP_LIMIT
         """[mm or deg] The largest compensation the axis accepts (HCV_ID_max_comp_lim)."""
         self.comp_on = False
-        self._refs: tuple[Axis, ...] = ()
+        self._refs: tuple[AxisCycle, ...] = ()
 
     # ---- the cycle ------------------------------------------------------------------
 
-    def step(self, axis: Axis, p: float, v: float, a: float) -> tuple[float, float, float]:
+    def step(self, axis: AxisCycle, p: float, v: float, a: float) -> tuple[float, float, float]:
         """This cycle's reference through the filter; the compensation set on the axis."""
         f = self._filter
         if f is not None:
@@ -100,7 +96,7 @@ class AxisFilters:
             self._compensate(axis, p)
         return p, v, a
 
-    def _compensate(self, axis: Axis, p: float) -> None:
+    def _compensate(self, axis: AxisCycle, p: float) -> None:
         c = self.comp_map.value([p if r is axis else r.ref_pos for r in self._refs])
         lim = self.comp_limit
         if not -lim <= c <= lim:
@@ -299,7 +295,7 @@ class AxisFilters:
         if m is not None:
             self.comp_map = ErrorMap(m.base, m.interval, m.num_pt, m.values, alg_type)
 
-    def enable_comp(self, refs: tuple[Axis, ...]) -> None:
+    def enable_comp(self, refs: tuple[AxisCycle, ...]) -> None:
         """EnableComp with the reference axes of the map; only while the axis is disabled."""
         self._require_disabled()
         axis = self.axis

@@ -24,6 +24,7 @@ from motionvm.motion import axis_status as st
 from motionvm.motion.axis_config import check_range, range_text
 from motionvm.motion.axis_cycle import PG
 from motionvm.motion.axis_status import AxisCommandError
+from motionvm.runtime.scope import ScopeAxis
 
 
 def _positive(value: float, code: int, what: str, axis_id: int) -> float:
@@ -41,8 +42,8 @@ def _in_range(key: str, value: float, code: int, what: str, axis_id: int) -> flo
     return value
 
 
-class AxisSettings:
-    """5.3 Get/Set functions of `Axis`."""
+class AxisSettings(ScopeAxis):
+    """5.3 Get/Set functions of `Axis`, and its variables by name (a `ScopeAxis`)."""
 
     __slots__ = ()
 

@@ -25,6 +25,14 @@ import math
 from motionvm.motion import group as grp
 from motionvm.motion import group_inshape, inshape
 from motionvm.motion.config_vars import GROUP, ConfigVarTable, manual_ids
+from motionvm.motion.group_checks import (
+    GRP_INSHAPE_DAMPING,
+    GRP_INSHAPE_FREQUENCY,
+    check_bm,
+    check_prm,
+    check_profile,
+    check_tm,
+)
 from motionvm.motion.group_coords import CS_ACS, CoordSystems
 
 LIN_LIMITS = (5000.0, 50000.0, 50000.0)
@@ -41,13 +49,8 @@ def _checked(fn, *args) -> None:
 
 def register(table: ConfigVarTable, kernel) -> None:
     """Register every group variable of table 17.1.1.3 for the groups of `kernel`."""
-    # the command layer's checks (imported here: the commands import the kernel)
-    from motionvm.motion.commands.filters import GRP_INSHAPE_DAMPING, GRP_INSHAPE_FREQUENCY
-    from motionvm.motion.commands.group_base import GroupCommandBase
-
     groups = kernel.groups
     table.add_family(GROUP, lambda i: groups.get(i) is not None)
-    check = GroupCommandBase
 
     def profile(linear: bool, k: int):
         def get(i):
@@ -59,7 +62,7 @@ def register(table: ConfigVarTable, kernel) -> None:
             prof = g.lin if linear else g.ang
             merged = list(prof.values())
             merged[k] = float(v)
-            _checked(lambda: check._check_profile(*merged, linear=linear))
+            _checked(lambda: check_profile(*merged, linear=linear))
             prof.vel, prof.acc, prof.dec, prof.sm_ms = merged
             if linear:
                 g.planner.set_smoothing(prof.sm_ms / 1000.0)
@@ -83,7 +86,7 @@ def register(table: ConfigVarTable, kernel) -> None:
         def set_(i, v):
             prm = list(groups[i].trans_prm)
             prm[k] = float(v)
-            _checked(check._check_prm, *prm)
+            _checked(check_prm, *prm)
             groups[i].trans_prm = prm
 
         return (lambda i: float(groups[i].trans_prm[k])), set_
@@ -135,8 +138,8 @@ def register(table: ConfigVarTable, kernel) -> None:
     bindings = {
         "num_axis": (lambda i: float(groups[i].n), None),
         "coord_sys": code_set("coord_sys", lambda v: CoordSystems.valid(v) and v != CS_ACS),
-        "buffer_mode": code_set("buffer_mode", _valid(check._check_bm)),
-        "trans_mode": code_set("trans_mode", _valid(check._check_tm)),
+        "buffer_mode": code_set("buffer_mode", _valid(check_bm)),
+        "trans_mode": code_set("trans_mode", _valid(check_tm)),
         "trans_vel": trans(0),
         "trans_dis": trans(1),
         "trans_dev": trans(2),

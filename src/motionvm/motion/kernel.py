@@ -166,6 +166,13 @@ class MotionKernel:
 
     # ---- time skipping (motion/axis_coast.py) ----------------------------------------
 
+    def steps_alone(self) -> bool:
+        """True if a cycle of this kernel alone (`begin_cycle`, `step`), with no task and
+        no client run, is the whole of the cycle for it: no gear, no gantry pair, no
+        busy axis group, no bus starting up (each of those is stepped with the tasks)."""
+        return not (self._bus_steps or self.gantries.pairs or self.gears.gears
+                    or self.groups_moving())  # fmt: skip
+
     def coast_horizon(self, wanted: int, watched=None, watches=()) -> int:
         """How many cycles (at most `wanted`) every axis can be advanced in closed form
         from now: 0 if one must be stepped. Gears, gantry pairs, busy axis groups and a
@@ -175,7 +182,7 @@ class MotionKernel:
         position (motion/axis_coast.py); and at the first cycle after which a position
         that a task waits for may be reached (`watches`: `PositionWatch`es, each false
         now)."""
-        if self._bus_steps or self.gantries.pairs or self.gears.gears or self.groups_moving():
+        if not self.steps_alone():
             return 0 if not self.at_rest() else wanted
         k = wanted
         memo = self._coast_memo

@@ -1,13 +1,15 @@
 """The protocol every language's run side implements to live on the controller's cycle.
 
 A *cycle client* is one part of a run that the controller steps: the HMPL run time
-(system variables before the tasks), the PDL drives (their 15 kHz phases after the
-motion step), a GDL application (its procedures after the motion step), a scope
-recorder (a sample of the state the cycle left). The controller calls, each cycle:
+(system variables before the tasks), the PDL drives (their 15 kHz phases up to the
+start of the cycle, before the tasks), a GDL application (its procedures after the
+motion step), a scope recorder (a sample of the state the cycle left). The controller
+calls, each cycle:
 
-    begin_cycle()   before the tasks run (latch inputs, update system variables)
+    begin_cycle()   before the tasks run (latch inputs, update system variables, run
+                    the drives' firmware up to this cycle)
     ...tasks, motion...
-    end_cycle()     after the motion step (drive firmware, event procedures, sampling)
+    end_cycle()     after the motion step (event procedures, sampling)
 
 and between cycles asks each client
 
@@ -27,35 +29,56 @@ and between cycles asks each client
 A jump must give byte-identical results to stepping, so a client that cannot tell
 when it changes next returns the current cycle.
 
-A client may also declare `observes_motion = False`: none of its hooks reads the state
-of a moving axis (positions, velocities, drive objects). Only then may the controller
-jump while axes move, advancing them in closed form (motion/axis_coast.py). A client
-without the attribute counts as observing motion: axes then jump only while they rest.
-Two more declarations serve recorders: `samples_skipped_cycles = True` (its `end_cycle`
-is called for every cycle a jump passes, after the axes were advanced to it) and
-`clock_driven = True` (its `begin_cycle` only writes values computed from the clock's
-cycle, so such a jump calls it too, for the recorder to see them).
+Every other capability a client may offer is declared here too, with its default
+(`PassiveClient`, the base every client derives from); the controller reads them as
+attributes, never by probing for a name:
 
-An idle client costs no call: a client may answer `has_work(hook)` ("begin_cycle" or
-"end_cycle") False while that hook would do nothing, and must then call `work_changed()`
-as soon as the answer may differ. The controller calls only the hooks with work; it
-takes its hook lists again at its next point of taking them after a `work_changed()`:
-before the begin hooks and before the end hooks of a cycle (as it does when a client
-comes or goes). So work that appears between cycles, while the tasks run or in the
-motion step is done in the same cycle as if the hook were called every cycle; a hook
-must not gain begin work from another client's `begin_cycle`, nor end work from an
-earlier client's `end_cycle` (it would start a cycle late).
+    observes_motion         True (the default) if a hook reads the state of a moving axis
+                            (positions, velocities, drive objects). Only while no client
+                            observes motion may the controller jump while axes move,
+                            advancing them in closed form (sim/jumps.py); otherwise axes
+                            jump only while they rest. A class constant, or a property
+                            (asked at every jump) where the answer changes.
+    samples_skipped_cycles  False by default; True for a recorder whose `end_cycle` is
+                            called for every cycle a jump passes, after the axes were
+                            advanced to it.
+    clock_driven            False by default; True if `begin_cycle` only writes values
+                            computed from the clock's cycle, so that such a jump calls it
+                            too, for the recorder to see them.
+    has_work(hook)          True by default. An idle client costs no call: it may answer
+                            False for "begin_cycle" or "end_cycle" while that hook would do
+                            nothing, and must then call `work_changed()` as soon as the
+                            answer may differ.
+    watch_work(callback)    the controller's: `work_changed()` calls `callback()`.
+    work_changed()          tell the controller that `has_work` may answer differently.
+
+The controller calls only the hooks with work; it takes its hook lists again at its next
+point of taking them after a `work_changed()`: before the begin hooks and before the end
+hooks of a cycle (as it does when a client comes or goes). So work that appears between
+cycles, while the tasks run or in the motion step is done in the same cycle as if the
+hook were called every cycle; a hook must not gain begin work from another client's
+`begin_cycle`, nor end work from an earlier client's `end_cycle` (it would start a cycle
+late). A client that keeps `PassiveClient`'s `begin_cycle`, `end_cycle` or `next_event`
+(it has nothing to do there) costs no call of it either.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import Protocol, runtime_checkable
+from types import MethodType
+from typing import Protocol
+
+BEGIN, END = "begin_cycle", "end_cycle"
+"""The two hooks, as `has_work` names them."""
 
 
-@runtime_checkable
 class CycleClient(Protocol):
-    """A run side stepped by the controller's cycle (see the module docstring)."""
+    """A run side stepped by the controller's cycle (see the module docstring); every
+    client derives from `PassiveClient`, which gives each capability its default."""
+
+    observes_motion: bool
+    samples_skipped_cycles: bool
+    clock_driven: bool
 
     def begin_cycle(self) -> None: ...
 
@@ -67,12 +90,25 @@ class CycleClient(Protocol):
 
     def still_running(self) -> list: ...
 
+    def has_work(self, hook: str) -> bool: ...
+
+    def watch_work(self, callback: Callable[[], None]) -> None: ...
+
+    def work_changed(self) -> None: ...
+
 
 class PassiveClient:
-    """A client with no work of its own: a base for clients that only observe."""
+    """A client with no work of its own, and the default of every capability: the base
+    of every client (a client overrides what it offers)."""
 
     observes_motion = True
     """True if a hook reads the state of moving axes (see the module docstring)."""
+
+    samples_skipped_cycles = False
+    """True if `end_cycle` must see every cycle a jump passes (a recorder)."""
+
+    clock_driven = False
+    """True if `begin_cycle` only writes values of the clock's cycle."""
 
     def begin_cycle(self) -> None:
         """Nothing before the tasks."""
@@ -90,8 +126,8 @@ class PassiveClient:
         return []
 
     def has_work(self, hook: str) -> bool:
-        """False while the hook `hook` ("begin_cycle" or "end_cycle") has nothing to do:
-        the controller leaves it out until `work_changed()` (see the module docstring)."""
+        """False while the hook `hook` (BEGIN or END) has nothing to do: the controller
+        leaves it out until `work_changed()` (see the module docstring)."""
         return True
 
     _on_work_changed: Callable[[], None] | None = None
@@ -107,17 +143,30 @@ class PassiveClient:
             callback()
 
 
+def is_default(bound: Callable, default: Callable) -> bool:
+    """True if the bound method `bound` is `PassiveClient`'s `default` (not overridden by
+    the client's class, nor replaced on the instance)."""
+    return isinstance(bound, MethodType) and bound.__func__ is default
+
+
+def motion_observation(client: PassiveClient) -> bool | None:
+    """`client.observes_motion` if it is a constant of its class; None if it may change
+    (a property, or set on the instance): then it is asked at every jump."""
+    declared = type(client).observes_motion
+    if isinstance(declared, property) or "observes_motion" in vars(client):
+        return None
+    return bool(declared)
+
+
 def active_hooks(clients: list, name: str) -> list:
-    """The bound `name` methods ("begin_cycle" or "end_cycle") of `clients`, in order,
-    leaving out a `PassiveClient`'s inherited no-op and a hook whose client has no work
-    for it now (`has_work`): what the cycle must call."""
-    noop = getattr(PassiveClient, name)
+    """The bound `name` methods (BEGIN or END) of `clients`, in order, leaving out a
+    `PassiveClient`'s inherited no-op and a hook whose client has no work for it now
+    (`has_work`): what the cycle must call."""
+    begin = name == BEGIN
+    noop = PassiveClient.begin_cycle if begin else PassiveClient.end_cycle
     hooks = []
     for c in clients:
-        hook = getattr(c, name)
-        if getattr(hook, "__func__", None) is noop:
-            continue
-        has_work = getattr(c, "has_work", None)
-        if has_work is None or has_work(name):
+        hook = c.begin_cycle if begin else c.end_cycle
+        if not is_default(hook, noop) and c.has_work(name):
             hooks.append(hook)
     return hooks

@@ -14,7 +14,3 @@ class RuntimeFault(Exception):
 
 class TaskExit(BaseException):
     """Raised inside a task to end it at once without an error (StopTask on itself)."""
-
-
-class InternalError(Exception):
-    """A bug in motionvm itself, reported as such with a hint to file it."""

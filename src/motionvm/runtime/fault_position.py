@@ -123,7 +123,7 @@ class Fault(str):
 
     def fields(self) -> dict[str, object]:
         """The parts of the report, by field name."""
-        return {k: getattr(self, k) for k in Fault.__annotations__}
+        return dict(vars(self))  # (`__new__` sets exactly the fields, in order)
 
     def with_text(self, text: str, **changes: object) -> Fault:
         """The same fault with another report line (and fields), e.g. naming its drive."""

@@ -26,6 +26,9 @@ from motionvm.runtime.errors import TaskExit
 
 MAX_TASKS = 64
 
+NOBODY: frozenset = frozenset()
+"""`Kernel.wake_horizon`'s answer when no task it left out reads the flag asked about."""
+
 EVENT_WAIT = -2
 """Yielded on entering a wait on a condition that only a computed cycle can change."""
 EVENT_POLL = -1
@@ -80,7 +83,8 @@ class Kernel:
         self.clock = clock if clock is not None else Clock()
         """The controller's clock; the kernel reads the cycle from it."""
         self.tasks = [Task(i) for i in range(n_tasks)]
-        self._active: list[Task] = []  # running tasks in id order: a cycle visits only these
+        self.active: list[Task] = []
+        """The running tasks in id order (a cycle visits only these); read only."""
         self._visits: tuple[Task, ...] = ()  # `_active` as of its last change, for run_cycle
         self.current: Task | None = None
         self.on_fault: Callable[[Task, BaseException], None] = lambda task, exc: None
@@ -112,10 +116,10 @@ class Kernel:
         t.event_wait = False
         t.record = None
         self._changed = True
-        if t not in self._active:
-            self._active.append(t)
-            self._active.sort(key=lambda x: x.id)
-            self._visits = tuple(self._active)
+        if t not in self.active:
+            self.active.append(t)
+            self.active.sort(key=lambda x: x.id)
+            self._visits = tuple(self.active)
 
     def stop(self, task_id: int) -> None:
         """Stop a task: close its generator; `on_stop` then releases what it held."""
@@ -137,7 +141,7 @@ class Kernel:
         """Stop every task, the calling one last; True if a task called it (it must then
         raise TaskExit to end its own slice)."""
         me = self.current
-        for t in list(self._active):
+        for t in list(self.active):
             if t is not me:
                 self.stop(t.id)
         if me is not None:
@@ -147,9 +151,9 @@ class Kernel:
 
     def _release(self, t: Task) -> None:
         self._changed = True
-        if t in self._active:
-            self._active.remove(t)
-            self._visits = tuple(self._active)
+        if t in self.active:
+            self.active.remove(t)
+            self._visits = tuple(self.active)
         self.on_stop(t)
 
     @property
@@ -159,25 +163,63 @@ class Kernel:
 
     @property
     def any_running(self) -> bool:
-        return bool(self._active)
+        return bool(self.active)
 
     def next_wake(self) -> int | None:
         """The earliest cycle any running task wants to run, or None if none runs."""
-        if not self._active:
+        if not self.active:
             return None
-        return min(t.wake_cycle for t in self._active)
+        return min(t.wake_cycle for t in self.active)
 
-    def next_wake_past_event_waits(self) -> int | None:
-        """`next_wake`, leaving out the tasks waiting on an event if the last cycle was
-        `quiet`: their conditions stay false until something they test changes. The
-        caller checks that nothing they test changed since they ran (the controller)."""
-        if not self.quiet or self._changed:
-            return self.next_wake()
+    def wake_horizon(
+        self, cycle: int, status_holds: Callable[[], bool], flag: str
+    ) -> tuple[int | None, set | None, list]:
+        """Where the clock may jump to as far as the tasks go, for time skipping: the
+        earliest wake cycle of the running tasks (`cycle` as soon as one is due), leaving
+        out those waiting on an event that would find their condition false again if
+        polled now; the objects whose `flag` the tasks left out read (None: they test
+        the whole status); and the position watches they wait on (`Task.watch`, each
+        false now).
+
+        A task waiting on an event without a `record` is left out only if the last
+        cycle was `quiet`, no task started or stopped since, and `status_holds()` (the
+        caller's: everything such a task tests is as it was right after the tasks of
+        the last computed cycle)."""
+        old_ok = None  # the tasks without a record: the whole status as it was
         wake = None
-        for t in self._active:
-            if not t.event_wait and (wake is None or t.wake_cycle < wake):
-                wake = t.wake_cycle
-        return wake
+        watched: set | None = NOBODY
+        watches = []
+        for t in self.active:
+            w = t.wake_cycle
+            if w > cycle:
+                if wake is None or w < wake:
+                    wake = w
+                continue
+            if not t.event_wait:
+                return cycle, None, watches
+            if t.watch is not None:
+                if t.watch():
+                    return cycle, None, watches
+                watches.append(t.watch)
+            record = t.record
+            if record is not None:
+                for read in record:  # `Task.record_holds`, inline
+                    if read is None:
+                        return cycle, None, watches
+                    obj, attr, value = read
+                    if getattr(obj, attr) != value:
+                        return cycle, None, watches
+                    if attr == flag and watched is not None:
+                        if watched is NOBODY:
+                            watched = set()
+                        watched.add(obj)
+            else:
+                if old_ok is None:
+                    old_ok = self.quiet and not self._changed and status_holds()
+                if not old_ok:
+                    return cycle, None, watches
+                watched = None
+        return wake, watched, watches
 
     # ------------------------------------------------------------ one cycle
 

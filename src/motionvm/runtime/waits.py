@@ -11,6 +11,7 @@ from __future__ import annotations
 import re
 from collections.abc import Callable, Generator
 from dataclasses import dataclass
+from types import GeneratorType
 
 from motionvm.source.files import SourceFile
 
@@ -44,8 +45,8 @@ def suspended_at(
     """(file, line, col) of the innermost frame of a user file in the suspended `gen`,
     following `yield from` delegation; None if no frame of `gen` is a user's."""
     found = None
-    while gen is not None:
-        frame = getattr(gen, "gi_frame", None)
+    while isinstance(gen, GeneratorType):  # (`yield from` may delegate to any iterator)
+        frame = gen.gi_frame
         if frame is None:
             break
         code = frame.f_code
@@ -56,7 +57,7 @@ def suspended_at(
             if 0 <= i < len(positions) and positions[i][2] is not None:
                 col = positions[i][2] + 1
             found = (code.co_filename, frame.f_lineno, col)
-        gen = getattr(gen, "gi_yieldfrom", None)
+        gen = gen.gi_yieldfrom
     return found
 
 

@@ -1,10 +1,11 @@
 """The simulated controller: the one clock, the task kernel, the machine and its clients.
 
 One cycle (every language's run side is a client of it, runtime/clients.py):
-    1. every client's `begin_cycle` (HMPL system variables, inputs latched)
+    1. every client's `begin_cycle` (inputs latched, HMPL system variables, PDL drive
+       phases up to this cycle)
     2. the task kernel resumes every due task once, in task order
     3. the motion kernel steps gears, gantries, homing, then every axis and its drive
-    4. every client's `end_cycle` (PDL drive phases, GDL procedures, scope samples)
+    4. every client's `end_cycle` (GDL procedures, scope samples)
     5. the clock advances one cycle
 Between cycles the controller jumps the clock ahead when nothing can change before a
 later cycle: no task, no client has an event before it (`next_event`), and every axis
@@ -89,7 +90,8 @@ class Controller:
         """True once a program called SetHMIScope: a scope keeps only its on-periods."""
 
     def add_client(self, client: CycleClient) -> None:
-        """Step `client` every cycle from now on, after the clients added before it."""
+        """Step `client` (a `PassiveClient`: every capability has its default) every
+        cycle from now on, after the clients added before it."""
         self.clients.append(client)
 
     @property
@@ -139,9 +141,7 @@ class Controller:
         (runtime/clients.py); a client's `work_changed()` has them taken again."""
         self._hooked = hooked = list(self.clients)  # first: a change from now on counts
         for c in hooked:
-            watch = getattr(c, "watch_work", None)
-            if watch is not None:
-                watch(self._work_changed)
+            c.watch_work(self._work_changed)
         self._begin_hooks = active_hooks(hooked, "begin_cycle")
         self._end_hooks = active_hooks(hooked, "end_cycle")
 
@@ -186,7 +186,7 @@ class Controller:
         # while skipping, a task's status wait records the flags it read (sim/jumps.py)
         self.kernel.recorder = self.motion if self.skip else None
         next_report = _NEVER if progress is None else clock.cycle
-        active = self.kernel._active  # a running task keeps the run busy: no call
+        active = self.kernel.active  # a running task keeps the run busy: no call
         try:
             while active or self.busy():
                 if self.stop_requested:
@@ -213,7 +213,7 @@ class Controller:
         (or an earlier cycle, after a jump) while the clock reads k + 1; the next
         `begin_cycle` writes the same values again."""
         for c in self.clients:
-            if getattr(c, "clock_driven", False):
+            if c.clock_driven:
                 c.begin_cycle()
 
     def still_running(self) -> list[Waiting]:

@@ -34,12 +34,9 @@ computes, minus tasks that would only poll and clients that have nothing to do i
 from __future__ import annotations
 
 from motionvm.motion.axis_coast import NEVER
-from motionvm.runtime.clients import PassiveClient
+from motionvm.runtime.clients import PassiveClient, is_default, motion_observation
 
 _NO_EVENT = PassiveClient.next_event
-
-_NOBODY: frozenset = frozenset()
-"""No task reads an axis's `moving` flag (none is due before the jump's end)."""
 
 
 class JumpPlanner:
@@ -73,17 +70,16 @@ class JumpPlanner:
         whether they read moving axes (a constant or a property), which sample every
         cycle."""
         self._clients = list(clients)
-        self._events = [c.next_event for c in clients
-                        if getattr(c.next_event, "__func__", None) is not _NO_EVENT]  # fmt: skip
+        self._events = [c.next_event for c in clients if not is_default(c.next_event, _NO_EVENT)]
         self._observers = []
         self._observed = False
         for c in clients:
-            static = getattr(type(c), "observes_motion", True)
-            if isinstance(static, property) or "observes_motion" in getattr(c, "__dict__", ()):
+            observes = motion_observation(c)
+            if observes is None:
                 self._observers.append(c)
-            elif static:
+            elif observes:
                 self._observed = True
-        self._samplers = [c for c in clients if getattr(c, "samples_skipped_cycles", False)]
+        self._samplers = [c for c in clients if c.samples_skipped_cycles]
 
     def jump(self, end_cycle: int | None, after_tasks: bool = False) -> bool:
         """Jump the clock ahead if nothing can change before a later cycle (advancing the
@@ -99,10 +95,10 @@ class JumpPlanner:
         limit = NEVER if end_cycle is None else end_cycle - cycle
         if limit <= after_tasks:  # (after the tasks, one cycle is no jump)
             return False
-        if after_tasks and not ctl.kernel._active:
+        if after_tasks and not ctl.kernel.active:
             return False  # (no task runs: the run may end with this cycle)
         first = cycle + after_tasks  # the first cycle whose tasks are passed over
-        wake, watched, watches = self._task_wake(first)
+        wake, watched, watches = ctl.kernel.wake_horizon(first, self._status_holds, "moving")
         if wake is not None and wake <= first:
             return False
         clients = ctl.clients
@@ -144,51 +140,12 @@ class JumpPlanner:
         self.jumps += 1
         return True
 
-    def _task_wake(self, cycle: int) -> tuple[int | None, set | None, list]:
-        """The earliest wake cycle of the running tasks (`cycle` as soon as one is due),
-        leaving out those waiting on an event that would find their condition false
-        again if polled now; the axes whose `moving` flag the tasks left out read
-        (None: they test the whole status); and the positions they wait for
-        (`PositionWatch`es, motion/position_watch.py: a task whose position may be
-        reached now is due)."""
-        kernel = self.controller.kernel
-        old_ok = None  # the tasks without a record: the whole status as after_tasks saw it
-        wake = None
-        watched: set | None = _NOBODY
-        watches = []
-        for t in kernel._active:
-            w = t.wake_cycle
-            if w > cycle:
-                if wake is None or w < wake:
-                    wake = w
-                continue
-            if not t.event_wait:
-                return cycle, None, watches
-            if t.watch is not None:
-                if t.watch():
-                    return cycle, None, watches
-                watches.append(t.watch)
-            record = t.record
-            if record is not None:
-                for read in record:  # `Task.record_holds`, inline
-                    if read is None:
-                        return cycle, None, watches
-                    obj, attr, value = read
-                    if getattr(obj, attr) != value:
-                        return cycle, None, watches
-                    if attr == "moving" and watched is not None:
-                        if watched is _NOBODY:
-                            watched = set()
-                        watched.add(obj)
-            else:
-                if old_ok is None:
-                    seen = self._signature
-                    old_ok = (seen is not None and kernel.quiet and not kernel._changed
-                              and seen == self._status())  # fmt: skip
-                if not old_ok:
-                    return cycle, None, watches
-                watched = None
-        return wake, watched, watches
+    def _status_holds(self) -> bool:
+        """True if the status is what it was right after the tasks of the last computed
+        cycle (`after_tasks`): what a task waiting on an event without a record of its
+        own tests is unchanged (`Kernel.wake_horizon`)."""
+        seen = self._signature
+        return seen is not None and seen == self._status()
 
     def _motion_cycle(self, cycle: int) -> bool:
         """Jump over cycle `cycle` stepping only the motion kernel (no task, no client
@@ -198,12 +155,7 @@ class JumpPlanner:
         motion = ctl.motion
         if self._samplers:
             return False
-        if (
-            motion._bus_steps
-            or motion.gantries.pairs
-            or motion.gears.gears
-            or motion.groups_moving()
-        ):
+        if not motion.steps_alone():
             return False
         motion.begin_cycle()
         motion.step()
@@ -219,7 +171,7 @@ class JumpPlanner:
         records the state that cycle left, as stepping would."""
         ctl = self.controller
         clock, motion = ctl.clock, ctl.motion
-        timed = [c for c in ctl.clients if getattr(c, "clock_driven", False)]
+        timed = [c for c in ctl.clients if c.clock_driven]
         for c in range(cycle, cycle + k):
             clock.cycle = c
             for t in timed:

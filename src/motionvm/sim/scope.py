@@ -25,7 +25,9 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from motionvm.runtime.clients import PassiveClient
-from motionvm.runtime.scope import BIT_UNIT, RAW_UNIT, ChannelSource, ScopeError
+from motionvm.runtime.scope import BIT_UNIT, RAW_UNIT, ChannelSource, EdgeGetter, ScopeError
+from motionvm.sim import scope_writers
+from motionvm.sim.scope_writers import PLOT_INSTALL_HINT
 
 __all__ = [  # the units and the error are the scope protocol's (runtime/scope.py)
     "BIT_UNIT",
@@ -41,7 +43,6 @@ __all__ = [  # the units and the error are the scope protocol's (runtime/scope.p
 
 OUTPUT_SUFFIXES = (".csv", ".png", ".svg", ".vcd")
 PLOT_SUFFIXES = (".png", ".svg")
-PLOT_INSTALL_HINT = "pip install 'motionvm[plot]'"
 STDOUT = "-"
 """`--scope-out -`: the .csv table on standard output, after the run's messages."""
 _TIME = re.compile(r"\s*([-+]?[0-9.]+(?:[eE][-+]?\d+)?)\s*(s|ms|us)?\s*")
@@ -73,9 +74,7 @@ class ChannelRegistry:
     def names(self) -> list[str]:
         out: list[str] = []
         for s in self.sources:
-            names = getattr(s, "channel_names", None)
-            if names is not None:
-                out.extend(names())
+            out.extend(s.channel_names())
         return out
 
     def find(self, name: str) -> Channel | None:
@@ -317,13 +316,13 @@ class ScopeRecorder(PassiveClient):
 
     def attach(self, controller) -> None:
         """Become a client of `controller`, sampling from its current cycle on; channels
-        with exact edges (`record_edges`, the position trigger's output) keep them from now."""
+        with exact edges (an `EdgeGetter`: the position trigger's output) keep them from now."""
         self._controller = controller
         self._first_cycle = controller.cycle
         for channel in self.channels:
-            record_edges = getattr(channel.getter, "record_edges", None)
-            if record_edges is not None:
-                record_edges()
+            getter = channel.getter
+            if isinstance(getter, EdgeGetter):
+                getter.record_edges()
         controller.add_client(self)
 
     def end_cycle(self) -> None:
@@ -335,7 +334,8 @@ class ScopeRecorder(PassiveClient):
         if (cycle - self._first_cycle) % self.every:
             return
         self._cycles.append(cycle)
-        self._hmi.append(1 if getattr(self._controller, "hmi_scope", True) else 0)
+        controller = self._controller  # (None: sampled by hand, never gated)
+        self._hmi.append(1 if controller is None or controller.hmi_scope else 0)
         for column, get in self._pairs:
             column.append(get())
         if len(self._cycles) >= self.CHUNK:
@@ -416,7 +416,8 @@ class ScopeRecorder(PassiveClient):
     @property
     def hmi_gated(self) -> bool:
         """True if the program called SetHMIScope, so only its on-periods are kept."""
-        return bool(getattr(self._controller, "hmi_scope_used", False))
+        controller = self._controller
+        return controller is not None and controller.hmi_scope_used
 
     def apply_hmi_gate(self) -> None:
         """Drop the samples taken while SetHMIScope was off, if the program ever called it."""
@@ -437,8 +438,6 @@ class ScopeRecorder(PassiveClient):
     def save(self, path: str | Path, title: str = "", window: ScopeWindow | None = None) -> None:
         """Write the recording (only the samples in `window`, if given); the format
         follows the suffix (.csv, .png, .svg, .vcd)."""
-        from motionvm.sim import scope_writers
-
         self.apply_hmi_gate()
         self.keep_window(window)
         if window is not None:
@@ -447,8 +446,6 @@ class ScopeRecorder(PassiveClient):
 
     def csv_lines(self, window: ScopeWindow | None = None) -> Iterator[str]:
         """The lines of the .csv table, without line ends (`--scope-out -`)."""
-        from motionvm.sim import scope_writers
-
         self.apply_hmi_gate()
         self.keep_window(window)
         return scope_writers.csv_lines(self)

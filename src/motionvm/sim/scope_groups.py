@@ -19,7 +19,7 @@ from motionvm.motion.group import (
     SCALAR_VARIABLES,
     group_variable,
 )
-from motionvm.sim.scope import RAW_UNIT, ScopeError
+from motionvm.sim.scope import RAW_UNIT, ChannelSource, ScopeError
 
 _GROUP = re.compile(r"group(\d+)\.(\w+)(?:\[(\d+)\])?")
 _UNITS = {
@@ -31,7 +31,7 @@ _UNITS = {
 }  # fmt: skip
 
 
-class GroupScopeSource:
+class GroupScopeSource(ChannelSource):
     """`groupN.*` channels of the groups of a controller's motion kernel (`controller.motion`)."""
 
     def __init__(self, controller) -> None:

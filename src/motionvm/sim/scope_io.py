@@ -14,10 +14,10 @@ from __future__ import annotations
 from collections.abc import Callable, Iterable
 
 from motionvm.io.system import IOSystem
-from motionvm.sim.scope import BIT_UNIT, RAW_UNIT, ScopeError
+from motionvm.sim.scope import BIT_UNIT, RAW_UNIT, ChannelSource, ScopeError
 
 
-class IoSource:
+class IoSource(ChannelSource):
     """The channels of one `IOSystem`."""
 
     def __init__(self, io: IOSystem) -> None:

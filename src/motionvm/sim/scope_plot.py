@@ -30,7 +30,7 @@ import re
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
-from motionvm.sim.scope import BIT_UNIT, RAW_UNIT
+from motionvm.runtime.scope import BIT_UNIT, RAW_UNIT
 
 MAGNITUDE_FACTOR = 20.0
 """Channels share a panel while its y range is within this factor of each one's peak-to-peak."""

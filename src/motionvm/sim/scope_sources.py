@@ -26,15 +26,26 @@ from collections.abc import Callable, Iterable
 from functools import partial
 from importlib import resources
 
-from motionvm.io.system import IOSystem
-from motionvm.motion.kernel import MotionKernel
-from motionvm.sim.scope import BIT_UNIT, RAW_UNIT, ChannelRegistry, ScopeError
+from motionvm.runtime.scope import ScopeAxis
+from motionvm.sim.scope import BIT_UNIT, RAW_UNIT, ChannelRegistry, ChannelSource, ScopeError
 from motionvm.sim.scope_groups import GroupScopeSource
+from motionvm.sim.scope_io import IoSource
 
 _AXIS = re.compile(r"axis(\d+)\.(\w+)")
 _SYNC = re.compile(r"(gear|gantry)(\d+)\.(\w+)")
-GEAR_VARIABLES = ("master_pos_gear", "gear_cmd_pos", "gear_ratio")
-GANTRY_VARIABLES = ("linear_ref", "yaw_ref", "linear_fb", "yaw_fb")
+GEAR_VARIABLES: dict[str, Callable] = {
+    "master_pos_gear": lambda g: g.master_pos_gear,
+    "gear_cmd_pos": lambda g: g.gear_cmd_pos,
+    "gear_ratio": lambda g: g.ratio,
+}
+"""The `gearN.*` channels: what each reads of the gear (motion/gear.py)."""
+GANTRY_VARIABLES: dict[str, Callable] = {
+    "linear_ref": lambda p: p.linear_ref,
+    "yaw_ref": lambda p: p.yaw_ref,
+    "linear_fb": lambda p: p.linear_fb,
+    "yaw_fb": lambda p: p.yaw_fb,
+}
+"""The `gantryN.*` channels: what each reads of the pair (motion/gantry.py)."""
 
 
 def _manual_axis_units() -> dict[str, str | None]:
@@ -49,39 +60,31 @@ def _manual_axis_units() -> dict[str, str | None]:
     }
 
 
-def axis_unit(axis, variable: str, manual: dict[str, str | None]) -> str:
-    """The unit of an axis variable: the axis' own `variable_unit()` if it has one, else the manual's."""
-    own = getattr(axis, "variable_unit", None)
-    if own is not None:
-        return own(variable) or RAW_UNIT
+def axis_unit(axis: ScopeAxis, variable: str, manual: dict[str, str | None]) -> str:
+    """The unit of an axis variable: the manual's, in deg if the axis is rotary."""
     if variable.startswith("di_bit_"):
         return BIT_UNIT
     text = manual.get(variable)
     if not text:
         return RAW_UNIT
     linear, _, rotary = text.partition(" or ")
-    is_rotary = bool(getattr(axis, "rotary", False)) or getattr(axis, "kind", "") == "rotary"
-    unit = rotary if (is_rotary and rotary) else linear
+    unit = rotary if (rotary and axis.rotary) else linear
     return unit.replace("^2", "²")
 
 
-class AxisSource:
-    """Axis variables `axisN.<variable>` of `controller.axes` or `controller.motion.axes`.
+class AxisSource(ChannelSource):
+    """Axis variables `axisN.<variable>` of `controller.axes` (None: no axes).
 
-    An axis is any object with `variable(name)`; it may offer `variable_names()` (default: the variables of manual 5.1.1) and
-    `variable_unit(name)` (default: the manual's unit, in deg if `axis.rotary`).
+    An axis is a `ScopeAxis`: `variable(name)`, `variable_names()` (default: the
+    variables of manual 5.1.1), the manual's units (in deg if `axis.rotary`).
     """
 
     def __init__(self, controller) -> None:
         self.controller = controller
         self._manual: dict[str, str | None] | None = None
 
-    def _axes(self):
-        """`controller.axes`, or the axes of the controller's motion kernel."""
-        axes = getattr(self.controller, "axes", None)
-        if axes is None:
-            axes = getattr(getattr(self.controller, "motion", None), "axes", None)
-        return axes
+    def _axes(self) -> list[ScopeAxis] | None:
+        return self.controller.axes
 
     def resolve(self, name: str) -> tuple[Callable[[], float], str] | None:
         m = _AXIS.fullmatch(name)
@@ -111,17 +114,17 @@ class AxisSource:
             self._manual = _manual_axis_units()
         return self._manual
 
-    def _variable_names(self, axis) -> list[str]:
+    def _variable_names(self, axis: ScopeAxis) -> list[str]:
         """The axis' own `variable_names()`, else every variable of manual 5.1.1."""
-        own = getattr(axis, "variable_names", None)
-        return list(own() if own is not None else self._manual_units())
+        own = axis.variable_names()
+        return list(own if own is not None else self._manual_units())
 
     def channel_names(self) -> Iterable[str]:
         for n, axis in enumerate(self._axes() or ()):
             yield from (f"axis{n}.{v}" for v in self._variable_names(axis))
 
 
-class SyncScopeSource:
+class SyncScopeSource(ChannelSource):
     """`gearN.*` and `gantryN.*` channels of the gears and gantry pairs of a controller's
     motion kernel (`controller.motion`)."""
 
@@ -134,11 +137,11 @@ class SyncScopeSource:
             g = motion.gears.gear_of(n)
             if g is None:
                 return 0.0
-            return g.ratio if variable == "gear_ratio" else getattr(g, variable)
+            return GEAR_VARIABLES[variable](g)
         pair = motion.gantries.pairs.get(n)
         if pair is None:
             return 0.0
-        value = getattr(pair, variable)
+        value = GANTRY_VARIABLES[variable](pair)
         return value[0] if isinstance(value, tuple) else value
 
     def resolve(self, name: str) -> tuple[Callable[[], float], str] | None:
@@ -165,23 +168,18 @@ class SyncScopeSource:
 def registry_for(controller, *clients) -> ChannelRegistry:
     """The channels of one run: each client's own (`scope_sources()`: an HMPL program's
     variables, PDL drives, a GDL application's states), in the order given, then the
-    machine's: the controller's GPIO (if it has `io`), axes, gears and gantry pairs (if
-    it has a motion kernel)."""
+    machine's: the controller's (sim/controller.py) I/O, position triggers, axes, gears,
+    gantry pairs and axis groups."""
     reg = ChannelRegistry()
     for client in clients:
         if client is not None:
             for source in client.scope_sources():
                 reg.register(source)
-    io = getattr(controller, "io", None)
-    if isinstance(io, IOSystem):
-        from motionvm.sim.scope_io import IoSource
-
-        reg.register(IoSource(io))
-    triggers = getattr(controller, "triggers", None)
-    if triggers is not None:  # axisN.pt_count, .pt_out, .pt_enabled (io/position_trigger.py)
-        reg.register(triggers)
+    reg.register(IoSource(controller.io))
+    reg.register(
+        controller.triggers
+    )  # axisN.pt_count, .pt_out, .pt_enabled (io/position_trigger.py)
     reg.register(AxisSource(controller))
-    if isinstance(getattr(controller, "motion", None), MotionKernel):
-        reg.register(SyncScopeSource(controller))
-        reg.register(GroupScopeSource(controller))  # groupN.* (sim/scope_groups.py)
+    reg.register(SyncScopeSource(controller))
+    reg.register(GroupScopeSource(controller))  # groupN.* (sim/scope_groups.py)
     return reg

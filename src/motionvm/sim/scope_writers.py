@@ -17,7 +17,10 @@ from collections.abc import Iterator
 from pathlib import Path
 from typing import IO
 
-from motionvm.sim.scope import PLOT_INSTALL_HINT, ScopeError
+from motionvm.runtime.scope import EdgeGetter, ScopeError
+
+PLOT_INSTALL_HINT = "pip install 'motionvm[plot]'"
+"""What to install for .png and .svg plots (matplotlib)."""
 
 VCD_FIRST_ID, VCD_LAST_ID = 33, 126  # printable ASCII, as IEEE 1364 allows for identifier codes
 
@@ -129,7 +132,7 @@ def write_vcd(path: Path, recorder, title: str = "") -> None:
     timescale, instead of at the samples."""
     chans = recorder.channels
     ids = [_vcd_id(i) for i in range(len(chans))]
-    edge_fns = [getattr(c.getter, "edges", None) for c in chans]
+    edge_fns = [c.getter.edges if isinstance(c.getter, EdgeGetter) else None for c in chans]
     timescale, ticks_per_s = _vcd_timescale(recorder.cycle_time)
     if any(edge_fns):
         timescale, ticks_per_s = "1 ns", 1e9

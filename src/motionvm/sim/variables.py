@@ -38,6 +38,15 @@ WRITABLE_AXIS = {
 }
 """Axis variable -> the HMPL function that sets it (manual 5.3); the others are read-only."""
 
+_SETTERS: dict[str, Callable[[MotionCommands, int, float], int]] = {
+    "SetVel": MotionCommands.SetVel,
+    "SetAcc": MotionCommands.SetAcc,
+    "SetDec": MotionCommands.SetDec,
+    "SetSMTime": MotionCommands.SetSMTime,
+    "SetPos": MotionCommands.SetPos,
+}
+"""The motion command of each function of `WRITABLE_AXIS`."""
+
 _AXIS = re.compile(r"axis(\d+)\.(\w+)")
 
 
@@ -81,10 +90,7 @@ class Variables:
         self.commands = MotionCommands(controller.motion)
         self._channels: dict[str, Channel] = {}
         self._writers: list[Callable[[str, object], bool]] = [self._write_gpio, self._write_axis]
-        for source in registry.sources:
-            write = getattr(source, "write", None)
-            if write is not None:
-                self._writers.append(write)
+        self._writers.extend(source.write for source in registry.sources)
 
     def channel(self, name: str) -> Channel:
         """The channel `name` (KeyError with the closest names if there is none)."""
@@ -161,7 +167,7 @@ class Variables:
             )
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             raise WriteError(f"{name} takes a number, not {value!r}")
-        status = getattr(self.commands, function)(n, float(value))
+        status = _SETTERS[function](self.commands, n, float(value))
         if status:
             raise WriteError(f"{function}({n}, {value!r}) refused: {error_name(status)}", status)
         return True

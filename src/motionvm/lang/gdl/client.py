@@ -39,6 +39,7 @@ from motionvm.lang.gdl.motors import assign_axes
 from motionvm.lang.gdl.rts import Rts, format_time
 from motionvm.lang.gdl.scenario import Event, Scenario, parse_target, parse_value
 from motionvm.lang.gdl.scope import GdlScopeSource
+from motionvm.runtime.clients import PassiveClient
 from motionvm.runtime.waits import Waiting
 from motionvm.sim.scenario import ScenarioError
 
@@ -90,7 +91,7 @@ def apply_event(rts: Rts, ev: Event) -> None:
             rts.release(t.obj, t.spec.keyword, e)
 
 
-class GdlApplication:
+class GdlApplication(PassiveClient):
     """One GDL application running on a controller: a cycle client (runtime/clients.py).
 
     `controller`: whose clock the run uses and whose axes the motors are (motors.py:

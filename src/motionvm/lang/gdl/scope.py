@@ -21,7 +21,7 @@ from typing import TYPE_CHECKING
 from motionvm.lang.gdl.app import ObjectInfo
 from motionvm.lang.gdl.objects import StateSpec
 from motionvm.lang.gdl.scenario import Target, parse_value
-from motionvm.runtime.scope import BIT_UNIT, RAW_UNIT, ScopeError
+from motionvm.runtime.scope import BIT_UNIT, RAW_UNIT, ChannelSource, ScopeError
 from motionvm.source.suggest import did_you_mean
 
 if TYPE_CHECKING:
@@ -38,7 +38,7 @@ def _unit(spec: StateSpec) -> str:
     return RAW_UNIT
 
 
-class GdlScopeSource:
+class GdlScopeSource(ChannelSource):
     """The `ChannelSource` (runtime/scope.py) of one application's RTS."""
 
     def __init__(self, rts: Rts) -> None:

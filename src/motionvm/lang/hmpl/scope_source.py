@@ -14,14 +14,14 @@ from collections.abc import Callable, Iterable
 from functools import partial
 
 from motionvm.lang.hmpl.cmemory import wrap_scalar
-from motionvm.runtime.scope import RAW_UNIT, ScopeError
+from motionvm.runtime.scope import RAW_UNIT, ChannelSource, ScopeError
 
 _ELEMENT = re.compile(r"([A-Za-z_]\w*)(?:\[(\d+)\])?")
 # Array elements offered as suggestions, per array (system_user_table has 512000).
 _SUGGESTED_ELEMENTS = 10
 
 
-class HmplSource:
+class HmplSource(ChannelSource):
     """System variables and global variables of a loaded HMPL program (an `HmplRuntime`)."""
 
     noun = "scope channel"

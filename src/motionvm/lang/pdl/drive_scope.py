@@ -16,7 +16,7 @@ from collections.abc import Callable, Iterable
 from functools import partial
 
 from motionvm.lang.pdl.sysvars import SYSVARS, lookup
-from motionvm.runtime.scope import BIT_UNIT, RAW_UNIT, ScopeError
+from motionvm.runtime.scope import BIT_UNIT, RAW_UNIT, ChannelSource, ScopeError
 
 _ELEMENT = re.compile(r"([A-Za-z_]\w*)(?:\[(\d+)\])?")
 _SUGGESTED_ELEMENTS = 10  # array elements offered as "did you mean" suggestions, per array
@@ -24,7 +24,7 @@ _DRIVE = re.compile(r"drive(\d+)\.(.+)")
 _UNIT_IN_DOC = re.compile(r"\[([^\]]+)\]\s*$")
 
 
-class PdlDriveSource:
+class PdlDriveSource(ChannelSource):
     """`driveN.<name>` of PDL drives: system variables and states (any
     case, as the drive's compiler reads them) and the program's global variables.
 

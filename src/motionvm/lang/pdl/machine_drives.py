@@ -70,6 +70,7 @@ from motionvm.lang.pdl.drive_scope import PdlDriveSource
 from motionvm.lang.pdl.lower import PdlProgram
 from motionvm.lang.pdl.program import compile_pdl
 from motionvm.motion.axis_config import AxisConfig
+from motionvm.runtime.clients import PassiveClient
 from motionvm.runtime.clock import stamp_prefix
 from motionvm.runtime.fault_position import Fault
 from motionvm.runtime.waits import Waiting, suspended_at, why_waiting
@@ -205,7 +206,7 @@ class _Slot:
         """The phase loop found the drive idle (standalone: the run ends with that cycle)."""
 
 
-class PdlDrives:
+class PdlDrives(PassiveClient):
     """The cycle client that runs PDL drives on the machine's axes (see the module docstring).
 
     `drives` are the compiled programs, on the axes their specs name; `machine` configures

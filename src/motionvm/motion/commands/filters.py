@@ -30,10 +30,7 @@ from motionvm.motion import axis_status as st
 from motionvm.motion import group as grp
 from motionvm.motion import group_inshape, inshape
 from motionvm.motion.commands.base import CommandBase
-
-GRP_INSHAPE_FREQUENCY = (3.0, 300.0)
-"""[Hz] SetGrpInShape's frequency range (15.10)."""
-GRP_INSHAPE_DAMPING = (0.0, 0.3)
+from motionvm.motion.group_checks import GRP_INSHAPE_DAMPING, GRP_INSHAPE_FREQUENCY
 
 
 class FilterCommands(CommandBase):

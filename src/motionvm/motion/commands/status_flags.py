@@ -8,30 +8,37 @@ the same. A bad axis id answers 0, stores eERR_HMPL_ARG_OUT_OF_RANGE as the syst
 last error and records None (not replayable).
 
 The manual's idioms poll these every cycle (`Till(IsInPos(a))`, a loop over the axes),
-so each is built per commands object as a plain function of `axis_id` with the motion
-kernel and its axes bound in (`StatusFlag`): one call, no method or flag-name look-up.
+so each is built per commands object as a plain closure over `axis_id` with the motion
+kernel, its axes and the flag's getter bound in (`StatusFlag`): one call, no method look-up.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
+from operator import attrgetter
 
-_QUERY = """
-def NAME(axis_id):
-    if axis_id >= 0:
-        try:
-            a = axes[axis_id]
-        except IndexError:
-            pass
-        else:
-            reads = motion.reads
-            if reads is None:
-                return 1 if a.FLAG else 0
-            flag = a.FLAG
-            reads.append((a, "FLAG", flag))
-            return 1 if flag else 0
-    return bad_id(axis_id, "FLAG")
-"""
+
+def _query(name: str, flag: str, motion, bad_id: Callable[[int, str], int]) -> Callable[[int], int]:
+    """The function `name(axis_id)` that answers `flag` of the axes of `motion`."""
+    axes = motion.axes
+    get = attrgetter(flag)
+
+    def query(axis_id: int) -> int:
+        if axis_id >= 0:
+            try:
+                a = axes[axis_id]
+            except IndexError:
+                pass
+            else:
+                reads = motion.reads
+                value = get(a)
+                if reads is not None:
+                    reads.append((a, flag, value))
+                return 1 if value else 0
+        return bad_id(axis_id, flag)
+
+    query.__name__ = query.__qualname__ = name
+    return query
 
 
 class StatusFlag:
@@ -47,22 +54,20 @@ class StatusFlag:
 
     def __set_name__(self, owner: type, name: str) -> None:
         self.name = name
-        source = _QUERY.replace("FLAG", self.flag).replace("NAME", name)
-        self._code = compile(source, "<status flag query>", "exec")
+        flag = self.flag
 
         def method(commands, axis_id: int) -> int:
-            return getattr(commands, name)(axis_id)
+            return self.__get__(commands)(axis_id)
 
         method.__name__ = method.__qualname__ = name
-        method.__doc__ = f"1 if the `{self.flag}` flag of axis `axis_id` is set, else 0."
+        method.__doc__ = f"1 if the `{flag}` flag of axis `axis_id` is set, else 0."
         self.method = method
 
     def __get__(self, commands, owner: type | None = None) -> Callable[[int], int]:
         if commands is None:
             return self.method
-        motion = commands.motion
-        ns = {"axes": motion.axes, "motion": motion, "bad_id": commands._status_of_bad_id}
-        exec(self._code, ns)
-        query = ns[self.name]
-        commands.__dict__[self.name] = query
+        query = commands.__dict__.get(self.name)
+        if query is None:
+            query = _query(self.name, self.flag, commands.motion, commands._status_of_bad_id)
+            commands.__dict__[self.name] = query
         return query
