@@ -62,3 +62,11 @@ cdef class Cia402Drive:
 
     @cython.locals(x=double, demand=double, s=Sensors)
     cpdef step(self, double dt)
+
+    # the closed-form advance (time skipping)
+    @cython.locals(s=Sensors)
+    cpdef bint steady(self) except -1
+    cpdef demand_for(self, target)
+    cpdef demand_shift(self)
+    cpdef bint clear_of(self, t_lo, t_hi) except -1
+    cpdef land(self, target, demand, demand_vel, line, x_1, x, v_1, dt)

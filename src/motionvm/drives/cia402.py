@@ -50,6 +50,10 @@ _SW_CYCLIC = _SW_OPERATION_ENABLED | od.SW_FOLLOWS_TARGET
 _SW_LOCAL = _SW_OPERATION_ENABLED & ~od.SW_REMOTE
 _CSP = od.MODE_CSP
 _ERR_FOLLOWING = od.ERR_FOLLOWING
+_CW_ENABLE = 0x0F
+"""The controlword of Operation enabled (enable operation)."""
+_INT32 = 2.0**31 - 2.0
+"""Counts [counts] beyond which the int32 target or position could wrap."""
 
 
 class Cia402Drive:
@@ -447,6 +451,66 @@ class Cia402Drive:
                 self._raise_fault(_ERR_FOLLOWING)  # no fault was pending in this state
                 sw |= od.SW_FOLLOWING_ERROR
         self.statusword_base = sw  # `statusword` adds the internal limit bit
+
+    # ---- closed-form advance (time skipping: motion/axis_coast.py) -------------------
+
+    def steady(self) -> bool:
+        """True if every cycle from now on is the common one of `step` (Operation enabled
+        in CSP under a settled controlword that is repeated) with nothing a closed-form
+        advance leaves out: no fault, no local control, no lost encoder, no forced
+        outputs, no following-error check, no touch probe, and an ideal motor whose
+        demands are whole counts (`IdealMechanics.holds_whole_counts`)."""
+        m = self.mechanics
+        if type(m) is not mech_models.IdealMechanics:
+            return False
+        if (self.state is not _OPERATION_ENABLED or self.mode != _CSP or self._mode_prev != _CSP
+                or self.controlword != _CW_ENABLE or self._controlword_prev != _CW_ENABLE
+                or self._settled is not self.state or self._fault is not None
+                or self.local_demand is not None or self._encoder_lost or self._forced
+                or self._fe_checked):  # fmt: skip
+            return False
+        s = self.sensors
+        if s._tp_function or s.tp_status:
+            return False
+        return m.holds_whole_counts(self._demand)
+
+    def demand_for(self, target: int) -> float:
+        """The demand [counts] a steady cycle makes of `target` [counts], the next
+        cycle's target: the demand follows the target's change (no wrap: `clear_of`)."""
+        return self._demand + (target - self._target_prev)
+
+    def demand_shift(self) -> float:
+        """The demand minus the target [counts]: how far the motor's counts lie from the
+        target's (steady: the same every cycle, as the demand follows the target's
+        changes)."""
+        return self._demand - self._target_prev
+
+    def clear_of(self, t_lo: float, t_hi: float) -> bool:
+        """True if targets within [t_lo, t_hi] [counts] (steady, up to their rounding)
+        wrap no int32 object and move the motor into no limit switch."""
+        shift = self._demand - self._target_prev
+        x_lo, x_hi = t_lo + shift - 2.0, t_hi + shift + 2.0
+        if not (-_INT32 < x_lo and x_hi < _INT32):
+            return False  # the int32 target and position would wrap
+        x = self.mechanics.position
+        return self.sensors.clear_of_limits(x_lo if x_lo < x else x, x_hi if x_hi > x else x)
+
+    def land(self, target: int, demand: float, demand_vel: float, line: list | None,
+             x_1: float, x: float, v_1: float, dt: float) -> None:  # fmt: skip
+        """The drive after a steady advance, as `step` leaves it: the target [counts] of
+        its last cycle, the demand [counts] it made of it (velocity `demand_vel`
+        [counts/s]), the motor's last cycle from x_1 to x (`IdealMechanics.land`, with
+        its delay line `line`), and the feedback of that position."""
+        self.target_position = target
+        self._target_prev = target
+        self._demand = demand
+        self.mechanics.land(demand, demand_vel, line, x_1, x, v_1, dt)
+        self._encoder = enc = x.__round__()
+        self.position_actual = enc  # (steady: no int32 wrap, `clear_of`)
+        self.digital_inputs = self.sensors.update(x_1, x)
+        self._motor_position_prev = x
+        self.statusword_base = _SW_CYCLIC
+        self._limit_lazy = True  # `statusword` adds the internal limit bit
 
     def _prepare(self, dt: float) -> int | None:
         """The part of a cycle other than the common one (see `step`) before the feedback:

@@ -7,6 +7,9 @@ cdef class _Motor:
     cdef public double position
     cdef public double velocity
     cpdef double step_position(self, double r, double dt) except? -1.0
+    cpdef bint holds_whole_counts(self, demand) except -1
+    cpdef list held_demands(self)
+    cpdef land(self, demand, demand_vel, line, x_1, x, v_1, dt)
 
 cdef class IdealMechanics(_Motor):
     cdef public double _counts_per_rev_f
@@ -20,3 +23,6 @@ cdef class IdealMechanics(_Motor):
 
     @cython.locals(r_0=double, x=double)
     cpdef double step_position(self, double r, double dt) except? -1.0
+    cpdef bint holds_whole_counts(self, demand) except -1
+    cpdef list held_demands(self)
+    cpdef land(self, demand, demand_vel, line, x_1, x, v_1, dt)

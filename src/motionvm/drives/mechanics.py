@@ -32,6 +32,8 @@ MAX_BANDWIDTH = 10_000.0
 MIN_INERTIA = 1e-9
 """Smallest load inertia [kg*m^2]; below it the loop's gains leave float range."""
 MAX_COUNTS_PER_REV = 2**40
+_EXACT = 2.0**50
+"""Counts below this stay exact integers in float arithmetic, with room for sums."""
 
 
 def _expm(a: np.ndarray) -> np.ndarray:
@@ -112,6 +114,21 @@ class _Motor:
         """Follow demand r [counts] (see the module doc); returns the new position."""
         raise NotImplementedError  # every model has its own (declared in mechanics.pxd)
 
+    def holds_whole_counts(self, demand: float) -> bool:
+        """True if the motor's cycles in CSP can be advanced in closed form (`land`):
+        its position, its last demand `demand` [counts] and what it has still to reach
+        are whole, exact counts. No model but the ideal one can."""
+        return False
+
+    def held_demands(self) -> list:
+        """The position and the demands still to reach [counts] (`IdealMechanics`)."""
+        raise NotImplementedError
+
+    def land(self, demand: float, demand_vel: float, line: list | None, x_1: float, x: float,
+             v_1: float, dt: float) -> None:  # fmt: skip
+        """The motor after a closed-form advance (`IdealMechanics`)."""
+        raise NotImplementedError
+
 
 class IdealMechanics(_Motor):
     """Feedback follows the demand exactly, `delay_cycles` cycles later.
@@ -187,6 +204,49 @@ class IdealMechanics(_Motor):
         self.velocity = (x - self.position) / dt
         self.position = x
         return x
+
+    # ---- closed-form advance (time skipping: motion/axis_coast.py) -------------------
+
+    def holds_whole_counts(self, demand: float) -> bool:
+        """True if the position, the last demand (`demand` [counts]) and the delay line
+        are whole counts, exact in float arithmetic with room for sums: then the
+        demands of an advance are exact and the motor reaches each of them as it is."""
+        if not (-_EXACT < demand < _EXACT and demand % 1.0 == 0.0 and self._demand == demand):
+            return False
+        if self.delay_cycles > 1:  # (with one cycle of delay the line is not used)
+            for x in self._line:  # (a loop, not all(): no closure in the compiled build)
+                if not (x % 1.0 == 0.0 and abs(x) < _EXACT):
+                    return False
+        return self.position % 1.0 == 0.0
+
+    def held_demands(self) -> list:
+        """The motor's position [counts], then the demands it has still to reach, oldest
+        first (`delay_cycles` of them): the positions of this cycle and the next ones."""
+        if self.delay_cycles == 0:
+            return [self.position]
+        if self.delay_cycles == 1:
+            return [self.position, self._demand]
+        return [self.position, *self._line]
+
+    def land(self, demand: float, demand_vel: float, line: list | None, x_1: float, x: float,
+             v_1: float, dt: float) -> None:  # fmt: skip
+        """The motor after an advance in CSP, as `step_position` leaves it: its last cycle
+        moved it from x_1 [counts] (velocity v_1 [counts/s] the cycle before) to x, the
+        demand that left the delay line; `demand` is the newest demand (its velocity
+        `demand_vel` [counts/s]), `line` the delay line before that cycle's demand came
+        in, without x (None: the line as it is, with one cycle of delay or none)."""
+        self.position, self.velocity = x_1, v_1
+        if self.delay_cycles == 1:  # the demand of the cycle before
+            self._demand = x
+        elif self.delay_cycles > 1:  # x first out, the newest demand back in by the step
+            queue = self._line
+            if line is not None:
+                queue.clear()
+                queue.extend(line)
+            queue.pop()
+            queue.appendleft(x)
+        self.step_position(demand, dt)
+        self._demand_vel = demand_vel
 
     def step_velocity(self, v_ref: float, dt: float) -> None:
         self.step_position(self._demand + v_ref * dt, dt)

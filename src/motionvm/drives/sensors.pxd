@@ -33,3 +33,5 @@ cdef class Sensors:
     cdef public object quiet_inputs
     cdef public double quiet_low
     cdef public object tp_status
+
+    cpdef bint clear_of_limits(self, lo, hi) except -1

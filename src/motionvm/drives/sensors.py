@@ -214,6 +214,13 @@ class Sensors:
         entering_from_below = x_0 < lo if rising else x_1 < lo
         return lo if entering_from_below else hi
 
+    def clear_of_limits(self, lo: float, hi: float) -> bool:
+        """True if a motor that moves only within [lo, hi] [counts] trips neither limit
+        switch (the closed-form advance of time skipping: motion/axis_coast.py)."""
+        if self._negative_limit is not None and not self._negative_limit < lo:
+            return False
+        return self._positive_limit is None or hi < self._positive_limit
+
     def update(self, x_0: float, x_1: float) -> int:
         """Advance one cycle from motor position x_0 to x_1 [counts]; return 0x60FD.
 

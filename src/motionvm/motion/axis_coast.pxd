@@ -1,18 +1,14 @@
 # Cython declarations augmenting axis_coast.py (the optional compiled build: see
 # motionvm/compiled_build.py). The .py file is the only source of the code: this file
-# types the axis, generator, drive and motor the closed-form advance reads, so that it
-# reads their compiled fields directly.
+# types the axis, generator and drive the orchestration of the closed-form advance
+# reads, so that it reads their compiled fields and calls their methods directly.
 import cython
 from motionvm.drives.cia402 cimport Cia402Drive
-from motionvm.drives.mechanics cimport IdealMechanics
 from motionvm.motion.axis_cycle cimport AxisCycle
 from motionvm.motion.profile cimport ProfileGenerator
 
-@cython.locals(d=Cia402Drive, pg=ProfileGenerator, m=IdealMechanics)
+@cython.locals(d=Cia402Drive)
 cpdef bint _common(AxisCycle a) except -1
-cpdef bint _holds_target(ProfileGenerator pg) except -1
-cpdef _sample(ProfileGenerator pg, n)
-cpdef _last_sample(ProfileGenerator pg)
 @cython.locals(pg=ProfileGenerator)
 cpdef coast_cycles(AxisCycle a, wanted, bint past_moving=*, memo=*)
 @cython.locals(pg=ProfileGenerator)
@@ -23,21 +19,17 @@ cpdef tuple _end(AxisCycle a, s)
 cpdef _feedback(AxisCycle a, x)
 @cython.locals(pg=ProfileGenerator)
 cpdef feedback_after(AxisCycle a, i)
-@cython.locals(d=Cia402Drive, pg=ProfileGenerator, m=IdealMechanics)
+@cython.locals(d=Cia402Drive, pg=ProfileGenerator)
 cpdef list _demands(AxisCycle a, s, i_lo, i_hi, p_last=*)
 @cython.locals(pg=ProfileGenerator)
 cpdef bint _safe(AxisCycle a, n_0, n_e) except -1
-@cython.locals(d=Cia402Drive, m=IdealMechanics)
+@cython.locals(d=Cia402Drive)
 cpdef bint _clear(AxisCycle a, lo, hi, v_top) except -1
 cpdef coast(AxisCycle a, k, memo=*)
-@cython.locals(d=Cia402Drive, m=IdealMechanics, pg=ProfileGenerator)
+@cython.locals(pg=ProfileGenerator)
 cpdef _advance(AxisCycle a, k, end=*)
 cpdef _settle_cycles(AxisCycle a, k, e, list feedback)
-cpdef _segment(ProfileGenerator pg, n)
-cpdef _pass_end(ProfileGenerator pg, n_last)
-@cython.locals(d=Cia402Drive, m=IdealMechanics, pg=ProfileGenerator)
+@cython.locals(d=Cia402Drive)
 cpdef _advance_smoothed(AxisCycle a, k)
-@cython.locals(d=Cia402Drive, m=IdealMechanics)
-cpdef _land(AxisCycle a, k, tuple ref, list demands, line, x_1, x, v_1)
-@cython.locals(d=Cia402Drive, m=IdealMechanics)
-cpdef _motor_to(AxisCycle a, x_1, x, v_1)
+@cython.locals(d=Cia402Drive)
+cpdef _land(AxisCycle a, k, list demands, line, x_1, x, v_1)

@@ -44,3 +44,20 @@ cdef class ProfileGenerator:
                    buf=list, j=Py_ssize_t, s=double, p_prev=double, v_prev=double,
                    inv_dt=double, v=double, a=double)
     cpdef tuple step(self)
+
+    # the closed-form advance (time skipping)
+    @cython.locals(i=Py_ssize_t)
+    cpdef sample(self, n)
+    cpdef last_sample(self)
+    cpdef bint holds_target(self) except -1
+    cpdef bint knows_its_past(self, delay) except -1
+    @cython.locals(i=Py_ssize_t)
+    cpdef segment_of(self, n)
+    cpdef pass_end(self, n_last)
+    cpdef span(self, t_a, t_b)
+    @cython.locals(seg=Py_ssize_t, n_segs=Py_ssize_t, ps=list, buf=list)
+    cpdef tuple outputs(self, n_lo, n_e)
+    cpdef flush_room(self, n_from, most)
+    cpdef advance(self, k, s)
+    @cython.locals(ps=list)
+    cpdef list advance_smoothed(self, k, back)

@@ -27,9 +27,16 @@ from __future__ import annotations
 
 import math
 
-from motionvm.motion.tcurve import INF, TCurve, plan_position, plan_velocity
+from motionvm.motion.tcurve import INF, TCurve, plan_position, plan_velocity, segment_position
 
 IDLE, POSITION, VELOCITY, STOP = "idle", "position", "velocity", "stop"
+
+NEVER = 1 << 62
+"""A sample no run reaches: the last sample of an open-ended T-curve (a jog)."""
+
+_V_ZERO = 1e-9
+"""Velocity [mm/s] below which a segment end counts as rest in `span`'s monotony check:
+it moves the position by far less than the range margin of a limit check (1e-9 * x)."""
 
 
 def _check_positive(name: str, value: float) -> float:
@@ -289,7 +296,7 @@ class ProfileGenerator:
 
     def _start(self, plan: TCurve) -> None:
         # from rest the samples before the plan are its start (the filter's window, the
-        # closed-form advance of motion/axis_coast.py); on the fly they are the old plan's
+        # closed-form advance, `advance`); on the fly they are the old plan's
         self._from_rest = self._idle
         if self._idle:
             if not plan.segs:
@@ -351,3 +358,267 @@ class ProfileGenerator:
             if not self._pending():
                 self.mode = IDLE
         return res
+
+    # ---- closed-form advance (time skipping) ----------------------------------------
+    # The cycles nobody observes are computed for their last samples only, by the same
+    # float operations `step` makes (motion/axis_coast.py orchestrates the axis).
+
+    def sample(self, n: int) -> float:
+        """The T-curve's position [mm] at sample n, as `step` computes it (n lies at or
+        after the current sample and before the end of the T-curve)."""
+        tau = n * self.dt
+        segs = self._segs
+        i = self._seg_i
+        while tau >= segs[i][1]:
+            i += 1
+        t_0, _, p_0, v_0, a = segs[i]
+        return segment_position(p_0, v_0, a, tau - t_0)
+
+    def last_sample(self) -> int:
+        """The last sample n that lies before the end of the T-curve (n * dt < duration);
+        NEVER for a jog's open-ended T-curve."""
+        duration = self._plan.duration
+        if duration == math.inf:
+            return NEVER
+        dt = self.dt
+        n = math.ceil(duration / dt) - 1
+        while (n + 1) * dt < duration:
+            n += 1
+        while n * dt >= duration:
+            n -= 1
+        return n
+
+    def holds_target(self) -> bool:
+        """True if every output from the next sample on is the final position: the
+        T-curve is done, the moving average (if any) flushed, no move waits."""
+        return (self._tc_done and (self._n_avg == 1 or self._flush >= self._n_avg - 1)
+                and not self._pending())  # fmt: skip
+
+    def knows_its_past(self, delay: int) -> bool:
+        """True if the samples the next outputs average and the `delay` samples before
+        them (a motor's delay) lie in this plan, or before it where a plan started from
+        rest holds its start: what `advance` and `outputs` need."""
+        if self._nseg == 0:
+            return False
+        back = delay + (self._n_avg + 1 if self._n_avg > 1 else 0)
+        return self._n >= back or self._from_rest
+
+    def segment_of(self, n: int) -> int:
+        """The T-curve segment that holds sample n (from the current segment on, as
+        `_segment_at` finds it)."""
+        tau = n * self.dt
+        segs = self._segs
+        i = self._seg_i
+        while tau >= segs[i][1]:
+            i += 1
+        return i
+
+    def pass_end(self, n_last: int) -> None:
+        """Past the end of the T-curve, as stepping leaves it: the segment of its last
+        sample n_last entered (its fields stay), then past the last one (done)."""
+        i = self.segment_of(n_last)
+        if i != self._seg_i:
+            self._enter_segment(i)
+        self._enter_segment(self._nseg)
+
+    @property
+    def bounds(self) -> tuple[float, float, float] | None:
+        """(lowest, highest position [mm], highest |velocity| [mm/s]) of the whole plan
+        if it moves one way only (what holds for all of it holds for any span), else None."""
+        return self._plan.bounds
+
+    def span(self, t_a: float, t_b: float) -> tuple[float, float, float] | None:
+        """(lowest, highest position [mm], highest |velocity| [mm/s]) of the T-curve on
+        the times [t_a, t_b] [s], or None if it is not monotonic there."""
+        # the positions at t_a and t_b (as `TCurve.evaluate`; p_f past the last segment),
+        # the highest |velocity| v_top on [t_a, t_b], and that it keeps its sign there
+        v_top = 0.0
+        sign = 0.0
+        p_a = None
+        p_b = self._p_f
+        for t_0, t_1, p_0, v_0, acc in self._segs:
+            if t_1 <= t_a:
+                continue
+            if p_a is None:  # the segment that holds t_a (or the first: t_a before the plan)
+                p_a = segment_position(p_0, v_0, acc, t_a - t_0 if t_a > t_0 else 0.0)
+            v_1 = v_0 + acc * (t_1 - t_0) if t_1 != math.inf else v_0
+            # (a segment's end below _V_ZERO counts as rest: a braking segment may end a
+            # rounding below zero)
+            size = v_0 if v_0 >= 0.0 else -v_0
+            if size > _V_ZERO:
+                if sign and (v_0 > 0.0) != (sign > 0.0):
+                    return None  # not monotonic
+                sign = v_0
+            if size > v_top:
+                v_top = size
+            size = v_1 if v_1 >= 0.0 else -v_1
+            if size > _V_ZERO:
+                if sign and (v_1 > 0.0) != (sign > 0.0):
+                    return None
+                sign = v_1
+            if size > v_top:
+                v_top = size
+            if t_b < t_1:  # the segment that holds t_b: the last on [t_a, t_b]
+                p_b = segment_position(p_0, v_0, acc, t_b - t_0 if t_b > t_0 else 0.0)
+                break
+        if p_a is None:  # t_a past the last segment
+            p_a = self._p_f
+        return (p_a, p_b, v_top) if p_a <= p_b else (p_b, p_a, v_top)
+
+    def outputs(self, n_lo: int, n_e: int) -> tuple[list, int, tuple | None]:
+        """(outputs [mm] of samples n_lo .. n_e, as `step` computes them; the T-curve
+        segment of sample n_e; with smoothing, the filter's (buffer, index, sum) after
+        sample n_e, else None). The current sample is n_lo or before it; without
+        smoothing, n_e may be the first sample after the T-curve's end (p_f).
+
+        The moving average is replayed from the last sample at or before n_lo where the
+        generator recomputed its running sum exactly (`math.fsum`, every N samples): from
+        there on the running sum takes exactly the additions stepping takes."""
+        segs, dt = self._segs, self.dt
+        seg = self._seg_i
+        n_0 = self._n
+        n_segs = len(segs)
+        p_f = self._p_f
+        ps = []
+        n_avg = self._n_avg
+        if n_avg == 1:
+            for n in range(n_lo, n_e + 1):
+                if n == n_0:
+                    ps.append(self._out[0])
+                    continue
+                while seg < n_segs and n * dt >= segs[seg][1]:
+                    seg += 1
+                if seg == n_segs:  # past the end (no smoothing): the plan holds p_f
+                    ps.append(p_f)
+                else:
+                    t_s, _, p_0, v_0, acc = segs[seg]
+                    ps.append(segment_position(p_0, v_0, acc, n * dt - t_s))
+            return ps, seg, None
+        base = self._base
+        buf = list(self._buf)
+        start = n_lo - (self._j + n_lo - n_0) % n_avg  # after it the ring index is 0: a fsum
+        if start > n_0:
+            for i in range(n_avg):  # the ring after `start`: buf[i] is sample start-N+1+i
+                n = start - n_avg + 1 + i
+                if n > n_0:
+                    while seg < n_segs and n * dt >= segs[seg][1]:
+                        seg += 1
+                    if seg == n_segs:
+                        buf[i] = p_f - base
+                    else:
+                        t_s, _, p_0, v_0, acc = segs[seg]
+                        buf[i] = segment_position(p_0, v_0, acc, n * dt - t_s) - base
+            s, j = math.fsum(buf), 0
+        else:
+            start, s, j = n_0, self._sum, self._j
+        if start == n_lo:
+            ps.append(self._out[0] if start == n_0 else base + s / n_avg)
+        for n in range(start + 1, n_e + 1):
+            while seg < n_segs and n * dt >= segs[seg][1]:
+                seg += 1
+            if seg == n_segs:
+                r = p_f - base
+            else:
+                t_s, _, p_0, v_0, acc = segs[seg]
+                r = segment_position(p_0, v_0, acc, n * dt - t_s) - base
+            s = s + r - buf[j]
+            buf[j] = r
+            j += 1
+            if j == n_avg:
+                j = 0
+                s = math.fsum(buf)
+            if n >= n_lo:
+                ps.append(base + s / n_avg)
+        return ps, seg, (buf, j, s)
+
+    def flush_room(self, n_from: int, most: int) -> int:
+        """How many samples (at most `most`) after sample n_from (at or after the current
+        one, the last T-curve sample or later) the smoothed generator can output while
+        its moving average flushes: its flush count stays below N, and no output stands
+        exactly on the target (from there region I may end: `AxisCycle.step`)."""
+        n_0 = self._n
+        flushed = self._flush if self._tc_done else 0  # (counts the samples past the end)
+        last = min(most, self._n_avg - 1 - flushed - (n_from - n_0 if self._tc_done else 0))
+        if last <= 0:
+            return 0
+        p_f = self._p_f
+        k = 0
+        for p in self.outputs(n_from + 1, n_from + last)[0]:
+            if p == p_f:
+                break
+            k += 1
+        return k
+
+    def advance(self, k: int, s: int) -> None:
+        """Advance k samples without smoothing, as k `step`s would, whose output is the
+        target from the s-th on (1: the next): samples of the T-curve, then the output on
+        the target, down to rest (the generator turns idle where `step` would)."""
+        if self._idle:  # it repeats its output
+            return
+        n_0 = self._n
+        p_f = self._p_f
+        inv_dt = self._inv_dt
+        pending = self._pending()  # a move waits (nothing of the advance changes that)
+        p_0, v_0, _ = self._out
+        p = p_f if k >= s else self.sample(n_0 + k)
+        p_1 = p_0 if k == 1 else p_f if k > s else self.sample(n_0 + k - 1)
+        if k == 1:
+            v_1 = v_0
+        else:
+            p_2 = p_0 if k == 2 else p_f if k > s + 1 else self.sample(n_0 + k - 2)
+            v_1 = (p_1 - p_2) * inv_dt
+        v = (p - p_1) * inv_dt
+        acc = (v - v_1) * inv_dt
+        idle = 0  # the sample at which the generator turns idle (0: not in this advance)
+        if k >= s and v == 0.0 and acc == 0.0:  # at rest on the target: where it idles
+            p_last = p_0 if s == 1 else self.sample(n_0 + s - 1)  # the output before s
+            if (p_f - p_last) * inv_dt != 0.0:
+                idle = s + 2
+            else:
+                if s == 1:
+                    v_last = v_0
+                else:
+                    p_2 = p_0 if s == 2 else self.sample(n_0 + s - 2)
+                    v_last = (p_last - p_2) * inv_dt
+                idle = s if v_last == 0.0 else s + 1
+        self._out = (p, v, acc)
+        if k < s:
+            self._n = n_0 + k
+            i = self.segment_of(n_0 + k)
+            if i != self._seg_i:
+                self._enter_segment(i)
+        else:
+            if not self._tc_done:
+                self.pass_end(n_0 + s - 1)
+            if idle:
+                self._idle = True
+                if not pending:
+                    self.mode = IDLE
+                self._n = n_0 + idle
+            else:
+                self._n = n_0 + k
+
+    def advance_smoothed(self, k: int, back: int) -> list:
+        """Advance k samples with smoothing (on the T-curve or while the moving average
+        flushes: `flush_room`), as k `step`s would; returns the outputs [mm] of the last
+        back + 1 samples (the last is the output now)."""
+        n_0 = self._n
+        n_e = n_0 + k
+        ps, i, smoothing = self.outputs(n_e - back, n_e)
+        p_2, p_1, p = ps[-3], ps[-2], ps[-1]
+        inv_dt = self._inv_dt
+        v_1 = (p_1 - p_2) * inv_dt
+        v = (p - p_1) * inv_dt
+        self._n = n_e
+        if self._tc_done:  # the moving average flushes
+            self._flush += k
+        elif i == self._nseg:  # past the T-curve's end
+            n_last = self.last_sample()
+            self.pass_end(n_last)
+            self._flush = n_e - n_last
+        elif i != self._seg_i:
+            self._enter_segment(i)
+        self._out = (p, v, (v - v_1) * inv_dt)
+        if smoothing is not None:
+            self._buf, self._j, self._sum = smoothing
+        return ps
