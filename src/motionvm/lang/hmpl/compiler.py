@@ -11,6 +11,7 @@ from motionvm.lang.hmpl.cmemory import Memory
 from motionvm.lang.hmpl.lib import implemented_builtins
 from motionvm.lang.hmpl.parser import parse_file
 from motionvm.lang.hmpl.program import CompiledProgram, ProgramCompiler, Unit
+from motionvm.runtime.kernel import MAX_TASKS
 from motionvm.source.deep import run_deep
 from motionvm.source.diagnostics import DiagnosticSink
 from motionvm.source.files import SourcePos
@@ -18,7 +19,7 @@ from motionvm.source.files import SourcePos
 # memory map sizes [bytes]
 STATIC_SIZE = 8 * 1024 * 1024
 STACK_SIZE = 64 * 1024
-N_TASKS = 64
+N_TASKS = MAX_TASKS  # (the controller's task slots: runtime/kernel.py)
 
 
 @dataclass(frozen=True, slots=True)

@@ -9,21 +9,19 @@ last error and records None (not replayable).
 
 The manual's idioms poll these every cycle (`Till(IsInPos(a))`, a loop over the axes),
 so each is built per commands object as a plain closure over `axis_id` with the motion
-kernel, its axes and the flag's getter bound in (`StatusFlag`): one call, no method look-up.
+kernel and its axes bound in (`StatusFlag`): one call, no method or flag-name look-up.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
-from operator import attrgetter
+
+# One query per flag, each reading its flag by name (an attribute read, no call: the
+# idioms above poll them every cycle).
 
 
-def _query(name: str, flag: str, motion, bad_id: Callable[[int, str], int]) -> Callable[[int], int]:
-    """The function `name(axis_id)` that answers `flag` of the axes of `motion`."""
-    axes = motion.axes
-    get = attrgetter(flag)
-
-    def query(axis_id: int) -> int:
+def _enabled_query(axes: list, motion, bad_id: Callable[[int, str], int]) -> Callable[[int], int]:
+    def IsEnabled(axis_id: int) -> int:
         if axis_id >= 0:
             try:
                 a = axes[axis_id]
@@ -31,14 +29,82 @@ def _query(name: str, flag: str, motion, bad_id: Callable[[int, str], int]) -> C
                 pass
             else:
                 reads = motion.reads
-                value = get(a)
-                if reads is not None:
-                    reads.append((a, flag, value))
-                return 1 if value else 0
-        return bad_id(axis_id, flag)
+                if reads is None:
+                    return 1 if a.enabled else 0
+                flag = a.enabled
+                reads.append((a, "enabled", flag))
+                return 1 if flag else 0
+        return bad_id(axis_id, "enabled")
 
-    query.__name__ = query.__qualname__ = name
-    return query
+    return IsEnabled
+
+
+def _moving_query(axes: list, motion, bad_id: Callable[[int, str], int]) -> Callable[[int], int]:
+    def IsMoving(axis_id: int) -> int:
+        if axis_id >= 0:
+            try:
+                a = axes[axis_id]
+            except IndexError:
+                pass
+            else:
+                reads = motion.reads
+                if reads is None:
+                    return 1 if a.moving else 0
+                flag = a.moving
+                reads.append((a, "moving", flag))
+                return 1 if flag else 0
+        return bad_id(axis_id, "moving")
+
+    return IsMoving
+
+
+def _in_pos_query(axes: list, motion, bad_id: Callable[[int, str], int]) -> Callable[[int], int]:
+    def IsInPos(axis_id: int) -> int:
+        if axis_id >= 0:
+            try:
+                a = axes[axis_id]
+            except IndexError:
+                pass
+            else:
+                reads = motion.reads
+                if reads is None:
+                    return 1 if a.in_pos else 0
+                flag = a.in_pos
+                reads.append((a, "in_pos", flag))
+                return 1 if flag else 0
+        return bad_id(axis_id, "in_pos")
+
+    return IsInPos
+
+
+def _error_stop_query(
+    axes: list, motion, bad_id: Callable[[int, str], int]
+) -> Callable[[int], int]:
+    def IsErrorStop(axis_id: int) -> int:
+        if axis_id >= 0:
+            try:
+                a = axes[axis_id]
+            except IndexError:
+                pass
+            else:
+                reads = motion.reads
+                if reads is None:
+                    return 1 if a.error_stop else 0
+                flag = a.error_stop
+                reads.append((a, "error_stop", flag))
+                return 1 if flag else 0
+        return bad_id(axis_id, "error_stop")
+
+    return IsErrorStop
+
+
+_QUERIES = {
+    "enabled": _enabled_query,
+    "moving": _moving_query,
+    "in_pos": _in_pos_query,
+    "error_stop": _error_stop_query,
+}
+"""The query maker of each status flag: (axes, motion kernel, bad-id handler) -> query."""
 
 
 class StatusFlag:
@@ -48,8 +114,8 @@ class StatusFlag:
     method that calls it (for `inspect.signature` and documentation)."""
 
     def __init__(self, flag: str) -> None:
-        if not flag.isidentifier():
-            raise ValueError(f"not an axis attribute: {flag!r}")
+        if flag not in _QUERIES:
+            raise ValueError(f"not an axis status flag: {flag!r}")
         self.flag = flag
 
     def __set_name__(self, owner: type, name: str) -> None:
@@ -68,6 +134,7 @@ class StatusFlag:
             return self.method
         query = commands.__dict__.get(self.name)
         if query is None:
-            query = _query(self.name, self.flag, commands.motion, commands._status_of_bad_id)
+            motion = commands.motion
+            query = _QUERIES[self.flag](motion.axes, motion, commands._status_of_bad_id)
             commands.__dict__[self.name] = query
         return query
