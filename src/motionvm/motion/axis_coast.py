@@ -304,7 +304,7 @@ def _advance(a, k: int, end: tuple | None = None) -> None:
         status = k >= e
     if status:
         _settle_cycles(a, k, e, end[3])
-    pg.advance(k, s)
+    pg.advance(k, s, None if end is None else end[4])
     x_1 = demands[-2 - delay]
     v_m_1 = a.drive.mechanics.velocity if k == 1 else (x_1 - demands[-3 - delay]) / a.dt
     _land(a, k, demands, demands[-delay:] if delay > 1 else None, x_1, demands[-1 - delay],

@@ -58,6 +58,6 @@ cdef class ProfileGenerator:
     @cython.locals(seg=Py_ssize_t, n_segs=Py_ssize_t, ps=list, buf=list)
     cpdef tuple outputs(self, n_lo, n_e)
     cpdef flush_room(self, n_from, most)
-    cpdef advance(self, k, s)
+    cpdef advance(self, k, s, p_last=*)
     @cython.locals(ps=list)
     cpdef list advance_smoothed(self, k, back)

@@ -549,10 +549,11 @@ class ProfileGenerator:
             k += 1
         return k
 
-    def advance(self, k: int, s: int) -> None:
+    def advance(self, k: int, s: int, p_last: float | None = None) -> None:
         """Advance k samples without smoothing, as k `step`s would, whose output is the
         target from the s-th on (1: the next): samples of the T-curve, then the output on
-        the target, down to rest (the generator turns idle where `step` would)."""
+        the target, down to rest (the generator turns idle where `step` would). `p_last`:
+        the output [mm] before the s-th, if known."""
         if self._idle:  # it repeats its output
             return
         n_0 = self._n
@@ -571,7 +572,8 @@ class ProfileGenerator:
         acc = (v - v_1) * inv_dt
         idle = 0  # the sample at which the generator turns idle (0: not in this advance)
         if k >= s and v == 0.0 and acc == 0.0:  # at rest on the target: where it idles
-            p_last = p_0 if s == 1 else self.sample(n_0 + s - 1)  # the output before s
+            if p_last is None:  # the output before the s-th
+                p_last = p_0 if s == 1 else self.sample(n_0 + s - 1)
             if (p_f - p_last) * inv_dt != 0.0:
                 idle = s + 2
             else:

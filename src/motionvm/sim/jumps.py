@@ -13,7 +13,10 @@ stepping would; a client that reads moving axes in its hooks (`observes_motion`)
 keeps the clock from jumping while an axis moves. A client that samples every cycle
 (`samples_skipped_cycles`: a scope) has each jumped cycle sampled: the jump then goes
 cycle by cycle, setting the clock-driven values (the HMPL system time) and advancing
-the moving axes one cycle at a time, with no task, no other client run.
+the moving axes one cycle at a time, with no task, no other client run. The planner
+reads only what each part declares: the task kernel's `wake_horizon`, the motion
+kernel's `coast_horizon`, `coast` and `steps_alone`, and the capabilities of the
+clients (runtime/clients.py, each with its default on `PassiveClient`).
 
 A task waiting on an event is passed over only if nothing it tests changed since it
 polled: no task acted after it in its cycle (`Kernel.quiet`), and the status it tests
