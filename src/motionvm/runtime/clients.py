@@ -66,12 +66,13 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from types import MethodType
-from typing import Protocol
+from typing import Protocol, runtime_checkable
 
 BEGIN, END = "begin_cycle", "end_cycle"
 """The two hooks, as `has_work` names them."""
 
 
+@runtime_checkable
 class CycleClient(Protocol):
     """A run side stepped by the controller's cycle (see the module docstring); every
     client derives from `PassiveClient`, which gives each capability its default."""
