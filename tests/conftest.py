@@ -1,5 +1,5 @@
-"""Fixtures shared by the tests of every folder: files written into the test's own
-temporary folder, the check that a bad file's error stands at its place, golden files
+"""Fixtures shared by the tests of every folder: the compile cache (off, or on in the
+test's own folder), files written into the test's own temporary folder, the check that a bad file's error stands at its place, golden files
 and their one regeneration switch (MOTIONVM_UPDATE_GOLDEN=1); the hypothesis profiles `ci` (bounded, derandomized: CI's) and `thorough` that property
 tests without profiles of their own take (`settings.get_profile(...)`)."""
 
@@ -11,6 +11,12 @@ from pathlib import Path
 import pytest
 from hypothesis import HealthCheck, settings
 
+# The compile cache stays off in the tests (their processes included): a test that
+# exercises it turns it on in a temporary folder (`compile_cache` fixture). Nothing is
+# written to the user's cache folder.
+os.environ["MOTIONVM_NO_CACHE"] = "1"
+os.environ.pop("MOTIONVM_CACHE_DIR", None)
+
 settings.register_profile(
     "ci", max_examples=40, derandomize=True, deadline=None,
     suppress_health_check=[HealthCheck.too_slow],
@@ -19,6 +25,15 @@ settings.register_profile(
     "thorough", max_examples=400, derandomize=True, deadline=None,
     suppress_health_check=[HealthCheck.too_slow],
 )  # fmt: skip
+
+
+@pytest.fixture
+def compile_cache(tmp_path, monkeypatch) -> Path:
+    """The compile cache on, in a folder of the test's own (returned)."""
+    folder = tmp_path / "compile-cache"
+    monkeypatch.delenv("MOTIONVM_NO_CACHE", raising=False)
+    monkeypatch.setenv("MOTIONVM_CACHE_DIR", str(folder))
+    return folder
 
 
 @pytest.fixture

@@ -138,6 +138,22 @@ class Memory:
             self.names[addr] = name
         return addr
 
+    def static_image(self) -> tuple[int, bytes, bytes, dict[int, str]]:
+        """What the compiler left in memory: the end of the statics, their bytes, their
+        shadow bytes and their names (`restore_static` puts it into a fresh memory)."""
+        top = self._static_top
+        return top, bytes(self.buf[:top]), bytes(self.shadow[:top]), dict(self.names)
+
+    def restore_static(self, image: tuple[int, bytes, bytes, dict[int, str]]) -> None:
+        """Load a `static_image` into this memory, fresh from the same layout."""
+        top, data, shadow, names = image
+        if not NULL_GUARD <= top <= self._static_limit or len(data) != top or len(shadow) != top:
+            raise ValueError("static image does not fit this memory")
+        self.buf[:top] = data
+        self.shadow[:top] = shadow
+        self._static_top = top
+        self.names = dict(names)
+
     # ------------------------------------------------------------ checks
 
     def extent(self, addr: int) -> int:

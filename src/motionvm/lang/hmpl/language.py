@@ -145,9 +145,14 @@ class Hmpl(Language):
 
     def compile(self, sources: Sequence[Source], request: CompileRequest) -> CompileResult:
         from motionvm.lang.hmpl.compiler import compile_tasks
+        from motionvm.source.cache import CompileCache
 
         sink = DiagnosticSink()
-        prog, mem = compile_tasks(place_tasks(sources), sink, bytecode=not request.check_only)
+        files = place_tasks(sources)
+        if request.check_only:  # diagnostics only: nothing to keep
+            prog, mem = compile_tasks(files, sink, bytecode=False)
+        else:
+            prog, mem = compile_tasks(files, sink, cache=CompileCache.open("hmpl"))
         return CompileResult((prog, mem) if prog is not None else None, list(sink.items))
 
     def dump(

@@ -98,9 +98,15 @@ class _Fail(Exception):
 
 
 def parse_file(
-    path: str, *, task_id: int, sink: DiagnosticSink, text: str | None = None
+    path: str,
+    *,
+    task_id: int,
+    sink: DiagnosticSink,
+    text: str | None = None,
+    included: list[SourceFile] | None = None,
 ) -> n.TranslationUnit | None:
-    """Preprocess and parse one task file; None when the file cannot be read."""
+    """Preprocess and parse one task file; None when the file cannot be read. `included`
+    receives the files its `#include`s read."""
     if text is None:
         try:
             text = SourceFile.read(path).text
@@ -108,7 +114,7 @@ def parse_file(
             sink.error(SourcePos(path, 1, 1), f"cannot read '{path}': {e.strerror or e}")
             return None
     with gc_paused():
-        tokens = preprocess(path, task_id=task_id, sink=sink, text=text)
+        tokens = preprocess(path, task_id=task_id, sink=sink, text=text, included=included)
         return parse(tokens, sink)
 
 

@@ -105,20 +105,29 @@ def preprocess(
     sink: DiagnosticSink,
     text: str | None = None,
     include_depth_limit: int = 20,
+    included: list[SourceFile] | None = None,
 ) -> list[Token]:
     """The preprocessed tokens of one HMPL task file, ending with an 'eof' token.
 
     Reads `path` (or takes `text` as its contents). Errors go to `sink`; on too many
-    errors the tokens produced so far are returned.
+    errors the tokens produced so far are returned. `included` receives every file that
+    an `#include` read, in order (what the compile cache checks).
     """
     with gc_paused():
-        return _preprocess(path, task_id, sink, text, include_depth_limit)
+        return _preprocess(path, task_id, sink, text, include_depth_limit, included)
 
 
 def _preprocess(
-    path: str, task_id: int, sink: DiagnosticSink, text: str | None, include_depth_limit: int
+    path: str,
+    task_id: int,
+    sink: DiagnosticSink,
+    text: str | None,
+    include_depth_limit: int,
+    included: list[SourceFile] | None,
 ) -> list[Token]:
     pp = Preprocessor(task_id=task_id, sink=sink, include_depth_limit=include_depth_limit)
+    if included is not None:
+        pp.included = included
     if text is None:
         try:
             sf = SourceFile.read(path)
@@ -147,6 +156,7 @@ class Preprocessor:
         self.include_depth_limit = include_depth_limit
         self.out: list[Token] = []
         self.files: list[str] = []  # real paths of the files being read, outermost first
+        self.included: list[SourceFile] = []  # every file an #include read, in order
         here = SourcePos("<built-in>", 1, 1)
         self.macros: dict[str, Macro] = {
             "_TASKID_": Macro("_TASKID_", here, [Token("int", str(task_id), here, task_id)])
@@ -428,6 +438,7 @@ class Preprocessor:
                 args[0].pos, f"cannot open include file '{fname}': {e.strerror or 'unreadable'}"
             )
             raise _Abort from None
+        self.included.append(sf)
         self.run_file(sf)
 
     # ------------------------------------------------------------ #if expressions

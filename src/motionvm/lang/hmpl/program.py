@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import ast
 import struct
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from motionvm.lang.hmpl import catalog
@@ -73,8 +74,13 @@ class CompiledProgram:
     codes: list[tuple[str, object]]  # (filename, code object)
     sysvars: dict[str, VarSym]
     globals_: dict[str, VarSym]
+    rebuild: Callable[[], list[tuple[str, ast.Module]]] | None = None
+    """Makes `modules` again, for a program read from the compile cache (it holds code
+    objects only)."""
 
     def python_source(self) -> str:
+        if not self.modules and self.rebuild is not None:
+            self.modules = self.rebuild()
         out = []
         for fname, mod in self.modules:
             out.append(f"# ---- {fname}\n{run_deep(ast.unparse, mod)}\n")
