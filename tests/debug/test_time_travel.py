@@ -91,7 +91,8 @@ def test_going_back_shows_the_state_of_a_fresh_run_stopped_there(
     # inside a statement: a breakpoint's hit, then on, then back to it
     engine.go_to(Position(0))
     engine.set_breakpoints(path, [BreakpointSpec(9, hit_condition=str(hits))])
-    stop = engine.resume()
+    # bounded: a program may wait forever (Till on an axis that never gets there)
+    stop = engine.resume_to(Position(first + later + 400))
     if stop.reason == "breakpoint":
         there = _snapshot(engine)
         engine.set_breakpoints(path, [])
