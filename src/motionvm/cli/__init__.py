@@ -1,5 +1,5 @@
 """The `motionvm` command: run | check | compile | builtins | errors | dump | scope | test |
-serve | lsp.
+serve | lsp | debug | studio.
 
 Parsing arguments and printing only: every run is assembled by `motionvm.session`, the
 same code the Python API uses. Exit codes: 0 ok; 1 a task stopped with a runtime
@@ -72,6 +72,10 @@ def _dispatch(args) -> int:
         from motionvm.cli.debug import cmd_debug
 
         return cmd_debug(args)
+    if args.cmd == "studio":
+        from motionvm.cli.studio import cmd_studio
+
+        return cmd_studio(args)
     if args.cmd == "serve":
         from motionvm.cli.serve import cmd_serve
 

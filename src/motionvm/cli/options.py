@@ -214,6 +214,7 @@ def build_parser() -> argparse.ArgumentParser:
     add_serve_parser(sub)
     add_lsp_parser(sub)
     add_debug_parser(sub)
+    add_studio_parser(sub)
     return p
 
 
@@ -364,4 +365,26 @@ def add_debug_parser(sub) -> None:
         type=int,
         metavar="N",
         help="listen on 127.0.0.1:N for one client instead (0: a free port, printed on stderr)",
+    )
+
+
+def add_studio_parser(sub) -> None:
+    """`motionvm studio`: the browser studio (motionvm/studio)."""
+    s = sub.add_parser(
+        "studio",
+        help="a local page to edit, run, watch, debug and scrub programs (127.0.0.1)",
+        description="Serve a page on 127.0.0.1 to edit FILES, run them on the machine, "
+        "watch the scope, the axes, the I/O and the path, set breakpoints, force inputs and "
+        "scrub back through the run. Prints the page's address (with its access token) on "
+        "stderr and opens it in the browser; Ctrl-C ends it.",
+        formatter_class=_Formatter,
+    )
+    s.add_argument("files", nargs="*", metavar="FILE", help=_FILES_HELP)
+    _machine(s)
+    _scenario(s)
+    s.add_argument(
+        "--port", type=int, default=0, metavar="N", help="listen on 127.0.0.1:N (0: a free port)"
+    )
+    s.add_argument(
+        "--no-browser", action="store_true", help="print the address only, open no browser"
     )
