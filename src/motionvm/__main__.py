@@ -2,6 +2,10 @@
 
 import sys
 
-from motionvm.cli import main
+try:
+    from motionvm.cli import main
+except KeyboardInterrupt:  # Ctrl-C while the command line itself is imported
+    exec("None")  # noqa: S102 — see motionvm.cli.interrupts.forget_unhandled_interrupt
+    sys.exit(130)
 
 sys.exit(main())

@@ -15,6 +15,7 @@ import traceback
 from collections.abc import Callable
 
 from motionvm.cli.exits import EXIT_INTERNAL, EXIT_INTERRUPTED, EXIT_OK, EXIT_USAGE, UsageError
+from motionvm.cli.interrupts import forget_unhandled_interrupt, interrupted_by
 from motionvm.cli.options import build_parser
 
 
@@ -38,6 +39,15 @@ def subcommand_parser(parser: argparse.ArgumentParser, args) -> argparse.Argumen
 
 
 def _guarded(argv: list[str] | None, dispatch: Callable[[object], int]) -> int:
+    try:
+        return _parsed(argv, dispatch)
+    except KeyboardInterrupt:
+        forget_unhandled_interrupt()
+        print("motionvm: interrupted", file=sys.stderr)
+        return EXIT_INTERRUPTED
+
+
+def _parsed(argv: list[str] | None, dispatch: Callable[[object], int]) -> int:
     parser = build_parser()
     try:
         args, rest = parser.parse_known_args(argv)
@@ -62,10 +72,9 @@ def _guarded(argv: list[str] | None, dispatch: Callable[[object], int]) -> int:
 
         stdout_gone()
         return EXIT_OK
-    except KeyboardInterrupt:
-        print("motionvm: interrupted", file=sys.stderr)
-        return EXIT_INTERRUPTED
-    except Exception:  # noqa: BLE001 — a bug of ours, reported as such
+    except Exception as exc:  # noqa: BLE001 — a bug of ours, reported as such
+        if interrupted_by(exc):  # Ctrl-C inside an import: the import machinery wraps it
+            raise KeyboardInterrupt from None
         print(
             "motionvm: internal error (a bug in motionvm, not in your program); please file an issue "
             "with this output and the program attached:",

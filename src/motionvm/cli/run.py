@@ -14,6 +14,11 @@ from motionvm.cli.exits import (
     EXIT_TIMEOUT,
     UsageError,
 )
+from motionvm.cli.interrupts import (
+    finishing_files,
+    forget_unhandled_interrupt,
+    terminate_as_exit,
+)
 from motionvm.cli.progress import RunProgress
 from motionvm.cli.progress import wanted as progress_wanted
 from motionvm.lang import LANGUAGES, LanguageInputError, language_of
@@ -149,7 +154,7 @@ def cmd_run(args) -> int:
         scope_title=" ".join(list(args.files) + list(args.task)),
         werror=args.werror,
     )
-    session: Session | None = None
+    sessions: list[Session] = []  # the session, once it exists
     gone = False  # stdout's reader went away
 
     def emit(line: str) -> None:
@@ -163,31 +168,51 @@ def cmd_run(args) -> int:
                 stdout_gone()
         # asked again at every later line: a stop asked before the run started (a
         # message printed while booting) would be forgotten when the run begins
-        if session is not None:
-            session.controller.stop_requested = True
+        if sessions:
+            sessions[0].controller.stop_requested = True
 
+    with terminate_as_exit():
+        return _run_session(spec, sources, args, emit, lambda s: sessions.append(s))
+
+
+def _run_session(spec: RunSpec, sources, args, emit, started) -> int:
+    """Assemble and run `spec`, write its scope files, print its verdict; the exit code.
+
+    Ctrl-C at any moment after the session exists still writes the scope files with
+    what was recorded (a sample cut short by the interrupt is left out), then exits 130;
+    a Ctrl-C while they are written lets them finish (`finishing_files`)."""
+    session: Session | None = None
     try:
         session = Session(spec, emit=emit, report=_report)
+        started(session)
         if not sources and not session.has_programs:
             raise UsageError("no input files (and the machine file puts no PDL program on a drive)")
         wall_0 = time.perf_counter()  # for the summary line only; the run never reads it
         ends = [t for t in (args.until, args.timeout) if t is not None]
         bar = RunProgress(min(ends, default=None)) if progress_wanted(args.no_progress) else None
+        result, interrupted = None, False
         try:
-            result = session.run(
-                args.until, realtime=bool(args.realtime), timeout=args.timeout, progress=bar
-            )
+            try:
+                result = session.run(
+                    args.until, realtime=bool(args.realtime), timeout=args.timeout, progress=bar
+                )
+            finally:
+                if bar is not None:
+                    bar.close()
+            wall = time.perf_counter() - wall_0
+            flush_stdout()
         except KeyboardInterrupt:
-            if bar is not None:
-                bar.close()
+            forget_unhandled_interrupt()
+            interrupted = True
             _interrupted(session)
+        try:
+            with finishing_files("the scope files"):
+                session.save_scope()
+        except KeyboardInterrupt:
+            forget_unhandled_interrupt()
+            interrupted = True
+        if interrupted:
             return EXIT_INTERRUPTED
-        finally:
-            if bar is not None:
-                bar.close()
-        wall = time.perf_counter() - wall_0
-        flush_stdout()
-        session.save_scope()
     except CompileFailed:
         return EXIT_COMPILE
     except SessionError as exc:
@@ -241,13 +266,13 @@ def _verdict(result, args) -> None:
 
 def _interrupted(session: Session) -> None:
     """Ctrl-C during a run: say so at once, with the simulated time it stopped at and the
-    scope files still to write, then write them (what was recorded up to the interrupt)."""
+    scope files still to write (the caller writes them: what was recorded up to the
+    interrupt)."""
     request = session.spec.scope
     files = [str(p) for p in request.outputs if not request.is_stdout(p)] if request else []
     note = f", writing scope {', '.join(files)} ..." if files else ""
     _report(f"motionvm: interrupted at t={session.controller.sim_time:.3f} s{note}")
     sys.stderr.flush()
-    session.save_scope()
 
 
 MEASURABLE_WALL = 0.01

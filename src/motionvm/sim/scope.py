@@ -305,9 +305,9 @@ class ScopeRecorder(PassiveClient):
         self._cycles = array("q")  # the samples still in memory: cycle, HMI flag, values
         self._hmi = array("b")
         self._columns: list[list[float]] = [[] for _ in self.channels]
-        self._spilled: list[tuple[int, int]] = []  # (offset, size) of each chunk on file
+        # ((offset, size, samples) of each chunk on file, samples in memory already on file)
+        self._committed: tuple[tuple[tuple[int, int, int], ...], int] = ((), 0)
         self._file = None
-        self._n_spilled = 0
         self._hmi_only = False  # apply_hmi_gate: keep the samples taken while it was on
         self._window: ScopeWindow | None = None
         self._controller = None
@@ -342,7 +342,12 @@ class ScopeRecorder(PassiveClient):
             self._spill()
 
     def _spill(self) -> None:
-        chunk = (self._cycles.tobytes(), self._hmi.tobytes(), self._columns)
+        n = self._complete()
+        chunk = (
+            self._cycles[:n].tobytes(),
+            self._hmi[:n].tobytes(),
+            [c[:n] for c in self._columns],
+        )
         try:
             data = marshal.dumps(chunk)
         except ValueError:  # a value marshal cannot store: keep this chunk in memory
@@ -352,26 +357,44 @@ class ScopeRecorder(PassiveClient):
             self._file = tempfile.TemporaryFile(prefix="motionvm-scope-")
         f = self._file
         f.seek(0, 2)
-        self._spilled.append((f.tell(), len(data)))
+        offset = f.tell()
         f.write(data)
-        self._n_spilled += len(self._cycles)
+        # one assignment commits the chunk and skips its samples in memory, so an
+        # interrupt (Ctrl-C) at any point never loses a sample nor counts one twice
+        spilled, _ = self._committed
+        self._committed = ((*spilled, (offset, len(data), n)), n)
         self._cycles = array("q")
         self._hmi = array("b")
         for column in self._columns:
             column.clear()
+        self._committed = (self._committed[0], 0)
+
+    def _complete(self) -> int:
+        """Samples in memory with every value taken: an interrupt (Ctrl-C) in the middle
+        of `sample` may have appended the cycle and some of the channels only."""
+        n = min(len(self._cycles), len(self._hmi))
+        for column in self._columns:
+            n = min(n, len(column))
+        return n
 
     def _chunks(self) -> Iterator[tuple[array, array, list[list[float]]]]:
-        """(cycles, HMI flags, columns) of every chunk, the oldest first."""
+        """(cycles, HMI flags, columns) of every chunk, the oldest first; complete samples only."""
         f = self._file
-        for offset, size in self._spilled:
+        spilled, lo = self._committed
+        for offset, size, _ in spilled:
             f.seek(offset)
             cycles, hmi, columns = marshal.loads(f.read(size))
             yield array("q", cycles), array("b", hmi), columns
-        yield self._cycles, self._hmi, self._columns
+        n = self._complete()
+        if lo or n < len(self._cycles):
+            yield self._cycles[lo:n], self._hmi[lo:n], [c[lo:n] for c in self._columns]
+        else:
+            yield self._cycles, self._hmi, self._columns
 
     def __len__(self) -> int:
         """Samples recorded (before any gate or window)."""
-        return self._n_spilled + len(self._cycles)
+        spilled, lo = self._committed
+        return sum(n for _, _, n in spilled) + max(0, self._complete() - lo)
 
     def rows(self) -> Iterator[tuple[int, list]]:
         """(cycle, values by channel) of every kept sample, the oldest first: the

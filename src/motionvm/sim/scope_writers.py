@@ -1,8 +1,11 @@
 """Scope recording files: .csv table, .png/.svg plot (matplotlib), .vcd value-change dump.
 
-Every file is written atomically: into a temporary file in the target's folder, then
-moved over the target with `os.replace`, so a reader never sees half a file and a
-failed write leaves any previous file untouched. Outputs are deterministic (no dates,
+Every file is written atomically: into a temporary file in the target's folder
+(`.NAME.PID-XXXXXXXX.tmp`), then moved over the target with `os.replace`, so a reader
+never sees half a file and a failed or interrupted write leaves any previous file
+untouched and removes its temporary. A process killed while it writes (SIGKILL) cannot
+remove its own: the next write of the same target removes the temporaries of processes
+that no longer exist. Outputs are deterministic (no dates,
 fixed SVG ids), so the same run gives the same bytes.
 """
 
@@ -12,7 +15,9 @@ import contextlib
 import math
 import numbers
 import os
+import re
 import tempfile
+import time
 from collections.abc import Iterator
 from pathlib import Path
 from typing import IO
@@ -31,10 +36,52 @@ def _umask() -> int:
     return mask
 
 
+STALE_AFTER = 3600.0
+"""Age [s] after which a temporary without a process id (written by an older motionvm) is stale."""
+
+
+def remove_stale_temps(path: Path) -> None:
+    """Remove the temporaries of `path` that killed writers left behind: those of a process
+    that no longer exists, and unstamped ones older than STALE_AFTER."""
+    pattern = re.compile(re.escape(f".{path.name}.") + r"(?:(\d+)-)?[a-z0-9_]{8}\.tmp")
+    folder = path.parent if str(path.parent) else Path(".")
+    try:
+        entries = list(os.scandir(folder))
+    except OSError:
+        return
+    for entry in entries:
+        m = pattern.fullmatch(entry.name)
+        if m is None:
+            continue
+        with contextlib.suppress(OSError):
+            if m.group(1) is not None:
+                if _alive(int(m.group(1))):
+                    continue
+            elif time.time() - entry.stat(follow_symlinks=False).st_mtime < STALE_AFTER:
+                continue
+            os.unlink(entry.path)
+
+
+def _alive(pid: int) -> bool:
+    """True if a process `pid` exists (this one included: it may write the file now)."""
+    if pid == os.getpid():
+        return True
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except (PermissionError, OverflowError, ValueError):
+        return True  # another user's process (or a number no process can have): keep it
+    return True
+
+
 @contextlib.contextmanager
 def atomic_open(path: Path, binary: bool = False) -> Iterator[IO]:
     """A temporary file next to `path` that replaces `path` only if the block succeeds."""
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    remove_stale_temps(path)
+    fd, tmp = tempfile.mkstemp(
+        prefix=f".{path.name}.{os.getpid()}-", suffix=".tmp", dir=path.parent
+    )
     text = {} if binary else {"encoding": "utf-8", "newline": "\n"}
     try:
         with os.fdopen(fd, "wb" if binary else "w", **text) as f:
