@@ -60,8 +60,9 @@ def _snapshot(engine: DebugEngine) -> dict:
     return state
 
 
-def _engine(path: str) -> DebugEngine:
-    return DebugEngine(RunSpec([Source(path)]), emit=lambda s: None, report=lambda s: None)
+def _engine(path: str, skip: bool = True) -> DebugEngine:
+    spec = RunSpec([Source(path)], skip=skip)
+    return DebugEngine(spec, emit=lambda s: None, report=lambda s: None)
 
 
 @PROFILE
@@ -102,9 +103,49 @@ def test_going_back_shows_the_state_of_a_fresh_run_stopped_there(
         engine.step_back()
         before = _snapshot(engine)
         assert before["position"] < stop.position
-        other = _engine(path)
+        other = _engine(path, skip=False)  # a run stepped every cycle: the same place
         other.start()
         other.go_to(before["position"])
         assert _snapshot(other) == before
         other.close()
     engine.close()
+
+
+MOVER = """\
+void main()
+{
+    int k;
+    Enable(AXIS); Till(IsEnabled(AXIS));
+    for (k = 0; k < 3; k++) {
+        MoveAbs(AXIS, 20.0 + AXIS);
+        Till(IsInPos(AXIS));
+        MoveAbs(AXIS, -20.0);
+        Till(IsInPos(AXIS));
+    }
+}
+"""
+
+
+def test_a_place_inside_a_cycle_after_a_jump_is_that_of_a_stepped_run(tmp_path):
+    """Tasks polling `Till` are resumed in the cycle before a place inside a cycle, so
+    the statements counted there are those of a run stepped from the start (after a
+    jump, the first cycle could otherwise count one poll fewer)."""
+    paths = []
+    for axis in range(3):
+        p = tmp_path / f"m{axis}.hmpl"
+        p.write_text(MOVER.replace("AXIS", str(axis)))
+        paths.append(str(p))
+
+    def place(skip: bool, target: Position):
+        spec = RunSpec([Source(p) for p in paths], skip=skip)
+        engine = DebugEngine(spec, emit=lambda s: None, report=lambda s: None)
+        engine.start()
+        stop = engine.go_to(target)
+        frame = engine.timeline.paused_frame
+        where = (stop.position, stop.thread, frame.f_code.co_filename, frame.f_lineno)
+        engine.close()
+        return where
+
+    for cycle in (5, 150, 333, 700):
+        for count in (1, 2, 3):
+            assert place(True, Position(cycle, count)) == place(False, Position(cycle, count))

@@ -93,15 +93,12 @@ class DebugEngine:
 
     # ---------------------------------------------------------------- timelines
 
-    def _new_timeline(self, inputs: list[Input], stepped: bool = False) -> Timeline:
-        """A fresh session; `stepped`: every cycle stepped, no time skipping (a position
-        inside a cycle is that of a run stepped from its start: jumps over idle cycles
-        change which cycles a polling task runs in, not what the program does)."""
+    def _new_timeline(self, inputs: list[Input]) -> Timeline:
+        """A fresh session on `inputs`, with time skipping (a timeline steps the cycle
+        before any place where statements are seen: timeline.py)."""
         self._lines_now = 0
         self._axis_errors_seen = set()
         session = Session(self.spec, emit=self._emit, report=self._report)
-        if stepped:
-            session.controller.skip = False
         self.session = session
         return Timeline(session, self, inputs)
 
@@ -200,7 +197,7 @@ class DebugEngine:
         with self._lock:
             self.timeline.abandon()
             self.session.close()
-            self.timeline = self._new_timeline(list(self.history.inputs), target.count > 0)
+            self.timeline = self._new_timeline(list(self.history.inputs))
             self._frames.clear()
             return self.timeline.start(Goal("to", target, reason=reason))
 
@@ -542,9 +539,7 @@ class _Scan:
         self.inputs = list(inputs)
 
     def _session(self) -> Session:
-        session = Session(self.engine.spec, emit=lambda line: None, report=lambda line: None)
-        session.controller.skip = False  # positions inside cycles: those of a stepped run
-        return session
+        return Session(self.engine.spec, emit=lambda line: None, report=lambda line: None)
 
     def count_statements(self, first: int, end: int) -> dict[int, int]:
         """Statements of the user's code per cycle of cycles first..end-1 that ran any."""
@@ -605,9 +600,10 @@ class _Scan:
         return changes[-1] if changes else None
 
     def _run(self, end: int, on_line, session=None, on_boundary=None, first: int = 0):
-        """Run to the start of cycle `first` with time skipping, then cycles first..end-1
-        stepped and traced (a position within a cycle is that of the cycle stepped);
-        the statement counts of the traced cycles that ran any."""
+        """Run to the start of cycle `first` with time skipping (the cycle before it,
+        and before a recorded input inside a cycle, stepped: warm, timeline.py), then
+        cycles first..end-1 stepped and traced; the statement counts of the traced
+        cycles that ran any."""
         import sys
 
         from motionvm.debug.tracer import LineTracer
@@ -640,7 +636,10 @@ class _Scan:
                     nxt = [first]
                     if inputs:
                         nxt.append(inputs[0].position.cycle)
-                    ctl.run(min(nxt) * ctl.cycle_time)
+                    if min(nxt) - 1 > cycle:
+                        ctl.run((min(nxt) - 1) * ctl.cycle_time)
+                    else:
+                        ctl.step()  # the warm cycle
                     continue
                 before = watch() if watches else None
                 tracer.enable()

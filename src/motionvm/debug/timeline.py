@@ -6,6 +6,15 @@ on, with the task's frames alive for inspection. At cycle boundaries it runs cyc
 cycle when a statement or a change must be seen (breakpoints, a step, data
 breakpoints), else with time skipping (`Controller.run`, the same results).
 
+A position inside a cycle counts the line events of that cycle, and those depend on
+where each waiting task sits: a task that starts a `Till` yields at the wait's first
+yield, and only a cycle that resumes it moves it on to the polling one (a resume from
+there is a line event, the first is not). A jump over idle cycles resumes nobody, so
+the cycle after a jump may count fewer events than the same cycle stepped. Every skip
+therefore stops one cycle short of where statements must be seen (or a stop is made),
+and that cycle is stepped: every polling task is resumed in it, and the counts of the
+cycles after it are those of a run stepped from the start ("warm" below).
+
 A timeline is driven by `Goal`s (continue, step, run to a position) and answers each
 with a `Stop`. Going back in time abandons the timeline (its thread unwinds with
 `Abandon`, a `SystemExit` that the task kernel lets through) and starts a fresh one on
@@ -189,12 +198,15 @@ class Timeline:
                 self._free_run(goal)
 
     def _traced(self, goal: Goal) -> bool:
-        """Whether statements must be seen from this cycle boundary on."""
+        """Whether the statements of this cycle must be seen."""
         if goal.kind == "step" or (goal.kind == "continue" and self.engine.breakpoints_set()):
             return True
+        cycle = self.controller.cycle
         if self.inputs and self.inputs[0].position.count > 0:
-            return True
-        return goal.target is not None and goal.target.count > 0
+            if self.inputs[0].position.cycle <= cycle:
+                return True
+        target = goal.target
+        return target is not None and target.count > 0 and target.cycle <= cycle
 
     def _needs_cycles(self, goal: Goal) -> bool:
         """Whether the next cycle must run on its own: a change must be seen at its end,
@@ -226,8 +238,8 @@ class Timeline:
             self.tracer.disable()
 
     def _free_run(self, goal: Goal) -> None:
-        """Run with time skipping up to the next place something must be seen (the
-        tracer on while statements must be seen)."""
+        """Run with time skipping up to the cycle before the next place something must
+        be seen, then step that cycle (warm: see the module's docstring)."""
         ctl = self.controller
         limits = [self._asked_end]
         if goal.kind in ("to", "continue") and goal.target is not None:
@@ -235,13 +247,17 @@ class Timeline:
         if self.inputs:
             limits.append(self.inputs[0].position.cycle)
         limits = [c for c in limits if c is not None]
-        if limits and min(limits) <= ctl.cycle:
+        if limits and min(limits) - 1 <= ctl.cycle:
             self._one_cycle()
             return
-        until = min(limits) * ctl.cycle_time if limits else None
+        until = (min(limits) - 1) * ctl.cycle_time if limits else None
         self._trace(False)
-        if ctl.run(until) == STOPPED and not self._pause_asked:
+        result = ctl.run(until)
+        if result == STOPPED and not self._pause_asked:
             ctl.stop_requested = False  # a fault asked for a stop at this boundary
+        elif result == STOPPED and ctl.busy():
+            # a pause lands one cycle later, on a warm boundary (it is asked at any time)
+            self._one_cycle()
 
     def _finish(self) -> None:
         self.finished = True
