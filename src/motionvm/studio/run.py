@@ -181,7 +181,9 @@ class StudioRun:
             await self.notify("console", {"lines": lines})
         history, layout = self.history, self.layout
         if history is not None and layout is not None:
-            last = history.last_cycle
+            # the stream follows the debugger: after going back, the rows recorded before
+            # are sent again as the run passes them
+            last = min(history.last_cycle, self.engine.position().cycle) if self.engine else -1
             if last > self._sent_cycle:
                 names = list(dict.fromkeys(layout.scope + layout.path))
                 times, values = history.window(self._sent_cycle + 1, last, names, SCOPE_POINTS)
@@ -301,6 +303,7 @@ class StudioRun:
         """Move the debugger to the start of `cycle` (a replay if it is earlier)."""
         engine = self._idle()
         stop = await self._call(engine.go_to, Position(max(0, int(cycle))))
+        self._sent_cycle = min(self._sent_cycle, stop.position.cycle)
         await self._stopped(stop)
         return self.state()
 

@@ -61,11 +61,13 @@ def state_text(word: float | None) -> str:
 
 
 def default_scope(axes: int, names: list[str]) -> list[str]:
-    """Up to `DEFAULT_SCOPE` channels: the axes' feedback positions, then velocities,
-    then the outputs (the clock if the machine has none of them)."""
+    """Up to `DEFAULT_SCOPE` channels: the axes' feedback positions, their feedback and
+    command velocities; the outputs on a machine without axes (or else the clock)."""
     out = [f"axis{i}.pos_fb" for i in range(min(4, axes))]
     out += [f"axis{i}.vel_fb" for i in range(min(4, axes))]
-    out += [n for n in names if _OUTPUT.fullmatch(n)][: max(0, DEFAULT_SCOPE - len(out))]
+    out += [f"axis{i}.ref_vel" for i in range(axes)]
+    if not out:
+        out = [n for n in names if _OUTPUT.fullmatch(n)]
     return out[:DEFAULT_SCOPE] or [n for n in names if n == "system_timeInMs"][:1]
 
 
