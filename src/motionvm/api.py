@@ -28,7 +28,7 @@ from motionvm.debug import Breakpoint, BreakpointSpec, DebugEngine, Frame, Posit
 from motionvm.lang import CallError
 from motionvm.runtime.fault_position import Fault
 from motionvm.session import CompileFailed, RunResult, RunSpec, Session, SessionError, Source
-from motionvm.sim.controller import FINISHED, UNTIL, until_cycle
+from motionvm.sim.controller import FINISHED, FOREVER, UNTIL, until_cycle
 from motionvm.sim.machine import MachineConfig
 from motionvm.sim.scope import ScopeRecorder
 from motionvm.sim.variables import AxisState, Variables, WriteError
@@ -271,7 +271,9 @@ class Simulation:
         """Run until every part has finished, or until `until` seconds of simulated time
         (the run was meant to last that long), or until `timeout` seconds (it should have
         finished by then). Returns why it stopped: `reason` is "finished", "until",
-        "timeout" (or "stopped"), with `sim_time` and, if it did not finish,
+        "timeout", "forever" (nothing left in the run can change what every remaining
+        task waits on: it ends at once, exactly when it never can end) or "stopped", with
+        `sim_time` and, if it did not finish,
         `still_running`: each task, drive task, scenario and axis and where it waits.
         With `raise_faults`, raises `TaskFault` instead at the first fault."""
         self._not_serving("run")
@@ -324,10 +326,11 @@ class Simulation:
         if until is not None:
             target = Position(until_cycle(until, self.controller.cycle_time))
         stop = self.pause_reason = engine.resume_to(target)
-        reason = {"exited": FINISHED}.get(stop.reason, "paused")
+        reason = {"exited": FINISHED, "waits forever": FOREVER}.get(stop.reason, "paused")
         if target is not None and stop.reason == "goto":
             reason = UNTIL
-        return RunResult(reason, stop.time, [], until)
+        waiting = self.controller.still_running() if reason == FOREVER else []
+        return RunResult(reason, stop.time, waiting, until)
 
     # ------------------------------------------------------------ debugging
 

@@ -51,7 +51,7 @@ from motionvm.lang import (
 )
 from motionvm.runtime.scope import ScopeError
 from motionvm.runtime.waits import Waiting
-from motionvm.sim.controller import FINISHED, UNTIL, Controller
+from motionvm.sim.controller import FINISHED, FOREVER, UNTIL, Controller
 from motionvm.sim.machine import (
     DEFAULT_MACHINE,
     MachineConfig,
@@ -261,11 +261,13 @@ class RunResult:
 
     reason: str
     """FINISHED (nothing left to do), UNTIL (the end time came first), TIMEOUT (the run
-    had not finished by its timeout) or STOPPED (its output went away)."""
+    had not finished by its timeout), FOREVER (it never can: what every remaining part
+    waits on, nothing left in the run can change; without an end time or before the
+    timeout, never before `until`) or STOPPED (its output went away)."""
     sim_time: float
     """Simulated time at the end [s]."""
     still_running: list[Waiting]
-    """With UNTIL and TIMEOUT: every task, drive task, scenario and axis that had not
+    """With UNTIL, TIMEOUT and FOREVER: every task, drive task, scenario and axis that had not
     finished, with the place in the user's file where it waits (if one says it)."""
     end: float | None = None
     """The end time asked for [s]: `until` (or a GDL scenario's), or `timeout`."""
@@ -404,11 +406,13 @@ class Session:
             asked = end = timeout
         else:
             asked, end = self.end_time(until)
-        reason = self.controller.run(end, realtime=realtime, progress=progress)
+        reason = self.controller.run(
+            end, realtime=realtime, progress=progress, deadline=by_timeout
+        )
         self.finish()
         if reason == UNTIL and by_timeout:
             reason = TIMEOUT
-        waiting = self.controller.still_running() if reason in (UNTIL, TIMEOUT) else []
+        waiting = self.controller.still_running() if reason in (UNTIL, TIMEOUT, FOREVER) else []
         return RunResult(reason, self.controller.sim_time, waiting, asked)
 
     def end_time(self, until: float | None) -> tuple[float | None, float | None]:

@@ -4,7 +4,8 @@ from __future__ import annotations
 
 EXIT_OK, EXIT_RUNTIME, EXIT_COMPILE, EXIT_USAGE, EXIT_INTERNAL = 0, 1, 2, 3, 4
 EXIT_TIMEOUT = 124
-"""The run had not finished at `--timeout` (as timeout(1) exits)."""
+"""The run had not finished at `--timeout` (as timeout(1) exits), or it never can: what
+every task left waits on, nothing left in the run can change."""
 EXIT_INTERRUPTED = 130
 
 EXIT_CODES_HELP = f"""\
@@ -14,7 +15,7 @@ exit codes:
   {EXIT_COMPILE:<3}  compile errors (nothing runs)
   {EXIT_USAGE:<3}  bad command line, machine file, scenario or scope request
   {EXIT_INTERNAL:<3}  an internal error of motionvm (a bug; please report it)
-  {EXIT_TIMEOUT:<3}  the run had not finished at --timeout
+  {EXIT_TIMEOUT:<3}  the run had not finished at --timeout, or can never end
   {EXIT_INTERRUPTED:<3}  interrupted (Ctrl-C)"""
 """The exit-code table of `motionvm --help` and `motionvm run --help`."""
 

@@ -22,6 +22,7 @@ from motionvm.cli.interrupts import (
 from motionvm.cli.progress import RunProgress
 from motionvm.cli.progress import wanted as progress_wanted
 from motionvm.lang import LANGUAGES, LanguageInputError, language_of
+from motionvm.runtime.waits import never_ends
 from motionvm.session import (
     TIMEOUT,
     CompileFailed,
@@ -31,7 +32,7 @@ from motionvm.session import (
     Source,
     check,
 )
-from motionvm.sim.controller import UNTIL
+from motionvm.sim.controller import FOREVER, UNTIL
 
 
 def sources_of(args) -> list[Source]:
@@ -226,7 +227,7 @@ def _run_session(spec: RunSpec, sources, args, emit, started) -> int:
     _verdict(result, args)
     if sys.stderr.isatty():
         _summary(result, wall, faults)
-    if result.reason == TIMEOUT:
+    if result.reason in (TIMEOUT, FOREVER):
         return EXIT_TIMEOUT
     return EXIT_RUNTIME if faults else EXIT_OK
 
@@ -262,6 +263,10 @@ def _verdict(result, args) -> None:
             f"motionvm: error: the run did not finish within --timeout {args.timeout:g} s of "
             "simulated time"
         )
+    elif result.reason == FOREVER:
+        for line in never_ends(result.still_running, result.sim_time):
+            _report(line)
+
 
 
 def _interrupted(session: Session) -> None:

@@ -512,6 +512,8 @@ class DebugEngine:
         self.set_value(name, value)
 
     def apply_input(self, timeline: Timeline, entry: Input, pyframe=None) -> None:
+        self.controller.kernel.forget_records()  # (what a waiting task tests may change)
+        self.controller.jumps.forget()
         if entry.local is not None:
             frame = pyframe or timeline.paused_frame
             if frame is None or self.thread_key(frame) != entry.local[0]:

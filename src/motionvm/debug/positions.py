@@ -63,7 +63,8 @@ class Stop:
 
     reason: str
     """"entry", "breakpoint", "step", "pause", "exception", "data breakpoint", "goto",
-    "exited"."""
+    "waits forever" (nothing left can change what the run waits on: `text` says what
+    waits where), "exited"."""
     position: Position
     time: float
     """Simulated time of the position [s]."""

@@ -30,7 +30,8 @@ from dataclasses import dataclass
 
 from motionvm.debug.positions import Input, Position, Stop
 from motionvm.debug.tracer import LineTracer, is_user_file
-from motionvm.sim.controller import STOPPED, until_cycle
+from motionvm.runtime.waits import never_ends
+from motionvm.sim.controller import FOREVER, STOPPED, until_cycle
 
 
 class Abandon(SystemExit):
@@ -258,6 +259,9 @@ class Timeline:
         elif result == STOPPED and ctl.busy():
             # a pause lands one cycle later, on a warm boundary (it is asked at any time)
             self._one_cycle()
+        elif result == FOREVER and self._boundary_stop is None:  # stop, rather than spin
+            text = "\n".join(never_ends(ctl.still_running(), ctl.sim_time))
+            self._boundary_stop = self._stop_at_boundary("waits forever", text)
 
     def _finish(self) -> None:
         self.finished = True

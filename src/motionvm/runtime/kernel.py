@@ -221,6 +221,13 @@ class Kernel:
                 watched = None
         return wake, watched, watches
 
+    def forget_records(self) -> None:
+        """Something outside the tasks changed what they test (a debugger wrote a task's
+        local variable): no task is passed over by its `record` until it polls again."""
+        for t in self.active:
+            t.record = None
+        self._changed = True
+
     # ------------------------------------------------------------ one cycle
 
     def run_cycle(self) -> None:

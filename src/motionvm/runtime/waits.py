@@ -38,6 +38,23 @@ class Waiting:
             return f"motionvm: {severity}: {text}"
         return f"{self.file}:{self.line}:{self.col}: {severity}: {text}"
 
+    def forever(self) -> str:
+        """The error of a part that waits on what nothing left in the run can change:
+        `FILE:LINE:COL: error: task 0 waits forever: in Till`."""
+        why = f": {self.why}" if self.why else ""
+        where = "motionvm" if self.file is None else f"{self.file}:{self.line}:{self.col}"
+        return f"{where}: error: {self.who} waits forever{why}"
+
+
+def never_ends(waiting: list[Waiting], sim_time: float) -> list[str]:
+    """The errors of a run that can never end (`Controller.run`'s FOREVER): one per part
+    that waits, then what ended the run."""
+    return [w.forever() for w in waiting] + [
+        f"motionvm: error: the run can never end: at t={sim_time:g} s nothing left in it "
+        "(no scenario event, sleeping task, moving axis or listening server) can change what "
+        "it waits on"
+    ]
+
 
 def suspended_at(
     gen: Generator | None, is_user_file: Callable[[str], bool]

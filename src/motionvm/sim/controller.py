@@ -40,8 +40,9 @@ def until_cycle(until: float, cycle_time: float) -> int:
     return math.ceil(until / cycle_time - 1e-9)
 
 
-FINISHED, UNTIL, STOPPED = "finished", "until", "stopped"
-"""Why `Controller.run` returned."""
+FINISHED, UNTIL, STOPPED, FOREVER = "finished", "until", "stopped", "forever"
+"""Why `Controller.run` returned (FOREVER: nothing left can change, the run can never
+end)."""
 
 _NEVER = 1 << 62
 """A cycle no run reaches (`run` without a progress callback)."""
@@ -121,8 +122,8 @@ class Controller:
         motion = self.motion
         motion.begin_cycle()
         self.kernel.run_cycle()
+        self.jumps.after_tasks()  # (stepping too: a run that can never end is seen)
         if self.skip:
-            self.jumps.after_tasks()
             if (fold and not self._end_hooks and clients == self._hooked
                     and self.jumps.jump(end_cycle, after_tasks=True)):  # fmt: skip
                 self.cycles_computed += 1
@@ -168,11 +169,17 @@ class Controller:
         realtime: bool = False,
         progress: Callable[[float], None] | None = None,
         progress_every: int = 100,
+        deadline: bool = False,
     ) -> str:
         """Run until nothing is left to do, or until `until` seconds of simulated time;
         with `realtime`, never ahead of the wall clock (sim/pacer.py). Returns why it
         stopped: FINISHED (nothing left to do), UNTIL (the end time came first) or
-        STOPPED (`stop_requested`).
+        STOPPED (`stop_requested`), or FOREVER: no task, axis or client can change
+        anything any more (`JumpPlanner.never_changes`), while the run is not paced and
+        either has no end time or `until` is a `deadline` (a timeout: the run should have
+        finished by then, not merely lasted that long). Exact: a run that a scenario
+        event, a sleeping task, a moving axis or a listening server could still move on
+        goes on; identical with and without time skipping.
 
         `progress(sim_time)` [s], if given, is called between cycles: before the first,
         then once `progress_every` cycles have passed since the last call (a jump ahead
@@ -183,8 +190,12 @@ class Controller:
         pacer = RealTimePacer(self.sim_time) if realtime else None
         self.stop_requested = False
         self.jumps.forget()
+        ends = pacer is None and (deadline or end_cycle is None)  # a run that never can
+        self.jumps.deadline = ends and end_cycle is not None
         # while skipping, a task's status wait records the flags it read (sim/jumps.py)
-        self.kernel.recorder = self.motion if self.skip else None
+        # (stepping too, so that both see a run that can never end at the same cycle)
+        self.kernel.recorder = self.motion
+        kernel = self.kernel
         next_report = _NEVER if progress is None else clock.cycle
         active = self.kernel.active  # a running task keeps the run busy: no call
         try:
@@ -199,8 +210,14 @@ class Controller:
                     self.jumps.forget()  # a client may have written a variable meanwhile
                 if end_cycle is not None and clock.cycle >= end_cycle:
                     return UNTIL
-                if self.skip and self.jumps.jump(end_cycle):
-                    continue
+                if self.skip:
+                    if self.jumps.jump(end_cycle):
+                        continue
+                    never = self.jumps.never
+                else:  # the test a jump makes, alone
+                    never = (kernel.event_waits or not active) and self.jumps.never_changes()
+                if never and ends:
+                    return FOREVER
                 self.step(end_cycle, fold=pacer is None)  # (paced: a jump waits at its start)
             return FINISHED
         finally:

@@ -51,6 +51,11 @@ class JumpPlanner:
         """The status right after the tasks of the last computed cycle (None: unknown)."""
         self.jumps = 0
         """Jumps made so far (the cycles they covered were not computed)."""
+        self.never = False
+        """The last jump found that nothing can change any more (`never_changes`)."""
+        self.deadline = False
+        """The run's end cycle is a deadline, not a time to reach: a jump does not go to
+        it when nothing can change any more (the run ends as one that never can)."""
         self._take_clients(controller.clients)
 
     def _status(self) -> tuple:
@@ -95,6 +100,7 @@ class JumpPlanner:
         is then this cycle's motion phase and the k - 1 cycles after it."""
         ctl = self.controller
         cycle = ctl.clock.cycle
+        self.never = False
         limit = NEVER if end_cycle is None else end_cycle - cycle
         if limit <= after_tasks:  # (after the tasks, one cycle is no jump)
             return False
@@ -120,8 +126,9 @@ class JumpPlanner:
         if wake is not None:
             limit = min(limit, wake - cycle)
         if resting:
-            if wake is None and end_cycle is None:
-                return False  # nothing will ever change: step on (a timeout ends the run)
+            if wake is None and (end_cycle is None or self.deadline):
+                self.never = not after_tasks  # nothing will ever change (`never_changes`)
+                return False
             k = limit
         else:
             if self._observed:
@@ -142,6 +149,31 @@ class JumpPlanner:
         ctl.clock.cycle = cycle + k
         self.jumps += 1
         return True
+
+    def never_changes(self) -> bool:
+        """True if nothing of the run can change any more, at a cycle boundary of a run
+        with no input from outside (no pacing, no server): every axis rests, every
+        running task waits on an event that it would find false again if polled now
+        (`Kernel.wake_horizon`, the same test a jump passes tasks over by), no task
+        sleeps and no client has a next event. A jump would then go on forever: the
+        run can never end (`Controller.run` ends it as FOREVER)."""
+        ctl = self.controller
+        if not ctl.motion.at_rest():
+            return False
+        wake, _watched, _watches = ctl.kernel.wake_horizon(
+            ctl.clock.cycle, self._status_holds, "moving"
+        )
+        if wake is not None:
+            return False
+        for next_event in self._events_of(ctl.clients):
+            if next_event() is not None:
+                return False
+        return True
+
+    def _events_of(self, clients: list) -> list:
+        if clients != self._clients:
+            self._take_clients(clients)
+        return self._events
 
     def _status_holds(self) -> bool:
         """True if the status is what it was right after the tasks of the last computed
