@@ -406,9 +406,7 @@ class Session:
             asked = end = timeout
         else:
             asked, end = self.end_time(until)
-        reason = self.controller.run(
-            end, realtime=realtime, progress=progress, deadline=by_timeout
-        )
+        reason = self.controller.run(end, realtime=realtime, progress=progress, deadline=by_timeout)
         self.finish()
         if reason == UNTIL and by_timeout:
             reason = TIMEOUT

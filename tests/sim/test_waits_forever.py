@@ -63,7 +63,7 @@ def test_a_sleeping_task_runs_on(write_file):
 
 
 def test_a_task_that_sleeps_in_a_loop_is_no_wait_forever(write_file):
-    path = write_file("two.hmpl", 'void main(void) { Till(GetGPI(5)); }\n')
+    path = write_file("two.hmpl", "void main(void) { Till(GetGPI(5)); }\n")
     other = write_file("two.task1.hmpl", "_AUTORUN_ void main() { while (1) Sleep(100); }\n")
     with Simulation.from_files([path, other]) as sim:
         result = sim.run(timeout=1.0)
@@ -120,4 +120,3 @@ def test_the_debugger_stops_with_a_reason_instead_of_spinning(write_file):
         sim.write("gpi5", 1)  # an input of the paused run: the wait can end now
         assert sim.run().reason == "finished"
         assert sim.messages == ["start", "got 5"]
-

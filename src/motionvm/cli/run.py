@@ -268,7 +268,6 @@ def _verdict(result, args) -> None:
             _report(line)
 
 
-
 def _interrupted(session: Session) -> None:
     """Ctrl-C during a run: say so at once, with the simulated time it stopped at and the
     scope files still to write (the caller writes them: what was recorded up to the
