@@ -270,7 +270,8 @@ class StudioRun:
                 stop = await self._call(engine.resume_to, Position(target))
                 took = max(time.perf_counter() - started, 1e-4)
                 if self.speed is None:
-                    chunk = int(min(max(chunk * FRAME / took, 16), 1 << 22))
+                    # half a frame of running: the rest is for sending what it did
+                    chunk = int(min(max(chunk * FRAME / 2 / took, 16), 1 << 22))
                 rate = (stop.position.cycle - here) / took  # cycles per wall second
                 self.history.coarsen(math.ceil(rate / ROWS_PER_SECOND))
                 if stop.reason != "goto" or (end is not None and stop.position.cycle >= end):

@@ -1,0 +1,67 @@
+"""Benchmark: the studio's scope while a run goes faster than real time.
+
+Serves the studio on 127.0.0.1 for examples/05_pick_and_place (no scenario: after homing
+the program waits for its start input, so time skipping lets the run go far faster than
+real time), opens the page in Debian's chromium (headless, Playwright), presses Run and
+counts for WINDOW seconds of wall time the scope's redraws (8 channels) and the simulated
+time gone by. Prints `RESULT` lines: the scope's frames per second and the run's speed as
+a multiple of real time. Needs /usr/bin/chromium. Run: python bench/studio.py
+"""
+
+from __future__ import annotations
+
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))  # the test's server helper
+
+from playwright.sync_api import sync_playwright  # noqa: E402
+
+from tests.studio.studio_client import EXAMPLES, StudioServer  # noqa: E402
+
+WINDOW = 3.0
+"""Wall time measured [s]."""
+
+
+def main() -> None:
+    program = str(EXAMPLES / "05_pick_and_place.hmpl")
+    machine = str(EXAMPLES / "05_pick_and_place.toml")
+    with (
+        StudioServer([program], Path(tempfile.mkdtemp()), machine=machine) as server,
+        sync_playwright() as p,
+    ):
+        browser = p.chromium.launch(
+            executable_path="/usr/bin/chromium",
+            headless=True,
+            args=["--no-sandbox", "--disable-background-networking", "--disable-component-update"],
+        )
+        page = browser.new_page(viewport={"width": 1500, "height": 900})
+        page.goto(server.url)
+        page.wait_for_selector("body[data-ready=true]")
+        page.get_by_role("button", name="Run", exact=True).click()
+        page.get_by_role("log").get_by_text("waiting for start").wait_for()
+        read = "() => [studio.scope.frames, studio.state.time, studio.scope.channels.length]"
+        frames0, sim0, channels = page.evaluate(read)
+        sent0 = server.studio.run.frames
+        wall0 = time.perf_counter()
+        time.sleep(WINDOW)
+        frames1, sim1, _ = page.evaluate(read)
+        sent = server.studio.run.frames - sent0
+        wall = time.perf_counter() - wall0
+        page.get_by_role("button", name="Pause", exact=True).click()
+        browser.close()
+    fps = (frames1 - frames0) / wall
+    speed = (sim1 - sim0) / wall
+    print(
+        f"scope: {channels} channels, {fps:.1f} frames/s while the run went {speed:.0f}x real time"
+    )
+    print(f"(the server sent {sent / wall:.1f} updates/s)")
+    print(f"RESULT studio_scope_fps={fps:.1f}")
+    print(f"RESULT studio_run_speed_x_real_time={speed:.0f}")
+
+
+if __name__ == "__main__":
+    main()
