@@ -49,6 +49,7 @@ from motionvm.lang import (
     language_of,
     suffix_list,
 )
+from motionvm.lang.coverage import Coverage, collecting
 from motionvm.runtime.scope import ScopeError
 from motionvm.runtime.waits import Waiting
 from motionvm.sim.controller import FINISHED, FOREVER, UNTIL, Controller
@@ -124,6 +125,9 @@ class RunSpec:
     """The title of scope plots (the command line's files)."""
     werror: bool = False
     """Compiler warnings fail the compile like errors (`--Werror`)."""
+    coverage: bool = False
+    """Count the lines and `if` arms of every program file that run (`Session.coverage`,
+    lang/coverage.py): the programs are compiled with probes."""
 
 
 def load_machine_spec(machine: MachineConfig | str | Path | None) -> MachineConfig:
@@ -234,6 +238,14 @@ def compile_run(
     return programs, machine
 
 
+def _line_table(path: str):
+    """The line table of a program file, from its language (coverage's executable lines)."""
+    lang = language_of(path)
+    if lang is None:
+        raise LanguageInputError(f"{path}: no language")
+    return lang.line_table(path)
+
+
 WERROR_NOTE = "motionvm: all warnings being treated as errors (--Werror)"
 
 
@@ -294,7 +306,12 @@ class Session:
         self._emit = emit
         self._report = report
         base = load_machine_spec(spec.machine)
-        programs, machine = compile_run(spec, base, report)
+        self.coverage: Coverage | None = None
+        """The line and branch counters of the run (`RunSpec.coverage`), else None."""
+        if spec.coverage:
+            self.coverage = Coverage(_line_table)
+        with collecting(self.coverage):
+            programs, machine = compile_run(spec, base, report)
         self.machine = machine
         self.controller = ctl = Controller(machine.cycle_time, machine=machine)
         ctl.skip = spec.skip and os.environ.get("MOTIONVM_NO_SKIP", "") in ("", "0")

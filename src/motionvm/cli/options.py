@@ -103,6 +103,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     _werror(r)
     _scenario(r)
+    _cov_report(r)
     r.add_argument(
         "--scope",
         action="append",
@@ -292,6 +293,7 @@ def add_test_parser(sub) -> None:
         help="wall-clock time limit of one case (default 60 s; 90, 500ms, 2min)",
     )
     t.add_argument("--junitxml", metavar="FILE", help="also write a JUnit XML report")
+    _cov_report(t)
     t.add_argument("--dask", metavar="ADDRESS", help="run the cases on the Dask cluster at ADDRESS")
 
 
@@ -319,6 +321,17 @@ def add_serve_parser(sub) -> None:
         help="put the HMPL file FILE on task N (repeatable)",
     )
     _werror(s)
+
+
+def _cov_report(p: argparse.ArgumentParser) -> None:
+    p.add_argument(
+        "--cov-report",
+        action="append",
+        default=[],
+        metavar="FORMAT:PATH",
+        help="write the line and branch coverage of the programs: lcov:PATH (LCOV), "
+        "xml:PATH (Cobertura) or json:PATH (repeatable)",
+    )
 
 
 def _machine(p: argparse.ArgumentParser) -> None:

@@ -6,6 +6,7 @@ import os
 import sys
 import time
 
+from motionvm.cli.coverage import parse_reports
 from motionvm.cli.exits import (
     EXIT_COMPILE,
     EXIT_INTERRUPTED,
@@ -136,7 +137,13 @@ def cmd_compile(args) -> int:
     return EXIT_OK
 
 
+COVERAGE_SINK: list | None = None
+"""Set by a worker of `motionvm test`: each run's coverage data is appended to it (and
+the run counts coverage) instead of being written by `--cov-report`."""
+
+
 def cmd_run(args) -> int:
+    cov_reports = parse_reports(getattr(args, "cov_report", []))
     sources = sources_of(args)
     if not sources and not args.machine:
         raise UsageError("no input files")
@@ -154,6 +161,7 @@ def cmd_run(args) -> int:
         skip=not args.no_skip,
         scope_title=" ".join(list(args.files) + list(args.task)),
         werror=args.werror,
+        coverage=bool(cov_reports) or COVERAGE_SINK is not None,
     )
     sessions: list[Session] = []  # the session, once it exists
     gone = False  # stdout's reader went away
@@ -223,6 +231,7 @@ def _run_session(spec: RunSpec, sources, args, emit, started) -> int:
         # otherwise hold every run's program memory until a full garbage collection
         if session is not None:
             faults = session.fault_count
+            _save_coverage(session, args)
             session.close()
     _verdict(result, args)
     if sys.stderr.isatty():
@@ -230,6 +239,20 @@ def _run_session(spec: RunSpec, sources, args, emit, started) -> int:
     if result.reason in (TIMEOUT, FOREVER):
         return EXIT_TIMEOUT
     return EXIT_RUNTIME if faults else EXIT_OK
+
+
+def _save_coverage(session: Session, args) -> None:
+    """The run's coverage: to the test worker's sink, or written as `--cov-report` asks."""
+    if session.coverage is None:
+        return
+    data = session.coverage.data()
+    if COVERAGE_SINK is not None:
+        COVERAGE_SINK.append(data)
+    reports = parse_reports(getattr(args, "cov_report", []))
+    if reports:
+        from motionvm.cli.coverage import write_reports
+
+        write_reports(reports, data)
 
 
 def cmd_scope(args) -> int:

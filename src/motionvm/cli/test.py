@@ -61,6 +61,9 @@ def cmd_test(args) -> int:
     except CollectError as exc:
         raise UsageError(str(exc)) from None
     cases = select(found, args.k)
+    from motionvm.cli.coverage import parse_reports
+
+    cov_reports = parse_reports(args.cov_report)
     verbosity = args.verbose - args.quiet
     report = TextReport(sys.stdout, verbosity)
     where = f" on the Dask cluster at {args.dask}" if args.dask else ""
@@ -69,7 +72,8 @@ def cmd_test(args) -> int:
         print("no cases ran" if found else "no cases found", file=sys.stdout)
         return EXIT_NO_CASES
     start = time.perf_counter()
-    verdicts, stopped = _run(cases, args, jobs, report)
+    coverage: dict | None = {} if cov_reports else None
+    verdicts, stopped = _run(cases, args, jobs, report, coverage)
     wall_time = time.perf_counter() - start
     report.finish(verdicts, wall_time, stopped)
     if args.junitxml:
@@ -77,12 +81,20 @@ def cmd_test(args) -> int:
             write_junit(args.junitxml, verdicts, wall_time)
         except (OSError, ValueError) as exc:  # unreachable, or not an address
             raise UsageError(f"--junitxml {args.junitxml}: {exc.strerror or exc}") from None
+    if coverage is not None:
+        from motionvm.cli.coverage import write_reports
+
+        write_reports(cov_reports, coverage)
     return EXIT_RUNTIME if any(v.status in (FAILED, ERROR) for v in verdicts) else EXIT_OK
 
 
-def _run(cases: list[Case], args, jobs: int, report: TextReport) -> tuple[list[Verdict], bool]:
-    """Verdicts of the cases in order (a prefix with -x), and whether -x stopped the run."""
+def _run(
+    cases: list[Case], args, jobs: int, report: TextReport, coverage: dict | None = None
+) -> tuple[list[Verdict], bool]:
+    """Verdicts of the cases in order (a prefix with -x), and whether -x stopped the run.
+    `coverage`: the cases' coverage is merged into it."""
     from motionvm.cli import workers
+    from motionvm.lang.coverage import merge
 
     runnable = [i for i, c in enumerate(cases) if c.problem is None]
     done: dict[int, Verdict] = {i: judge(c, None, 0) for i, c in enumerate(cases) if c.problem}
@@ -104,7 +116,7 @@ def _run(cases: list[Case], args, jobs: int, report: TextReport) -> tuple[list[V
     subset = [cases[i] for i in runnable]
     if args.dask:
         try:
-            outcomes = workers.dask_outcomes(subset, args.dask, timeout)
+            outcomes = workers.dask_outcomes(subset, args.dask, timeout, coverage is not None)
             first = next(outcomes, None)
         except workers.DaskMissing:
             raise UsageError(
@@ -114,9 +126,11 @@ def _run(cases: list[Case], args, jobs: int, report: TextReport) -> tuple[list[V
             raise UsageError(f"--dask {args.dask}: cannot reach the scheduler: {exc}") from None
         stream = _chain(first, outcomes)
     else:
-        stream = workers.local_outcomes(subset, jobs, timeout)
+        stream = workers.local_outcomes(subset, jobs, timeout, coverage is not None)
     try:
         for k, outcome in stream:
+            if coverage is not None and outcome.coverage:
+                merge(coverage, outcome.coverage)
             i = runnable[k]
             done[i] = judge(cases[i], outcome, timeout)
             if flush():

@@ -59,6 +59,8 @@ class Outcome:
     timed_out: bool = False
     crashed: str | None = None
     """Why the worker running the case died (the case could not be judged)."""
+    coverage: dict | None = None
+    """The coverage data of the case's runs, merged (when asked for)."""
 
 
 def runs(case: Case) -> list[list[str]]:
@@ -72,20 +74,24 @@ def _combined(codes: list[int], expected: int) -> int:
     return next((c for c in codes if c != expected), codes[-1])
 
 
-def execute(case: Case) -> Outcome:
+def execute(case: Case, coverage: bool = False) -> Outcome:
     """Run `case` in this process: `motionvm run ARGV` (or `check`) in its folder, output
     captured. A restart runs only if the first run ended as expected; both share one data
-    folder."""
+    folder. `coverage`: the runs count coverage, merged into `Outcome.coverage`."""
+    from motionvm.cli import run as run_module
     from motionvm.cli.entry import run_command
     from motionvm.cli.run import cmd_check, cmd_run
+    from motionvm.lang.coverage import merge
 
     commands = {"run": cmd_run, "check": cmd_check}
     out, err = io.StringIO(), io.StringIO()
     cwd, data_env = os.getcwd(), os.environ.get("MOTIONVM_DATA_DIR")
     start = time.perf_counter()
     codes: list[int] = []
+    sink: list | None = [] if coverage else None
     with tempfile.TemporaryDirectory(prefix="motionvm-test-") as data:
         os.environ["MOTIONVM_DATA_DIR"] = data
+        run_module.COVERAGE_SINK = sink
         try:
             os.chdir(case.folder)
             with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
@@ -94,16 +100,24 @@ def execute(case: Case) -> Outcome:
                         break
                     codes.append(run_command(argv, commands[argv[0]]))
         finally:
+            run_module.COVERAGE_SINK = None
             os.chdir(cwd)
             if data_env is None:
                 os.environ.pop("MOTIONVM_DATA_DIR", None)
             else:
                 os.environ["MOTIONVM_DATA_DIR"] = data_env
     code = _combined(codes, case.expect.exit_code)
-    return Outcome(code, out.getvalue(), err.getvalue(), time.perf_counter() - start)
+    merged = None
+    if sink is not None:
+        merged = {}
+        for d in sink:
+            merge(merged, d)
+    return Outcome(
+        code, out.getvalue(), err.getvalue(), time.perf_counter() - start, coverage=merged
+    )
 
 
-def execute_subprocess(case: Case, timeout: float) -> Outcome:
+def execute_subprocess(case: Case, timeout: float, coverage: bool = False) -> Outcome:
     """Run `case` as `python -m motionvm run ARGV` in a child process (Dask workers)."""
     import motionvm
 
@@ -113,11 +127,15 @@ def execute_subprocess(case: Case, timeout: float) -> Outcome:
     start = time.perf_counter()
     codes: list[int] = []
     out, err = [], []
+    merged: dict | None = {} if coverage else None
     with tempfile.TemporaryDirectory(prefix="motionvm-test-") as data:
         env["MOTIONVM_DATA_DIR"] = data
+        cov_file = os.path.join(data, ".coverage.json")
         for argv in runs(case):
             if codes and codes[-1] != case.expect.exit_code:
                 break
+            if coverage and argv[0] == "run":
+                argv = [argv[0], "--cov-report", f"json:{cov_file}", *argv[1:]]
             left = timeout - (time.perf_counter() - start)
             try:
                 proc = subprocess.run(
@@ -138,8 +156,14 @@ def execute_subprocess(case: Case, timeout: float) -> Outcome:
             codes.append(proc.returncode)
             out.append(proc.stdout)
             err.append(proc.stderr)
+            if merged is not None and os.path.exists(cov_file):
+                from motionvm.cli.coverage import read_json
+                from motionvm.lang.coverage import merge
+
+                merge(merged, read_json(cov_file))
+                os.unlink(cov_file)
     code = _combined(codes, case.expect.exit_code)
-    return Outcome(code, "".join(out), "".join(err), time.perf_counter() - start)
+    return Outcome(code, "".join(out), "".join(err), time.perf_counter() - start, coverage=merged)
 
 
 def _text(data: bytes | str | None) -> str:
@@ -156,14 +180,15 @@ def _serve(conn: Connection) -> None:
 
     conn.send(_READY)
     while True:
-        case = conn.recv()
-        if case is None:
+        job = conn.recv()
+        if job is None:
             return
+        case, coverage = job
         try:
             for name in preload_modules([case]):  # before the case's clock starts
                 importlib.import_module(name)
             conn.send(_RUNNING)
-            conn.send(execute(case))
+            conn.send(execute(case, coverage))
         except Exception as exc:  # noqa: BLE001 — reported as the case's crash
             conn.send(Outcome(None, "", "", 0.0, crashed=f"{type(exc).__name__}: {exc}"))
 
@@ -182,14 +207,14 @@ class _Worker:
         self.started = 0.0
         self.timeout = 0.0
 
-    def send(self, index: int, case: Case, timeout: float) -> None:
+    def send(self, index: int, case: Case, timeout: float, coverage: bool = False) -> None:
         """Hand `case` over; its `timeout` starts when the worker says it runs it."""
         self.index = index
         self.timeout = timeout
         self.started = time.perf_counter()
         self.deadline = time.monotonic() + _START_TIMEOUT_S  # the imports of its languages
         try:
-            self.conn.send(case)
+            self.conn.send((case, coverage))
         except OSError:  # the worker died while idle: its sentinel reports it next
             pass
 
@@ -209,7 +234,7 @@ class _Worker:
 
 
 def local_outcomes(
-    cases: Sequence[Case], jobs: int, timeout: float
+    cases: Sequence[Case], jobs: int, timeout: float, coverage: bool = False
 ) -> Iterator[tuple[int, Outcome]]:
     """(index, outcome) of each case, in the order they finish, on `jobs` processes."""
     ctx = multiprocessing.get_context("spawn")  # a clean interpreter, whatever the parent did
@@ -220,7 +245,7 @@ def local_outcomes(
             for w in workers:
                 if w.ready and w.index is None and todo:
                     i = todo.pop()
-                    w.send(i, cases[i], timeout)
+                    w.send(i, cases[i], timeout, coverage)
             live = [w for w in workers if not w.ready or w.index is not None]
             wait_s = max(0.0, min(w.deadline for w in live) - time.monotonic())
             ready = set(wait([w.conn for w in live] + [w.process.sentinel for w in live], wait_s))
@@ -279,7 +304,7 @@ class DaskMissing(Exception):
 
 
 def dask_outcomes(
-    cases: Sequence[Case], address: str, timeout: float
+    cases: Sequence[Case], address: str, timeout: float, coverage: bool = False
 ) -> Iterator[tuple[int, Outcome]]:
     """(index, outcome) of each case, in the order they finish, on a Dask cluster."""
     try:
@@ -287,7 +312,7 @@ def dask_outcomes(
     except ImportError:
         raise DaskMissing() from None
     client = Client(address)
-    futures = [client.submit(execute_subprocess, c, timeout, pure=False) for c in cases]
+    futures = [client.submit(execute_subprocess, c, timeout, coverage, pure=False) for c in cases]
     index = {f.key: i for i, f in enumerate(futures)}
     try:
         for f in as_completed(futures):

@@ -5,16 +5,17 @@ Python call of the simulator pays for it), so coverage is compiled in instead: w
 `Coverage` collector is active (`collecting`, around a session's compile), each
 language compiles its lowered module through `compile_module`, which inserts a probe
 `_mv_cov[K] += 1` in front of the first Python statement of each user line in every
-statement list, and a probe at the start of each arm of an `if` statement of the
-user's (`LineTable.branches`):
+statement list, and counts each arm of an `if` statement of the user's
+(`LineTable.branches`) with the probe of the arm's first line, or one of its own:
 
-    if v_k == 1:                  ->   _mv_cov[3] += 1
-        g_total = g_total + 10         if v_k == 1:
-                                           _mv_cov[4] += 1          # branch 0 taken
-                                           _mv_cov[5] += 1          # line 8
+    if v_k == 1:                  ->   if v_k == 1:
+        g_total = g_total + 10             _mv_cov[3] += 1      # line 8, and arm 0
                                            g_total = g_total + 10
                                        else:
-                                           _mv_cov[6] += 1          # branch 1 taken
+                                           _mv_cov[4] += 1      # arm 1 (no else in the source)
+
+The `if` line itself needs no probe: its hits are the sum of its arms'. A loop of an
+`if` and one statement so costs one increment per iteration.
 
 What counts, in every language alike: a line's hits are the times a statement starting
 on it began (a loop's own line once each time the loop starts, its body's lines once
@@ -97,22 +98,29 @@ class Coverage:
                 out.append(stmt)
                 last = line
                 continue
+            branch = (isinstance(stmt, ast.If) and line in branches and line != parent
+                      and line not in ifs_seen)  # fmt: skip
             if (line is not None and line != last and line != parent and line in lines
                     and not isinstance(stmt, _NOT_PROBED)):  # fmt: skip
-                k = self._probe()
-                probes.lines.setdefault(line, []).append(k)
-                out.append(_increment(k, stmt))
+                if branch:  # the line's hits are its arms' (each counts one entry)
+                    probes.lines.setdefault(line, [])
+                else:
+                    k = self._probe()
+                    probes.lines.setdefault(line, []).append(k)
+                    out.append(_increment(k, stmt))
+                branch_counts_line = branch
+            else:
+                branch_counts_line = False
             if line is not None:
                 last = line
-            if (isinstance(stmt, ast.If) and line in branches and line != parent
-                    and line not in ifs_seen):  # fmt: skip
+            if branch:
                 ifs_seen.add(line)
-                arms = (self._probe(), self._probe())
-                probes.branches.setdefault(line, []).append(arms)
                 self._statements(stmt.body, line, lines, branches, probes)
                 self._statements(stmt.orelse, line, lines, branches, probes)
-                stmt.body.insert(0, _increment(arms[0], stmt))
-                stmt.orelse.insert(0, _increment(arms[1], stmt))
+                arms = (self._arm(stmt.body, stmt), self._arm(stmt.orelse, stmt))
+                probes.branches.setdefault(line, []).append(arms)
+                if branch_counts_line:
+                    probes.lines[line].extend(arms)
             else:
                 for name in ("body", "orelse", "finalbody"):
                     inner = getattr(stmt, name, None)
@@ -124,6 +132,18 @@ class Coverage:
                     self._statements(case.body, line, lines, branches, probes)
             out.append(stmt)
         body[:] = out
+
+    def _arm(self, body: list, at: ast.stmt) -> int:
+        """The counter of entries into the arm `body` of an `if`: the probe of its first
+        statement's line when it opens the arm (it counts exactly the entries), else a
+        probe of its own put first."""
+        if body:
+            k = _probe_index(body[0])
+            if k is not None:
+                return k
+        k = self._probe()
+        body.insert(0, _increment(k, at))
+        return k
 
     def data(self) -> dict:
         """{file: {"lines": {line: hits}, "branches": {line: [[arm 0, arm 1], ...]}}} of
@@ -152,6 +172,15 @@ def _increment(k: int, at: ast.AST) -> ast.stmt:
         part.lineno, part.col_offset = line, col  # type: ignore[attr-defined]
         part.end_lineno, part.end_col_offset = line, col  # type: ignore[attr-defined]
     return node
+
+
+def _probe_index(stmt: ast.stmt) -> int | None:
+    """K if `stmt` is a probe `_mv_cov[K] += 1`, else None."""
+    if isinstance(stmt, ast.AugAssign) and isinstance(stmt.target, ast.Subscript):
+        value = stmt.target.value
+        if isinstance(value, ast.Name) and value.id == COUNTS_NAME:
+            return stmt.target.slice.value  # type: ignore[attr-defined]
+    return None
 
 
 def _absolute(path: str) -> str:

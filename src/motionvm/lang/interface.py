@@ -179,6 +179,8 @@ class LineTable:
 
     file: str
     lines: frozenset[int]
+    branches: frozenset[int] = frozenset()
+    """The lines of `if` statements (coverage counts both arms of each)."""
 
     def next_line(self, line: int) -> int | None:
         """The first statement line at or after `line` (a breakpoint moves there)."""

@@ -28,12 +28,18 @@ def nodes(tree: object) -> Iterator[object]:
         stack.extend(reversed(children))
 
 
-def statement_lines(tree: object, kinds: tuple[type, ...], path: str) -> LineTable:
-    """The lines of `path` where a node of one of `kinds` (the statements) starts."""
+def statement_lines(
+    tree: object, kinds: tuple[type, ...], path: str, branch: type | None = None
+) -> LineTable:
+    """The lines of `path` where a node of one of `kinds` (the statements) starts, and
+    those where a `branch` node (the `if` statement) starts."""
     lines = set()
+    branches = set()
     for node in nodes(tree):
         if isinstance(node, kinds):
             pos = node.pos  # type: ignore[attr-defined]
             if pos is not None and pos.file == path:
                 lines.add(pos.line)
-    return LineTable(path, frozenset(lines))
+                if branch is not None and isinstance(node, branch):
+                    branches.add(pos.line)
+    return LineTable(path, frozenset(lines), frozenset(branches))

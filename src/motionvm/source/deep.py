@@ -11,6 +11,7 @@ are far below what such programs need.
 
 from __future__ import annotations
 
+import contextvars
 import sys
 import threading
 from collections.abc import Callable
@@ -35,11 +36,12 @@ def run_deep(fn: Callable[..., T], *args, **kwargs) -> T:
         return fn(*args, **kwargs)
     result: list = []
     error: list[BaseException] = []
+    context = contextvars.copy_context()  # the caller's context variables hold there too
 
     def target() -> None:
         _state.inside = True
         try:
-            result.append(fn(*args, **kwargs))
+            result.append(context.run(fn, *args, **kwargs))
         except BaseException as exc:  # noqa: BLE001 - handed to the caller
             error.append(exc)
 

@@ -168,7 +168,9 @@ class Gdl(Language):
         kinds = (n.Assign, n.OperatorCall, n.If, n.While, n.Return)
         tree = self._tree(path, text)
         return (
-            statement_lines(tree, kinds, path) if tree is not None else LineTable(path, frozenset())
+            statement_lines(tree, kinds, path, n.If)
+            if tree is not None
+            else LineTable(path, frozenset())
         )
 
     def symbols(self, path: str, text: str | None = None) -> list[Symbol]:

@@ -29,6 +29,7 @@ from __future__ import annotations
 import ast
 from collections.abc import Callable
 
+from motionvm.lang.coverage import bind, compile_module
 from motionvm.lang.gdl import nodes as n
 from motionvm.lang.gdl.app import App, ProcInfo
 from motionvm.source.deep import run_deep
@@ -204,8 +205,9 @@ def lower_app(app: App) -> dict[str, Callable[..., None]]:
     """Compile every procedure once; procedure name (case-folded) -> function."""
     functions: dict[str, Callable[..., None]] = {}
     for path, procs in _by_file(app).items():
-        code = compile(lower_file(procs), filename=path, mode="exec")
+        code = compile_module(lower_file(procs), path)
         namespace: dict[str, object] = {"__builtins__": {}}
+        bind(namespace, code)
         exec(code, namespace)  # noqa: S102 - our own generated, checked code
         for proc in procs:
             functions[proc.name.lower()] = namespace[function_name(proc)]  # type: ignore[assignment]

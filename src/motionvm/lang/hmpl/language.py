@@ -144,6 +144,7 @@ class Hmpl(Language):
     places_tasks = True
 
     def compile(self, sources: Sequence[Source], request: CompileRequest) -> CompileResult:
+        from motionvm.lang.coverage import active as coverage_active
         from motionvm.lang.hmpl.compiler import compile_tasks
         from motionvm.source.cache import CompileCache
 
@@ -152,7 +153,9 @@ class Hmpl(Language):
         if request.check_only:  # diagnostics only: nothing to keep
             prog, mem = compile_tasks(files, sink, bytecode=False)
         else:
-            prog, mem = compile_tasks(files, sink, cache=CompileCache.open("hmpl"))
+            # (a compile with coverage probes is neither taken from the cache nor kept)
+            cache = None if coverage_active() else CompileCache.open("hmpl")
+            prog, mem = compile_tasks(files, sink, cache=cache)
         return CompileResult((prog, mem) if prog is not None else None, list(sink.items))
 
     def dump(
@@ -219,6 +222,7 @@ class Hmpl(Language):
         kinds = (n.ExprStmt, n.If, n.While, n.DoWhile, n.For, n.Switch, n.Break, n.Continue,
                  n.Return, n.Goto)  # fmt: skip
         lines: set[int] = set()
+        branches: set[int] = set()
         for item in tree.items if tree is not None else ():
             if not isinstance(item, n.FuncDef) or item.body is None:
                 continue
@@ -228,7 +232,9 @@ class Hmpl(Language):
                 )
                 if executes and node.pos.file == path:
                     lines.add(node.pos.line)
-        return LineTable(path, frozenset(lines))
+                    if isinstance(node, n.If):
+                        branches.add(node.pos.line)
+        return LineTable(path, frozenset(lines), frozenset(branches))
 
     def symbols(self, path: str, text: str | None = None) -> list[Symbol]:
         from motionvm.lang.hmpl import nodes as n

@@ -17,6 +17,7 @@ import struct
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
+from motionvm.lang.coverage import compile_module
 from motionvm.lang.hmpl import catalog
 from motionvm.lang.hmpl import ctypes_ as ct
 from motionvm.lang.hmpl import nodes as n
@@ -707,7 +708,7 @@ class ProgramCompiler:
             mod = ast.Module(body, [])
             modules.append((fname, mod))
             if bytecode:
-                codes.append((fname, compile(mod, fname, "exec")))
+                codes.append((fname, compile_module(mod, fname)))
         globals_ = {k: v for k, v in self.global_scope.names.items() if isinstance(v, VarSym)}
         return CompiledProgram(self.tasks, modules, codes, self.sysvars, globals_)
 

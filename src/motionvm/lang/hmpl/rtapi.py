@@ -19,6 +19,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 from motionvm.io.commands import IOCommands
+from motionvm.lang.coverage import bind
 from motionvm.lang.hmpl.cmemory import Memory, TaskStack
 from motionvm.lang.hmpl.compiler import N_TASKS, STACK_SIZE, STATIC_SIZE
 from motionvm.lang.hmpl.lib import library_classes
@@ -107,6 +108,7 @@ class HmplRuntime(PassiveClient):
             for hname, (attr, _blocking) in lib.builtin_methods().items():
                 self.ns["b_" + hname] = getattr(lib, attr)
         for _fname, code in program.codes:
+            bind(self.ns, code)
             exec(code, self.ns)
         self.kernel.before_resume = self._resume_hook()
         self.kernel.on_fault = self._on_fault

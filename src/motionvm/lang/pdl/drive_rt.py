@@ -20,6 +20,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
+from motionvm.lang.coverage import bind
 from motionvm.lang.pdl.drive_axis import PdlAxis
 from motionvm.lang.pdl.drive_loop import run_phases
 from motionvm.lang.pdl.drive_ns import runtime_namespace
@@ -58,6 +59,7 @@ class Drive:
         self.phase = 0
         self.faults: list[str] = []
         ns = runtime_namespace(self)
+        bind(ns, program.code)
         exec(program.code, ns)  # noqa: S102 — our own generated code
         self._main = ns["_main"]
         self._slot = {

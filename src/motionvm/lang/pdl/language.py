@@ -172,7 +172,9 @@ class Pdl(Language):
                  n.Delay, n.Kill, n.SetState, n.Print, n.Loop, n.If, n.While, n.Till)  # fmt: skip
         tree = self._tree(path, text)
         return (
-            statement_lines(tree, kinds, path) if tree is not None else LineTable(path, frozenset())
+            statement_lines(tree, kinds, path, n.If)
+            if tree is not None
+            else LineTable(path, frozenset())
         )
 
     def symbols(self, path: str, text: str | None = None) -> list[Symbol]:

@@ -37,6 +37,7 @@ import ast
 from dataclasses import dataclass, field
 from types import CodeType
 
+from motionvm.lang.coverage import compile_module
 from motionvm.lang.pdl import nodes as n
 from motionvm.lang.pdl.drive_sysvars import SYS_BASE
 from motionvm.lang.pdl.lower_base import assign, const, nm, storage_kind, subscript
@@ -234,7 +235,7 @@ class ProgramLowering:
             if hasattr(node, "end_lineno"):
                 node.end_lineno = node.lineno
                 node.end_col_offset = node.col_offset
-        code = compile(module, filename=self.path, mode="exec")
+        code = compile_module(module, self.path)
         globals_: dict[str, GlobalVar] = {}
         kinds: list[tuple[int, int, int]] = []
         for g in self.syms.globals.values():
