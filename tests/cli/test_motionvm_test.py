@@ -16,6 +16,7 @@ import pytest
 
 from motionvm.cli import main
 from motionvm.cli.cases import Case, collect
+from motionvm.cli.exits import UsageError
 from motionvm.cli.test import select
 
 REPO = Path(__file__).resolve().parents[2]
@@ -331,8 +332,27 @@ def test_run_arguments_of_directives_and_companions(tmp_path: Path) -> None:
         ("not hmpl", ["pdl/stale.pdl"]),
         ("hmpl and not hello", ["hmpl/wrong.hmpl"]),
         ("stale or hello", ["hmpl/hello.hmpl", "pdl/stale.pdl"]),
+        ("(stale or hello) and not pdl", ["hmpl/hello.hmpl"]),
+        ("not (hello or wrong)", ["pdl/stale.pdl"]),
+        ("hmpl and (not hello)", ["hmpl/wrong.hmpl"]),
     ],
 )
 def test_k_expressions(expr: str, chosen: list[str]) -> None:
     cases = [Case(i, "/", ()) for i in ("hmpl/hello.hmpl", "hmpl/wrong.hmpl", "pdl/stale.pdl")]
     assert [c.id for c in select(cases, expr)] == chosen
+
+
+@pytest.mark.parametrize(
+    "expr, message",
+    [
+        ("(hello or", "expected a word, 'not' or '(' at the end"),
+        ("hello)", "unexpected ')' at column 6"),
+        ("hello and or x", "expected a word, 'not' or '(' at column 11, got 'or'"),
+        ("(a or b", "expected ')' at the end"),
+        ("   ", "empty expression"),
+    ],
+)
+def test_a_k_expression_that_does_not_parse_is_a_usage_error(expr: str, message: str) -> None:
+    cases = [Case("hmpl/hello.hmpl", "/", ())]
+    with pytest.raises(UsageError, match=re.escape(message)):
+        select(cases, expr)

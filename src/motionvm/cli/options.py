@@ -278,7 +278,12 @@ def add_test_parser(sub) -> None:
     t.add_argument(
         "files", nargs="*", metavar="PATH", help="files or folders (default: the current folder)"
     )
-    t.add_argument("-k", metavar="EXPR", help="only cases whose path contains EXPR ('not X' too)")
+    t.add_argument(
+        "-k",
+        metavar="EXPR",
+        help="only cases whose path matches EXPR: words (contained in the path), and, or, "
+        "not, parentheses ('(hmpl or pdl) and not slow')",
+    )
     t.add_argument("-x", "--exitfirst", action="store_true", help="stop at the first failure")
     t.add_argument("-q", "--quiet", action="count", default=0, help="less output")
     t.add_argument("-v", "--verbose", action="count", default=0, help="one line per case")

@@ -16,6 +16,7 @@ import time
 from motionvm.cli.cases import Case, CollectError, collect
 from motionvm.cli.exits import EXIT_OK, EXIT_RUNTIME, UsageError
 from motionvm.cli.judge import ERROR, FAILED, Verdict, judge
+from motionvm.cli.keywords import KeywordError, compile_keywords
 from motionvm.cli.report import TextReport, write_junit
 
 EXIT_NO_CASES = 5
@@ -23,28 +24,14 @@ EXIT_NO_CASES = 5
 
 
 def select(cases: list[Case], expr: str | None) -> list[Case]:
-    """The cases whose id matches `-k EXPR`: substrings joined by `and`, `or`, `not`."""
+    """The cases whose id matches `-k EXPR` (cli/keywords.py: words, `and`, `or`, `not`,
+    parentheses); UsageError for an expression that does not parse."""
     if not expr:
         return cases
-    alternatives = [
-        [term.strip() for term in alt.split(" and ")] for alt in f" {expr} ".split(" or ")
-    ]
-    for alt in alternatives:
-        for term in alt:
-            word = term[4:].strip() if term.startswith("not ") else term
-            if not word or " " in word:
-                raise UsageError(f"-k: cannot read '{expr}' (want WORD, 'not WORD', and, or)")
-
-    def matches(case_id: str) -> bool:
-        name = case_id.lower()
-        return any(
-            all(
-                (t[4:].strip().lower() not in name) if t.startswith("not ") else (t.lower() in name)
-                for t in alt
-            )
-            for alt in alternatives
-        )
-
+    try:
+        matches = compile_keywords(expr)
+    except KeywordError as exc:
+        raise UsageError(f"-k: cannot read '{expr}': {exc}") from None
     return [c for c in cases if matches(c.id)]
 
 
