@@ -9,7 +9,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 from motionvm.cli.cases import Case, Expectations
-from motionvm.cli.workers import Outcome
+from motionvm.cli.workers import Outcome, flood_message
 
 PASSED, FAILED, ERROR, XFAILED = "passed", "failed", "error", "xfailed"
 
@@ -62,6 +62,9 @@ def _judge(case: Case, outcome: Outcome | None, timeout: float) -> Verdict:
     t = outcome.wall_time
     if outcome.crashed is not None:
         return Verdict(case, ERROR, f"{command}\nthe worker running it died: {outcome.crashed}", t)
+    if outcome.flooded:
+        text = f"{command}\n{flood_message()}"
+        return Verdict(case, FAILED, text, t, _tail(outcome.stdout), _tail(outcome.stderr))
     if outcome.timed_out:
         text = f"{command}\ntimed out after {timeout:g} s of wall-clock time (--case-timeout)"
         return Verdict(case, FAILED, text, t, outcome.stdout, outcome.stderr)
@@ -70,6 +73,14 @@ def _judge(case: Case, outcome: Outcome | None, timeout: float) -> Verdict:
         return Verdict(case, PASSED, "", t)
     text = "\n".join([command, *problems])
     return Verdict(case, FAILED, text, t, outcome.stdout, outcome.stderr)
+
+
+_SHOWN = 4096
+"""Characters of a flooding case's output the report keeps (its end)."""
+
+
+def _tail(text: str) -> str:
+    return text if len(text) <= _SHOWN else "...\n" + text[-_SHOWN:]
 
 
 def problems_of(exp: Expectations, outcome: Outcome) -> list[str]:

@@ -6,7 +6,10 @@ A local worker runs one case at a time in its own process, through the command l
 of the case's languages, and only then does the case's wall-clock time limit start: it
 measures the case's own run, not a first import (over a second on a busy machine). A
 case that exceeds its limit has its worker killed and replaced while cases remain, so a
-program that never ends fails instead of hanging the suite.
+program that never ends fails instead of hanging the suite. A worker that dies (the
+out-of-memory killer's SIGKILL) is reported with the signal that killed it; a worker
+whose runner is gone (killed, even by SIGKILL) ends itself within a second; a case's
+captured output is bounded (`OUTPUT_LIMIT`): a flood ends the case and fails it.
 On a Dask cluster each case runs as `python -m motionvm run` in a subprocess of a Dask
 worker (the workers need motionvm installed and the same paths to the programs).
 """
@@ -22,6 +25,7 @@ import signal
 import subprocess
 import sys
 import tempfile
+import threading
 import time
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
@@ -37,6 +41,11 @@ _START_TIMEOUT_S = 120.0
 """Wall-clock time a new worker process may take to start and import motionvm [s]."""
 _RUN_MODULES = ("motionvm.cli.run", "motionvm.session")
 """What every run imports."""
+OUTPUT_LIMIT = 16 * 1024 * 1024
+"""Characters of stdout and stderr together a case may print before it is stopped."""
+_PARENT_POLL_S = 0.25
+"""How often a worker checks that its runner is still there [s]."""
+_PR_SET_PDEATHSIG = 1
 
 
 def preload_modules(cases: Sequence[Case]) -> tuple[str, ...]:
@@ -61,6 +70,38 @@ class Outcome:
     """Why the worker running the case died (the case could not be judged)."""
     coverage: dict | None = None
     """The coverage data of the case's runs, merged (when asked for)."""
+    flooded: bool = False
+    """The case printed more than OUTPUT_LIMIT characters and was stopped."""
+
+
+class OutputFlood(SystemExit):
+    """Raised by a case's captured output past OUTPUT_LIMIT: it ends the case's run (a
+    SystemExit, so that no task fault handler takes it for the program's own error)."""
+
+
+class _Bounded(io.StringIO):
+    """A capture of a case's output sharing one budget with the case's other stream."""
+
+    def __init__(self, budget: list[int]) -> None:
+        super().__init__()
+        self.budget = budget
+
+    def write(self, text: str) -> int:
+        left = self.budget[0]
+        if len(text) > left:
+            super().write(text[:left])
+            self.budget[0] = 0
+            raise OutputFlood(3)
+        self.budget[0] = left - len(text)
+        return super().write(text)
+
+
+def flood_message(limit: int = OUTPUT_LIMIT) -> str:
+    """Why a flooding case failed."""
+    return (
+        f"printed more than {limit // (1024 * 1024)} MB (stdout and stderr together, the "
+        "limit of a case's captured output): stopped; is it printing in an endless loop?"
+    )
 
 
 def runs(case: Case) -> list[list[str]]:
@@ -84,7 +125,9 @@ def execute(case: Case, coverage: bool = False) -> Outcome:
     from motionvm.lang.coverage import merge
 
     commands = {"run": cmd_run, "check": cmd_check}
-    out, err = io.StringIO(), io.StringIO()
+    budget = [OUTPUT_LIMIT]
+    out, err = _Bounded(budget), _Bounded(budget)
+    flooded = False
     cwd, data_env = os.getcwd(), os.environ.get("MOTIONVM_DATA_DIR")
     start = time.perf_counter()
     codes: list[int] = []
@@ -99,6 +142,8 @@ def execute(case: Case, coverage: bool = False) -> Outcome:
                     if codes and codes[-1] != case.expect.exit_code:
                         break
                     codes.append(run_command(argv, commands[argv[0]]))
+        except OutputFlood:
+            flooded = True
         finally:
             run_module.COVERAGE_SINK = None
             os.chdir(cwd)
@@ -106,6 +151,10 @@ def execute(case: Case, coverage: bool = False) -> Outcome:
                 os.environ.pop("MOTIONVM_DATA_DIR", None)
             else:
                 os.environ["MOTIONVM_DATA_DIR"] = data_env
+    if flooded:
+        return Outcome(
+            None, out.getvalue(), err.getvalue(), time.perf_counter() - start, flooded=True
+        )
     code = _combined(codes, case.expect.exit_code)
     merged = None
     if sink is not None:
@@ -172,10 +221,34 @@ def _text(data: bytes | str | None) -> str:
     return data or ""
 
 
-def _serve(conn: Connection) -> None:
+def _die_with(parent: int, by_signal: bool) -> None:
+    """End this process when `parent` is gone: on Linux at once (the kernel sends SIGKILL,
+    `by_signal`: the parent's main thread started us), and everywhere by a thread that
+    watches for being re-parented."""
+    if by_signal and sys.platform.startswith("linux"):
+        import ctypes
+
+        with contextlib.suppress(OSError, AttributeError):
+            libc = ctypes.CDLL(None, use_errno=True)
+            libc.prctl(_PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
+
+    def watch() -> None:
+        while os.getppid() == parent:
+            time.sleep(_PARENT_POLL_S)
+        os._exit(1)
+
+    if os.getppid() != parent:  # gone before we watched
+        os._exit(1)
+    threading.Thread(target=watch, name="motionvm-parent-watch", daemon=True).start()
+
+
+def _serve(conn: Connection, parent: int = 0, by_signal: bool = False) -> None:
     """A worker process: for each case it receives, import what the case needs, say it
-    runs, run it and send back its Outcome; None ends it."""
+    runs, run it and send back its Outcome; None ends it. It ends itself when `parent`
+    (its runner) is gone."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's to handle
+    if parent:
+        _die_with(parent, by_signal)
     import motionvm.cli.entry  # noqa: F401 — imported once, before the first case's clock starts
 
     conn.send(_READY)
@@ -198,7 +271,8 @@ class _Worker:
 
     def __init__(self, ctx) -> None:
         self.conn, child = ctx.Pipe()
-        self.process = ctx.Process(target=_serve, args=(child,), daemon=True)
+        by_signal = threading.current_thread() is threading.main_thread()
+        self.process = ctx.Process(target=_serve, args=(child, os.getpid(), by_signal), daemon=True)
         self.process.start()
         child.close()
         self.ready = False
@@ -268,7 +342,7 @@ def local_outcomes(
                 if dead or time.monotonic() >= w.deadline:
                     if w.index is None:
                         raise RuntimeError("a worker process of 'motionvm test' did not start")
-                    index, lost = w.index, _lost(w)
+                    index, lost = w.index, _lost(w, dead)
                     w.kill()
                     w.index = None  # a dead worker is not live: no case, and ready
                     if todo:  # a replacement only while cases wait for one
@@ -290,13 +364,28 @@ def _receive(conn: Connection):
         return None
 
 
-def _lost(w: _Worker) -> Outcome:
-    """The outcome of the case of a worker that timed out or died."""
+def _lost(w: _Worker, dead: bool) -> Outcome:
+    """The outcome of the case of a worker that timed out or died (`dead`: its pipe or
+    process said so; it may not have been reaped yet)."""
     elapsed = time.perf_counter() - w.started
-    if w.process.is_alive():
+    if not dead and w.process.is_alive():
         return Outcome(None, "", "", elapsed, timed_out=True)
-    w.process.join()
-    return Outcome(None, "", "", elapsed, crashed=f"worker exit code {w.process.exitcode}")
+    w.process.join(timeout=5)
+    return Outcome(None, "", "", elapsed, crashed=death(w.process.exitcode))
+
+
+def death(exitcode: int | None) -> str:
+    """How a worker process ended, for the report: its exit code or the signal's name."""
+    if exitcode is None:
+        return "it closed its pipe and did not exit"
+    if exitcode < 0:
+        try:
+            name = signal.Signals(-exitcode).name
+        except ValueError:
+            name = f"signal {-exitcode}"
+        hint = " (as the out-of-memory killer does)" if name == "SIGKILL" else ""
+        return f"killed by {name}{hint}"
+    return f"worker exit code {exitcode}"
 
 
 class DaskMissing(Exception):
