@@ -20,10 +20,14 @@ cruise speed, cruise, ramp to the exit speed, constant accelerations `a` (speedi
 and `d` (slowing down), landing exactly on the segment's end. The plan is redone from
 the present state when the exit speed, the velocity scale or a halt changes it.
 
+The path position of a cycle is the plan evaluated at a time counted from the cycle the
+plan began in (`_t0 + n * dt`, never a running sum), so that any cycle of a plan can be
+computed directly (`advance`, time skipping).
+
 The raw pose (the geometry at the path position) is averaged over the last N cycles,
 N = round(Ts / dt) (the smoothing time of 5.1: jerk = acceleration / Ts), in every
-coordinate: corners passed at speed are rounded over Ts instead of jolting the axes. The
-averaged pose then passes through `command_filter` (None, or a callable pose -> pose:
+coordinate (motion/group_average.py): corners passed at speed are rounded over Ts
+instead of jolting the axes. The averaged pose then passes through `command_filter` (None, or a callable pose -> pose:
 the hook where a group input shaper plugs in; see `PathPlanner.command_filter`) and is
 the group's commanded pose.
 """
@@ -32,6 +36,8 @@ from __future__ import annotations
 
 import math
 from collections import deque
+
+from motionvm.motion.group_average import PoseAverage
 
 IDLE, RUN, BRAKE, PAUSED = "idle", "run", "brake", "paused"
 
@@ -134,7 +140,8 @@ class PathPlanner:
         """Path length [unit] of the segments finished since the path last started from rest."""
         self._pieces: list[tuple] = []
         self._pi = 0
-        self._t = 0.0
+        self._t0 = 0.0  # the plan's time [s] at cycle 0 of it
+        self._n = 0  # cycles since the plan began: its time is _t0 + _n * dt
         self._dur = 0.0
         self._v_exit = 0.0
         self._stopping = False
@@ -151,10 +158,7 @@ class PathPlanner:
         shaper); it may have a `busy` attribute, True while its output would still change
         with a constant input (a shaper's tail), which keeps the group moving."""
         self._n_avg = 1
-        self._window: deque[list[float]] = deque()
-        self._sums: list[float] = []
-        self._flush = 0
-        self._reset_window(self.raw)
+        self._avg = PoseAverage(1, self.raw)
         self.out = list(pose)
         """The commanded pose of the last cycle (smoothed, filtered)."""
         self.out_vel = [0.0] * len(self.raw)
@@ -168,7 +172,7 @@ class PathPlanner:
     def active(self) -> bool:
         """True while the path moves or the smoothing (or the command filter: its `busy`)
         still changes the output."""
-        return (self.mode != IDLE or self._flush < self._n_avg or any(self.out_vel)
+        return (self.mode != IDLE or self._avg.flush < self._n_avg or any(self.out_vel)
                 or getattr(self.command_filter, "busy", False))  # fmt: skip
 
     @property
@@ -204,9 +208,7 @@ class PathPlanner:
         self._reset_window(pose)
 
     def _reset_window(self, pose) -> None:
-        self._window = deque([list(pose)] * self._n_avg)
-        self._sums = [x * self._n_avg for x in pose]
-        self._flush = self._n_avg
+        self._avg = PoseAverage(self._n_avg, pose)
 
     # ---- the queue ------------------------------------------------------------------
 
@@ -406,7 +408,8 @@ class PathPlanner:
     def _set_pieces(self, pieces, duration) -> None:
         self._pieces = pieces
         self._pi = 0
-        self._t = 0.0
+        self._t0 = 0.0
+        self._n = 0
         self._dur = duration
 
     def _replan(self) -> None:
@@ -453,7 +456,8 @@ class PathPlanner:
             if not self._dwell:
                 self._replan()
             return
-        t = self._t + self.dt
+        n = self._n + 1
+        t = self._t0 + n * self.dt
         q = self.queue
         if self.mode == BRAKE:
             if t >= self._dur:
@@ -468,7 +472,7 @@ class PathPlanner:
                 self.s_done += q.popleft().length
             if q and u >= q[0].length:
                 u = q[0].length
-            self._t, self.u, self.v, self.acc = t, u, v, acc
+            self._n, self.u, self.v, self.acc = n, u, v, acc
             if done:
                 if self._stopping or not q:
                     self._stopping = False
@@ -478,6 +482,7 @@ class PathPlanner:
             return
         while t >= self._dur:
             t -= self._dur
+            n = 0  # the next plan's time starts at the remainder t
             v_in = self._v_exit
             seg = q.popleft()
             self.s_done += seg.length
@@ -494,7 +499,10 @@ class PathPlanner:
                 self._dwell = self._n_avg - 1
                 return
             self._replan()
-        self._t = t
+        if n:
+            self._n = n
+        else:
+            self._t0, self._n = t, 0
         self.u, self.v, self.acc = self._eval(t)
 
     def _finish_at(self, u: float) -> None:
@@ -526,29 +534,8 @@ class PathPlanner:
         return self._smooth()
 
     def _smooth(self) -> list[float]:
-        raw = self.raw
-        n_avg = self._n_avg
         prev = self.out
-        if n_avg == 1:
-            out = list(raw)
-        else:
-            window = self._window
-            old = window.popleft()
-            window.append(raw)  # raw poses are never changed in place
-            sums = self._sums
-            for k, x in enumerate(raw):
-                sums[k] += x - old[k]
-            if self.mode == IDLE:
-                self._flush += 1
-            else:
-                self._flush = 0
-            if self._flush >= n_avg:
-                out = list(raw)
-                self._sums = [x * n_avg for x in raw]
-            else:
-                out = [s / n_avg for s in sums]
-        if self.mode == IDLE and n_avg == 1:
-            self._flush = 1
+        out = self._avg.step(self.raw, self.mode == IDLE)  # (raw poses are never changed in place)
         if self.command_filter is not None:
             out = self.command_filter(out)
         inv = self._inv_dt
