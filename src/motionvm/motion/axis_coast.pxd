@@ -32,4 +32,9 @@ cpdef _settle_cycles(AxisCycle a, k, e, list feedback)
 @cython.locals(d=Cia402Drive)
 cpdef _advance_smoothed(AxisCycle a, k)
 @cython.locals(d=Cia402Drive)
-cpdef _land(AxisCycle a, k, list demands, line, x_1, x, v_1)
+cpdef _land(AxisCycle a, k, list demands, line, x_1, x, v_1, ref=*)
+@cython.locals(d=Cia402Drive)
+cpdef bint following(AxisCycle a, link) except -1
+cpdef bint clear_following(AxisCycle a, lo, hi, v_top) except -1
+@cython.locals(d=Cia402Drive)
+cpdef coast_following(AxisCycle a, k, list ps, tuple ref)

@@ -59,9 +59,11 @@ MAX_COAST = 1 << 20
 """Most cycles one advance covers (a jog can coast on forever)."""
 
 _PG = 0  # axis_cycle.PG
+_EXT = 4  # axis_cycle.EXT
 _FS_HW_LIMITS = st.FS_HW_RIGHT | st.FS_HW_LEFT
 
-__all__ = ["MAX_COAST", "MIN_COAST", "NEVER", "coast", "coast_cycles", "feedback_after"]
+__all__ = ["MAX_COAST", "MIN_COAST", "NEVER", "clear_following", "coast", "coast_cycles",
+           "coast_following", "feedback_after", "following"]
 
 
 def _common(a) -> bool:
@@ -361,16 +363,53 @@ def _advance_smoothed(a, k: int) -> None:
           (x_1 - x_2) / a.dt)  # fmt: skip
 
 
+def following(a, link) -> bool:
+    """True if axis `a` follows reference provider `link` (an axis group's) on the
+    common path, in region I (`moving`: the provider keeps it there while it moves),
+    so that its cycle is the reference's counts through a steady CSP drive and ideal
+    motor, and nothing of its status changes (see `_common`)."""
+    if not (a.enabled and a.moving and a._reference_source == _EXT and a._provider is link):
+        return False
+    if a._cmd_path is not None:
+        return False
+    if (a._enabling or a._fault_reset_cycles is not None or a._command_queue
+            or a._deferred_move is not None or a.op_mode != MODE_CSP
+            or a.fault_status & _FS_HW_LIMITS):  # fmt: skip
+        return False
+    d = a.drive
+    return type(d) is Cia402Drive and d.steady()
+
+
+def clear_following(a, lo: float, hi: float, v_top: float) -> bool:
+    """True if the reference of axis `a` (`following`) between lo and hi [mm], at
+    speeds up to v_top [mm/s], trips no limit and no position error (`_clear`)."""
+    return _clear(a, lo, hi, v_top)
+
+
+def coast_following(a, k: int, ps: list, ref: tuple) -> None:
+    """Advance axis `a` (`following`) by k cycles (k >= delay_cycles + 3), as k steps
+    would: `ps` are its references [mm] of cycles k - delay_cycles - 2 .. k, `ref` the
+    reference (position, velocity, acceleration) of the last."""
+    d = a.drive
+    delay = d.mechanics.delay_cycles
+    cpu, off = a.cpu, a._slave_offset
+    demands = [d.demand_for(((p + off) * cpu).__round__()) for p in ps]
+    x_2, x_1 = demands[0], demands[1]
+    _land(a, k, demands, demands[3:] if delay != 1 else None, x_1, demands[2],
+          (x_1 - x_2) / a.dt, ref)  # fmt: skip
+
+
 def _land(a, k: int, demands: list, line: list | None, x_1: float, x: float,
-          v_1: float) -> None:  # fmt: skip
-    """The end of an advance of axis `a` by `k` cycles: its reference, the generator's
-    output now; the drive's target from it and its demand, the last of `demands` (after
+          v_1: float, ref: tuple | None = None) -> None:  # fmt: skip
+    """The end of an advance of axis `a` by `k` cycles: its reference `ref`, or the
+    generator's output now; the drive's target from it and its demand, the last of `demands` (after
     the one before it); the motor's delay line `line` (None: kept) and its last cycle
     from x_1 to x [counts] (v_1: its velocity [counts/s] the cycle before); the axis's
     feedback, as `Axis.step` takes it."""
     d = a.drive
     a._cycle += k
-    ref = a.pg._out
+    if ref is None:
+        ref = a.pg._out
     a.ref_pos, a.ref_vel, a.ref_acc = ref
     demand = demands[-1]
     d.land(((ref[0] + a._slave_offset) * a.cpu).__round__(), demand,

@@ -498,7 +498,15 @@ class AxisCycle:
         if self._cmd_path is not None and not self._cmd_path.may_rest():
             return False
         if self.enabled:
-            return self.in_pos and self._reference_source == PG and not self._command_queue
+            if not self.in_pos or self._command_queue:
+                return False
+            src = self._reference_source
+            if src != EXT:
+                return src == PG
+            # a provider with `holds_still` (an axis group) wakes its axes when its
+            # reference moves again; the others keep their axes stepping
+            holds_still = getattr(self._provider, "holds_still", None)
+            return holds_still is not None and holds_still(self)
         return True
 
     def _snapshot(self) -> tuple:

@@ -4,6 +4,9 @@ A provider is any object with `reference(axis) -> (ref_pos [mm], ref_vel [mm/s],
 ref_acc [mm/s²])`, called once per cycle in the axis's reference phase instead of the
 profile generator. `release()` hands the axis back to its profile generator at the
 provider's last reference position; a provider brings the axis to rest before it lets go.
+A provider may have `moving(axis)` (region I of the axis, else always) and
+`holds_still(axis)` (True: its reference stands still, the axis may rest; it wakes the
+axis when the reference moves again; without it the axis never rests).
 """
 
 from __future__ import annotations

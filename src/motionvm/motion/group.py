@@ -129,6 +129,11 @@ class GroupLink:
     def moving(self, axis) -> bool:
         return self.group.planner.active
 
+    def holds_still(self, axis) -> bool:
+        """True while the group's reference stands still: its axes may rest (the group
+        wakes them when its path moves again, `AxisGroup.step`)."""
+        return not self.group.planner.active
+
 
 class AxisGroup:
     """One axis group (see the module docstring)."""
@@ -338,6 +343,11 @@ class AxisGroup:
                 and all(a.in_pos for a in self.axes))  # fmt: skip
 
     @property
+    def error_stop(self) -> bool:
+        """IsGrpErrorStop: an axis left the group's reference; ResetGroup clears it."""
+        return self.state == ERROR_STOP
+
+    @property
     def motion_status(self) -> int:
         s = 0
         if self.state != DISABLED:
@@ -428,6 +438,9 @@ class AxisGroup:
             if self.state in (MOVING, STOPPING):
                 self.state = STANDBY
             return
+        for a in self.axes:  # (a resting axis steps again from this cycle on)
+            if a.resting:
+                a.wake()
         out = planner.step()
         vel, acc = planner.out_vel, planner.out_acc
         self.joint_ref = list(zip(out, vel, acc))

@@ -90,6 +90,15 @@ class Segment:
         """Smallest radius of curvature [mm] (inf for a line)."""
         return math.inf
 
+    def bounds(self) -> tuple[list[float], list[float]]:  # pragma: no cover - abstract
+        """(lowest, highest) value of each coordinate over the whole segment, or wider."""
+        raise NotImplementedError
+
+    def rates(self) -> list[float]:  # pragma: no cover - abstract
+        """The largest |d x_i / d f| of each coordinate over the segment, or larger
+        (inf where it cannot be bounded)."""
+        raise NotImplementedError
+
     def sub(self, f_0: float, f_1: float) -> Segment:  # pragma: no cover - abstract
         """The part of the segment between fractions f_0 and f_1, as a segment."""
         raise NotImplementedError
@@ -121,6 +130,13 @@ class Line(Segment):
 
     def sub(self, f_0: float, f_1: float) -> Line:
         return Line(self.point(f_0), self.point(f_1))
+
+    def bounds(self) -> tuple[list[float], list[float]]:
+        return ([min(a, b) for a, b in zip(self.start, self.end)],
+                [max(a, b) for a, b in zip(self.start, self.end)])  # fmt: skip
+
+    def rates(self) -> list[float]:
+        return [abs(d) for d in self._d]
 
 
 class Arc(Segment):
@@ -195,6 +211,20 @@ class Arc(Segment):
     @property
     def radius(self) -> float:
         return min(self.r, self.r + self._dr)
+
+    def bounds(self) -> tuple[list[float], list[float]]:
+        k = min(self.n, 3)
+        reach = max(self.r, self.r + self._dr) + abs(self._h)
+        lo = [c - reach for c in self.center[:k]]
+        hi = [c + reach for c in self.center[:k]]
+        lo += [min(a, b) for a, b in zip(self.start[3:], self.end[3:])]
+        hi += [max(a, b) for a, b in zip(self.start[3:], self.end[3:])]
+        return lo, hi
+
+    def rates(self) -> list[float]:
+        k = min(self.n, 3)
+        rate = max(self.r, self.r + self._dr) * abs(self.phi) + abs(self._dr) + abs(self._h)
+        return [rate] * k + [abs(d) for d in self._rotd]
 
     def sub(self, f_0: float, f_1: float) -> Arc:
         a0 = f_0 * self.phi
@@ -272,6 +302,24 @@ class Polyline(Segment):
             if turn > 1e-12:
                 r = min(r, min(_norm(_sub(b[:k], a[:k])), _norm(_sub(c[:k], b[:k]))) / turn)
         return r
+
+    def bounds(self) -> tuple[list[float], list[float]]:
+        cols = list(zip(*self._pts))
+        return [min(c) for c in cols], [max(c) for c in cols]
+
+    def rates(self) -> list[float]:
+        lt = self.lt
+        if lt == 0.0:  # (the pose jumps to the end at f = 1)
+            return [0.0 if a == b else math.inf for a, b in zip(self.start, self.end)]
+        out = [0.0] * self.n
+        for a, b, c_0, c_1 in zip(self._pts, self._pts[1:], self._cum, self._cum[1:]):
+            span = c_1 - c_0
+            for i, (x, y) in enumerate(zip(a, b)):
+                if x != y:
+                    r = abs(y - x) / span * lt if span > 0.0 else math.inf
+                    if r > out[i]:
+                        out[i] = r
+        return out
 
     def sub(self, f_0: float, f_1: float) -> Polyline:
         return Polyline([self.point(f_0), self.point(f_1)])

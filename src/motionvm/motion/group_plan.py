@@ -265,7 +265,7 @@ class PathPlanner:
         q = self.queue
         if stale is None or not q:
             return False
-        if stale.s0 + stale.length - (q[0].s0 + self.u) > self._horizon() + self._v_hi * self.dt:
+        if self._far(self.u):
             return False
         return self._catch_up()
 
@@ -449,6 +449,23 @@ class PathPlanner:
         x = t - t_0
         return u_0 + (v_0 + 0.5 * a * x) * x, v_0 + a * x, a
 
+    def _eval_at(self, t: float) -> float:
+        """The path position [unit] `_eval(t)` gives, for t at or after the present
+        time, leaving the piece index as it is."""
+        pieces = self._pieces
+        i = self._pi
+        while i < len(pieces) and t >= pieces[i][1]:
+            i += 1
+        if i >= len(pieces):
+            if pieces:
+                t_0, t_1, u_0, v_0, a = pieces[-1]
+                x = t_1 - t_0
+                return u_0 + (v_0 + 0.5 * a * x) * x
+            return self.u
+        t_0, _t_1, u_0, v_0, a = pieces[i]
+        x = t - t_0
+        return u_0 + (v_0 + 0.5 * a * x) * x
+
     def _advance(self) -> None:
         """The path position of the next cycle (RUN or BRAKE)."""
         if self._dwell:
@@ -532,6 +549,125 @@ class PathPlanner:
                 length = seg.length
                 self.raw = seg.geom.point(self.u / length) if length > 0.0 else list(seg.geom.end)
         return self._smooth()
+
+    # ---- closed-form advance (time skipping: motion/group_coast.py) -----------------
+
+    def coast_room(self, wanted: int) -> int:
+        """How many cycles (at most `wanted`) `advance` can compute from now, in which
+        the planner stays active and nothing but its position and output changes: the
+        path runs on inside its segment (up to the cycle before the segment ends, and
+        before a deferred backward pass comes due), or rests on a corner (up to the
+        cycle before the next segment starts), halted, or while its smoothing flushes
+        (up to the cycle before the output stands on the end). 0: step it. A command
+        filter (a group input shaper) is stepped."""
+        if self.command_filter is not None or wanted <= 0:
+            return 0
+        mode = self.mode
+        if mode == IDLE:
+            return max(0, min(wanted, self._n_avg - 1 - self._avg.flush))
+        if mode == PAUSED:
+            return wanted
+        if mode != RUN:
+            return 0
+        if self._dwell:  # (each step of a dwell tests the same position)
+            if self._stale is not None and not self._far(self.u):
+                return 0
+            return min(wanted, self._dwell - 1)
+        if not self.queue[0].length > 0.0:
+            return 0
+        dt, t_0, n_0, dur = self.dt, self._t0, self._n, self._dur
+        c = int((dur - t_0) / dt) - n_0
+        if c > wanted + 1:
+            c = wanted + 1
+        while c > 0 and t_0 + (n_0 + c) * dt >= dur:
+            c -= 1
+        k = min(wanted, c)
+        if self._stale is not None and k > 0:
+            # step i tests the position of cycle i - 1 (`_maybe_catch_up`); the position
+            # grows, so the first step that finds it near ends the room
+            def far(i: int) -> bool:
+                return self._far(self.u if i == 0 else self._eval_at(t_0 + (n_0 + i) * dt))
+
+            if not far(k - 1):
+                if not far(0):
+                    return 0
+                lo, hi = 0, k - 1  # far(lo) holds, far(hi) does not
+                while hi - lo > 1:
+                    mid = (lo + hi) // 2
+                    if far(mid):
+                        lo = mid
+                    else:
+                        hi = mid
+                k = lo + 1  # steps 1 .. lo + 1 test positions 0 .. lo
+        return k
+
+    def _far(self, u: float) -> bool:
+        """True if `_maybe_catch_up` at path position u leaves the deferred pass waiting."""
+        stale, q = self._stale, self.queue
+        return stale.s0 + stale.length - (q[0].s0 + u) > self._horizon() + self._v_hi * self.dt
+
+    def coast_bounds(self) -> tuple[list[float], list[float], list[float]] | None:
+        """(lowest, highest value of each coordinate, its highest speed [unit/s]) of the
+        commanded poses of the cycles `coast_room` allows, or wider; None if unknown.
+        The output averages the raw poses of the window and of the advance: within
+        their range, and no faster than they move."""
+        window = self._avg.window
+        j = self._avg.j
+        ordered = window[j:] + window[:j]
+        cols = list(zip(*ordered))
+        lo = [min(c) for c in cols]
+        hi = [max(c) for c in cols]
+        inv = self._inv_dt
+        speed = [max((abs(b - a) for a, b in zip(c, c[1:])), default=0.0) * inv for c in cols]
+        if self.mode == RUN and not self._dwell:
+            seg = self.queue[0]
+            if not seg.length > 0.0:
+                return None
+            s_lo, s_hi = seg.geom.bounds()
+            v_top = abs(self.v)
+            for _t0, _t1, _u0, v_0, a in self._pieces[self._pi:]:
+                v_top = max(v_top, abs(v_0), abs(v_0 + a * (_t1 - _t0)))
+            rates = seg.geom.rates()
+            scale = v_top / seg.length
+            for i, r in enumerate(rates):
+                lo[i] = min(lo[i], s_lo[i])
+                hi[i] = max(hi[i], s_hi[i])
+                speed[i] = max(speed[i], r * scale)
+        return lo, hi, speed
+
+    def advance(self, k: int, back: int) -> list[list[float]]:
+        """Advance k cycles (k <= `coast_room(k)`, k > back >= 2) as k `step`s would;
+        returns the commanded poses of cycles k - back .. k (the last is `out`)."""
+        mode = self.mode
+        if mode == RUN and not self._dwell:
+            dt, t_0, n_0 = self.dt, self._t0, self._n
+            seg = self.queue[0]
+            geom, length = seg.geom, seg.length
+            eval_at = self._eval_at
+
+            def raw_at(c: int) -> list[float]:
+                return geom.point(eval_at(t_0 + (n_0 + c) * dt) / length)
+
+            outs = self._avg.advance(k, raw_at, False, back)
+            self._n = n_0 + k
+            self.u, self.v, self.acc = self._eval(t_0 + (n_0 + k) * dt)
+            self.raw = geom.point(self.u / length)
+        else:
+            if mode == RUN:  # resting on a corner: the raw pose is that of the path position
+                self._dwell -= k
+                seg = self.queue[0]
+                length = seg.length
+                self.raw = seg.geom.point(self.u / length) if length > 0.0 else list(seg.geom.end)
+            raw = self.raw
+            outs = self._avg.advance(k, lambda c: raw, mode == IDLE, back)
+        inv = self._inv_dt
+        p_2, p_1, out = outs[-3], outs[-2], outs[-1]
+        v_1 = [(x - y) * inv for x, y in zip(p_1, p_2)]
+        vel = [(x - y) * inv for x, y in zip(out, p_1)]
+        self.out_acc = [(x - y) * inv for x, y in zip(vel, v_1)]
+        self.out_vel = vel
+        self.out = out
+        return outs
 
     def _smooth(self) -> list[float]:
         prev = self.out

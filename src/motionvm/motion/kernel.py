@@ -25,7 +25,7 @@ the axes; their last errors live here too (`group_last_error`).
 from __future__ import annotations
 
 from motionvm.drives.dictionary import SlaveDirectory
-from motionvm.motion import axis_coast, config_axis, config_group
+from motionvm.motion import axis_coast, config_axis, config_group, group_coast
 from motionvm.motion import axis_status as st
 from motionvm.motion.axis import Axis
 from motionvm.motion.axis_config import AxisConfig
@@ -168,27 +168,35 @@ class MotionKernel:
 
     def steps_alone(self) -> bool:
         """True if a cycle of this kernel alone (`begin_cycle`, `step`), with no task and
-        no client run, is the whole of the cycle for it: no gear, no gantry pair, no
-        busy axis group, no bus starting up (each of those is stepped with the tasks)."""
-        return not (self._bus_steps or self.gantries.pairs or self.gears.gears
-                    or self.groups_moving())  # fmt: skip
+        no client run, is the whole of the cycle for it: no gear, no gantry pair, no bus
+        starting up (each of those is stepped with the tasks)."""
+        return not (self._bus_steps or self.gantries.pairs or self.gears.gears)
 
     def coast_horizon(self, wanted: int, watched=None, watches=()) -> int:
         """How many cycles (at most `wanted`) every axis can be advanced in closed form
-        from now: 0 if one must be stepped. Gears, gantry pairs, busy axis groups and a
-        starting bus are stepped. The advance ends with the first status change of an
-        axis, unless `watched` (not None) holds the axes whose `moving` flag someone
-        reads: the others may end region I inside it and stop where they come into
-        position (motion/axis_coast.py); and at the first cycle after which a position
-        that a task waits for may be reached (`watches`: `PositionWatch`es, each false
-        now)."""
+        from now: 0 if one must be stepped. Gears, gantry pairs and a starting bus are
+        stepped; a moving axis group as far as motion/group_coast.py allows. The advance
+        ends with the first status change of an axis, unless `watched` (not None) holds
+        the axes whose `moving` flag someone reads: the others may end region I inside
+        it and stop where they come into position (motion/axis_coast.py); and at the
+        first cycle after which a position that a task waits for may be reached
+        (`watches`: `PositionWatch`es, each false now)."""
         if not self.steps_alone():
             return 0 if not self.at_rest() else wanted
         k = wanted
         memo = self._coast_memo
         memo.clear()
+        grouped = None
+        for g in self.groups.enabled:
+            if g.moving:
+                k = group_coast.coast_cycles(g, k)
+                if not k:
+                    return 0
+                if grouped is None:
+                    grouped = set()
+                grouped.update(g.axes)
         for a in self.axes:
-            if not a.resting:
+            if not a.resting and (grouped is None or a not in grouped):
                 k = axis_coast.coast_cycles(a, k, watched is not None and a not in watched, memo)
                 if not k:
                     return 0
@@ -200,18 +208,39 @@ class MotionKernel:
 
     def coast(self, k: int) -> None:
         """Advance every axis by `k` cycles (k <= `coast_horizon(k, ...)`), as k `step`s
-        would."""
+        would. With a moving group, fewer cycles than its closed form takes are stepped."""
+        grouped = None
+        for g in self.groups.enabled:
+            if g.moving:
+                if k < group_coast.min_cycles(g):
+                    self._coast_memo.clear()
+                    for _ in range(k):
+                        self.step()
+                    return
+                if grouped is None:
+                    grouped = []
+                grouped.append(g)
+        if grouped is not None:
+            inside = set()
+            for g in grouped:
+                group_coast.coast(g, k)
+                inside.update(g.axes)
         memo = self._coast_memo
         for a in self.step_order:
-            if not a.resting:
+            if not a.resting and (grouped is None or a not in inside):
                 axis_coast.coast(a, k, memo)
         memo.clear()
 
     def status_signature(self) -> tuple:
-        """What a task's wait on an axis event tests (IsInPos, IsMoving, IsEnabled,
-        IsHomed, IsHoming, IsErrorStop): equal signatures, equal answers."""
-        return tuple([(a.moving, a.in_pos, a.enabled, a._enabling, a._error_stop, a.extra_status)
+        """What a task's wait on an axis or group event tests (IsInPos, IsMoving,
+        IsEnabled, IsHomed, IsHoming, IsErrorStop, IsGrp*): equal signatures, equal
+        answers."""
+        axes = tuple([(a.moving, a.in_pos, a.enabled, a._enabling, a._error_stop, a.extra_status)
                       for a in self.axes])  # fmt: skip
+        if not self.groups.enabled:
+            return axes
+        # and what IsGrpEnabled, IsGrpMoving, IsGrpInPos, IsGrpErrorStop test besides
+        return axes, tuple([(g.group_id, g.state, g.moving) for g in self.groups.enabled])
 
     # ---- bus and system (manual 2.5-2.10, 2.15) -------------------------------------
 

@@ -185,7 +185,7 @@ class JumpPlanner:
     def _motion_cycle(self, cycle: int) -> bool:
         """Jump over cycle `cycle` stepping only the motion kernel (no task, no client
         is due in it); True if it did. Not with a client that samples every cycle, nor
-        with gears, gantry pairs, a busy axis group or a starting bus."""
+        with gears, gantry pairs or a starting bus."""
         ctl = self.controller
         motion = ctl.motion
         if self._samplers:

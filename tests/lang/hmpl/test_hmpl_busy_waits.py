@@ -49,6 +49,11 @@ def test_a_loop_forever_waits_on_no_flag(loop):
     assert "yield -4" in python_of(loop)
 
 
+def test_a_loop_on_a_group_flag_is_a_status_wait():
+    assert "yield -4" in python_of("while (!IsGrpInPos(0)) RunScheduler();")
+    assert "yield -4" in python_of("while (IsGrpMoving(a) || !IsGrpEnabled(1));")
+
+
 def test_a_for_loop_that_only_waits_is_a_wait():
     assert "yield -4" in python_of("for (; !IsInPos(a);) {}")
     assert "_budget -=" in python_of("for (; !IsInPos(a); a = a) {}")
@@ -68,7 +73,7 @@ def test_a_loop_until_a_position_tells_the_controller_the_position(loop):
 
 @pytest.mark.parametrize("loop", ["while (GetPosFb(0) < GetRefPos(0));", "while (system_fclk < t) {}",
                                   "while (GetVelFb(a) != 0.0 || !IsInPos(a));",
-                                  "while (!IsGrpInPos(0)) RunScheduler();"])  # fmt: skip
+                                  "while (GetRefVel(0) != 0.0) RunScheduler();"])  # fmt: skip
 def test_a_loop_on_other_reads_polls_once_per_cycle(loop):
     text = python_of(loop)
     assert "yield\n" in text and "yield -" not in text

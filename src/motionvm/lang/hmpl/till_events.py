@@ -3,7 +3,8 @@
 `Till(cond)` polls `cond` once per cycle. If `cond` tests only what changes in a cycle
 the controller computes (never in one it jumps over), the task need not be resumed in
 the cycles between: an axis's status flags (IsInPos, IsMoving, IsEnabled, IsHomed,
-IsHoming, IsErrorStop), the digital inputs and outputs of the controller (HIMC_GPI,
+IsHoming, IsErrorStop), an axis group's (IsGrpEnabled, IsGrpMoving, IsGrpInPos,
+IsGrpErrorStop), the digital inputs and outputs of the controller (HIMC_GPI,
 HIMC_GPO, GetGPI, GetGPO) and of the I/O slaves (GetSlvGPI, GetSlvGPO, GetSlvAllGPI,
 GetSlvAllGPO), and the task's own variables, combined by operators and constants. Such a Till is lowered as
 
@@ -47,13 +48,15 @@ from motionvm.lang.hmpl import nodes as n
 
 EVENT_BUILTINS = frozenset({
     "IsInPos", "IsMoving", "IsEnabled", "IsHomed", "IsHoming", "IsErrorStop",
-    "HIMC_GPI", "HIMC_GPO", "GetGPI", "GetGPO", "GetSlvGPI", "GetSlvGPO", "GetSlvAllGPI",
+    "IsGrpEnabled", "IsGrpMoving", "IsGrpInPos", "IsGrpErrorStop", "HIMC_GPI", "HIMC_GPO", "GetGPI", "GetGPO", "GetSlvGPI", "GetSlvGPO", "GetSlvAllGPI",
     "GetSlvAllGPO",
 })  # fmt: skip
 """Built-ins whose answer changes only in a computed cycle (given the same arguments)."""
 
-STATUS_BUILTINS = frozenset({"IsInPos", "IsMoving", "IsEnabled", "IsHomed", "IsErrorStop"})
-"""Event built-ins that answer an axis's status flag (each call is recorded). IsHoming
+STATUS_BUILTINS = frozenset({"IsInPos", "IsMoving", "IsEnabled", "IsHomed", "IsErrorStop",
+                             "IsGrpEnabled", "IsGrpMoving", "IsGrpInPos", "IsGrpErrorStop"})
+"""Event built-ins that answer an axis's or an axis group's status flag (each call is
+recorded). IsHoming
 is not among them: asking it notices a homing cut off from outside, which must happen
 when the task asks (motion/homing.py)."""
 

@@ -269,13 +269,13 @@ class GroupCommands(GroupCommandBase):
     # ------------------------------------------------------------ 8.4 status
 
     def IsGrpEnabled(self, group_id: int) -> int:
-        return self._query(group_id, lambda g: 1 if g.enabled else 0)
+        return self._group_flag(group_id, "enabled")
 
     def IsGrpMoving(self, group_id: int) -> int:
-        return self._query(group_id, lambda g: 1 if g.moving else 0)
+        return self._group_flag(group_id, "moving")
 
     def IsGrpInPos(self, group_id: int) -> int:
-        return self._query(group_id, lambda g: 1 if g.enabled and g.in_pos else 0)
+        return self._group_flag(group_id, "in_pos")  # (in position implies enabled)
 
     def IsGrpErrorStop(self, group_id: int) -> int:
-        return self._query(group_id, lambda g: 1 if g.state == grp.ERROR_STOP else 0)
+        return self._group_flag(group_id, "error_stop")

@@ -51,6 +51,21 @@ class GroupCommandBase(CommandBase):
         if not ok:
             raise GroupError(code, message)
 
+    def _group_flag(self, group_id: int, flag: str) -> int:
+        """1 if status flag `flag` of the group is set, else 0; while a task runs with a
+        recorder (`MotionKernel.reads`), the answer is recorded as (group, flag, value)
+        as the axes' flags are (motion/commands/status_flags.py); a bad id records None."""
+        g = self._group(group_id)
+        reads = self.motion.reads
+        if g is None:
+            if reads is not None:
+                reads.append(None)
+            return 0
+        value = getattr(g, flag)
+        if reads is not None:
+            reads.append((g, flag, value))
+        return 1 if value else 0
+
     def _query(self, group_id: int, fn: Callable[[AxisGroup], float], default=0):
         g = self._group(group_id)
         return default if g is None else fn(g)
