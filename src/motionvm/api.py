@@ -123,14 +123,14 @@ class Recording:
 
     def data(self) -> Any:
         """A pandas DataFrame (index `time` [s], one column per channel). Needs pandas
-        (`pip install 'motionvm[pandas]'`): without it, an ImportError that says so
+        (`pip install 'motionvm[data]'`): without it, an ImportError that says so
         (`as_dict()` needs nothing)."""
         try:
             import pandas as pd
         except ImportError:
             raise ImportError(
                 "Recording.data() returns a pandas DataFrame and pandas is not installed: "
-                "pip install 'motionvm[pandas]' (or use Recording.as_dict(), which needs "
+                "pip install 'motionvm[data]' (or use Recording.as_dict(), which needs "
                 "nothing)",
                 name="pandas",
             ) from None

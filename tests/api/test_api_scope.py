@@ -44,7 +44,7 @@ def test_without_pandas_data_names_the_extra_to_install(monkeypatch):
     monkeypatch.setitem(sys.modules, "pandas", None)  # import pandas -> ImportError
     sim, rec = recording()
     sim.step(2)
-    with pytest.raises(ImportError, match=r"pip install 'motionvm\[pandas\]'"):
+    with pytest.raises(ImportError, match=r"pip install 'motionvm\[data\]'"):
         rec.data()
     assert rec.as_dict()["count"] == [3, 4]  # needs nothing
 
