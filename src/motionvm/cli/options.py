@@ -298,6 +298,31 @@ def add_test_parser(sub) -> None:
         help="wall-clock time limit of one case (default 60 s; 90, 500ms, 2min)",
     )
     t.add_argument("--junitxml", metavar="FILE", help="also write a JUnit XML report")
+    t.add_argument(
+        "--lf",
+        "--last-failed",
+        dest="last_failed",
+        action="store_true",
+        help="only the cases that failed last time (all if none did); kept in "
+        ".motionvm_cache/ in the current folder",
+    )
+    t.add_argument(
+        "--durations",
+        type=int,
+        metavar="N",
+        help="list the N slowest cases (0: all) with their wall-clock times",
+    )
+    t.add_argument(
+        "--collect-only",
+        action="store_true",
+        help="list the cases that would run, run none",
+    )
+    t.add_argument(
+        "--update",
+        action="store_true",
+        help="rewrite each X.out file whose case's stdout differs with the actual stdout "
+        "(when the run otherwise met its expectations)",
+    )
     _cov_report(t)
     t.add_argument("--dask", metavar="ADDRESS", help="run the cases on the Dask cluster at ADDRESS")
 

@@ -42,7 +42,14 @@ class TextReport:
             self._column += 1
         self.out.flush()
 
-    def finish(self, verdicts: Sequence[Verdict], wall_time: float, stopped: bool) -> None:
+    def finish(
+        self,
+        verdicts: Sequence[Verdict],
+        wall_time: float,
+        stopped: bool,
+        durations: int | None = None,
+    ) -> None:
+        """The failures, `durations` slowest cases (0: all; None: none) and the summary."""
         if self._column:
             self.out.write("\n")
         bad = [v for v in verdicts if v.status in (FAILED, ERROR)]
@@ -53,6 +60,8 @@ class TextReport:
             if v.stderr.strip():
                 self.out.write("--- stderr ---\n" + v.stderr.rstrip("\n") + "\n")
             self.out.write("\n")
+        if durations is not None:
+            self._durations(verdicts, durations)
         if stopped:
             self.out.write("stopping after the first failure (-x)\n")
         if bad:
@@ -60,6 +69,14 @@ class TextReport:
         for v in bad:
             self.out.write(f"{_WORD[v.status]} {v.case.id}\n")
         self.out.write(summary(verdicts, wall_time) + "\n")
+
+    def _durations(self, verdicts: Sequence[Verdict], n: int) -> None:
+        slow = sorted(verdicts, key=lambda v: (-v.wall_time, v.case.id))
+        title = "slowest durations" if n == 0 else f"slowest {n} durations"
+        self.out.write(_rule(title, "=") + "\n")
+        for v in slow[:n] if n else slow:
+            self.out.write(f"{v.wall_time:.2f}s {v.case.id}\n")
+        self.out.write("\n")
 
 
 def summary(verdicts: Sequence[Verdict], wall_time: float) -> str:

@@ -4,18 +4,21 @@ Cases are found by `cli/cases.py`, run by `cli/workers.py` (a process pool, or a
 cluster with `--dask`), judged by `cli/judge.py` and reported by `cli/report.py`. The
 report is the same whatever the scheduling: cases are sorted by path and their results
 printed in that order. Exit codes (pytest's): 0 every case passed (or, if `pending:`,
-failed), 1 some failed, 3 bad usage, 5 no case was collected.
+failed), 1 some failed, 3 bad usage, 5 no case was collected. Which cases failed
+last is kept in `.motionvm_cache/` (cli/testcache.py) for `--lf`.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import os
 import sys
 import time
+from pathlib import Path
 
 from motionvm.cli.cases import Case, CollectError, collect
 from motionvm.cli.exits import EXIT_OK, EXIT_RUNTIME, UsageError
-from motionvm.cli.judge import ERROR, FAILED, Verdict, judge
+from motionvm.cli.judge import ERROR, FAILED, PASSED, Verdict, judge
 from motionvm.cli.keywords import KeywordError, compile_keywords
 from motionvm.cli.report import TextReport, write_junit
 
@@ -47,11 +50,18 @@ def cmd_test(args) -> int:
         found = collect(args.files or ["."])
     except CollectError as exc:
         raise UsageError(str(exc)) from None
+    durations = getattr(args, "durations", None)
+    if durations is not None and durations < 0:
+        raise UsageError(f"--durations must be 0 (all) or more, got {durations}")
     cases = select(found, args.k)
+    verbosity = args.verbose - args.quiet
+    if getattr(args, "last_failed", False):
+        cases = _last_failed(cases, verbosity)
+    if getattr(args, "collect_only", False):
+        return _list(cases, len(found) - len(cases), verbosity)
     from motionvm.cli.coverage import parse_reports
 
     cov_reports = parse_reports(args.cov_report)
-    verbosity = args.verbose - args.quiet
     report = TextReport(sys.stdout, verbosity)
     where = f" on the Dask cluster at {args.dask}" if args.dask else ""
     report.start(len(cases), len(found) - len(cases), where)
@@ -60,9 +70,21 @@ def cmd_test(args) -> int:
         return EXIT_NO_CASES
     start = time.perf_counter()
     coverage: dict | None = {} if cov_reports else None
-    verdicts, stopped = _run(cases, args, jobs, report, coverage)
+    updated: list[str] = []
+    verdicts, stopped = _run(cases, args, jobs, report, coverage, updated)
     wall_time = time.perf_counter() - start
-    report.finish(verdicts, wall_time, stopped)
+    report.finish(verdicts, wall_time, stopped, durations)
+    if updated:
+        print(
+            f"updated {len(updated)} .out file{'s' if len(updated) > 1 else ''}: "
+            + ", ".join(updated)
+        )
+    from motionvm.cli.testcache import update_last_failed
+
+    update_last_failed(
+        (v.case.id for v in verdicts),
+        (v.case.id for v in verdicts if v.status in (FAILED, ERROR)),
+    )
     if args.junitxml:
         try:
             write_junit(args.junitxml, verdicts, wall_time)
@@ -75,11 +97,72 @@ def cmd_test(args) -> int:
     return EXIT_RUNTIME if any(v.status in (FAILED, ERROR) for v in verdicts) else EXIT_OK
 
 
+def _last_failed(cases: list[Case], verbosity: int) -> list[Case]:
+    """`--lf`: the cases that failed last time, or all of them when none did."""
+    from motionvm.cli.testcache import read_last_failed
+
+    failed = read_last_failed()
+    chosen = [c for c in cases if c.id in failed]
+    if verbosity >= 0:
+        if chosen:
+            noun = "failure" if len(chosen) == 1 else "failures"
+            print(f"run-last-failure: rerun previous {len(chosen)} {noun}")
+        else:
+            print("run-last-failure: no previously failed cases, running all")
+    return chosen or cases
+
+
+def _list(cases: list[Case], n_deselected: int, verbosity: int) -> int:
+    """`--collect-only`: the ids of the cases that would run, one a line."""
+    for c in cases:
+        print(c.id if c.problem is None or verbosity < 1 else f"{c.id} (error: {c.problem})")
+    more = f" ({n_deselected} deselected)" if n_deselected else ""
+    noun = "case" if len(cases) == 1 else "cases"
+    if verbosity >= 0:
+        print(f"\n{len(cases)} {noun} collected{more}")
+    return EXIT_OK if cases else EXIT_NO_CASES
+
+
+def _updated(case: Case, outcome, verdict: Verdict, timeout: float, updated: list[str]) -> Verdict:
+    """`--update`: when only its stdout kept a case with an `X.out` file from passing,
+    rewrite that file with the actual stdout; the case then passes."""
+    exp = case.expect
+    if (
+        verdict.status != FAILED
+        or exp.stdout_file is None
+        or case.pending is not None
+        or outcome.timed_out
+        or outcome.crashed
+        or outcome.flooded
+    ):
+        return verdict
+    renewed = dataclasses.replace(case, expect=dataclasses.replace(exp, stdout_text=outcome.stdout))
+    again = judge(renewed, outcome, timeout)
+    if again.status != PASSED:
+        return verdict
+    path = Path(case.folder) / exp.stdout_file
+    try:
+        with open(path, "w", encoding="utf-8", newline="") as f:
+            f.write(outcome.stdout)
+    except OSError as exc:
+        return dataclasses.replace(
+            verdict, details=f"{verdict.details}\n--update: cannot write {path}: {exc.strerror}"
+        )
+    updated.append(str(Path(case.id).with_suffix(".out").as_posix()))
+    return again
+
+
 def _run(
-    cases: list[Case], args, jobs: int, report: TextReport, coverage: dict | None = None
+    cases: list[Case],
+    args,
+    jobs: int,
+    report: TextReport,
+    coverage: dict | None = None,
+    updated: list[str] | None = None,
 ) -> tuple[list[Verdict], bool]:
     """Verdicts of the cases in order (a prefix with -x), and whether -x stopped the run.
-    `coverage`: the cases' coverage is merged into it."""
+    `coverage`: the cases' coverage is merged into it; `updated`: with --update, the
+    `.out` files rewritten are added to it."""
     from motionvm.cli import workers
     from motionvm.lang.coverage import merge
 
@@ -120,6 +203,8 @@ def _run(
                 merge(coverage, outcome.coverage)
             i = runnable[k]
             done[i] = judge(cases[i], outcome, timeout)
+            if getattr(args, "update", False) and updated is not None:
+                done[i] = _updated(cases[i], outcome, done[i], timeout, updated)
             if flush():
                 return verdicts, True
     finally:
