@@ -280,6 +280,9 @@ class StudioRun:
                 self.frames += 1
                 await self.flush()
                 await asyncio.sleep(max(0.0, FRAME - (time.perf_counter() - started)))
+        except Exception as exc:  # noqa: BLE001 — shown; the run stays paused where it is
+            self._err(f"motionvm studio: the run stopped: {exc}")
+            stop = None
         finally:
             self.running = False
         if stop is not None:
