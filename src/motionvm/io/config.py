@@ -223,7 +223,7 @@ def _tables(data: dict, name: str, report: Report) -> list[tuple[int, dict]]:
 def _slaves(tables: list[tuple[int, dict]], report: Report):
     for i, t in tables:
         kind = t.get("kind")
-        if kind not in SLAVE_KEYS:
+        if not isinstance(kind, str) or kind not in SLAVE_KEYS:
             report(
                 "slave",
                 i,

@@ -38,7 +38,7 @@ def _int(value: object) -> bool:
 def check_fault(io, kind: object, args: dict) -> list[tuple[str | None, str]]:
     """The problems of a fault (key or None, message); [] if it can be injected.
     `args`: axis, slave, code, side as given (absent keys missing)."""
-    if kind not in FAULTS:
+    if not isinstance(kind, str) or kind not in FAULTS:
         return [("fault", f"fault = {kind!r}: must be one of {', '.join(FAULTS)}")]
     problems: list[tuple[str | None, str]] = []
     allowed = set(TARGET_KEYS[kind]) | set(OPTIONAL_KEYS.get(kind, ()))
@@ -64,7 +64,8 @@ def check_fault(io, kind: object, args: dict) -> list[tuple[str | None, str]]:
             problems.append(
                 ("code", f"code = {code!r}: must be a drive error code from 1 to 0xFFFF")
             )
-    if "side" in args and "side" in allowed and args["side"] not in SIDES:
+    side = args.get("side")
+    if "side" in args and "side" in allowed and (not isinstance(side, str) or side not in SIDES):
         problems.append(("side", f'side = {args["side"]!r}: must be "left" or "right"'))
     return problems
 

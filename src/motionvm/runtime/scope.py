@@ -44,6 +44,11 @@ class ChannelSource:
         ValueError or TypeError for a value it refuses."""
         return False
 
+    def read_only(self, name: str) -> bool:
+        """True if `name` is this source's and refuses every write (a value the run sets
+        itself, such as the system time); default: none is."""
+        return False
+
 
 class EdgeGetter:
     """A channel getter that also knows the exact times its value changed, between

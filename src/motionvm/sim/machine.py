@@ -201,6 +201,13 @@ def load_machine(path: str | Path) -> MachineConfig:
             "controller", "data_dir", f"data_dir = {data_dir!r}: must be a string (a folder)"
         )
         data_dir = None
+    elif data_dir is not None and "\0" in data_dir:
+        problems.at(
+            "controller",
+            "data_dir",
+            "data_dir: a folder name cannot hold a NUL character (\\u0000)",
+        )
+        data_dir = None
     axes, pdl, gdl = _load_axes(data, problems)
     comm = load_comm(data.get("comm"), problems)
     io = create_io(data, len(axes), problems.io_problem)

@@ -135,13 +135,16 @@ class Variables:
 
     def read_only(self, name: str) -> bool:
         """True for a channel known to refuse every write: the controller's bit sums,
-        converted analog values and slave states; axis variables no Set* function sets."""
+        converted analog values and slave states; axis variables no Set* function sets;
+        what a source says is read-only (the HMPL system time)."""
         if name in ("himc_gpi_bits", "himc_gpo_bits"):
             return True
         if name.startswith("slv") and name.endswith((".value", ".state")):
             return True
         m = _AXIS.fullmatch(name)
-        return m is not None and m.group(2) not in WRITABLE_AXIS
+        if m is not None:
+            return m.group(2) not in WRITABLE_AXIS
+        return any(source.read_only(name) for source in self.registry.sources)
 
     def _write_gpio(self, name: str, value: object) -> bool:
         """An I/O channel (io/system.py): an input's pin, an output's state, a word."""

@@ -7,6 +7,9 @@ from dataclasses import dataclass
 from motionvm.source.files import SourceFile, SourcePos
 
 MAX_ERRORS_PER_FILE = 20
+SHOWN_WIDTH = 160
+"""Longest source line shown under a message [characters]; a longer one is cut to a
+window around the caret, marked with `...`."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -28,10 +31,22 @@ def render_diagnostic(d: Diagnostic) -> str:
     if sf is not None:
         text = sf.line(d.pos.line)
         if text:
-            shown = text.replace("\t", " ")
+            shown, col = _window(text.replace("\t", " "), max(0, d.pos.col - 1))
             out.append(shown)
-            out.append(" " * max(0, d.pos.col - 1) + "^")
+            out.append(" " * col + "^")
     return "\n".join(out)
+
+
+def _window(line: str, col: int) -> tuple[str, int]:
+    """`line` cut to about SHOWN_WIDTH characters around column `col` (from 0), and the
+    caret's column in what is shown."""
+    if len(line) <= SHOWN_WIDTH:
+        return line, col
+    start = max(0, min(col - SHOWN_WIDTH // 2, len(line) - SHOWN_WIDTH))
+    end = start + SHOWN_WIDTH
+    head = "..." if start > 0 else ""
+    tail = "..." if end < len(line) else ""
+    return head + line[start:end] + tail, col - start + len(head)
 
 
 class CompileError(Exception):

@@ -2,8 +2,14 @@
 
 from __future__ import annotations
 
+import errno
+import os
+import stat
 from dataclasses import dataclass
 from pathlib import Path
+
+NOT_REGULAR = "not a regular file (a device, pipe or folder)"
+"""The reason `SourceFile.read` gives for a path that is not a regular file."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -30,8 +36,13 @@ class SourceFile:
 
     @classmethod
     def read(cls, path: str | Path) -> SourceFile:
-        """Read a file as UTF-8 (undecodable bytes replaced) and remember it for diagnostics."""
+        """Read a file as UTF-8 (undecodable bytes replaced) and remember it for diagnostics.
+
+        OSError (strerror NOT_REGULAR) for anything but a regular file: a device such as
+        /dev/zero would never end, /dev/stdin or a pipe could wait forever."""
         p = str(path)
+        if not stat.S_ISREG(os.stat(p).st_mode):
+            raise OSError(errno.EINVAL, NOT_REGULAR, p)
         data = Path(p).read_bytes()
         text = data.decode("utf-8", errors="replace").replace("\r\n", "\n").replace("\r", "\n")
         sf = cls(p, text)

@@ -146,11 +146,73 @@ def parse_toml(raw: bytes, problems_of, invalid: str = "not valid TOML"):
         return None, problems
     problems = problems_of(text)
     try:
-        return tomllib.loads(text), problems
+        data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         place, message = syntax_error_place(exc, problems.lines)
         problems.add(place, f"{invalid}: {message}")
         return None, problems
+    except RecursionError:  # tomllib recurses once per level of nesting
+        data = None
+    if data is None or nesting(data) > MAX_DEPTH:
+        problems.add(
+            deep_place(text, MAX_DEPTH),
+            f"{invalid}: values nested more than {MAX_DEPTH} deep (arrays and tables)",
+        )
+        return None, problems
+    return data, problems
+
+
+MAX_DEPTH = 32
+"""Deepest nesting of arrays and tables a machine file or scenario may have: far beyond
+what either needs, and far below what would exhaust Python's recursion."""
+
+_SCAN = re.compile(
+    # strings and comments (skipped: their brackets do not count), then brackets;
+    # possessive repeats: a long string must not grow the regex engine's state
+    r'"""[^"\\]*+(?:(?:\\(?s:.)|"(?!""))[^"\\]*+)*+"""'
+    r"|'''(?s:.)*?'''"
+    r'|"[^"\\\n]*+(?:\\.[^"\\\n]*+)*+"'
+    r"|'[^'\n]*+'"
+    r"|#[^\n]*+"
+    r"|[\[{\]}]"
+)
+
+
+def nesting(value: object) -> int:
+    """How deep arrays and tables nest in `value` (a scalar: 0), without recursion; stops
+    counting once past MAX_DEPTH."""
+    deepest = 0
+    stack = [(value, 1)]
+    while stack:
+        v, depth = stack.pop()
+        if isinstance(v, dict):
+            items = v.values()
+        elif isinstance(v, list):
+            items = v
+        else:
+            continue
+        if depth > deepest:
+            deepest = depth
+            if deepest > MAX_DEPTH:
+                break
+        stack.extend((item, depth + 1) for item in items)
+    return deepest
+
+
+def deep_place(text: str, limit: int) -> Place:
+    """The place of the first `[` or `{` that opens a level deeper than `limit` (outside
+    strings and comments); 1:1 if there is none (deep tables written as dotted keys)."""
+    depth = 0
+    for m in _SCAN.finditer(text):
+        c = m.group()
+        if c == "[" or c == "{":
+            depth += 1
+            if depth > limit:
+                start = m.start()
+                return text.count("\n", 0, start) + 1, start - text.rfind("\n", 0, start)
+        elif c == "]" or c == "}":
+            depth = max(0, depth - 1)
+    return 1, 1
 
 
 class TomlProblems:

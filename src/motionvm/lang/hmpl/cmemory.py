@@ -124,6 +124,15 @@ class Memory:
         """Static allocations may not pass byte `limit` (stacks live above it)."""
         self._static_limit = limit
 
+    @property
+    def static_limit(self) -> int:
+        """Bytes of static memory in all [bytes]."""
+        return self._static_limit
+
+    def static_free(self) -> int:
+        """Bytes of static memory still free [bytes]."""
+        return max(0, self._static_limit - self._static_top - RED_ZONE)
+
     def alloc_static(self, size: int, name: str = "", align: int = ALIGN) -> int:
         """Allocate a zeroed object of `size` bytes for the whole run; return its address."""
         addr = _round_up(self._static_top, max(align, ALIGN))

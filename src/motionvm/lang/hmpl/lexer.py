@@ -71,7 +71,7 @@ PUNCTUATORS = [
 # A C pp-number: anything that starts like a number and continues with digits,
 # letters, '_', '.', or a sign after an exponent letter. Classified afterwards, so
 # that `12abc` gives "invalid suffix 'abc'" instead of two tokens.
-_PP_NUMBER = r"\.?[0-9](?:[eEpP][+-]|[0-9A-Za-z_.])*"
+_PP_NUMBER = r"\.?[0-9](?:[eEpP][+-]|[0-9A-Za-z_.])*+"  # possessive: see the strings below
 
 # Leading blanks are folded into each match: fewer iterations of the Python loop.
 # No-break and ideographic spaces and a byte-order mark count as blanks: they come
@@ -95,10 +95,12 @@ _MASTER = re.compile(
             r"(?P<bcom>/\*(?s:.*?)\*/)",
             r"(?P<ubcom>/\*)",
             r"(?P<num>" + _PP_NUMBER + ")",
-            r'(?P<str>"(?:[^"\\\n]|\\(?s:.))*")',
-            r'(?P<ustr>"(?:[^"\\\n]|\\(?s:.))*)',
-            r"(?P<chr>'(?:[^'\\\n]|\\(?s:.))*')",
-            r"(?P<uchr>'(?:[^'\\\n]|\\(?s:.))*)",
+            # possessive (`*+`): a backtracking repeat keeps the regex engine's state
+            # for every repetition, ~400 bytes each (a 1 MB literal took 400 MB)
+            r'(?P<str>"[^"\\\n]*+(?:\\(?s:.)[^"\\\n]*+)*+")',
+            r'(?P<ustr>"[^"\\\n]*+(?:\\(?s:.)[^"\\\n]*+)*+)',
+            r"(?P<chr>'[^'\\\n]*+(?:\\(?s:.)[^'\\\n]*+)*+')",
+            r"(?P<uchr>'[^'\\\n]*+(?:\\(?s:.)[^'\\\n]*+)*+)",
             r"(?P<cont>\\\n)",
             r"(?P<tail>\Z)",  # blanks at the very end of a file without a final newline
             r"(?P<bad>(?s:.))",

@@ -319,7 +319,7 @@ class AccessLowerer:
         prog = self.prog
         what = "compound literal"
         if self.ctx.func is None:
-            addr = prog.mem.alloc_static(t.size, what, align=max(8, t.align))
+            addr = prog.alloc_static_at(e.pos, t.size, what, align=max(8, t.align))
             image, stores = prog.aggregate_init(self.x, t, e.init, ast.Constant(addr), what)
             if stores:
                 raise self.fail(e.pos, "a compound literal outside a function must be a constant")

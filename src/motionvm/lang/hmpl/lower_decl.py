@@ -91,7 +91,7 @@ class DeclLowerer:
         block, given its constant initial value when the program is loaded (C: before the
         program starts); it generates no statement where it is declared."""
         mem = self.prog.mem
-        addr = mem.alloc_static(t.size, d.name, align=max(8, t.align))
+        addr = self.prog.alloc_static_at(d.pos, t.size, d.name, align=max(8, t.align))
         sym = VarSym(d.name, t, "static", d.pos, addr=addr, is_const=d.type.is_const)
         if d.init is not None:
             image, stores = self.prog.aggregate_init(self.x, t, d.init, ast.Constant(addr), d.name)

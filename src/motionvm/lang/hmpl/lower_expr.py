@@ -215,7 +215,7 @@ class ExprLowerer:
         return Val(const(e.value), ct.INT, True, e.value, (e.value, e.value))
 
     def x_StrLit(self, e: n.StrLit) -> Val:
-        addr = self.prog.string_literal(e.value)
+        addr = self.prog.string_literal(e.value, e.pos)
         return Val(ast.Constant(addr), ct.array_of(ct.CHAR, len(e.value) + 1))
 
     def x_Name(self, e: n.Name) -> Val:

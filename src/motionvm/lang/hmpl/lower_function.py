@@ -72,7 +72,7 @@ class FunctionLowerer:
         self.nesting = nesting = Nesting(ctx)
         self.decls = decls = DeclLowerer(ctx, x, access)
         self.stmts = stmts = StatementLowerer(ctx, x, access, nesting)
-        self.jumps = jumps = JumpLowerer(ctx, stmts, nesting)
+        self.jumps = jumps = JumpLowerer(ctx, stmts, nesting, decls)
         switch = SwitchLowerer(ctx, x, stmts, nesting, jumps, decls)
         loops = LoopLowerer(ctx, x, access, stmts, nesting, self.assigned)
         for part in (decls, jumps, switch, loops):

@@ -28,20 +28,24 @@ import ast
 from motionvm.lang.hmpl import nodes as n
 from motionvm.lang.hmpl.analysis import walk
 from motionvm.lang.hmpl.lower_context import FunctionContext
+from motionvm.lang.hmpl.lower_decl import DeclLowerer
 from motionvm.lang.hmpl.lower_split import Nesting
 from motionvm.lang.hmpl.lower_stmt import StatementLowerer
 from motionvm.lang.hmpl.lower_util import at, backedge, countdown_init
 from motionvm.lang.hmpl.lvalues import call, name
-from motionvm.lang.hmpl.symbols import Scope
+from motionvm.lang.hmpl.symbols import Scope, VarSym
 from motionvm.source.suggest import did_you_mean
 
 
 class JumpLowerer:
     """Lowers the jumps of one function: `break`, `continue`, `goto` and its labels."""
 
-    def __init__(self, ctx: FunctionContext, stmts: StatementLowerer, nesting: Nesting) -> None:
+    def __init__(
+        self, ctx: FunctionContext, stmts: StatementLowerer, nesting: Nesting, decls: DeclLowerer
+    ) -> None:
         self.ctx = ctx
         self.stmts = stmts
+        self.decls = decls
         self.nesting = nesting
         self.fail = ctx.fail
         self.labels: dict[str, int] = {}
@@ -121,7 +125,7 @@ class JumpLowerer:
         if not labels:
             return self.stmts.block(body, "function")
         saved = ctx.scope
-        ctx.scope = Scope(saved, "function")
+        ctx.scope = scope = Scope(saved, "function")
         try:
             segments: list[list[ast.stmt]] = [[]]
             for it in body.items:
@@ -153,7 +157,24 @@ class JumpLowerer:
         )
         loop = ast.While(ast.Constant(True), [ast.Try(tries, [handler], [], [])], [])
         pre = [ast.Assign([name(lbl, True)], ast.Constant(0)), countdown_init(b)]
-        return at(pre + [loop], body.pos)
+        return at(self._declared_at_entry(body, scope) + pre + [loop], body.pos)
+
+    def _declared_at_entry(self, body: n.Block, scope: Scope) -> list[ast.stmt]:
+        """C lets a `goto` jump past a declaration at the top level of the body: the
+        variable exists where the jump lands, its value indeterminate. Each one kept in a
+        Python local (a scalar, an array in a list) gets a zero value before the
+        dispatcher, so code after the label finds it (its declaration still initializes
+        it where it stands)."""
+        out: list[ast.stmt] = []
+        for it in body.items:
+            decls = it.decls if isinstance(it, n.DeclStmt) else (it,)
+            for d in decls:
+                if not isinstance(d, n.VarDecl) or d.is_static:
+                    continue
+                sym = scope.names.get(d.name)
+                if isinstance(sym, VarSym) and sym.storage in ("local", "pylist"):
+                    out.extend(self.decls.init_var(sym, None, d.pos))
+        return out
 
     def s_Goto(self, s: n.Goto) -> list[ast.stmt]:
         k = self.labels.get(s.label)

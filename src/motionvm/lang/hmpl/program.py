@@ -51,6 +51,11 @@ _PACK = {
 }
 
 
+LIST_BYTES = 64 * 1024 * 1024
+"""Declared bytes [bytes] the file-scope arrays kept in Python lists may take together
+(each element costs 8 bytes of the host's memory however small its type)."""
+
+
 @dataclass
 class Unit:
     task: int
@@ -102,6 +107,7 @@ class ProgramCompiler:
         self.task_scopes: dict[int, Scope] = {0: self.global_scope}
         self.tasks: dict[int, TaskInfo] = {}
         self._strings: dict[bytes, int] = {}
+        self._list_bytes = 0  # declared bytes of the file-scope arrays kept in lists
         self._structs: dict[int, ct.StructT] = {}  # id(StructDef) -> its type
         self._declared_only: set[int] = set()  # ids of struct types declared, not defined
         # (task, name) -> the first prototype inside a function of a function that the
@@ -157,10 +163,37 @@ class ProgramCompiler:
             return f"; prototype: {sig.prototype.rstrip(';')}"
         return ""
 
-    def string_literal(self, data: bytes) -> int:
+    def alloc_static_at(self, pos, size: int, name: str, align: int = 8) -> int:
+        """`Memory.alloc_static` for an object declared at `pos`; a full static memory is
+        a located error (SemanticError)."""
+        mem = self.mem
+        free = mem.static_free()
+        try:
+            return mem.alloc_static(size, name, align=align)
+        except MemoryError:
+            what = name if " " in name else f"'{name}'"  # a string literal has no name
+            raise self._fail(
+                pos,
+                f"{what} does not fit in the program's static memory: it needs {size:,} "
+                f"bytes, {free:,} of {mem.static_limit:,} are left",
+            ) from None
+
+    def charge_list(self, pos, size: int, name: str) -> None:
+        """Count a file-scope array kept in a Python list (`list_backed`) against
+        LIST_BYTES; beyond it a located error (SemanticError): a list costs 8 bytes per
+        element, so `int a[1000000000];` would take 8 GB."""
+        if self._list_bytes + size > LIST_BYTES:
+            raise self._fail(
+                pos,
+                f"array '{name}' is too large: {size:,} bytes, and the program's arrays "
+                f"may take {LIST_BYTES:,} bytes ({self._list_bytes:,} taken)",
+            )
+        self._list_bytes += size
+
+    def string_literal(self, data: bytes, pos=None) -> int:
         addr = self._strings.get(data)
         if addr is None:
-            addr = self.mem.alloc_static(len(data) + 1, "string literal", align=1)
+            addr = self.alloc_static_at(pos, len(data) + 1, "a string literal", align=1)
             self.mem.buf[addr : addr + len(data)] = data
             self._strings[data] = addr
         return addr
@@ -469,10 +502,15 @@ class ProgramCompiler:
                 if isinstance(t, ct.VoidT):
                     raise self._fail(item.pos, f"variable '{item.name}' declared void")
                 self.require_complete(item, t)
+                in_list = self.list_backed(item, t)
+                if in_list:
+                    self.charge_list(item.pos, t.size, item.name)
+                elif not t.is_scalar or item.name in self.addr_taken:
+                    addr = self.alloc_static_at(item.pos, t.size, item.name, align=max(8, t.align))
             except SemanticError:
                 scope.names[item.name] = error_symbol(item.name, item.pos)
                 raise
-            if (t.is_scalar and item.name not in self.addr_taken) or self.list_backed(item, t):
+            if (t.is_scalar and item.name not in self.addr_taken) or in_list:
                 sym = VarSym(
                     item.name,
                     t,
@@ -482,7 +520,6 @@ class ProgramCompiler:
                     is_const=item.type.is_const,
                 )
             else:
-                addr = self.mem.alloc_static(t.size, item.name, align=max(8, t.align))
                 sym = VarSym(
                     item.name, t, "static", item.pos, addr=addr, is_const=item.type.is_const
                 )

@@ -36,7 +36,7 @@ from motionvm.lang.hmpl import ctypes_ as ct
 from motionvm.lang.hmpl.catalog import builtin_signatures, constants
 from motionvm.lang.hmpl.cmemory import TaskStack, shadow_pattern, wrap_scalar
 from motionvm.lang.hmpl.lib import implemented_builtins
-from motionvm.lang.hmpl.scope_source import HmplSource
+from motionvm.lang.hmpl.scope_source import READ_ONLY, HmplSource
 from motionvm.runtime.clients import PassiveClient
 from motionvm.runtime.errors import RuntimeFault, TaskExit
 from motionvm.runtime.kernel import Task
@@ -51,8 +51,6 @@ RES_SIZE = 2048
 """Bytes of the `res` buffer the parser writes its answer into."""
 OUT_SIZE = 1024
 """Bytes reserved for each out-parameter."""
-READ_ONLY = frozenset({"system_timeInMs", "system_fclk"})
-"""System variables the controller sets every cycle: a request cannot write them."""
 QUERIES = frozenset(
     """ReadSDO ReadSDOEx ReadPDO ReadPDOEx HIMC_GPI StringLen IsStringEqual StrFindChar
     StrFindCharEx StrFindStr sin cos tan asin acos atan atan2 abs fabs ceil floor ldexp exp

@@ -16,6 +16,8 @@ from functools import partial
 from motionvm.lang.hmpl.cmemory import wrap_scalar
 from motionvm.runtime.scope import RAW_UNIT, ChannelSource, ScopeError
 
+READ_ONLY = frozenset({"system_timeInMs", "system_fclk"})
+"""System variables the controller sets every cycle: a host's write is refused."""
 _ELEMENT = re.compile(r"([A-Za-z_]\w*)(?:\[(\d+)\])?")
 # Array elements offered as suggestions, per array (system_user_table has 512000).
 _SUGGESTED_ELEMENTS = 10
@@ -101,6 +103,8 @@ class HmplSource(ChannelSource):
         self.resolve(name)  # the same checks (an element of an array, in range, a number)
         if sym.storage == "const":
             raise ValueError(f"'{name}' is a constant")
+        if self.read_only(name):
+            raise ValueError(f"'{name}' is read-only (the controller sets it every cycle)")
         t, index = sym.type, m.group(2)  # type: ignore[union-attr]
         elem_t = t if index is None else t.elem
         kind = "i64" if elem_t.is_pointer else elem_t.code
@@ -113,6 +117,10 @@ class HmplSource(ChannelSource):
             addr = sym.addr + int(index or 0) * elem_t.size
             self.runtime.mem.store(addr, kind, stored)
         return True
+
+    def read_only(self, name: str) -> bool:
+        """The system variables the controller sets every cycle (the clock's)."""
+        return name in READ_ONLY
 
     @staticmethod
     def _unit(base: str) -> str:

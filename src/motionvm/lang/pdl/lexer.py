@@ -115,6 +115,17 @@ class Token:
     origin: MacroOrigin | None = None
 
 
+_DIGITS = frozenset("0123456789")
+"""ASCII digits only: `str.isdigit` also accepts digits of other scripts and superscripts."""
+
+
+def _shown(text: str, limit: int = 24) -> str:
+    """A constant's text for a message, shortened in the middle if long."""
+    if len(text) <= limit:
+        return text
+    return f"{text[:10]}...{text[-6:]} ({len(text)} characters)"
+
+
 def _wrap32(v: int) -> int:
     return ((v + 0x80000000) & 0xFFFFFFFF) - 0x80000000
 
@@ -232,25 +243,29 @@ class _Lexer:
                 self.sink.error(p, f"hexadecimal constant '{text}' has no digits")
                 self.emit("int", text, p, 0)
                 return
-            value = int(text, 16)
-            if value > 0xFFFFFFFF:
-                self.sink.error(p, f"constant {text} does not fit in 32 bits")
-            self.emit("int", text, p, _wrap32(value))
+            if len(text[2:].lstrip("0")) > 8:
+                self.sink.error(p, f"constant {_shown(text)} does not fit in 32 bits")
+                self.emit("int", text, p, 0)
+                return
+            self.emit("int", text, p, _wrap32(int(text, 16)))
             return
-        while self.i < len(t) and t[self.i].isdigit():
+        while self.i < len(t) and t[self.i] in _DIGITS:
             self.advance()
         if self.i < len(t) and t[self.i] == "." and self.peek(1) != ".":
             self.advance()
-            while self.i < len(t) and t[self.i].isdigit():
+            while self.i < len(t) and t[self.i] in _DIGITS:
                 self.advance()
             text = t[start : self.i]
             self.emit("float", text, p, float(text if text != "." else "0"))
             return
         text = t[start : self.i]
-        value = int(text)
-        if value > 0xFFFFFFFF:
-            self.sink.error(p, f"constant {text} does not fit in 32 bits")
-        self.emit("int", text, p, _wrap32(value))
+        # compared as text first: Python refuses int() of a string of more than 4300
+        # digits, and a constant of 11 digits is out of range anyway
+        if len(text.lstrip("0")) > 10 or int(text) > 0xFFFFFFFF:
+            self.sink.error(p, f"constant {_shown(text)} does not fit in 32 bits")
+            self.emit("int", text, p, 0)
+            return
+        self.emit("int", text, p, _wrap32(int(text)))
 
     def _string(self) -> None:
         p = self.pos()

@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 
 from motionvm.lang.pdl.lexer import MacroOrigin, Token, tokenize
 from motionvm.source.diagnostics import DiagnosticSink
-from motionvm.source.files import SourceFile, SourcePos
+from motionvm.source.files import NOT_REGULAR, SourceFile, SourcePos
 from motionvm.source.suggest import did_you_mean
 
 MAX_INCLUDE_DEPTH = 20
@@ -274,12 +274,13 @@ class Preprocessor:
             return
         try:
             sf = SourceFile.read(path)
-        except OSError:
-            self.sink.error(
-                head.pos,
-                f"cannot open include file '{rel}' (a relative path "
-                "starts at the including file's folder)",
+        except OSError as exc:
+            why = (
+                f": {NOT_REGULAR}"
+                if exc.strerror == NOT_REGULAR
+                else " (a relative path starts at the including file's folder)"
             )
+            self.sink.error(head.pos, f"cannot open include file '{rel}'{why}")
             return
         self._file(sf.path, tokenize(sf.path, sf.text, self.sink)[:])
 
