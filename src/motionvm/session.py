@@ -60,7 +60,7 @@ from motionvm.sim.machine import (
     load_machine,
 )
 from motionvm.sim.scope import ChannelRegistry, ScopeRecorder, ScopeRequest
-from motionvm.source.diagnostics import Diagnostic, render_diagnostic
+from motionvm.source.diagnostics import Diagnostic, in_order, render_diagnostic
 
 __all__ = [
     "CompileFailed",
@@ -216,7 +216,7 @@ def compile_run(
                 continue
             request = CompileRequest(machine, spec.options, check_only, _alone(spec, lang))
             result = lang.compile(files[lang], request)
-            for d in result.diagnostics:
+            for d in in_order(result.diagnostics):
                 report(render_diagnostic(d))
             if diagnostics is not None:
                 diagnostics += result.diagnostics

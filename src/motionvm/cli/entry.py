@@ -14,6 +14,8 @@ import sys
 import traceback
 from collections.abc import Callable
 
+from motionvm.cli.colour import coloured
+from motionvm.cli.colour import wanted as colour_wanted
 from motionvm.cli.exits import EXIT_INTERNAL, EXIT_INTERRUPTED, EXIT_OK, EXIT_USAGE, UsageError
 from motionvm.cli.interrupts import forget_unhandled_interrupt, interrupted_by
 from motionvm.cli.options import build_parser
@@ -65,7 +67,8 @@ def _parsed(argv: list[str] | None, dispatch: Callable[[object], int]) -> int:
     try:
         return dispatch(args)
     except UsageError as exc:
-        print(exc.rendered(), file=sys.stderr)
+        text = exc.rendered()
+        print(coloured(text) if colour_wanted() else text, file=sys.stderr)
         return EXIT_USAGE
     except BrokenPipeError:  # output piped into e.g. `head`: stop quietly
         from motionvm.cli.run import stdout_gone

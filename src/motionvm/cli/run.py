@@ -6,6 +6,8 @@ import os
 import sys
 import time
 
+from motionvm.cli.colour import coloured
+from motionvm.cli.colour import wanted as colour_wanted
 from motionvm.cli.coverage import parse_reports
 from motionvm.cli.exits import (
     EXIT_COMPILE,
@@ -93,7 +95,7 @@ def flush_stdout() -> None:
 
 def _report(line: str) -> None:
     flush_stdout()
-    print(line, file=sys.stderr)
+    print(coloured(line) if colour_wanted() else line, file=sys.stderr)
 
 
 def cmd_check(args) -> int:
@@ -108,7 +110,7 @@ def cmd_compile(args) -> int:
     from motionvm.lang import CompileRequest
     from motionvm.session import WERROR_NOTE, check_sources
     from motionvm.sim.machine import DEFAULT_MACHINE
-    from motionvm.source.diagnostics import render_diagnostic
+    from motionvm.source.diagnostics import in_order, render_diagnostic
 
     sources = sources_of(args)
     try:
@@ -125,7 +127,7 @@ def cmd_compile(args) -> int:
         result = lang.compile(sources, CompileRequest(DEFAULT_MACHINE))
     except LanguageInputError as exc:
         raise UsageError(str(exc), located=exc.located) from None
-    for d in result.diagnostics:
+    for d in in_order(result.diagnostics):
         _report(render_diagnostic(d))
     if result.program is None:
         return EXIT_COMPILE

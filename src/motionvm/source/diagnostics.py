@@ -49,6 +49,24 @@ def _window(line: str, col: int) -> tuple[str, int]:
     return head + line[start:end] + tail, col - start + len(head)
 
 
+def in_order(diagnostics: list[Diagnostic]) -> list[Diagnostic]:
+    """`diagnostics` as a reader wants them: each file's messages by position (line,
+    column), the files in the order they first appear; a note stays right after the
+    message it belongs to (the one before it). Stable: messages at one place keep their
+    order."""
+    groups: list[list[Diagnostic]] = []
+    for d in diagnostics:
+        if d.severity == "note" and groups:
+            groups[-1].append(d)
+        else:
+            groups.append([d])
+    files: dict[str, int] = {}
+    for g in groups:
+        files.setdefault(g[0].pos.file, len(files))
+    groups.sort(key=lambda g: (files[g[0].pos.file], g[0].pos.line, g[0].pos.col))
+    return [d for g in groups for d in g]
+
+
 class CompileError(Exception):
     """Raised to abandon a compilation; carries every diagnostic collected so far."""
 

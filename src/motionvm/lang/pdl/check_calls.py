@@ -30,6 +30,11 @@ if TYPE_CHECKING:
     from motionvm.lang.pdl.check_base import Operands
 
 
+CALL_LIKE_KEYWORDS = ("sleep", "wait", "till", "halt", "printl", "prints", "retprintl", "tout",
+                      "kill", "lock", "unlock", "seton", "setoff", "toggle", "sttovar", "sizeof")  # fmt: skip
+"""Keywords written like a call (`sleep(5);`): a misspelt one parses as a procedure call."""
+
+
 def _param_text(p: n.Param) -> str:
     return f"{p.type} {'*' if p.pointer else ''}{p.name}"
 
@@ -46,7 +51,7 @@ def check_proc_call(sc: Operands, s: n.ProcCall) -> None:
                 s.pos,
                 f"procedure '{s.name}' is not declared before this call; define it "
                 f"above or add a prototype 'proc {s.name}(...);'"
-                + did_you_mean(s.name, syms.procs),
+                + did_you_mean(s.name, [*syms.procs, *CALL_LIKE_KEYWORDS]),
             )
         for a in s.args:
             sc.kind(a)
