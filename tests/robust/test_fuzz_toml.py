@@ -167,6 +167,7 @@ def folder_cli(cli, tmp_path):
     return cli
 
 
+@pytest.mark.filterwarnings("ignore:The recursion limit will not be reset")
 @PROFILE
 @given(seed=st.integers(0, 2**32 - 1))
 def test_machine_files_never_crash(folder_cli, seed):
@@ -179,6 +180,7 @@ def test_machine_files_never_crash(folder_cli, seed):
     _check(out, text, time.process_time() - t0)
 
 
+@pytest.mark.filterwarnings("ignore:The recursion limit will not be reset")
 @PROFILE
 @given(seed=st.integers(0, 2**32 - 1))
 def test_scenarios_never_crash(folder_cli, seed):
