@@ -29,6 +29,7 @@ def installed() -> bool:
 
 def pytest_run(*argv: str, cwd: Path) -> subprocess.CompletedProcess:
     env = dict(os.environ)
+    env.pop("PYTEST_ADDOPTS", None)  # the outer run's options (CI's `-n 2`) are not this run's
     env["PYTHONPATH"] = str(REPO / "src") + os.pathsep + env.get("PYTHONPATH", "")
     plugin = [] if installed() else ["-p", "motionvm.cli.pytest_plugin"]
     return subprocess.run(
