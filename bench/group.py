@@ -15,16 +15,30 @@ geometry, caps, junction, look-ahead pass) and the real-time factor of the whole
 `RESULT group_plan_us_per_segment=` (the larger of the two cases) and
 `RESULT group_realtime_factor=` (the smaller). Timing: `time.process_time`, the median
 of 5 runs after one untimed warm-up run.
-Run: python bench/group.py [--repeat N]
+
+A third case, `program`, runs an HMPL program through `Simulation` (time skipping on):
+one task draws a 2-D group on look-ahead lines and arcs, another a 3-D group on
+buffered lines, each waiting on IsGrpInPos between moves; it prints
+`RESULT group_program_realtime_factor=` (simulated seconds / CPU seconds of
+`Simulation.run()`), its output asserted equal to a `--no-skip` run. `--old SRC`
+(a `src` directory of another checkout, e.g. a worktree of an older commit) measures
+the program there too, in a subprocess, interleaved with this one, and prints
+`RESULT group_program_realtime_factor_old=`.
+Run: python bench/group.py [--repeat N] [--old SRC]
 """
 
 from __future__ import annotations
 
 import argparse
 import math
+import os
 import random
 import statistics
+import subprocess
+import sys
+import tempfile
 import time
+from pathlib import Path
 
 from motionvm.motion.axis_config import create
 from motionvm.motion.commands import MotionCommands
@@ -115,13 +129,105 @@ def measure(name: str, points, repeat: int) -> tuple[float, float]:
     return us, rtf
 
 
+PLANE = """void main() {
+    int i;
+    StartTask(1);
+    Enable(0); Enable(1);
+    Till(IsEnabled(0) && IsEnabled(1));
+    SetupGroup(0, 0, 1);
+    SetGrpBufferMode(0, BM_LOOKAHEAD);
+    for (i = 0; i < 10; i++) {
+        LineAbs2D(0, 100, 0);
+        ArcAngle2D(0, 100, 50, 180);
+        LineAbs2D(0, 0, 100);
+        ArcAngle2D(0, 0, 50, 180);
+        Till(IsGrpInPos(0));
+    }
+    Print("g0 at %.9f %.9f", GetPosFb(0), GetPosFb(1));
+}
+"""
+SPACE = """void main() {
+    int i;
+    Enable(2); Enable(3); Enable(4);
+    Till(IsEnabled(2) && IsEnabled(3) && IsEnabled(4));
+    SetupGroup(1, 2, 3, 4);
+    for (i = 0; i < 10; i++) {
+        LineAbs3D(1, 80, 40, 20);
+        Till(IsGrpInPos(1));
+        LineAbs3D(1, 80, 120, 0);
+        Till(IsGrpInPos(1));
+        LineAbs3D(1, 0, 0, 50);
+        Till(IsGrpInPos(1));
+    }
+    Print("g1 at %.9f %.9f %.9f", GetPosFb(2), GetPosFb(3), GetPosFb(4));
+}
+"""
+
+
+def program_once(skip: bool = True) -> tuple[float, float, list[str]]:
+    """(simulated s, CPU s of `Simulation.run()`, output) of the program case."""
+    from motionvm.api import Simulation
+
+    with tempfile.TemporaryDirectory() as tmp:
+        paths = []
+        for name, text in (("plane.hmpl", PLANE), ("space.hmpl", SPACE)):
+            p = Path(tmp) / name
+            p.write_text(text, encoding="utf-8")
+            paths.append(p)
+        sim = Simulation.from_files(paths, skip=skip, stamp=True)
+        t_0 = time.process_time()
+        sim.run(timeout=600)
+        cpu = time.process_time() - t_0
+        return sim.time, cpu, list(sim.messages)
+
+
+def _old_once(src: str) -> tuple[float, float]:
+    """(simulated s, CPU s) of the program case with the motionvm of `src` (pure Python
+    there, as here in a checkout without a compiled build)."""
+    env = dict(os.environ, PYTHONPATH=src)
+    code = ("import sys; sys.path.insert(0, %r); import group as b; "
+            "t, c, _ = b.program_once(); print(t, c)") % str(Path(__file__).parent)  # fmt: skip
+    out = subprocess.run([sys.executable, "-c", code], env=env, check=True,
+                         capture_output=True, text=True).stdout.split()  # fmt: skip
+    return float(out[0]), float(out[1])
+
+
+def measure_program(repeat: int, old: str | None) -> None:
+    sim_time, _, stepped = program_once(skip=False)
+    new, olds = [], []
+    for k in range(repeat + 1):
+        t, cpu, out = program_once()
+        if out != stepped or t != sim_time:
+            raise SystemExit("benchmark broken: the program skipping differs from stepping")
+        if old is not None:
+            t_old, cpu_old = _old_once(old)
+            if t_old != sim_time:
+                raise SystemExit(f"benchmark broken: old run ends at {t_old}, not {sim_time}")
+        if k:
+            new.append(cpu)
+            if old is not None:
+                olds.append(cpu_old)
+    rtf = sim_time / statistics.median(new)
+    print(f"program   {sim_time:8.2f} s simulated  {rtf:9.1f}x real time")
+    print(f"RESULT group_program_realtime_factor={rtf:.1f}")
+    if olds:
+        rtf_old = sim_time / statistics.median(olds)
+        print(f"program (old) {rtf_old:9.1f}x real time")
+        print(f"RESULT group_program_realtime_factor_old={rtf_old:.1f}")
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=5)
+    ap.add_argument("--old", help="src directory of another checkout to compare the program with")
+    ap.add_argument("--program-only", action="store_true", help="run the program case only")
     args = ap.parse_args()
-    results = [measure("polyline", polyline(), args.repeat), measure("arc", arc(), args.repeat)]
-    print(f"RESULT group_plan_us_per_segment={max(r[0] for r in results):.1f}")
-    print(f"RESULT group_realtime_factor={min(r[1] for r in results):.1f}")
+    if not args.program_only:
+        results = [measure("polyline", polyline(), args.repeat),
+                   measure("arc", arc(), args.repeat)]  # fmt: skip
+        print(f"RESULT group_plan_us_per_segment={max(r[0] for r in results):.1f}")
+        print(f"RESULT group_realtime_factor={min(r[1] for r in results):.1f}")
+    measure_program(args.repeat, args.old)
 
 
 if __name__ == "__main__":
