@@ -142,7 +142,7 @@ def test_report_of_passing_and_failing_cases(suite_report) -> None:
 
 
 def test_same_report_whatever_the_number_of_workers(suite: Path, suite_report) -> None:
-    code, out, _ = motionvm_test("-j", "1", cwd=suite)
+    code, out, _ = motionvm_test("-j", "1", "--cache-clear", cwd=suite)
     assert code == suite_report[0]
     assert untimed(out) == untimed(suite_report[1])
 
@@ -277,10 +277,12 @@ def test_dask_cluster(suite: Path) -> None:
     with distributed.LocalCluster(
         n_workers=1, threads_per_worker=2, processes=False, dashboard_address=None
     ) as cluster:
-        code, out, err = motionvm_test("--dask", cluster.scheduler_address, "pdl", cwd=suite)
+        code, out, err = motionvm_test(
+            "--dask", cluster.scheduler_address, "pdl", "--cache-clear", cwd=suite
+        )
     assert code == 1, out + err
     assert "FAILED pdl/stale.pdl" in out
-    local = motionvm_test("-j", "2", "pdl", cwd=suite)[1]
+    local = motionvm_test("-j", "2", "pdl", "--cache-clear", cwd=suite)[1]
     assert untimed(out).replace(f" on the Dask cluster at {cluster.scheduler_address}", "") == (
         untimed(local)
     )

@@ -117,3 +117,40 @@ def test_update_rewrites_out_files_from_the_actual_output(tmp_path: Path) -> Non
     assert "2 passed, 2 failed" in out
     code, out, _ = motionvm_test("-k", "stale", cwd=tmp_path)
     assert code == 0
+
+
+def test_unchanged_cases_come_from_the_results_cache(tmp_path: Path) -> None:
+    write(tmp_path, {"a.hmpl": OK, "b.hmpl": BAD, "c.out": "hello\nx=42\n", "c.hmpl": PRINTS})
+    first = motionvm_test(cwd=tmp_path)
+    assert "from cache" not in first[1]
+    code, out, _ = motionvm_test(cwd=tmp_path)
+    assert code == 1 and "1 failed in" in out and out.rstrip().endswith("(3 from cache)")
+    assert "+bad" in out  # judged again from the stored output: the same report
+    # an edited file runs again (every case of its folder: their keys hold its bytes)
+    (tmp_path / "b.hmpl").write_text(OK)
+    code, out, _ = motionvm_test(cwd=tmp_path)
+    assert code == 0 and "3 passed" in out and "from cache" not in out
+    # a changed expectation is judged against the stored output, not run again
+    (tmp_path / "sub").mkdir()
+    write(tmp_path, {"sub/d.hmpl": OK})
+    motionvm_test(cwd=tmp_path)
+    (tmp_path / "sub" / "d.hmpl").write_text(OK + "// expect: more\n")
+    code, out, _ = motionvm_test("-k", "d.hmpl", cwd=tmp_path)
+    assert code == 1 and "from cache" not in out
+    code, out, _ = motionvm_test("--cache-clear", cwd=tmp_path)
+    assert "from cache" not in out
+
+
+def test_timed_out_cases_are_never_cached(tmp_path: Path) -> None:
+    from motionvm.cli import resultcache
+    from motionvm.cli.workers import Outcome
+
+    assert not resultcache.cacheable(Outcome(None, "", "", 1.0, timed_out=True))
+    assert not resultcache.cacheable(Outcome(None, "", "", 1.0, crashed="killed by SIGKILL"))
+    assert not resultcache.cacheable(Outcome(None, "x", "", 1.0, flooded=True))
+    assert not resultcache.cacheable(Outcome(130, "", "motionvm: interrupted", 1.0))
+    assert resultcache.cacheable(Outcome(1, "", "", 1.0))
+    write(tmp_path, {"hang.hmpl": "void main() {\n    while (1) { Sleep(1); }\n}\n// expect: x\n"})
+    for _ in range(2):
+        code, out, _ = motionvm_test("--case-timeout", "1", cwd=tmp_path)
+        assert code == 1 and "timed out" in out and "from cache" not in out

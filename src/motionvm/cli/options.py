@@ -307,6 +307,12 @@ def add_test_parser(sub) -> None:
         ".motionvm_cache/ in the current folder",
     )
     t.add_argument(
+        "--cache-clear",
+        action="store_true",
+        help="forget the stored results and last failures (.motionvm_cache/) first: "
+        "every case runs",
+    )
+    t.add_argument(
         "--durations",
         type=int,
         metavar="N",

@@ -48,6 +48,7 @@ class TextReport:
         wall_time: float,
         stopped: bool,
         durations: int | None = None,
+        cached: int = 0,
     ) -> None:
         """The failures, `durations` slowest cases (0: all; None: none) and the summary."""
         if self._column:
@@ -68,7 +69,8 @@ class TextReport:
             self.out.write(_rule("short summary", "=") + "\n")
         for v in bad:
             self.out.write(f"{_WORD[v.status]} {v.case.id}\n")
-        self.out.write(summary(verdicts, wall_time) + "\n")
+        more = f" ({cached} from cache)" if cached else ""
+        self.out.write(summary(verdicts, wall_time) + more + "\n")
 
     def _durations(self, verdicts: Sequence[Verdict], n: int) -> None:
         slow = sorted(verdicts, key=lambda v: (-v.wall_time, v.case.id))

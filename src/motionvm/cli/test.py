@@ -53,6 +53,10 @@ def cmd_test(args) -> int:
     durations = getattr(args, "durations", None)
     if durations is not None and durations < 0:
         raise UsageError(f"--durations must be 0 (all) or more, got {durations}")
+    if getattr(args, "cache_clear", False):
+        from motionvm.cli import resultcache
+
+        resultcache.clear()
     cases = select(found, args.k)
     verbosity = args.verbose - args.quiet
     if getattr(args, "last_failed", False):
@@ -71,9 +75,10 @@ def cmd_test(args) -> int:
     start = time.perf_counter()
     coverage: dict | None = {} if cov_reports else None
     updated: list[str] = []
-    verdicts, stopped = _run(cases, args, jobs, report, coverage, updated)
+    cached: list[int] = []
+    verdicts, stopped = _run(cases, args, jobs, report, coverage, updated, cached)
     wall_time = time.perf_counter() - start
-    report.finish(verdicts, wall_time, stopped, durations)
+    report.finish(verdicts, wall_time, stopped, durations, len(cached))
     if updated:
         print(
             f"updated {len(updated)} .out file{'s' if len(updated) > 1 else ''}: "
@@ -159,10 +164,13 @@ def _run(
     report: TextReport,
     coverage: dict | None = None,
     updated: list[str] | None = None,
+    cached: list[int] | None = None,
 ) -> tuple[list[Verdict], bool]:
     """Verdicts of the cases in order (a prefix with -x), and whether -x stopped the run.
     `coverage`: the cases' coverage is merged into it; `updated`: with --update, the
-    `.out` files rewritten are added to it."""
+    `.out` files rewritten are added to it; `cached`: the indices of the cases judged
+    from the results cache (cli/resultcache.py; not with coverage, which it does not
+    keep)."""
     from motionvm.cli import workers
     from motionvm.lang.coverage import merge
 
@@ -180,9 +188,24 @@ def _run(
                 return True
         return False
 
+    timeout = args.case_timeout
+    keys: dict[int, str] = {}
+    if coverage is None and cached is not None:
+        from motionvm.cli import resultcache
+
+        memo: dict = {}
+        for i in list(runnable):
+            key = resultcache.case_key(cases[i], memo)
+            if key is None:
+                continue
+            keys[i] = key
+            stored = resultcache.load(key)
+            if stored is not None:
+                cached.append(i)
+                runnable.remove(i)
+                done[i] = _judged(cases[i], stored, timeout, args, updated)
     if flush():
         return verdicts, True
-    timeout = args.case_timeout
     subset = [cases[i] for i in runnable]
     if args.dask:
         try:
@@ -202,14 +225,23 @@ def _run(
             if coverage is not None and outcome.coverage:
                 merge(coverage, outcome.coverage)
             i = runnable[k]
-            done[i] = judge(cases[i], outcome, timeout)
-            if getattr(args, "update", False) and updated is not None:
-                done[i] = _updated(cases[i], outcome, done[i], timeout, updated)
+            if i in keys:
+                from motionvm.cli import resultcache
+
+                resultcache.store(keys[i], outcome)
+            done[i] = _judged(cases[i], outcome, timeout, args, updated)
             if flush():
                 return verdicts, True
     finally:
         stream.close()
     return verdicts, False
+
+
+def _judged(case: Case, outcome, timeout: float, args, updated: list[str] | None) -> Verdict:
+    verdict = judge(case, outcome, timeout)
+    if getattr(args, "update", False) and updated is not None:
+        verdict = _updated(case, outcome, verdict, timeout, updated)
+    return verdict
 
 
 def _chain(first, rest):

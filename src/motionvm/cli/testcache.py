@@ -1,5 +1,5 @@
 """The cache folder of `motionvm test` (`.motionvm_cache/` in the working directory):
-which cases failed last (`--lf`). Written atomically (a temporary file renamed into
+which cases failed last (`--lf`); the stored outcomes of cases are cli/resultcache.py's. Written atomically (a temporary file renamed into
 place), read forgivingly: a missing, unreadable or malformed cache is an empty one.
 """
 
@@ -47,11 +47,13 @@ def write_atomic(name: str, text: str) -> None:
     ignore = folder / ".gitignore"
     if not ignore.exists():
         ignore.write_text("# made by motionvm test\n*\n", encoding="utf-8")
-    fd, tmp = tempfile.mkstemp(dir=folder, prefix=f".{name}.", suffix=".tmp")
+    target = folder / name
+    target.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=target.parent, prefix=f".{target.name}.", suffix=".tmp")
     try:
         with os.fdopen(fd, "w", encoding="utf-8") as f:
             f.write(text)
-        os.replace(tmp, folder / name)
+        os.replace(tmp, target)
     except BaseException:
         with contextlib.suppress(OSError):
             os.unlink(tmp)
