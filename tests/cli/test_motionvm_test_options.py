@@ -154,3 +154,35 @@ def test_timed_out_cases_are_never_cached(tmp_path: Path) -> None:
     for _ in range(2):
         code, out, _ = motionvm_test("--case-timeout", "1", cwd=tmp_path)
         assert code == 1 and "timed out" in out and "from cache" not in out
+
+
+def test_repeat_runs_each_case_n_times_and_fails_differing_runs(
+    tmp_path: Path, monkeypatch
+) -> None:
+    import dataclasses
+
+    from motionvm.cli import workers
+
+    write(tmp_path, {"a.hmpl": OK, "b.hmpl": OK})
+    real = workers.local_outcomes
+    seen: list[int] = []
+
+    def flaky(cases, jobs, timeout, coverage=False):
+        """The real runs; the second run of b.hmpl prints something else."""
+        for k, outcome in real(cases, jobs, timeout, coverage):
+            seen.append(k)
+            if cases[k].id == "b.hmpl" and sum(cases[j].id == "b.hmpl" for j in seen) == 2:
+                outcome = dataclasses.replace(outcome, stdout="ok\nstray\n")
+            yield k, outcome
+
+    monkeypatch.setattr(workers, "local_outcomes", flaky)
+    code, out, _ = motionvm_test("--repeat", "3", cwd=tmp_path)
+    assert len(seen) == 6 and "from cache" not in out
+    assert code == 1 and "1 passed, 1 failed" in out
+    assert "run 2 of 3 differs from run 1 (--repeat: the program is not deterministic)" in out
+    assert "+stray" in out
+    monkeypatch.setattr(workers, "local_outcomes", real)
+    code, out, _ = motionvm_test("--repeat", "2", cwd=tmp_path)
+    assert code == 0 and "2 passed" in out
+    code, _, err = motionvm_test("--repeat", "0", cwd=tmp_path)
+    assert code == 3 and "--repeat" in err

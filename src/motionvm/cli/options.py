@@ -307,6 +307,14 @@ def add_test_parser(sub) -> None:
         ".motionvm_cache/ in the current folder",
     )
     t.add_argument(
+        "--repeat",
+        type=int,
+        default=1,
+        metavar="N",
+        help="run each case N times; a case whose runs print or exit differently fails "
+        "(not deterministic); the results cache is not used",
+    )
+    t.add_argument(
         "--cache-clear",
         action="store_true",
         help="forget the stored results and last failures (.motionvm_cache/) first: "

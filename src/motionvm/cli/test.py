@@ -53,6 +53,8 @@ def cmd_test(args) -> int:
     durations = getattr(args, "durations", None)
     if durations is not None and durations < 0:
         raise UsageError(f"--durations must be 0 (all) or more, got {durations}")
+    if getattr(args, "repeat", 1) < 1:
+        raise UsageError(f"--repeat must be at least 1, got {args.repeat}")
     if getattr(args, "cache_clear", False):
         from motionvm.cli import resultcache
 
@@ -190,7 +192,9 @@ def _run(
 
     timeout = args.case_timeout
     keys: dict[int, str] = {}
-    if coverage is None and cached is not None:
+    repeat = max(1, getattr(args, "repeat", None) or 1)
+    runs_of: dict[int, list] = {}
+    if coverage is None and cached is not None and repeat == 1:
         from motionvm.cli import resultcache
 
         memo: dict = {}
@@ -206,7 +210,7 @@ def _run(
                 done[i] = _judged(cases[i], stored, timeout, args, updated)
     if flush():
         return verdicts, True
-    subset = [cases[i] for i in runnable]
+    subset = [cases[i] for i in runnable for _ in range(repeat)]
     if args.dask:
         try:
             outcomes = workers.dask_outcomes(subset, args.dask, timeout, coverage is not None)
@@ -222,19 +226,63 @@ def _run(
         stream = workers.local_outcomes(subset, jobs, timeout, coverage is not None)
     try:
         for k, outcome in stream:
-            if coverage is not None and outcome.coverage:
+            i = runnable[k // repeat]
+            got = runs_of.setdefault(i, [])
+            got.append(outcome)
+            if coverage is not None and outcome.coverage and len(got) == 1:
                 merge(coverage, outcome.coverage)
-            i = runnable[k]
+            if len(got) < repeat:
+                continue
+            del runs_of[i]
             if i in keys:
                 from motionvm.cli import resultcache
 
                 resultcache.store(keys[i], outcome)
-            done[i] = _judged(cases[i], outcome, timeout, args, updated)
+            differs = _differing(cases[i], got)
+            if differs is not None:
+                done[i] = differs
+            else:
+                done[i] = _judged(cases[i], got[0], timeout, args, updated)
             if flush():
                 return verdicts, True
     finally:
         stream.close()
     return verdicts, False
+
+
+def _differing(case: Case, outcomes: list) -> Verdict | None:
+    """`--repeat`: a failed verdict when the finished runs of a case did not all print
+    and exit alike (a determinism bug, never retried); None when they did. A run that
+    did not finish (timed out, killed, flooded) is judged as it is."""
+    import difflib
+
+    from motionvm.cli.judge import command_line
+
+    unfinished = next(
+        (o for o in outcomes if o.timed_out or o.crashed is not None or o.flooded), None
+    )
+    if unfinished is not None:
+        return None if unfinished is outcomes[0] else _differing(case, [unfinished])
+    first = outcomes[0]
+    for n, other in enumerate(outcomes[1:], start=2):
+        if (other.returncode, other.stdout, other.stderr) == (
+            first.returncode, first.stdout, first.stderr
+        ):  # fmt: skip
+            continue
+        lines = [command_line(case), f"run {n} of {len(outcomes)} differs from run 1 "
+                 "(--repeat: the program is not deterministic)"]  # fmt: skip
+        if other.returncode != first.returncode:
+            lines.append(f"exit code {other.returncode}, run 1: {first.returncode}")
+        for name, a, b in (("stdout", first.stdout, other.stdout),
+                           ("stderr", first.stderr, other.stderr)):  # fmt: skip
+            if a != b:
+                diff = difflib.unified_diff(
+                    a.splitlines(), b.splitlines(), f"{name} of run 1", f"{name} of run {n}",
+                    lineterm="",
+                )  # fmt: skip
+                lines.append("\n".join(diff))
+        return Verdict(case, FAILED, "\n".join(lines), first.wall_time, first.stdout, first.stderr)
+    return None
 
 
 def _judged(case: Case, outcome, timeout: float, args, updated: list[str] | None) -> Verdict:
