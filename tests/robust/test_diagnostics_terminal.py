@@ -124,3 +124,46 @@ def test_three_syntax_errors_in_one_pass(cli):
     r = cli("check", "e.hmpl", e__hmpl=text)
     heads = [line.split(": error")[0] for line in r.stderr.splitlines() if ": error" in line]
     assert heads == ["e.hmpl:2:16", "e.hmpl:4:14", "e.hmpl:5:19"], r.stderr
+
+
+GDL_THREE = """MODULE m;
+  DIGITAL$FLAG f [ INITIAL$VALUE = OFF ];
+  INTEGER$VARIABLE v [ INITIAL$VALUE = 0 ];
+  PROCEDURE p1;
+  DECLARE { STATUS OF f };
+  BEGIN
+    VALUE OF v = (1 + ;
+    STATUS OF f = ON;
+  END$PROCEDURE;
+  PROCEDURE p2;
+  DECLARE { STATUS OF f };
+  BEGIN
+    IF STATUS OF f = ON THEN
+      VALUE OF v = 2 * * 3;
+    END$IF;
+  END$PROCEDURE;
+  PROCEDURE p3;
+  DECLARE { STATUS OF f };
+  BEGIN
+    VALUE OF v = 3
+    STATUS OF f = OFF;
+  END$PROCEDURE;
+END$MODULE;
+"""
+
+
+@pytest.mark.parametrize(
+    ("name", "text", "expected"),
+    [
+        ("e.gdl", GDL_THREE, ["e.gdl:7:23", "e.gdl:14:24", "e.gdl:20:19"]),
+        (
+            "e.pdl",
+            "#long x;\n#task/0;\nx = (1 + ;\nx = 2;\nx = 3 * * 4;\nx = 5;\nif (x > ) x = 1;\nhalt;\n",
+            ["e.pdl:3:5", "e.pdl:5:11", "e.pdl:7:9"],
+        ),
+    ],
+)
+def test_three_syntax_errors_in_one_pass_in_pdl_and_gdl(cli, name, text, expected):
+    r = cli("check", name, **{name.replace(".", "__"): text})
+    heads = [line.split(": error")[0] for line in r.stderr.splitlines() if ": error" in line]
+    assert heads == expected, r.stderr
