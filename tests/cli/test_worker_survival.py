@@ -177,3 +177,46 @@ def test_the_death_of_a_worker_in_words() -> None:
     assert workers.death(-9).startswith("killed by SIGKILL")
     assert workers.death(-15) == "killed by SIGTERM"
     assert workers.death(1) == "worker exit code 1"
+
+
+def test_a_cluster_case_child_is_bounded_and_timed(tmp_path: Path, monkeypatch) -> None:
+    """The path of `--dask` (each case a `python -m motionvm run` child), without Dask."""
+    (tmp_path / "flood.hmpl").write_text(FLOOD)
+    (tmp_path / "hang.hmpl").write_text(HANG)
+    monkeypatch.setattr(workers, "OUTPUT_LIMIT", 100_000)
+    flood, hang = sorted(collect([str(tmp_path)]), key=lambda c: c.id)
+    outcome = workers.execute_subprocess(flood, 60)
+    assert outcome.flooded and len(outcome.stdout) <= 100_000
+    assert judge(flood, outcome, 60).status == FAILED
+    outcome = workers.execute_subprocess(hang, 3)
+    assert outcome.timed_out and outcome.wall_time < 20
+
+
+def test_a_cluster_case_child_ends_with_its_parent(tmp_path: Path) -> None:
+    """A Dask worker killed mid-case leaves no process behind: the `motionvm run` child
+    watches the process that started it (MOTIONVM_PARENT_PID)."""
+    (tmp_path / "hang.hmpl").write_text(HANG)
+    script = (
+        "import os, subprocess, sys, time\n"
+        "env = dict(os.environ, MOTIONVM_PARENT_PID=str(os.getpid()))\n"
+        "p = subprocess.Popen([sys.executable, '-m', 'motionvm', 'run', 'hang.hmpl'], env=env)\n"
+        "print(p.pid, flush=True); time.sleep(60)\n"
+    )
+    env = dict(
+        os.environ, PYTHONPATH=str(REPO / "src") + os.pathsep + os.environ.get("PYTHONPATH", "")
+    )
+    parent = subprocess.Popen(
+        [sys.executable, "-c", script], cwd=tmp_path, env=env, stdout=subprocess.PIPE, text=True
+    )
+    pid = 0
+    try:
+        pid = int(parent.stdout.readline())
+        assert wait_for(lambda: alive(pid), 10)
+        time.sleep(1.5)  # the child imports motionvm and starts its watch
+        parent.kill()
+        parent.wait(timeout=10)
+        assert wait_for(lambda: not alive(pid), 5), "the run outlived its parent"
+    finally:
+        parent.kill()
+        if pid and alive(pid):
+            os.kill(pid, signal.SIGKILL)

@@ -38,7 +38,16 @@ __all__ = [
 
 
 def main(argv: list[str] | None = None) -> int:
-    """The `motionvm` command with `argv` (default: the process's); its exit code."""
+    """The `motionvm` command with `argv` (default: the process's); its exit code.
+    With MOTIONVM_PARENT_PID set (a case of `motionvm test --dask`), the process ends
+    itself when that process is gone."""
+    import os
+
+    parent = os.environ.get("MOTIONVM_PARENT_PID", "")
+    if parent.isdigit() and argv is None:
+        from motionvm.cli.workers import die_with
+
+        die_with(int(parent), by_signal=False)
     return run_command(argv, _dispatch)
 
 

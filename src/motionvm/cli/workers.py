@@ -167,12 +167,15 @@ def execute(case: Case, coverage: bool = False) -> Outcome:
 
 
 def execute_subprocess(case: Case, timeout: float, coverage: bool = False) -> Outcome:
-    """Run `case` as `python -m motionvm run ARGV` in a child process (Dask workers)."""
+    """Run `case` as `python -m motionvm run ARGV` in a child process (Dask workers). The
+    child ends itself if this process dies (MOTIONVM_PARENT_PID); its output goes to
+    files, and past OUTPUT_LIMIT bytes it is killed and the case fails as flooded."""
     import motionvm
 
     env = dict(os.environ)
     src = str(Path(motionvm.__file__).resolve().parents[1])
     env["PYTHONPATH"] = src + (os.pathsep + env["PYTHONPATH"] if env.get("PYTHONPATH") else "")
+    env["MOTIONVM_PARENT_PID"] = str(os.getpid())
     start = time.perf_counter()
     codes: list[int] = []
     out, err = [], []
@@ -180,31 +183,21 @@ def execute_subprocess(case: Case, timeout: float, coverage: bool = False) -> Ou
     with tempfile.TemporaryDirectory(prefix="motionvm-test-") as data:
         env["MOTIONVM_DATA_DIR"] = data
         cov_file = os.path.join(data, ".coverage.json")
-        for argv in runs(case):
+        for n, argv in enumerate(runs(case)):
             if codes and codes[-1] != case.expect.exit_code:
                 break
             if coverage and argv[0] == "run":
                 argv = [argv[0], "--cov-report", f"json:{cov_file}", *argv[1:]]
             left = timeout - (time.perf_counter() - start)
-            try:
-                proc = subprocess.run(
-                    [sys.executable, "-m", "motionvm", *argv],
-                    cwd=case.folder,
-                    env=env,
-                    capture_output=True,
-                    text=True,
-                    encoding="utf-8",
-                    errors="replace",
-                    timeout=max(left, 0.001),
-                    check=False,
-                )
-            except subprocess.TimeoutExpired as exc:
-                out.append(_text(exc.stdout))
-                err.append(_text(exc.stderr))
-                return Outcome(None, "".join(out), "".join(err), time.perf_counter() - start, True)
-            codes.append(proc.returncode)
-            out.append(proc.stdout)
-            err.append(proc.stderr)
+            budget = OUTPUT_LIMIT - sum(map(len, out)) - sum(map(len, err))
+            code, o, e, why = _child(argv, case.folder, env, data, n, left, budget)
+            out.append(o)
+            err.append(e)
+            if why is not None:
+                elapsed = time.perf_counter() - start
+                return Outcome(None, "".join(out), "".join(err), elapsed,
+                               timed_out=why == "timeout", flooded=why == "flood")  # fmt: skip
+            codes.append(code)
             if merged is not None and os.path.exists(cov_file):
                 from motionvm.cli.coverage import read_json
                 from motionvm.lang.coverage import merge
@@ -215,13 +208,41 @@ def execute_subprocess(case: Case, timeout: float, coverage: bool = False) -> Ou
     return Outcome(code, "".join(out), "".join(err), time.perf_counter() - start, coverage=merged)
 
 
-def _text(data: bytes | str | None) -> str:
-    if isinstance(data, bytes):
-        return data.decode("utf-8", "replace")
-    return data or ""
+def _child(argv, cwd, env, folder, n, timeout, budget):
+    """(exit code, stdout, stderr, None | 'timeout' | 'flood') of one `motionvm` child,
+    its output in files of `folder`, checked every tenth of a second."""
+    paths = [os.path.join(folder, f".run{n}.{name}") for name in ("out", "err")]
+    with open(paths[0], "wb") as fo, open(paths[1], "wb") as fe:
+        proc = subprocess.Popen(
+            [sys.executable, "-m", "motionvm", *argv], cwd=cwd, env=env,
+            stdin=subprocess.DEVNULL, stdout=fo, stderr=fe,
+        )  # fmt: skip
+        end = time.monotonic() + max(timeout, 0.001)
+        why = None
+        while True:
+            try:
+                proc.wait(timeout=0.1)
+                break
+            except subprocess.TimeoutExpired:
+                pass
+            if os.fstat(fo.fileno()).st_size + os.fstat(fe.fileno()).st_size > budget:
+                why = "flood"
+            elif time.monotonic() >= end:
+                why = "timeout"
+            if why is not None:
+                proc.kill()
+                proc.wait()
+                break
+        if why is None and os.fstat(fo.fileno()).st_size + os.fstat(fe.fileno()).st_size > budget:
+            why = "flood"
+    texts = []
+    for path in paths:
+        with open(path, "rb") as f:
+            texts.append(f.read(max(budget, 0)).decode("utf-8", "replace"))
+    return proc.returncode, texts[0], texts[1], why
 
 
-def _die_with(parent: int, by_signal: bool) -> None:
+def die_with(parent: int, by_signal: bool) -> None:
     """End this process when `parent` is gone: on Linux at once (the kernel sends SIGKILL,
     `by_signal`: the parent's main thread started us), and everywhere by a thread that
     watches for being re-parented."""
@@ -248,7 +269,7 @@ def _serve(conn: Connection, parent: int = 0, by_signal: bool = False) -> None:
     (its runner) is gone."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's to handle
     if parent:
-        _die_with(parent, by_signal)
+        die_with(parent, by_signal)
     import motionvm.cli.entry  # noqa: F401 — imported once, before the first case's clock starts
 
     conn.send(_READY)
