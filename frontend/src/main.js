@@ -18,7 +18,7 @@ const ui = {
 };
 const editor = new Editor($("editor"), $("tabs"), rpc);
 const scope = new Scope($("scope-plot"), $("scope-picker"), rpc);
-const path = new PathView($("path"), $("plane"));
+const path = new PathView($("path"), $("plane"), $("path-view"));
 const consoleView = new Console($("console"));
 const axes = new AxesTable($("axes-body"));
 const io = new IoPanel($("inputs"), $("outputs"), (name, on) => act("io.force", { name, value: on ? 1 : 0 }));
@@ -54,13 +54,14 @@ function showState(s) {
   }
   if (state.running) ui.status.textContent = "running";
   else if (!state.loaded) ui.status.textContent = state.error || "no program";
+  document.body.dataset.runState = state.running ? "running" : state.waits_forever ? "waits forever" : "paused";
   if (state.running) { debug.running(); editor.stoppedAt(null); }
 }
 
 function describe(hello) {
   if (hello.machine) {
     io.build(hello.machine);
-    path.setChannels(hello.machine.path);
+    path.setChannels(hello.machine.path, hello.machine.groups);
   }
   scope.setChannels(hello.scope, hello.units);
   scope.follow = true;
@@ -69,11 +70,11 @@ function describe(hello) {
 
 rpc.on("state", showState);
 rpc.on("console", (p) => consoleView.add(p.lines));
-rpc.on("scope", (p) => { if (!scrubbing) { scope.append(p.t, p.values); path.append(p.t, p.values); } });
+rpc.on("scope", (p) => { if (!scrubbing) { scope.append(p.t, p.values); path.append(p.t, p.values, p.groups); } });
 rpc.on("panels", (p) => { if (!scrubbing) { axes.show(p.axes); io.show(p.io); } });
 rpc.on("stopped", (stop) => {
   const where = stop.line ? ` at ${stop.file.split("/").pop()}:${stop.line}` : "";
-  const why = { goto: "paused", pause: "paused", step: "paused after a cycle", exited: "the run ended" }[stop.reason] || stop.reason;
+  const why = { goto: "paused", pause: "paused", step: "paused after a cycle", exited: "the run ended", "waits forever": "waits forever" }[stop.reason] || stop.reason;
   ui.status.textContent = `${why}${where} (t = ${stop.time.toFixed(3)} s)${stop.text ? ": " + stop.text : ""}`;
   editor.stoppedAt(stop.file, stop.line);
   debug.paused(stop);
@@ -108,7 +109,7 @@ async function scrub(cycle) {
     io.show(at.io);
     scope.follow = true;
     scope.replace(at.scope.t, at.scope.values);
-    path.replace(at.path.t, at.path.values);
+    path.replace(at.path.t, at.path.values, at.path.groups);
     ui.sliderTime.textContent = `${at.time.toFixed(3)} s (recorded) of ${Number(state.recorded).toFixed(3)} s`;
   }
   if (scrubNext != null) { const next = scrubNext; scrubNext = null; scrub(next); }
@@ -126,7 +127,7 @@ ui.slider.addEventListener("change", async () => {
   const all = await act("history.at", { cycle, span: null });
   if (all) {
     scope.replace(all.scope.t, all.scope.values);
-    path.replace(all.path.t, all.path.values);
+    path.replace(all.path.t, all.path.values, all.path.groups);
   }
 });
 

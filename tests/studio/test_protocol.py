@@ -60,13 +60,26 @@ def test_run_to_a_time_streams_lines_scope_and_panels_then_steps_a_cycle(client)
     assert client.call("studio.hello")["state"]["time"] == pytest.approx(1.901)
 
 
-def test_pause_stops_a_run_that_waits_for_an_input(client):
+def test_pause_stops_a_paced_run(client):
+    client.call("run.speed", {"factor": 1.0})
     client.call("run.start")
-    client.wait_for("console", lambda p: any("waiting" in x["text"] for x in p["lines"]))
+    client.wait_for("state", lambda p: p["time"] > 0.1)
     client.call("run.pause")
     stopped = client.wait_for("stopped")
-    assert stopped["reason"] == "pause" and stopped["time"] > 1.835
+    assert stopped["reason"] == "pause" and 0.1 < stopped["time"] < 1.835
     assert client.call("studio.hello")["state"]["running"] is False
+
+
+def test_a_run_waiting_for_an_input_nothing_sets_stops_as_waiting_forever(client):
+    client.call("run.start")
+    stopped = client.wait_for("stopped")
+    assert stopped["reason"] == "waits forever" and stopped["time"] > 1.835
+    assert "waiting for start" in client.console_text()
+    assert client.call("studio.hello")["state"]["waits_forever"] is True
+    client.call("io.force", {"name": "gpi3", "value": 1})  # now it can go on
+    client.call("run.to_time", {"seconds": stopped["time"] + 0.2})
+    assert client.wait_for("stopped")["reason"] == "goto"
+    assert client.call("studio.hello")["state"]["waits_forever"] is False
 
 
 def test_a_breakpoint_stops_the_run_and_shows_the_stack_and_variables(client):

@@ -149,11 +149,13 @@ class DebugEngine:
     def resume(self) -> Stop:
         return self._go(Goal("continue"))
 
-    def resume_to(self, target: Position | None) -> Stop:
-        """Continue, stopping at `target` too (reason "goto") if nothing stops before."""
+    def resume_to(self, target: Position | None, forever: bool = False) -> Stop:
+        """Continue, stopping at `target` too (reason "goto") if nothing stops before;
+        with `forever`, `target` only paces a longer run: a run that can never end stops
+        before it ("waits forever"), as `resume` does."""
         if target is not None and target <= self.position():
             return self.go_to(target)
-        return self._go(Goal("continue", target, reason="goto"))
+        return self._go(Goal("continue", target, reason="goto", forever=forever))
 
     def pause(self) -> None:
         """From another thread: the running program stops at the next cycle boundary."""

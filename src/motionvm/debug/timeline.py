@@ -56,6 +56,9 @@ class Goal:
     """The stop's reason when the goal is reached."""
     skip_origin: object | None = None
     """step: the frame and line the step started from (not a stop)."""
+    forever: bool = False
+    """continue to `target`: stop with "waits forever" before it if nothing left can
+    change the run (a target that is only a pause of a longer run: a paced run's step)."""
 
 
 class Timeline:
@@ -253,7 +256,10 @@ class Timeline:
             return
         until = (min(limits) - 1) * ctl.cycle_time if limits else None
         self._trace(False)
-        result = ctl.run(until)
+        # a goal's target that only paces a longer run: a run that can never end ends
+        # before it (unless an input still to come, or the run's end, could change that)
+        deadline = goal.forever and not self.inputs and self._asked_end is None
+        result = ctl.run(until, deadline=deadline)
         if result == STOPPED and not self._pause_asked:
             ctl.stop_requested = False  # a fault asked for a stop at this boundary
         elif result == STOPPED and ctl.busy():

@@ -56,9 +56,10 @@ class History:
     def wants(self, cycle: int) -> bool:
         return cycle % self.stride == 0 and cycle > self.last_cycle
 
-    def add(self, cycle: int, values: dict[str, object]) -> None:
-        """The row of `cycle` (ignored unless `wants`)."""
-        if self.wants(cycle):
+    def add(self, cycle: int, values: dict[str, object], always: bool = False) -> None:
+        """The row of `cycle` (ignored unless `wants`; `always`: at any later cycle, off
+        the stride too: the last row of a run that stops there)."""
+        if self.wants(cycle) or (always and cycle > self.last_cycle):
             cells = [(c, partial(values.get, n, math.nan)) for n, c in self.columns.items()]
             self.record(cycle, cells)
 
@@ -142,12 +143,24 @@ class Recorder(PassiveClient):
     samples_skipped_cycles = True
     observes_motion = False  # a jump advances the axes cycle by cycle for it
 
-    def __init__(self, history: History, clock, getters: dict[str, Callable[[], object]]):
+    def __init__(
+        self,
+        history: History,
+        clock,
+        getters: dict[str, Callable[[], object]],
+        refresh: Callable[[], dict[str, Callable[[], object]] | None] | None = None,
+    ):
         self.history = history
         self.clock = clock
+        self.refresh = refresh
+        """Asked every cycle: new getters (columns added since), or None."""
         self.set_getters(getters)
 
     def end_cycle(self) -> None:
+        if self.refresh is not None:
+            getters = self.refresh()
+            if getters is not None:
+                self.set_getters(getters)
         cycle = self.clock.cycle
         history = self.history
         if cycle % history.stride or cycle <= history.last_cycle:

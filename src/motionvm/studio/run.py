@@ -78,6 +78,8 @@ class StudioRun:
         self._executor = ThreadPoolExecutor(1, thread_name_prefix="motionvm-studio")
         self.frames = 0
         """Updates sent while running (the page's frame count)."""
+        self.forever = False
+        """The run stopped because it can never end (nothing left can change it)."""
 
     # ---------------------------------------------------------------- the engine
 
@@ -106,6 +108,8 @@ class StudioRun:
             engine.set_breakpoints(path, [BreakpointSpec(n) for n in lines])
         ctl = engine.controller
         self.history = History(ctl.cycle_time)
+        self.layout = None  # a new program: no groups seen yet
+        self.forever = False
         self._recorded_session = None
         self._sent_cycle = -1
         self._observe()
@@ -116,8 +120,10 @@ class StudioRun:
         if engine is None or engine.session is self._recorded_session:
             return
         session = engine.session
-        self.layout = Layout(session.controller, session.scope_registry(), self.scope)
-        self._recorder = Recorder(self.history, session.controller.clock, self.layout.getters)
+        groups = self.layout.groups if self.layout is not None else None
+        self.layout = Layout(session.controller, session.scope_registry(), self.scope, groups)
+        self._recorder = Recorder(self.history, session.controller.clock, self.layout.getters,
+                                  self.layout.watch_groups)  # fmt: skip
         session.controller.add_client(self._recorder)
         self._recorded_session = session
         if self.history.last_cycle < 0:  # the first row: the state at t = 0
@@ -152,7 +158,7 @@ class StudioRun:
         engine = self.engine
         out = {"running": self.running, "speed": self.speed, "loaded": engine is not None,
                "error": self.error, "time": 0.0, "cycle": 0, "finished": False,
-               "recorded": 0.0}  # fmt: skip
+               "recorded": 0.0, "waits_forever": self.forever}  # fmt: skip
         if engine is not None:
             pos = engine.position()
             out.update(time=engine.controller.sim_time, cycle=pos.cycle,
@@ -188,7 +194,8 @@ class StudioRun:
                 names = list(dict.fromkeys(layout.scope + layout.path))
                 times, values = history.window(self._sent_cycle + 1, last, names, SCOPE_POINTS)
                 self._sent_cycle = last
-                await self.notify("scope", {"t": times, "values": values})
+                await self.notify("scope", {"t": times, "values": values,
+                                            "groups": layout.path_groups()})  # fmt: skip
             if live:
                 row = layout.live_row()
                 await self.notify("panels", self._panels(row))
@@ -199,6 +206,15 @@ class StudioRun:
         return {"time": self._now(), "axes": layout.axes_rows(row), "io": layout.io_values(row)}
 
     async def _stopped(self, stop: Stop) -> None:
+        self.forever = stop.reason == "waits forever"
+        if self.forever:
+            # the run ends here: its last state is recorded, whatever the stride (the
+            # row of cycle c is the state after it, the stop is at the start of the next)
+            if self.history is not None and self.layout is not None:
+                self.history.add(stop.position.cycle - 1, self.layout.live_row(), always=True)
+            why = f": {stop.text}" if stop.text else ""
+            self._err(f"the run waits forever at t = {stop.time:.3f} s (nothing left in it "
+                      f"can change what it waits on){why}")  # fmt: skip
         body = {"reason": stop.reason, "time": stop.time, "cycle": stop.position.cycle,
                 "text": stop.text, "file": None, "line": None, "thread": None}  # fmt: skip
         engine = self.engine
@@ -267,7 +283,8 @@ class StudioRun:
                 if end is not None:
                     target = min(target, end)
                 started = time.perf_counter()
-                stop = await self._call(engine.resume_to, Position(target))
+                # the target only paces: a run that can never end stops ("waits forever")
+                stop = await self._call(engine.resume_to, Position(target), end is None)
                 took = max(time.perf_counter() - started, 1e-4)
                 if self.speed is None:
                     # half a frame of running: the rest is for sending what it did
@@ -349,8 +366,10 @@ class StudioRun:
 
         def apply():
             session = engine.session
-            self.layout = Layout(session.controller, session.scope_registry(), self.scope)
+            groups = self.layout.groups if self.layout is not None else None
+            self.layout = Layout(session.controller, session.scope_registry(), self.scope, groups)
             self._recorder.set_getters(self.layout.getters)
+            self._recorder.refresh = self.layout.watch_groups
 
         await self._call(apply)
         return {"scope": self.layout.scope, "units": self.layout.units}
@@ -380,7 +399,7 @@ class StudioRun:
         t, values = history.window(first, c, layout.scope, SCOPE_POINTS * 2)
         out["scope"] = {"t": t, "values": values}
         pt, pv = history.window(0, c, layout.path, SCOPE_POINTS * 2)
-        out["path"] = {"t": pt, "values": pv}
+        out["path"] = {"t": pt, "values": pv, "groups": layout.path_groups()}
         return out
 
     # ---------------------------------------------------------------- paused: inside

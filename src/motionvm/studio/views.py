@@ -5,7 +5,12 @@ Every panel reads scope channels (sim/scope.py), so that a live view and a recor
 (history.py) give the same numbers: the axes table shows `axisN.<column>` for
 `AXIS_COLUMNS` and a state word `axisN.state` (bits of `STATE_FLAGS`), the I/O panel the
 digital channels (`gpiN`, `gpoN`, `slvS.diK`, `slvS.doK`), the path view the first two
-(or three) axes' feedback positions, or those of the first group of three axes or more.
+(or three) axes' feedback positions and, once the program enables an axis group of two
+axes or more, that group's Cartesian feedback pose `groupN.carte_pose_fb[0..2]` (X, Y and,
+for a group of three axes or more, Z): each group's path in its own coordinates. The
+groups are found through the controller's motion kernel (`controller.motion.groups`);
+`Layout.watch_groups` is asked every cycle (one identity test while the enabled groups
+stay the same) and adds a group's columns from the cycle it is enabled.
 """
 
 from __future__ import annotations
@@ -74,7 +79,13 @@ def default_scope(axes: int, names: list[str]) -> list[str]:
 class Layout:
     """The panels' channels for one machine (the same for every session of a run)."""
 
-    def __init__(self, controller, registry, scope: list[str] | None = None) -> None:
+    def __init__(
+        self,
+        controller,
+        registry,
+        scope: list[str] | None = None,
+        groups: dict[int, int] | None = None,
+    ) -> None:
         axes = controller.axes
         self.axes = len(axes)
         self.units: dict[str, str] = {}
@@ -93,6 +104,43 @@ class Layout:
         self.scope = list(scope) if scope is not None else default_scope(self.axes, names)
         for name in self.scope:
             self._add(registry, name)
+        self._registry = registry
+        self._groups = controller.motion.groups
+        self._enabled_seen: object = None
+        self.groups: dict[int, int] = {}
+        """Group id -> the dimensions of its path (2: XY, 3: XYZ), of every group seen
+        enabled with two axes or more (kept over the sessions of a run: `groups`)."""
+        for gid, dims in sorted((groups or {}).items()):
+            self._add_group(gid, dims)
+
+    def _add_group(self, gid: int, dims: int) -> None:
+        self.groups[gid] = dims
+        for i in range(dims):
+            name = f"group{gid}.carte_pose_fb[{i}]"
+            self._add(self._registry, name)
+            if name not in self.path:
+                self.path.append(name)
+
+    def watch_groups(self) -> dict[str, Callable[[], object]] | None:
+        """The getters, if an axis group was enabled with more dimensions than seen so
+        far (None: nothing new; cheap while the enabled groups stay the same)."""
+        enabled = self._groups.enabled
+        if enabled is self._enabled_seen:
+            return None
+        self._enabled_seen = enabled
+        grown = False
+        for g in enabled:
+            dims = min(3, len(g.axes))
+            if dims >= 2 and dims > self.groups.get(g.group_id, 0):
+                self._add_group(g.group_id, dims)
+                grown = True
+        return self.getters if grown else None
+
+    def path_groups(self) -> list[dict]:
+        """The groups of the path view: name, dimensions, their columns (X, Y[, Z])."""
+        return [{"name": f"group{gid}", "dims": dims,
+                 "channels": [f"group{gid}.carte_pose_fb[{i}]" for i in range(dims)]}
+                for gid, dims in sorted(self.groups.items())]  # fmt: skip
 
     def _add(self, registry, name: str) -> None:
         channel = registry.find(name)
@@ -111,7 +159,8 @@ class Layout:
             ],  # fmt: skip
             "inputs": self.inputs,
             "outputs": self.outputs,
-            "path": self.path,
+            "path": [n for n in self.path if n.startswith("axis")],
+            "groups": self.path_groups(),
         }
 
     def axes_rows(self, row: dict[str, float | None]) -> list[dict]:
