@@ -147,7 +147,7 @@ def test_every_bad_event_of_a_scenario_in_one_run(tmp_path):
     lines = err.splitlines()
     assert all(GCC_LINE.match(line) for line in lines), err
     assert lines == [
-        "s.toml:8:1: error: event 2: unknown object 'gone'",
+        "s.toml:8:1: error: event 2: unknown object 'gone' (did you mean 'go'?)",
         "s.toml:12:1: error: event 3: 'at' must be a number of seconds >= 0, not -1",
     ]
 
@@ -156,7 +156,7 @@ def test_a_force_text_stays_a_command_line_error(tmp_path):
     write(tmp_path, "app.gdl", GDL_APP)
     code, _out, err = cli(tmp_path, "run", "app.gdl", "--force", "STATUS OF gone = ON")
     assert code == 3
-    assert err == "motionvm: error: --force 'STATUS OF gone = ON': unknown object 'gone'\n"
+    assert err == "motionvm: error: --force 'STATUS OF gone = ON': unknown object 'gone' (did you mean 'go'?)\n"
 
 
 def test_a_machine_file_that_is_not_utf8_is_located(tmp_path):
