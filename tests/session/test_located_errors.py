@@ -156,7 +156,10 @@ def test_a_force_text_stays_a_command_line_error(tmp_path):
     write(tmp_path, "app.gdl", GDL_APP)
     code, _out, err = cli(tmp_path, "run", "app.gdl", "--force", "STATUS OF gone = ON")
     assert code == 3
-    assert err == "motionvm: error: --force 'STATUS OF gone = ON': unknown object 'gone' (did you mean 'go'?)\n"
+    assert (
+        err
+        == "motionvm: error: --force 'STATUS OF gone = ON': unknown object 'gone' (did you mean 'go'?)\n"
+    )
 
 
 def test_a_machine_file_that_is_not_utf8_is_located(tmp_path):

@@ -49,11 +49,16 @@ def _wait(g: int):
 plane = st.one_of(
     st.builds(lambda x, y: f"LineAbs2D(0, {x}, {y});", coord, coord),
     st.builds(lambda x, y: f"LineRel2D(0, {x}, {y});", coord, coord),
-    st.builds(lambda cx, cy, a: f"ArcAngle2D(0, {cx}, {cy}, {a});", coord, coord,
-              st.sampled_from([90.0, -180.0, 45.0, 370.0])),  # fmt: skip
+    st.builds(
+        lambda cx, cy, a: f"ArcAngle2D(0, {cx}, {cy}, {a});",
+        coord,
+        coord,
+        st.sampled_from([90.0, -180.0, 45.0, 370.0]),
+    ),  # fmt: skip
     st.builds(lambda m: f"SetGrpBufferMode(0, {m});", st.sampled_from([0, 2, 5, 6, 6])),
-    st.builds(lambda t: f"Till(!IsGrpMoving(0)); SetGrpSMTime(0, {t});",
-              st.sampled_from([0.0, 5.0, 50.0])),  # fmt: skip
+    st.builds(
+        lambda t: f"Till(!IsGrpMoving(0)); SetGrpSMTime(0, {t});", st.sampled_from([0.0, 5.0, 50.0])
+    ),  # fmt: skip
     st.builds(lambda s: f"SetGrpVelScale(0, {s});", st.sampled_from([50.0, 100.0, 150.0])),
     st.builds(lambda t: f"HaltGroup(0); Sleep({t}); ResumeGroup(0);", st.integers(0, 200)),
     st.builds(lambda t: f"Sleep({t}); StopGroup(0); Till(!IsGrpMoving(0));", st.integers(0, 400)),
@@ -62,10 +67,14 @@ plane = st.one_of(
 )
 space = st.one_of(
     st.builds(lambda x, y, z: f"LineAbs3D(1, {x}, {y}, {z});", coord, coord, coord),
-    st.builds(lambda z, t: f"CircleAbs(1, c, n, {t}, e, v, CS_MCS, BM_BUFF, TM_NONE, 0); "
-                           f"e[2] = {z};", coord, st.sampled_from([1, 2])),  # fmt: skip
-    st.builds(lambda t: f"Till(!IsGrpMoving(1)); SetGrpSMTime(1, {t});",
-              st.sampled_from([0.0, 20.0])),  # fmt: skip
+    st.builds(
+        lambda z, t: f"CircleAbs(1, c, n, {t}, e, v, CS_MCS, BM_BUFF, TM_NONE, 0); e[2] = {z};",
+        coord,
+        st.sampled_from([1, 2]),
+    ),  # fmt: skip
+    st.builds(
+        lambda t: f"Till(!IsGrpMoving(1)); SetGrpSMTime(1, {t});", st.sampled_from([0.0, 20.0])
+    ),  # fmt: skip
     _wait(1),
     st.just(_print(1)),
 )

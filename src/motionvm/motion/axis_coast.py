@@ -62,8 +62,17 @@ _PG = 0  # axis_cycle.PG
 _EXT = 4  # axis_cycle.EXT
 _FS_HW_LIMITS = st.FS_HW_RIGHT | st.FS_HW_LEFT
 
-__all__ = ["MAX_COAST", "MIN_COAST", "NEVER", "clear_following", "coast", "coast_cycles",
-           "coast_following", "feedback_after", "following"]
+__all__ = [
+    "MAX_COAST",
+    "MIN_COAST",
+    "NEVER",
+    "clear_following",
+    "coast",
+    "coast_cycles",
+    "coast_following",
+    "feedback_after",
+    "following",
+]
 
 
 def _common(a) -> bool:

@@ -625,7 +625,7 @@ class PathPlanner:
                 return None
             s_lo, s_hi = seg.geom.bounds()
             v_top = abs(self.v)
-            for _t0, _t1, _u0, v_0, a in self._pieces[self._pi:]:
+            for _t0, _t1, _u0, v_0, a in self._pieces[self._pi :]:
                 v_top = max(v_top, abs(v_0), abs(v_0 + a * (_t1 - _t0)))
             rates = seg.geom.rates()
             scale = v_top / seg.length

@@ -53,8 +53,19 @@ EVENT_BUILTINS = frozenset({
 })  # fmt: skip
 """Built-ins whose answer changes only in a computed cycle (given the same arguments)."""
 
-STATUS_BUILTINS = frozenset({"IsInPos", "IsMoving", "IsEnabled", "IsHomed", "IsErrorStop",
-                             "IsGrpEnabled", "IsGrpMoving", "IsGrpInPos", "IsGrpErrorStop"})
+STATUS_BUILTINS = frozenset(
+    {
+        "IsInPos",
+        "IsMoving",
+        "IsEnabled",
+        "IsHomed",
+        "IsErrorStop",
+        "IsGrpEnabled",
+        "IsGrpMoving",
+        "IsGrpInPos",
+        "IsGrpErrorStop",
+    }
+)
 """Event built-ins that answer an axis's or an axis group's status flag (each call is
 recorded). IsHoming
 is not among them: asking it notices a homing cut off from outside, which must happen
