@@ -358,3 +358,14 @@ def test_a_k_expression_that_does_not_parse_is_a_usage_error(expr: str, message:
     cases = [Case("hmpl/hello.hmpl", "/", ())]
     with pytest.raises(UsageError, match=re.escape(message)):
         select(cases, expr)
+
+
+@pytest.mark.parametrize(("count", "slots"), [(0, 2), (1, 2), (7, 1), (100, 2), (1000, 3), (5, 64)])
+def test_dask_cases_go_in_batches_of_consecutive_cases(count: int, slots: int) -> None:
+    from motionvm.cli.workers import batches
+
+    parts = batches(count, slots)
+    assert [i for part in parts for i in part] == list(range(count))
+    assert len(parts) <= 4 * slots
+    if count >= 4 * slots:
+        assert len(parts) >= 2 * slots  # every slot keeps busy to the end

@@ -413,24 +413,46 @@ class DaskMissing(Exception):
     """--dask without dask.distributed installed."""
 
 
+def batches(count: int, slots: int) -> list[range]:
+    """Cases 0..count-1 cut into consecutive batches, one Dask task each: about four
+    batches per slot of the cluster (a thread of a worker), so that a task's start-up and
+    its round trip are paid per batch while a slow batch cannot hold back the end of the
+    run for long."""
+    size = max(1, -(-count // (4 * max(1, slots))))
+    return [range(i, min(i + size, count)) for i in range(0, count, size)]
+
+
+def execute_batch(cases: Sequence[Case], timeout: float, coverage: bool = False) -> list:
+    """`execute_subprocess` of each case of a batch, in turn (one Dask task)."""
+    return [execute_subprocess(c, timeout, coverage) for c in cases]
+
+
 def dask_outcomes(
     cases: Sequence[Case], address: str, timeout: float, coverage: bool = False
 ) -> Iterator[tuple[int, Outcome]]:
-    """(index, outcome) of each case, in the order they finish, on a Dask cluster."""
+    """(index, outcome) of each case, batch by batch in the order the batches finish, on
+    a Dask cluster (`batches`: several cases per task)."""
     try:
         from dask.distributed import Client, as_completed
     except ImportError:
         raise DaskMissing() from None
     client = Client(address)
-    futures = [client.submit(execute_subprocess, c, timeout, coverage, pure=False) for c in cases]
-    index = {f.key: i for i, f in enumerate(futures)}
+    slots = sum(client.nthreads().values())
+    parts = batches(len(cases), slots)
+    futures = [
+        client.submit(execute_batch, [cases[i] for i in part], timeout, coverage, pure=False)
+        for part in parts
+    ]
+    part_of = {f.key: part for f, part in zip(futures, parts)}
     try:
         for f in as_completed(futures):
+            part = part_of[f.key]
             try:
-                outcome = f.result()
+                outcomes = f.result()
             except Exception as exc:  # noqa: BLE001 — a worker lost or a task failed
-                outcome = Outcome(None, "", "", 0.0, crashed=f"{type(exc).__name__}: {exc}")
-            yield index[f.key], outcome
+                lost = Outcome(None, "", "", 0.0, crashed=f"{type(exc).__name__}: {exc}")
+                outcomes = [lost] * len(part)
+            yield from zip(part, outcomes)
     finally:
         client.cancel(futures)
         client.close()
