@@ -17,7 +17,9 @@ const ui = {
   slider: $("slider"), sliderTime: $("slider-time"), span: $("scope-span"),
 };
 const editor = new Editor($("editor"), $("tabs"), rpc);
-const scope = new Scope($("scope-plot"), $("scope-picker"), rpc);
+const scope = new Scope($("scope-plot"), $("scope-picker"), rpc, {
+  a: $("cursor-a"), b: $("cursor-b"), dt: $("cursor-dt"), clear: $("cursor-clear"), table: $("cursor-table"),
+});
 const path = new PathView($("path"), $("plane"), $("path-view"));
 const consoleView = new Console($("console"));
 const axes = new AxesTable($("axes-body"));
@@ -79,7 +81,7 @@ rpc.on("stopped", (stop) => {
   editor.stoppedAt(stop.file, stop.line);
   debug.paused(stop);
 });
-rpc.on("reset", (hello) => { consoleView.clear(); describe(hello); editor.stoppedAt(null); });
+rpc.on("reset", (hello) => { consoleView.clear(); scope.setMark("a", null); scope.setMark("b", null); describe(hello); editor.stoppedAt(null); });
 rpc.on("closed", () => { ui.status.textContent = "the studio's server went away"; });
 
 ui.run.addEventListener("click", () => { scope.follow = true; act("run.start"); });

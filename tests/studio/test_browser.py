@@ -200,3 +200,41 @@ def test_the_page_needs_the_token_and_a_foreign_origin_gets_no_websocket(server,
         assert opened == "refused"
     finally:
         page.close()
+
+
+def test_two_scope_cursors_show_their_times_values_and_the_difference(page, tmp_path):
+    _run_to(page, 1.0)
+    table = page.get_by_role("table", name="Values at the cursors")
+    expect(table).to_be_hidden()
+    # click on the plot: cursor A; shift-click: cursor B (the hover cursor stays)
+    over = page.locator("#scope-plot .u-over")
+    x_at = "(t) => studio.scope.plot.valToPos(t, 'x')"
+    over.click(position={"x": page.evaluate(x_at, 0.2), "y": 10})
+    over.click(position={"x": page.evaluate(x_at, 0.8), "y": 10}, modifiers=["Shift"])
+    a = float(page.get_by_label("Cursor A [s]").input_value())
+    b = float(page.get_by_label("B [s]").input_value())
+    assert a == pytest.approx(0.2, abs=0.02) and b == pytest.approx(0.8, abs=0.02)
+    expect(page.get_by_label("Cursor time difference")).to_have_text(f"Δt {b - a:.3f} s")
+    expect(table).to_be_visible()
+    rows = table.locator("tr")
+    expect(rows).to_have_count(5)  # the channels, the hover cursor, A, B, B − A
+    expect(rows.nth(0)).to_contain_text("axis0.pos_fb [mm]")
+    expect(rows.nth(1)).to_contain_text("hover")
+    expect(rows.nth(4)).to_contain_text("B − A")
+    # from the keyboard: type a time, arrow keys step it by a cycle
+    field = page.get_by_label("Cursor A [s]")
+    field.fill("0.5")
+    expect(rows.nth(2).locator("td").first).to_have_text("0.500")
+    field.press("ArrowUp")
+    expect(rows.nth(2).locator("td").first).to_have_text("0.501")
+    x = page.evaluate(
+        "() => { const s = studio.scope; return s.values['axis0.pos_fb'][s.sampleAt(0.501)]; }"
+    )
+    assert rows.nth(2).locator("td").nth(1).inner_text() == f"{float(f'{x:.6g}')}".removesuffix(
+        ".0"
+    )
+    expect(page.get_by_label("Cursor time difference")).to_have_text(f"Δt {b - 0.501:.3f} s")
+    _shot(page, tmp_path, "cursors")
+    page.get_by_role("button", name="Clear cursors").click()
+    expect(table).to_be_hidden()
+    expect(page.get_by_label("Cursor time difference")).to_have_text("Δt –")
