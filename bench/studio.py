@@ -1,11 +1,13 @@
 """Benchmark: the studio's scope while a run goes faster than real time.
 
-Serves the studio on 127.0.0.1 for examples/05_pick_and_place (no scenario: after homing
-the program waits for its start input, so time skipping lets the run go far faster than
-real time), opens the page in Debian's chromium (headless, Playwright), presses Run and
-counts for WINDOW seconds of wall time the scope's redraws (8 channels) and the simulated
-time gone by. Prints `RESULT` lines: the scope's frames per second and the run's speed as
-a multiple of real time. Needs /usr/bin/chromium. Run: python bench/studio.py
+Serves the studio on 127.0.0.1 for a program of four axes moving back and forth, each
+move awaited with `Till(IsInPos(a))` (time skipping lets the run go far faster than
+real time; 1,200 moves, about 10 minutes of simulated time, so the run outlasts the
+measurement), opens the page in Debian's chromium (headless, Playwright), presses Run
+and counts for WINDOW seconds of wall time the scope's redraws (8 channels) and the
+simulated time gone by. Prints `RESULT` lines: the scope's frames per second and the
+run's speed as a multiple of real time. Needs /usr/bin/chromium.
+Run: python bench/studio.py
 """
 
 from __future__ import annotations
@@ -20,17 +22,35 @@ sys.path.insert(0, str(ROOT))  # the test's server helper
 
 from playwright.sync_api import sync_playwright  # noqa: E402
 
-from tests.studio.studio_client import EXAMPLES, StudioServer  # noqa: E402
+from tests.studio.studio_client import StudioServer  # noqa: E402
 
 WINDOW = 3.0
 """Wall time measured [s]."""
 
+PROGRAM = """\
+void main()
+{
+    int k, a;
+    for (a = 0; a < 4; a++) Enable(a);
+    for (a = 0; a < 4; a++) Till(IsEnabled(a));
+    Print("moving");
+    for (k = 0; k < 300; k++) {
+        for (a = 0; a < 4; a++) {
+            MoveAbs(a, k % 2 ? -100.0 - 20 * a : 100.0 + 20 * a);
+            Till(IsInPos(a));
+        }
+    }
+    Print("done");
+}
+"""
+
 
 def main() -> None:
-    program = str(EXAMPLES / "05_pick_and_place.hmpl")
-    machine = str(EXAMPLES / "05_pick_and_place.toml")
+    folder = Path(tempfile.mkdtemp(prefix="motionvm-bench-studio-"))
+    program = folder / "movers.hmpl"
+    program.write_text(PROGRAM, encoding="utf-8")
     with (
-        StudioServer([program], Path(tempfile.mkdtemp()), machine=machine) as server,
+        StudioServer([str(program)], folder) as server,
         sync_playwright() as p,
     ):
         browser = p.chromium.launch(
@@ -42,7 +62,7 @@ def main() -> None:
         page.goto(server.url)
         page.wait_for_selector("body[data-ready=true]")
         page.get_by_role("button", name="Run", exact=True).click()
-        page.get_by_role("log").get_by_text("waiting for start").wait_for()
+        page.get_by_role("log").get_by_text("moving").wait_for()
         read = "() => [studio.scope.frames, studio.state.time, studio.scope.channels.length]"
         frames0, sim0, channels = page.evaluate(read)
         sent0 = server.studio.run.frames
