@@ -185,8 +185,9 @@ def _old_once(src: str) -> tuple[float, float]:
     """(simulated s, CPU s) of the program case with the motionvm of `src` (pure Python
     there, as here in a checkout without a compiled build)."""
     env = dict(os.environ, PYTHONPATH=src)
-    code = ("import sys; sys.path.insert(0, %r); import group as b; "
-            "t, c, _ = b.program_once(); print(t, c)") % str(Path(__file__).parent)  # fmt: skip
+    here = str(Path(__file__).parent)
+    code = (f"import sys; sys.path.insert(0, {here!r}); import group as b; "
+            "t, c, _ = b.program_once(); print(t, c)")  # fmt: skip
     out = subprocess.run([sys.executable, "-c", code], env=env, check=True,
                          capture_output=True, text=True).stdout.split()  # fmt: skip
     return float(out[0]), float(out[1])
