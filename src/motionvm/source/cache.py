@@ -25,6 +25,8 @@ import zlib
 from functools import lru_cache
 from pathlib import Path
 
+from motionvm.source.files import SourceFile
+
 MAX_BYTES = 200 * 1024 * 1024
 """The cache folder's size bound [bytes]."""
 _MAGIC = b"MVMC\x01"
@@ -71,6 +73,23 @@ def package_digest(folders: tuple[str, ...], modules_of: tuple[str, ...] = ("",)
                     path = Path(root, name)
                     parts += [path.relative_to(_PACKAGE).as_posix(), path.read_bytes()]
     return digest(*parts)
+
+
+def include_digests(files) -> list[tuple[str, str]]:
+    """(path, digest of its text) of each file (`SourceFile`) an `#include` read: an
+    entry is used only while every one still reads the same (`includes_unchanged`)."""
+    return [(sf.path, digest(sf.text)) for sf in files]
+
+
+def includes_unchanged(includes) -> bool:
+    """Whether each (path, text digest) of `include_digests` still reads the same."""
+    for path, text_digest in includes:
+        try:
+            if digest(SourceFile.read(path).text) != text_digest:
+                return False
+        except OSError:
+            return False
+    return True
 
 
 class _DataUnpickler(pickle.Unpickler):

@@ -3,16 +3,21 @@
 from __future__ import annotations
 
 from collections.abc import Mapping
+from types import CodeType
+from typing import TYPE_CHECKING
 
 from motionvm.lang.gdl import nodes as n
 from motionvm.lang.gdl.app import App
 from motionvm.lang.gdl.check import check_app
 from motionvm.lang.gdl.lexer import tokenize
-from motionvm.lang.gdl.lower import lower_app
+from motionvm.lang.gdl.lower import compile_app_code, load_app_code
 from motionvm.lang.gdl.parser import parse_tokens
 from motionvm.source.deep import run_deep
 from motionvm.source.diagnostics import DiagnosticSink, TooManyErrors
 from motionvm.source.files import SourceFile, SourcePos
+
+if TYPE_CHECKING:
+    from motionvm.source.cache import CompileCache
 
 
 def parse_file(path: str, sink: DiagnosticSink, text: str | None = None) -> n.GdlFile | None:
@@ -32,18 +37,44 @@ def parse_file(path: str, sink: DiagnosticSink, text: str | None = None) -> n.Gd
 
 
 def compile_app(
-    paths: list[str], *, sink: DiagnosticSink, texts: Mapping[str, str] | None = None
+    paths: list[str],
+    *,
+    sink: DiagnosticSink,
+    texts: Mapping[str, str] | None = None,
+    cache: CompileCache | None = None,
 ) -> App | None:
     """Compile several files as one application; None when any error was reported.
-    `texts`: the contents of files by path, instead of reading them.
+    `texts`: the contents of files by path, instead of reading them. With a `cache` an
+    unchanged application is read from it, and a newly compiled one stored in it
+    (`app_cache.py`).
 
     Never raises for a user's mistake: every problem becomes a diagnostic in `sink`.
     Runs with room for deep recursion (long expressions, deep nests: `run_deep`).
     """
-    return run_deep(_compile_app, paths, sink, texts or {})
+    texts = texts or {}
+    if cache is None:
+        return run_deep(_compile_app, paths, sink, texts, None)
+    from motionvm.lang.gdl import app_cache
+
+    key = app_cache.app_key(paths, texts)
+    if key is None:  # a file cannot be read: the compile reports it
+        return run_deep(_compile_app, paths, sink, texts, None)
+    app = app_cache.load(cache, key, texts, sink)
+    if app is None:
+        first = len(sink.items)
+        codes: list[tuple[str, CodeType]] = []
+        app = run_deep(_compile_app, paths, sink, texts, codes)
+        if app is not None:
+            app_cache.store(cache, key, app, codes, sink.items[first:])
+    return app
 
 
-def _compile_app(paths: list[str], sink: DiagnosticSink, texts: Mapping[str, str]) -> App | None:
+def _compile_app(
+    paths: list[str],
+    sink: DiagnosticSink,
+    texts: Mapping[str, str],
+    codes: list[tuple[str, CodeType]] | None,
+) -> App | None:
     try:
         parsed = (parse_file(p, sink, texts.get(p)) for p in paths)
         files = [f for f in parsed if f is not None]
@@ -53,7 +84,10 @@ def _compile_app(paths: list[str], sink: DiagnosticSink, texts: Mapping[str, str
             return None
         app = check_app(files, list(paths), sink)
         if app is not None:
-            app.functions = lower_app(app)
+            compiled = compile_app_code(app)
+            if codes is not None:
+                codes.extend(compiled)
+            app.functions = load_app_code(app, compiled)
         return app
     except TooManyErrors:
         return None

@@ -90,12 +90,17 @@ class Gdl(Language):
     )
 
     def compile(self, sources: Sequence[Source], request: CompileRequest) -> CompileResult:
+        from motionvm.lang.coverage import active as coverage_active
         from motionvm.lang.gdl.compiler import compile_app
+        from motionvm.source.cache import CompileCache
 
         paths = [s.path for s in sources]
         texts = {s.path: s.text for s in sources if s.text is not None}
         sink = DiagnosticSink()
-        app = compile_app(paths, sink=sink, texts=texts)
+        # (a check keeps nothing; a compile with coverage probes is neither read nor kept)
+        no_cache = request.check_only or coverage_active()
+        cache = None if no_cache else CompileCache.open("gdl")
+        app = compile_app(paths, sink=sink, texts=texts, cache=cache)
         order = {p: i for i, p in enumerate(paths)}
         diagnostics = sorted(
             sink.items, key=lambda d: (order.get(d.pos.file, -1), d.pos.line, d.pos.col)

@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import ast
 from collections.abc import Callable
+from types import CodeType
 
 from motionvm.lang.coverage import bind, compile_module
 from motionvm.lang.gdl import nodes as n
@@ -201,17 +202,27 @@ def _by_file(app: App) -> dict[str, list[ProcInfo]]:
     return files
 
 
-def lower_app(app: App) -> dict[str, Callable[..., None]]:
-    """Compile every procedure once; procedure name (case-folded) -> function."""
+def compile_app_code(app: App) -> list[tuple[str, CodeType]]:
+    """The code object of each file's procedures: (path, code), in link order."""
+    return [(path, compile_module(lower_file(procs), path)) for path, procs in _by_file(app).items()]
+
+
+def load_app_code(app: App, codes: list[tuple[str, CodeType]]) -> dict[str, Callable[..., None]]:
+    """Run each file's code (`compile_app_code`); procedure name (case-folded) -> function."""
     functions: dict[str, Callable[..., None]] = {}
-    for path, procs in _by_file(app).items():
-        code = compile_module(lower_file(procs), path)
+    by_file = _by_file(app)
+    for path, code in codes:
         namespace: dict[str, object] = {"__builtins__": {}}
         bind(namespace, code)
         exec(code, namespace)  # noqa: S102 - our own generated, checked code
-        for proc in procs:
+        for proc in by_file.get(path, ()):
             functions[proc.name.lower()] = namespace[function_name(proc)]  # type: ignore[assignment]
     return functions
+
+
+def lower_app(app: App) -> dict[str, Callable[..., None]]:
+    """Compile every procedure once; procedure name (case-folded) -> function."""
+    return load_app_code(app, compile_app_code(app))
 
 
 def emit_python(app: App) -> str:

@@ -19,7 +19,7 @@ from motionvm.lang.pdl.parser import parse
 from motionvm.lang.pdl.preprocess import preprocess
 from motionvm.lang.pdl.symbols import Symbols
 from motionvm.source.diagnostics import DiagnosticSink, TooManyErrors
-from motionvm.source.files import SourcePos
+from motionvm.source.files import SourceFile, SourcePos
 
 RECURSION_LIMIT = 20_000
 """Enough Python frames for 200 nested blocks and 200 nested parentheses."""
@@ -43,12 +43,19 @@ def _deep_recursion() -> Iterator[None]:
         sys.setrecursionlimit(old)
 
 
-def front_end(path: str, *, sink: DiagnosticSink, text: str | None = None) -> FrontResult | None:
-    """Preprocess, parse and check `path` (or `text` under that name); None on any error."""
+def front_end(
+    path: str,
+    *,
+    sink: DiagnosticSink,
+    text: str | None = None,
+    included: list[SourceFile] | None = None,
+) -> FrontResult | None:
+    """Preprocess, parse and check `path` (or `text` under that name); None on any error.
+    `included` receives every file an `#include` read."""
     try:
         with _deep_recursion():
             try:
-                toks = preprocess(path, sink, text)
+                toks = preprocess(path, sink, text, included)
             except OSError as e:
                 sink.error(SourcePos(path, 1, 1), f"cannot read '{path}': {e.strerror or e}")
                 return None

@@ -102,8 +102,13 @@ class Pdl(Language):
         return dataclasses.replace(machine, pdl_drives=(*machine.pdl_drives, spec))
 
     def compile(self, sources: Sequence[Source], request: CompileRequest) -> CompileResult:
+        from motionvm.lang.coverage import active as coverage_active
         from motionvm.lang.pdl.machine_drives import PdlStartError, compile_specs, standalone_spec
+        from motionvm.source.cache import CompileCache
 
+        # (a check keeps nothing; a compile with coverage probes is neither read nor kept)
+        no_cache = request.check_only or coverage_active()
+        cache = None if no_cache else CompileCache.open("pdl")
         machine = request.machine
         texts = {str(Path(s.path)): s.text for s in sources if s.text is not None}
         texts.update({s.path: s.text for s in sources if s.text is not None})
@@ -112,7 +117,7 @@ class Pdl(Language):
                 specs = standalone_spec(sources[0].path, request.options.get("starts", ()))
             else:
                 specs = [(spec, str(spec.path)) for spec in machine.pdl_drives]
-            drives, diagnostics = compile_specs(specs, texts)
+            drives, diagnostics = compile_specs(specs, texts, cache)
         except PdlStartError as exc:
             raise LanguageInputError(str(exc), located=True) from None
         return CompileResult(drives, diagnostics)

@@ -34,6 +34,7 @@ Before / after (top level; `M[1]` is x):
 from __future__ import annotations
 
 import ast
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from types import CodeType
 
@@ -71,7 +72,8 @@ class PdlProgram:
 
     path: str
     code: CodeType
-    module: ast.Module
+    module: ast.Module | None
+    """The generated Python tree; None when read from the compile cache (`rebuild`)."""
     entries: dict[str, int]
     """Top-level label -> segment (task entry point)."""
     tasks: dict[int, int]
@@ -83,10 +85,13 @@ class PdlProgram:
     files: list[str]
     kinds: list[tuple[int, int, int]] = field(default_factory=list)
     """(first word, word count, kind) of every global declaration, for the kind map."""
+    rebuild: Callable[[], ast.Module | None] | None = field(default=None, repr=False, compare=False)
+    """Compiles the program again for its tree (a program read from the compile cache)."""
 
     def python_source(self) -> str:
         """The generated Python (`motionvm dump --stage py`)."""
-        return ast.unparse(self.module) + "\n"
+        module = self.module if self.module is not None or self.rebuild is None else self.rebuild()
+        return "" if module is None else ast.unparse(module) + "\n"
 
     def where(self, lineno: int) -> tuple[str, int]:
         """(file, line) of a generated line number."""

@@ -75,6 +75,7 @@ from motionvm.runtime.clock import stamp_prefix
 from motionvm.runtime.fault_position import Fault
 from motionvm.runtime.waits import Waiting, suspended_at, why_waiting
 from motionvm.sim.machine import MachineConfig, PdlDriveSpec
+from motionvm.source.cache import CompileCache
 from motionvm.source.diagnostics import Diagnostic, DiagnosticSink, render_diagnostic
 
 CONTROLLED_BY = "PDL drive"
@@ -96,15 +97,18 @@ class CompiledDrive:
 
 
 def compile_specs(
-    specs: Sequence[tuple[PdlDriveSpec, str]], texts: Mapping[str, str] | None = None
+    specs: Sequence[tuple[PdlDriveSpec, str]],
+    texts: Mapping[str, str] | None = None,
+    cache: CompileCache | None = None,
 ) -> tuple[list[CompiledDrive] | None, list[Diagnostic]]:
     """Compile the program of each (drive, path): the drives (None after any compile
     error) and every diagnostic, by file and place. `texts`: programs' contents by path,
-    instead of reading them. PdlStartError for a start label a program lacks."""
+    instead of reading them; `cache`: the compile cache to read and fill, if any.
+    PdlStartError for a start label a program lacks."""
     sink = DiagnosticSink()
     out: list[CompiledDrive] = []
     for spec, path in specs:
-        program = compile_pdl(path, sink=sink, text=(texts or {}).get(path))
+        program = compile_pdl(path, sink=sink, text=(texts or {}).get(path), cache=cache)
         if program is not None:
             out.append(CompiledDrive(spec, program))
     diagnostics = sorted(sink.items, key=lambda d: (d.pos.file, d.pos.line, d.pos.col))

@@ -98,6 +98,8 @@ class Preprocessor:
         self.macros: dict[str, Macro] = {}
         self.include_stack: list[str] = []
         self.out: list[Token] = []
+        self.included: list[SourceFile] = []
+        """Every file an `#include` read, in order (the compile cache checks them)."""
         self._budget = MAX_EXPANSION_TOKENS
 
     # ------------------------------------------------------------ files
@@ -282,6 +284,7 @@ class Preprocessor:
             )
             self.sink.error(head.pos, f"cannot open include file '{rel}'{why}")
             return
+        self.included.append(sf)
         self._file(sf.path, tokenize(sf.path, sf.text, self.sink)[:])
 
     # ------------------------------------------------------------ expansion
@@ -380,10 +383,19 @@ class Preprocessor:
         return args
 
 
-def preprocess(path: str, sink: DiagnosticSink, text: str | None = None) -> list[Token]:
-    """Preprocess the file at `path` (or `text` registered under that name)."""
+def preprocess(
+    path: str,
+    sink: DiagnosticSink,
+    text: str | None = None,
+    included: list[SourceFile] | None = None,
+) -> list[Token]:
+    """Preprocess the file at `path` (or `text` registered under that name); `included`
+    receives every file an `#include` read."""
     if text is None:
         sf = SourceFile.read(path)
     else:
         sf = SourceFile.register(path, text)
-    return Preprocessor(sink).run(sf.path, sf.text)
+    pp = Preprocessor(sink)
+    if included is not None:
+        pp.included = included
+    return pp.run(sf.path, sf.text)
