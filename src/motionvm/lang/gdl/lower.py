@@ -204,7 +204,9 @@ def _by_file(app: App) -> dict[str, list[ProcInfo]]:
 
 def compile_app_code(app: App) -> list[tuple[str, CodeType]]:
     """The code object of each file's procedures: (path, code), in link order."""
-    return [(path, compile_module(lower_file(procs), path)) for path, procs in _by_file(app).items()]
+    return [
+        (path, compile_module(lower_file(procs), path)) for path, procs in _by_file(app).items()
+    ]
 
 
 def load_app_code(app: App, codes: list[tuple[str, CodeType]]) -> dict[str, Callable[..., None]]:
