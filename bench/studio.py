@@ -2,7 +2,7 @@
 
 Serves the studio on 127.0.0.1 for a program of four axes moving back and forth, each
 move awaited with `Till(IsInPos(a))` (time skipping lets the run go far faster than
-real time; 1,200 moves, about 10 minutes of simulated time, so the run outlasts the
+real time; 12,000 moves, about 72 minutes of simulated time, so the run outlasts the
 measurement), opens the page in Debian's chromium (headless, Playwright), presses Run
 and counts for WINDOW seconds of wall time the scope's redraws (8 channels) and the
 simulated time gone by. Prints `RESULT` lines: the scope's frames per second and the
@@ -34,7 +34,7 @@ void main()
     for (a = 0; a < 4; a++) Enable(a);
     for (a = 0; a < 4; a++) Till(IsEnabled(a));
     Print("moving");
-    for (k = 0; k < 300; k++) {
+    for (k = 0; k < 3000; k++) {
         for (a = 0; a < 4; a++) {
             MoveAbs(a, k % 2 ? -100.0 - 20 * a : 100.0 + 20 * a);
             Till(IsInPos(a));

@@ -50,6 +50,7 @@ function showState(s) {
   ui.step.disabled = state.running || !state.loaded;
   ui.runToTime.disabled = !state.loaded;
   if (!scrubbing) {
+    consoleView.showUntil(Number(state.time));
     ui.slider.max = String(Math.max(state.recorded_cycle || 0, state.cycle || 0));
     ui.slider.value = String(state.cycle);
     ui.sliderTime.textContent = `${Number(state.time).toFixed(3)} s of ${Math.max(state.recorded, state.time).toFixed(3)} s`;
@@ -112,6 +113,7 @@ async function scrub(cycle) {
     scope.follow = true;
     scope.replace(at.scope.t, at.scope.values);
     path.replace(at.path.t, at.path.values, at.path.groups);
+    consoleView.showUntil(at.time);
     ui.sliderTime.textContent = `${at.time.toFixed(3)} s (recorded) of ${Number(state.recorded).toFixed(3)} s`;
   }
   if (scrubNext != null) { const next = scrubNext; scrubNext = null; scrub(next); }

@@ -3,13 +3,27 @@
 const fmt = (v, digits = 3) => (v == null ? "–" : Number(v).toFixed(digits));
 
 export class Console {
-  constructor(el) { this.el = el; }
+  constructor(el) { this.el = el; this.time = Infinity; }
   clear() { this.el.replaceChildren(); }
+  // Lines printed after `time` (the debugger went back, or the slider is scrubbing
+  // there) are hidden, until the run passes them again: the run prints each line once.
+  // The rows are in time order, so the hidden ones are always the last.
+  showUntil(time) {
+    if (time === this.time) return;
+    this.time = time;
+    for (let row = this.el.lastElementChild; row; row = row.previousElementSibling) {
+      const later = Number(row.dataset.time) > time + 1e-9;
+      if (!later && !row.hidden) break;
+      row.hidden = later;
+    }
+  }
   add(lines) {
     const atEnd = this.el.scrollTop + this.el.clientHeight >= this.el.scrollHeight - 4;
     for (const { time, text, kind } of lines) {
       const row = document.createElement("div");
       row.className = `line ${kind}`;
+      row.dataset.time = String(time);
+      row.hidden = Number(time) > this.time + 1e-9;
       const stamp = document.createElement("span");
       stamp.className = "stamp";
       stamp.textContent = `${Number(time).toFixed(3)} s `;

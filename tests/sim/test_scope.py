@@ -173,6 +173,34 @@ def test_a_recorder_samples_every_cycle_a_jump_passes():
     assert computed < 0.1 * len(cycles)  # the recorder did not stop the jumps
 
 
+def test_a_recorder_of_every_nth_cycle_has_the_axes_coast_between_its_samples():
+    """A jump stops only at the cycles an every-N recorder samples (`next_sample`): the
+    axes are advanced in closed form between them, with the samples stepping gives."""
+    src = """void main() {
+    Enable(0); Till(IsEnabled(0)); MoveAbs(0, 300.0); Till(IsInPos(0));
+    MoveAbs(0, -50.0); Sleep(700); Till(IsInPos(0)); Sleep(100); }"""
+    channels = ["system_timeInMs", "axis0.pos_fb", "axis0.ref_vel", "axis0.pos_err"]
+    runs = []
+    for skip in (True, False):
+        sim = Simulation.from_source(src, skip=skip)
+        rec = ScopeRecorder(registry_for(sim.controller, sim.runtime).resolve_all(channels),
+                            sim.controller.cycle_time, every=50)  # fmt: skip
+        rec.attach(sim.controller)
+        coasts = []
+        coast = sim.controller.motion.coast
+        sim.controller.motion.coast = lambda k, coasts=coasts, coast=coast: (
+            coasts.append(k),
+            coast(k),
+        )[1]
+        sim.run()
+        runs.append((rec.cycles, rec.columns, sim.time, coasts))
+    (cycles, columns, end, coasts), (cycles_stepped, columns_stepped, end_stepped, _) = runs
+    assert cycles == cycles_stepped == list(range(0, cycles[-1] + 1, 50))
+    assert columns == columns_stepped and end == end_stepped
+    assert len(cycles) > 20 and max(coasts) > 40  # the axis coasted between the samples
+    assert len(coasts) < len(cycles) * 3
+
+
 # ---------------------------------------------------------------- channels
 
 

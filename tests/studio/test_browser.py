@@ -22,6 +22,7 @@ if not Path(CHROMIUM).exists():
     pytest.skip(f"no {CHROMIUM} (apt-get install chromium)", allow_module_level=True)
 playwright = pytest.importorskip("playwright.sync_api")
 expect = playwright.expect
+expect.set_options(timeout=15_000)  # a loaded machine (CI) answers slowly
 
 PROGRAM = str(EXAMPLES / "05_pick_and_place.hmpl")
 MACHINE = str(EXAMPLES / "05_pick_and_place.toml")
@@ -58,6 +59,8 @@ def page(server, browser):
     page.wait_for_selector("body[data-ready=true]")
     page.get_by_role("button", name="Reset").click()
     expect(page.get_by_role("log")).to_be_empty()
+    # the reset is done (a new engine at t = 0) before the test presses anything
+    expect(page.get_by_role("status", name="Run status")).to_have_text("ready (paused at t = 0)")
     yield page
     page.close()
     assert errors == []
@@ -169,7 +172,9 @@ def test_an_input_forced_in_the_io_panel_makes_the_program_go_on(page, tmp_path)
 
 
 def test_the_time_slider_scrubs_back_and_moves_the_debugger_there(page, tmp_path):
-    _run_to(page, 1.8)
+    _run_to(page, 2.0)
+    log = page.get_by_role("log")
+    expect(log.get_by_text("homed at t=1835 ms")).to_be_visible()
     feedback = (
         page.get_by_role("region", name="Axes").locator("tbody tr").first.locator("td").nth(2)
     )
@@ -180,7 +185,14 @@ def test_the_time_slider_scrubs_back_and_moves_the_debugger_there(page, tmp_path
     early = float(feedback.inner_text())
     assert early == pytest.approx(137.0, abs=0.5) and late < early - 5  # X homes downward
     expect(page.get_by_label("Simulated time")).to_have_text("t = 0.200 s")
+    # the console shows what was printed up to there; a later line comes back once
+    # the run passes it again, once
+    expect(log.get_by_text("homed at t=1835 ms")).to_be_hidden()
+    expect(log.get_by_text("stack light")).to_be_visible()
     _shot(page, tmp_path, "scrubbed")
+    _run_to(page, 2.0)
+    expect(log.get_by_text("homed at t=1835 ms")).to_be_visible()
+    expect(log.get_by_text("homed at t=")).to_have_count(1)
 
 
 def test_the_page_needs_the_token_and_a_foreign_origin_gets_no_websocket(server, browser):

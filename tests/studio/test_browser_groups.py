@@ -16,6 +16,7 @@ if not Path(CHROMIUM).exists():
     pytest.skip(f"no {CHROMIUM} (apt-get install chromium)", allow_module_level=True)
 playwright = pytest.importorskip("playwright.sync_api")
 expect = playwright.expect
+expect.set_options(timeout=15_000)  # a loaded machine (CI) answers slowly
 
 HERE = Path(__file__).parent
 WAIT_MS = 15_000

@@ -40,8 +40,13 @@ attributes, never by probing for a name:
                             jump only while they rest. A class constant, or a property
                             (asked at every jump) where the answer changes.
     samples_skipped_cycles  False by default; True for a recorder whose `end_cycle` is
-                            called for every cycle a jump passes, after the axes were
-                            advanced to it.
+                            called for every cycle a jump passes that it samples
+                            (`next_sample`), after the axes were advanced to it.
+    next_sample(cycle)      a recorder's: the first cycle >= `cycle` whose end it
+                            records (the default: `cycle`, every cycle). A jump
+                            advances the axes in closed form between those cycles, so
+                            a recorder of every N-th cycle costs a jump 1/N of the
+                            cycle-by-cycle walk.
     clock_driven            False by default; True if `begin_cycle` only writes values
                             computed from the clock's cycle, so that such a jump calls it
                             too, for the recorder to see them.
@@ -87,6 +92,8 @@ class CycleClient(Protocol):
 
     def busy(self) -> bool: ...
 
+    def next_sample(self, cycle: int) -> int: ...
+
     def next_event(self) -> int | None: ...
 
     def still_running(self) -> list: ...
@@ -119,6 +126,10 @@ class PassiveClient:
 
     def busy(self) -> bool:
         return False
+
+    def next_sample(self, cycle: int) -> int:
+        """A recorder's next sampled cycle from `cycle` on (`samples_skipped_cycles`)."""
+        return cycle
 
     def next_event(self) -> int | None:
         return None

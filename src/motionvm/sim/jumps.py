@@ -11,10 +11,11 @@ on a plain profile move until region I ends, or, when no task passed over reads 
 end of its segment, motion/group_coast.py; any other axis not at all). Axes are
 advanced over the jumped cycles by `MotionKernel.coast`, which leaves every value as
 stepping would; a client that reads moving axes in its hooks (`observes_motion`)
-keeps the clock from jumping while an axis moves. A client that samples every cycle
-(`samples_skipped_cycles`: a scope) has each jumped cycle sampled: the jump then goes
-cycle by cycle, setting the clock-driven values (the HMPL system time) and advancing
-the moving axes one cycle at a time, with no task, no other client run. The planner
+keeps the clock from jumping while an axis moves. A client that samples skipped cycles
+(`samples_skipped_cycles`: a scope) has each jumped cycle it samples (`next_sample`:
+every cycle, or every N-th) sampled: the jump then stops at each of them, setting the
+clock-driven values (the HMPL system time) and advancing the moving axes to it, with no
+task, no other client run. The planner
 reads only what each part declares: the task kernel's `wake_horizon`, the motion
 kernel's `coast_horizon`, `coast` and `steps_alone`, and the capabilities of the
 clients (runtime/clients.py, each with its default on `PassiveClient`).
@@ -200,19 +201,28 @@ class JumpPlanner:
         return True
 
     def _sampled_jump(self, cycle: int, k: int, resting: bool, samplers: list) -> None:
-        """Jump over cycles `cycle` .. `cycle + k - 1` one by one for the clients that
-        sample every cycle (a scope): each cycle the clock shows it, the clients whose
-        `begin_cycle` only writes values of the clock (`clock_driven`, the HMPL system
-        time) set them, the moving axes advance one cycle, and the samplers' `end_cycle`
-        records the state that cycle left, as stepping would."""
+        """Jump over cycles `cycle` .. `cycle + k - 1` for the clients that sample skipped
+        cycles (a scope): at each cycle one of them samples (`next_sample`) the clock
+        shows it, the clients whose `begin_cycle` only writes values of the clock
+        (`clock_driven`, the HMPL system time) set them, the moving axes are advanced to
+        it (in closed form from the last sampled cycle: the same values as one cycle at
+        a time) and the samplers' `end_cycle` records the state that cycle left, as
+        stepping would."""
         ctl = self.controller
         clock, motion = ctl.clock, ctl.motion
         timed = [c for c in ctl.clients if c.clock_driven]
-        for c in range(cycle, cycle + k):
+        pos, end = cycle, cycle + k  # pos: the next cycle the axes are advanced over
+        while pos < end:
+            c = min([s.next_sample(pos) for s in samplers])
+            if c >= end:
+                if not resting:
+                    motion.coast(end - pos)
+                return
             clock.cycle = c
             for t in timed:
                 t.begin_cycle()
             if not resting:
-                motion.coast(1)
+                motion.coast(c + 1 - pos)
             for s in samplers:
                 s.end_cycle()
+            pos = c + 1

@@ -274,8 +274,8 @@ class ScopeRecorder(PassiveClient):
     Attach it after every other client, so it sees the cycle's final state. It has no
     event of its own, does nothing before the tasks and never keeps a run going (a
     `PassiveClient`), and does not keep the clock from jumping: a jump samples each
-    cycle it passes (`samples_skipped_cycles`, sim/jumps.py), with the state stepping
-    would have left, so no sample is skipped.
+    `every`-th cycle it passes (`samples_skipped_cycles`, `next_sample`, sim/jumps.py),
+    with the state stepping would have left, so no sample is skipped.
     A loop without a controller (a standalone PDL drive) calls `sample(cycle)` itself.
 
     Memory stays flat however long the run: the samples of the last `CHUNK` cycles are
@@ -293,7 +293,7 @@ class ScopeRecorder(PassiveClient):
     CHUNK = 16384
     """Samples kept in memory before they go to the temporary file."""
     samples_skipped_cycles = True
-    observes_motion = False  # a jump advances the axes cycle by cycle for it
+    observes_motion = False  # a jump advances the axes to each sampled cycle for it
 
     def __init__(self, channels: Sequence[Channel], cycle_time: float, every: int = 1) -> None:
         if every < 1:
@@ -328,6 +328,11 @@ class ScopeRecorder(PassiveClient):
     def end_cycle(self) -> None:
         """A sample of the state the cycle left behind."""
         self.sample(self._controller.cycle)
+
+    def next_sample(self, cycle: int) -> int:
+        """The first `every`-th cycle from `cycle` on (a jump advances the axes to it in
+        closed form)."""
+        return cycle + (self._first_cycle - cycle) % self.every
 
     def sample(self, cycle: int) -> None:
         """Record every channel as cycle `cycle` (if it is an `every`-th cycle)."""

@@ -9,8 +9,9 @@ inputs before it stay the same: going back and running forward again records not
 twice (`add` ignores cycles already held), and a new input cuts the rows after it.
 
 A `Recorder` is the cycle client that fills it: a `PassiveClient` sampling its getters
-at the end of every cycle (also every cycle a time jump passes), like the scope recorder
-of `motionvm run --scope`.
+at the end of every cycle the history wants (also those a time jump passes: the jump
+advances the axes in closed form from one to the next), like the scope recorder of
+`motionvm run --scope`.
 """
 
 from __future__ import annotations
@@ -141,7 +142,7 @@ class Recorder(PassiveClient):
     """Samples named getters into a `History` at the end of every cycle."""
 
     samples_skipped_cycles = True
-    observes_motion = False  # a jump advances the axes cycle by cycle for it
+    observes_motion = False  # a jump advances the axes to each sampled cycle for it
 
     def __init__(
         self,
@@ -166,6 +167,13 @@ class Recorder(PassiveClient):
         if cycle % history.stride or cycle <= history.last_cycle:
             return
         history.record(cycle, self._cells)
+
+    def next_sample(self, cycle: int) -> int:
+        """The first cycle from `cycle` on that the history wants (a multiple of its
+        stride after its last row): a jump advances the axes to it in closed form."""
+        history = self.history
+        cycle = max(cycle, history.last_cycle + 1)
+        return cycle + (-cycle) % history.stride
 
     def set_getters(self, getters: dict[str, Callable[[], object]]) -> None:
         history = self.history

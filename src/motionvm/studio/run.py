@@ -28,8 +28,13 @@ from motionvm.studio.history import History, Recorder
 from motionvm.studio.views import Layout
 from motionvm.studio.workspace import Workspace
 
-FRAME = 1 / 30
-"""Wall time [s] between two updates of the page while a run goes."""
+FRAME = 1 / 36
+"""Wall time [s] between two updates of the page while a run goes (a little under
+1/30 s, so that the page, which redraws at most once per update, still draws 30 frames
+a second when an update comes late)."""
+RUN_SHARE = 0.8
+"""The part of a frame the run takes at most; the rest sends what it did (the
+measured cost of that is taken off first)."""
 ROWS_PER_SECOND = 4000
 """Rows recorded per second of wall time, about, at most: a run going faster is recorded
 at every 2nd, 4th, ... cycle (the engine still stops at any cycle)."""
@@ -267,10 +272,13 @@ class StudioRun:
         dt = engine.controller.cycle_time
         wall0, cycle0 = time.perf_counter(), engine.position().cycle
         chunk = 256
+        sending = 0.0  # wall time the last update took to send [s]
+        frame_end = time.perf_counter()  # the frames keep a steady pace
         stop: Stop | None = None
         try:
             await self.notify("state", self.state())
             while not self._pause_asked:
+                frame_end += FRAME
                 here = engine.position().cycle
                 if self.speed is None:
                     target = here + chunk
@@ -287,16 +295,23 @@ class StudioRun:
                 stop = await self._call(engine.resume_to, Position(target), end is None)
                 took = max(time.perf_counter() - started, 1e-4)
                 if self.speed is None:
-                    # half a frame of running: the rest is for sending what it did
-                    chunk = int(min(max(chunk * FRAME / 2 / took, 16), 1 << 22))
+                    # most of a frame of running: the rest is for sending what it did
+                    budget = max(FRAME * RUN_SHARE - sending, FRAME / 4)
+                    chunk = int(min(max(chunk * budget / took, 16), 1 << 22))
                 rate = (stop.position.cycle - here) / took  # cycles per wall second
                 self.history.coarsen(math.ceil(rate / ROWS_PER_SECOND))
                 if stop.reason != "goto" or (end is not None and stop.position.cycle >= end):
                     break
                 stop = None
                 self.frames += 1
+                sent = time.perf_counter()
                 await self.flush()
-                await asyncio.sleep(max(0.0, FRAME - (time.perf_counter() - started)))
+                now = time.perf_counter()
+                sending = now - sent
+                if now < frame_end:
+                    await asyncio.sleep(frame_end - now)
+                else:  # a late frame is not made up
+                    frame_end = now
         except Exception as exc:  # noqa: BLE001 — shown; the run stays paused where it is
             self._err(f"motionvm studio: the run stopped: {exc}")
             stop = None
