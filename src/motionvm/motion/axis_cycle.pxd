@@ -3,6 +3,7 @@
 # a Python class deriving from it.
 import cython
 from motionvm.drives.cia402 cimport Cia402Drive
+from motionvm.drives.sensors cimport Sensors
 from motionvm.motion.profile cimport ProfileGenerator
 
 cdef class AxisCycle:
@@ -71,8 +72,14 @@ cdef class AxisCycle:
     cdef public object settling_time_ms
     cdef public object stopping
 
-    @cython.locals(drive=Cia402Drive, p=double, v=double, a=double, err=double)
+    @cython.locals(drive=Cia402Drive, pg=ProfileGenerator, s=Sensors, n=Py_ssize_t,
+                   tau=double, x=double, p_prev=double, v_prev=double, inv_dt=double,
+                   p=double, v=double, a=double, demand=double, raw=double,
+                   pos_fb=double, err=double, enabled=bint)
     cpdef step(self)
+    @cython.locals(p=double, v=double, a=double, err=double)
+    cpdef bint _step_general(self, Cia402Drive drive) except -1
+    cpdef _software_limit(self, double p, double v)
     cpdef _settle(self)
     cpdef bint _idle_candidate(self) except -1
     cpdef _watch_rest(self)

@@ -12,9 +12,12 @@ Order in a cycle (after the tasks ran):
   6. status: moving (region I of figure 5.1.4), in position (regions II/III: within the
      target radius for the debounce time); buffered commands start.
 
-`step` is the only implementation of this cycle. The common case (a profile move in
-CSP, no fault, no limit switch) runs straight through it; every rarer case branches
-off into a method of its own.
+`step` is the only implementation of this cycle. The plain cycle (a profile move or
+rest in CSP on a drive in its common cycle: most cycles of most axes) runs straight
+through it, with the profile generator's sample and the drive's common cycle written
+out in it, one function where four would call each other (the cycle's fast path);
+every other cycle takes `_step_general`, where the generator and the drive step
+themselves, and every rarer case branches off into a method of its own.
 
 An axis whose state is a fixed point (nothing changed for a few cycles, nothing pending)
 rests: the motion kernel does not step it, and the controller may jump ahead. Stepping
@@ -87,9 +90,144 @@ class AxisCycle:
     # ---- the cycle ------------------------------------------------------------------
 
     def step(self) -> None:
-        """Run this axis's part of one controller cycle."""
+        """Run this axis's part of one controller cycle.
+
+        The plain cycle, by far the most common one, is computed here in one piece (the
+        fast path): a profile move or rest in CSP, enabled, nothing queued, no command
+        path (filters, compensation), no fault reset running, and the drive in its
+        common cycle (`Cia402Drive.step`: Operation enabled in CSP under the repeated
+        enable controlword) with nothing else to check (no forced outputs, no lost
+        encoder, no following-error window). Its T-curve sample inside a segment
+        without a moving average and the drive's part of the cycle are written out
+        here with the same operations as `ProfileGenerator.step` and
+        `Cia402Drive.step`; any other sample, and the motor, step themselves. Every
+        other cycle goes through `_step_general`, where each part steps itself."""
         drive = self.drive
         self._cycle += 1
+        if not (self.enabled and self._reference_source == PG and self.op_mode == MODE_CSP
+                and drive._csp_ready and drive._controlword_prev == CW_ENABLE
+                and drive.mode == MODE_CSP and self._cmd_path is None
+                and self._fault_reset_cycles is None and not drive._forced
+                and not drive._encoder_lost and not drive._fe_checked
+                and not self._command_queue):  # fmt: skip
+            enabled = self._step_general(drive)
+        else:
+            # 1. the profile generator
+            pg = self.pg
+            n = pg._n + 1
+            tau = n * pg.dt
+            if pg._tc_done or pg._smoothing or tau >= pg._seg_t_1:
+                p, v, a = pg.step()
+            else:  # inside a T-curve segment, no moving average
+                pg._n = n
+                x = tau - pg._seg_t_0
+                p = pg._seg_p_0 + (pg._seg_v_0 + pg._seg_half_a * x) * x
+                p_prev, v_prev, _ = pg._out
+                inv_dt = pg._inv_dt
+                v = (p - p_prev) * inv_dt
+                a = (v - v_prev) * inv_dt
+                pg._out = (p, v, a)  # (the T-curve runs: the generator does not idle)
+            self.ref_pos = p
+            self.ref_vel = v
+            self.ref_acc = a
+            # 2. software limits (the stop positions are +-inf while they are off)
+            if not self._sw_stop_left < p < self._sw_stop_right:
+                self._software_limit(p, v)
+            # 3. outputs
+            counts = ((p + self._slave_offset) * self.cpu).__round__()
+            if counts > 0x7FFFFFFF or counts < -0x80000000:  # beyond int32: the target wraps
+                counts = ((counts + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+            drive.target_position = counts
+            drive.controlword = CW_ENABLE
+            # 4. the drive's common cycle: the demand follows the target's change
+            change = counts - drive._target_prev
+            if change > 0x7FFFFFFF or change < -0x80000000:  # the target wrapped
+                change = ((change + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+            drive._demand = demand = drive._demand + change
+            drive._target_prev = counts
+            x = drive.mechanics.step_position(demand, self.dt)
+            drive._encoder = position_actual = x.__round__()
+            if position_actual > 0x7FFFFFFF or position_actual < -0x80000000:  # int32 wraps
+                position_actual = ((position_actual + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+            drive.position_actual = position_actual
+            s = drive.sensors
+            if s.quiet_low < x < s.quiet_high:  # (see `Cia402Drive.step`)
+                digital_inputs = s.quiet_inputs
+            elif s.has_switches or s._tp_function or s.tp_status:
+                digital_inputs = s.update(drive._motor_position_prev, x)
+            else:
+                digital_inputs = s._external
+            drive.digital_inputs = digital_inputs
+            drive._motor_position_prev = x
+            drive.statusword_base = _SW_CYCLIC  # `statusword` adds the internal limit bit
+            # 5. feedback and faults: the drive's statusword is the cyclic one
+            delta = position_actual - self._position_actual
+            if delta:
+                if delta > 0x7FFFFFFF or delta < -0x80000000:  # the counter wrapped
+                    delta = ((delta + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+                self._feedback_counts = counts = self._feedback_counts + delta
+                self._position_actual = position_actual
+                self.pos_fb_raw = raw = counts / self.cpu
+                self.pos_fb = pos_fb = raw - self._slave_offset
+            else:
+                pos_fb = self.pos_fb
+            if digital_inputs != self._digital_inputs:
+                self._hw_inputs(digital_inputs)
+            if self._on_hw_limit:  # fault_status & _FS_HW_LIMITS, kept by `_hw_inputs`
+                self._hw_limit_stop()
+            err = p - pos_fb
+            if (err > self._max_pos_err or err < self._min_pos_err) and not self.ignore_pe:
+                self._fault_disable(st.PERR, st.FS_POSITION_ERROR)
+                enabled = False
+            else:
+                enabled = True
+        # 6. status
+        if enabled:
+            src = self._reference_source
+            if src == PG:
+                # region I lasts while the generator outputs new positions: until the
+                # first cycle that repeats the last one (the velocity is then 0)
+                moving = (self.ref_vel != 0.0 or not self.pg.is_done or bool(self._command_queue)
+                          or self._deferred_move is not None
+                          or (self._cmd_path is not None and self._cmd_path.pending))  # fmt: skip
+            elif src == TORQUE:
+                moving = self._torque_per_mille != 0
+            elif src == EXT:  # a provider may say when its reference rests (gear, gantry)
+                ext = self._provider
+                moving = ext.moving(self) if hasattr(ext, "moving") else True
+            else:
+                moving = True
+            if moving:
+                # region I: not in position, nothing counts toward rest (no command
+                # starts a move without `wake`, which clears the rest count, and the
+                # in-position count starts from 0 where region I ends, in `_settle`)
+                if not self.moving:
+                    self.moving = True
+                    self.in_pos = False
+                    self._still_cycles = 0
+                return
+            self._settle()
+        else:
+            self.moving = self.in_pos = False
+            self._in_pos_cycles = 0
+        if self._idle_candidate():
+            self._watch_rest()
+        else:
+            self._still_cycles = 0
+
+    def _software_limit(self, p: float, v: float) -> None:
+        """The reference p [mm] (velocity v [mm/s]) is outside the software limits' stop
+        positions: stop at the kill deceleration if it moves outward."""
+        if p >= self._sw_stop_right and v > 0.0:
+            if self._reference_source != TORQUE:
+                self._limit_stop(st.SWRL, st.FS_SW_RIGHT)
+        elif p <= self._sw_stop_left and v < 0.0:
+            if self._reference_source != TORQUE:
+                self._limit_stop(st.SWLL, st.FS_SW_LEFT)
+
+    def _step_general(self, drive) -> bool:
+        """Parts 1.-5. of a cycle other than the plain one (each part steps itself);
+        returns whether the axis is still enabled."""
         # 1.-3. reference, software limits, outputs
         if self.enabled:
             if self._reference_source == PG and not self._command_queue:
@@ -103,12 +241,7 @@ class AxisCycle:
             self.ref_acc = a
             # the stop positions are +-inf while the software limits are off
             if not self._sw_stop_left < p < self._sw_stop_right:
-                if p >= self._sw_stop_right and v > 0.0:
-                    if self._reference_source != TORQUE:
-                        self._limit_stop(st.SWRL, st.FS_SW_RIGHT)
-                elif p <= self._sw_stop_left and v < 0.0:
-                    if self._reference_source != TORQUE:
-                        self._limit_stop(st.SWLL, st.FS_SW_LEFT)
+                self._software_limit(p, v)
             mode = self.op_mode
             if mode == MODE_CSP:
                 # x.__round__() is round(x) without the built-in's method lookup
@@ -154,39 +287,7 @@ class AxisCycle:
             if (err > self._max_pos_err or err < self._min_pos_err) and not self.ignore_pe:
                 self._fault_disable(st.PERR, st.FS_POSITION_ERROR)
                 enabled = False
-        # 6. status
-        if enabled:
-            src = self._reference_source
-            if src == PG:
-                # region I lasts while the generator outputs new positions: until the
-                # first cycle that repeats the last one (the velocity is then 0)
-                moving = (self.ref_vel != 0.0 or not self.pg.is_done or bool(self._command_queue)
-                          or self._deferred_move is not None
-                          or (self._cmd_path is not None and self._cmd_path.pending))  # fmt: skip
-            elif src == TORQUE:
-                moving = self._torque_per_mille != 0
-            elif src == EXT:  # a provider may say when its reference rests (gear, gantry)
-                ext = self._provider
-                moving = ext.moving(self) if hasattr(ext, "moving") else True
-            else:
-                moving = True
-            if moving:
-                # region I: not in position, nothing counts toward rest (no command
-                # starts a move without `wake`, which clears the rest count, and the
-                # in-position count starts from 0 where region I ends, in `_settle`)
-                if not self.moving:
-                    self.moving = True
-                    self.in_pos = False
-                    self._still_cycles = 0
-                return
-            self._settle()
-        else:
-            self.moving = self.in_pos = False
-            self._in_pos_cycles = 0
-        if self._idle_candidate():
-            self._watch_rest()
-        else:
-            self._still_cycles = 0
+        return enabled
 
     @property
     def max_pos_err(self) -> float:
