@@ -57,6 +57,10 @@ def page(server, browser):
     page.set_default_timeout(WAIT_MS)
     page.goto(server.url)
     page.wait_for_selector("body[data-ready=true]")
+    # no breakpoint is left from an earlier test (one that failed before clearing it)
+    page.evaluate(
+        "async (path) => await studio.rpc.call('breakpoints.set', {path, lines: []})", PROGRAM
+    )
     page.get_by_role("button", name="Reset").click()
     expect(page.get_by_role("log")).to_be_empty()
     # the reset is done (a new engine at t = 0) before the test presses anything
