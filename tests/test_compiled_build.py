@@ -106,6 +106,22 @@ def test_a_build_of_the_same_sources_made_the_same_way_is_reused(tmp_path):
     assert not cb.reusable(_package(tmp_path / "nobuild", built=False), BUILD, SUFFIX)
 
 
+def test_after_one_edited_module_only_that_one_is_compiled_again(tmp_path):
+    root = _recorded(_package(tmp_path))
+    record = json.loads((root / cb.RECORD).read_text(encoding="utf-8"))
+    assert cb.reusable_modules(root, BUILD, SUFFIX) == set()  # a record without declarations
+    record[cb.DECLARATIONS_KEY] = cb.declarations_digest(root)
+    (root / cb.RECORD).write_text(json.dumps(record), encoding="utf-8")
+    assert cb.reusable_modules(root, BUILD, SUFFIX) == set(cb.MODULES)
+    assert cb.reusable_modules(root, cb.build_description("3.2.0"), SUFFIX) == set()
+    files = cb.sources(root)
+    files["motionvm.motion.profile"].write_text("# edited\n", encoding="utf-8")
+    assert cb.reusable_modules(root, BUILD, SUFFIX) == set(cb.MODULES) - {"motionvm.motion.profile"}
+    # a .pxd is cimported by other modules: every module is compiled again
+    files["motionvm.drives.sensors"].with_suffix(".pxd").write_text("# new types\n", "utf-8")
+    assert cb.reusable_modules(root, BUILD, SUFFIX) == set()
+
+
 FAKE_CYTHON = """__version__ = "3.1.8"
 """
 FAKE_CYTHON_BUILD = """def cythonize(extensions, **options):
