@@ -194,10 +194,10 @@ def main() -> None:
             if k:  # the first round warms up imports
                 empties.append(t_empty)
                 warms.append(t_warm)
+        others = pdl_gdl_cold_warm(tmp)
     if any(r != results[0] for r in results):
         print("warm and cold runs differ", file=sys.stderr)
         raise SystemExit(1)
-        others = pdl_gdl_cold_warm(tmp)
     empty, warm = statistics.median(empties), statistics.median(warms)
     print(f"cold compile {lps:,.0f} lines/s ({nlines} lines)")
     print(f"to the first cycle: empty cache {empty:.3f} s CPU, warm cache {warm:.3f} s CPU")
