@@ -196,3 +196,28 @@ def test_checks_and_coverage_compiles_stand_aside(
         compile_(language, Source(str(path)))
     assert not compile_cache.exists() or not list(compile_cache.glob("*.mvc"))
     assert len(compiles) == 3
+
+
+def test_a_deeply_nested_application_is_cached_and_read_back(tmp_path, compile_cache, compiles):
+    """Its entry holds syntax trees 3,000 levels deep: stored and read with room to
+    recurse, as the compile runs."""
+    terms = " + ".join(["VALUE OF a"] * 3_000)
+    path = tmp_path / "deep.gdl"
+    path.write_text(
+        "MODULE m;\n  INTEGER$VARIABLE s [ ];\n  INTEGER$VARIABLE a [ INITIAL$VALUE = 1 ];\n"
+        "  DIGITAL$FLAG go [ ];\n  PROCEDURE p;\n  DECLARE { STATUS OF go };\n  BEGIN\n"
+        f"    VALUE OF s = {terms};\n  END$PROCEDURE;\nEND$MODULE;\n"
+    )
+    cold = compile_(GDL, Source(str(path)))
+    assert list(compile_cache.glob("gdl-*.mvc"))
+    warm = compile_(GDL, Source(str(path)))
+    assert len(compiles) == 1
+    assert list(warm.program.functions) == list(cold.program.functions) == ["p"]
+
+
+def test_a_value_that_cannot_be_pickled_is_not_cached(tmp_path):
+    from motionvm.source.cache import CompileCache
+
+    cache = CompileCache(tmp_path / "c", "x")
+    cache.store("k", {"f": lambda: 1})  # (a lambda is no data)
+    assert cache.load("k") is None

@@ -139,8 +139,13 @@ class CompileCache:
 
     def store(self, key: str, value: object) -> None:
         """Store `value` under `key` atomically, then keep the folder within its bound.
-        A folder that cannot be written leaves the cache as it was (nothing is raised)."""
-        data = _MAGIC + zlib.compress(pickle.dumps(value, protocol=5), 1)
+        A folder that cannot be written, or a value that cannot be pickled (too deeply
+        nested for the interpreter's limits), leaves the cache as it was (nothing is
+        raised)."""
+        try:
+            data = _MAGIC + zlib.compress(pickle.dumps(value, protocol=5), 1)
+        except Exception:  # noqa: BLE001 - what cannot be kept is compiled again next time
+            return
         try:
             self.folder.mkdir(parents=True, exist_ok=True)
             fd, tmp = tempfile.mkstemp(prefix=".tmp-", suffix=_SUFFIX, dir=self.folder)

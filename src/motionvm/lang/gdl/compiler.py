@@ -54,6 +54,13 @@ def compile_app(
     texts = texts or {}
     if cache is None:
         return run_deep(_compile_app, paths, sink, texts, None)
+    # (reading and storing an entry walk the syntax trees: deep ones need the room too)
+    return run_deep(_compile_cached, paths, sink, texts, cache)
+
+
+def _compile_cached(
+    paths: list[str], sink: DiagnosticSink, texts: Mapping[str, str], cache: CompileCache
+) -> App | None:
     from motionvm.lang.gdl import app_cache
 
     key = app_cache.app_key(paths, texts)

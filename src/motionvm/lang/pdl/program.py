@@ -34,6 +34,12 @@ def compile_pdl(
     nests: `run_deep`)."""
     if cache is None:
         return run_deep(_compile_pdl, path, sink, text, None)
+    return run_deep(_compile_cached, path, sink, text, cache)
+
+
+def _compile_cached(
+    path: str, sink: DiagnosticSink, text: str | None, cache: CompileCache
+) -> PdlProgram | None:
     from motionvm.lang.pdl import program_cache
 
     key = program_cache.program_key(path, text)
