@@ -7,6 +7,8 @@ from __future__ import annotations
 import pytest
 
 from motionvm.api import Simulation
+from motionvm.debug import BreakpointSpec, DebugEngine, Position
+from motionvm.session import RunSpec, Source
 
 WAIT_INPUT = """void main(void)
 {
@@ -120,3 +122,21 @@ def test_the_debugger_stops_with_a_reason_instead_of_spinning(write_file):
         sim.write("gpi5", 1)  # an input of the paused run: the wait can end now
         assert sim.run().reason == "finished"
         assert sim.messages == ["start", "got 5"]
+
+
+def test_the_debugger_with_a_breakpoint_set_stops_too(write_file):
+    # with a breakpoint set every cycle is stepped (its statements are seen): the same
+    # test at each boundary stops it where a free run stops (the target only paces:
+    # without the test the resume would go on to it)
+    path = write_file("prog.hmpl", WAIT_INPUT)
+    stops = []
+    for breakpoint in (False, True):
+        engine = DebugEngine(RunSpec([Source(path)]), emit=lambda s: None, report=lambda s: None)
+        engine.start()
+        if breakpoint:  # Print("got 5"): never reached
+            assert engine.set_breakpoints(path, [BreakpointSpec(5)])[0].verified
+        stop = engine.resume_to(Position(5000), True)
+        assert stop.reason == "waits forever" and "task 0 waits forever: in Till" in stop.text
+        stops.append((stop.position, stop.text))
+        engine.close()
+    assert stops[0] == stops[1]

@@ -197,6 +197,8 @@ class Timeline:
                 self._finish()
                 return
             if self._needs_cycles(goal):
+                if self._waits_forever(goal):
+                    continue
                 self._one_cycle()
             else:
                 self._free_run(goal)
@@ -219,6 +221,20 @@ class Timeline:
         if self.engine.watching():
             return True
         return self._traced(goal)
+
+    def _waits_forever(self, goal: Goal) -> bool:
+        """A run that steps its cycles (breakpoints set, a data breakpoint) and may stop
+        for "waits forever" (`goal.forever`): True, with that stop noted, when nothing
+        left can change anything (the test a free run's jump makes, at the same
+        boundary), so it does not step on for ever."""
+        if not goal.forever or self.inputs or self._asked_end is not None:
+            return False
+        ctl = self.controller
+        if not ctl.never_changes():
+            return False
+        text = "\n".join(never_ends(ctl.still_running(), ctl.sim_time))
+        self._boundary_stop = self._stop_at_boundary("waits forever", text)
+        return True
 
     def _one_cycle(self) -> None:
         ctl = self.controller

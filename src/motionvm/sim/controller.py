@@ -195,7 +195,6 @@ class Controller:
         # while skipping, a task's status wait records the flags it read (sim/jumps.py)
         # (stepping too, so that both see a run that can never end at the same cycle)
         self.kernel.recorder = self.motion
-        kernel = self.kernel
         next_report = _NEVER if progress is None else clock.cycle
         active = self.kernel.active  # a running task keeps the run busy: no call
         try:
@@ -215,13 +214,19 @@ class Controller:
                         continue
                     never = self.jumps.never
                 else:  # the test a jump makes, alone
-                    never = (kernel.event_waits or not active) and self.jumps.never_changes()
+                    never = self.never_changes()
                 if never and ends:
                     return FOREVER
                 self.step(end_cycle, fold=pacer is None)  # (paced: a jump waits at its start)
             return FINISHED
         finally:
             self.show_clock()
+
+    def never_changes(self) -> bool:
+        """At a cycle boundary: nothing left in the run can change anything (every
+        running task waits on an event, or none runs, and `JumpPlanner.never_changes`)."""
+        kernel = self.kernel
+        return bool(kernel.event_waits or not kernel.active) and self.jumps.never_changes()
 
     def show_clock(self) -> None:
         """Between cycles: the values computed from the clock alone (the HMPL system
