@@ -73,50 +73,60 @@ class PoseAverage:
 
     # ---- closed-form advance (time skipping) ----------------------------------------
 
-    def advance(self, k: int, raw_at, idle: bool, back: int) -> list[list[float]]:
-        """Advance k cycles (k >= 1) as k `step`s with `raw_at(c)` (the raw pose of cycle
-        c = 1 .. k, a new list each call) and `idle` would, their flush count staying
-        below N (idle: `flush + k < N`); returns the outputs of cycles k - back .. k
-        (those of cycles before 1 are not asked for: back < k).
+    def advance(self, k: int, raws, idle: bool, back: int) -> list:
+        """Advance k cycles (k >= 1) as k `step`s with the raw poses `raws(c_0, c_1)`
+        gives (one list per coordinate of the poses of cycles c_0 .. c_1, 1 <= c_0 <= c_1
+        <= k) and `idle` would, their flush count staying below N (idle: `flush + k <
+        N`); returns the outputs of cycles k - back .. k (those of cycles before 1 are
+        not asked for: back < k).
 
         The running sums are replayed from the last cycle at or before k - back where
-        the ring index came round to 0 (an exact `fsum`), or from now."""
+        the ring index came round to 0 (an exact `fsum`), or from now: a coordinate at
+        a time, with the same additions as stepping, in the same order."""
         n = self.n_avg
         j_0 = self.j
         window = self.window
         lo = k - back
+        if n == 1:  # no smoothing: the outputs are the raw poses
+            cols = raws(lo, k)
+            outs = [list(r) for r in zip(*cols)]
+            self.window = [outs[-1]]
+            self.sums = list(outs[-1])
+            self.flush = self.flush + k if idle else 0
+            return outs
         start = lo - (j_0 + lo) % n  # the last exact sum at or before cycle lo
-        raws: dict[int, list[float]] = {}
-
-        def raw(c: int) -> list[float]:
-            if c <= 0:  # still in the window: cycle 0 is the newest
-                return window[(j_0 + c - 1) % n]
-            r = raws.get(c)
-            if r is None:
-                raws[c] = r = raw_at(c)
-            return r
-
-        if start >= 1:
-            sums = [_fsum(col) for col in zip(*[raw(c) for c in range(start - n + 1, start + 1)])]
+        if start < 1:
+            start = 0
+        first = start - n + 1  # the first cycle whose raw pose is read
+        # every coordinate's raw poses of cycles first .. k: the ring's, then the new
+        if first <= 0:
+            old = [window[(j_0 + c - 1) % n] for c in range(first, 1)]
+            cols = [list(c) for c in zip(*old)]
+            for col, new in zip(cols, raws(1, k)):
+                col += new
         else:
-            start, sums = 0, list(self.sums)
-        outs = []
-        if start == lo:
-            outs.append([s / n for s in sums])
-        for c in range(start + 1, k + 1):
-            new, old = raw(c), raw(c - n)
-            for i, x in enumerate(new):
-                sums[i] += x - old[i]
-            if (j_0 + c) % n == 0:
-                sums = [_fsum(col) for col in zip(*[raw(b) for b in range(c - n + 1, c + 1)])]
-            if c >= lo:
-                outs.append([s / n for s in sums])
+            cols = raws(first, k)
+        a, b = start + 1 - first, lo + 1 - first  # cycles start + 1 .. lo: no exact sum
+        outs_cols = []
+        sums = []
+        for i, col in enumerate(cols):
+            s = _fsum(col[:n]) if start else self.sums[i]
+            for x, y in zip(col[a:b], col[a - n : b - n]):
+                s += x - y
+            out = [s / n]
+            for c in range(lo + 1, k + 1):
+                m = c - first
+                s += col[m] - col[m - n]
+                if (j_0 + c) % n == 0:
+                    s = _fsum(col[m - n + 1 : m + 1])
+                out.append(s / n)
+            outs_cols.append(out)
+            sums.append(s)
         # the ring after cycle k: slot (j_0 + c - 1) % n holds cycle c
-        new_window = list(window)
-        for c in range(max(1, k - n + 1), k + 1):
-            new_window[(j_0 + c - 1) % n] = raw(c)
-        self.window = new_window
-        self.j = (j_0 + k) % n
+        j = (j_0 + k) % n
+        rows = list(zip(*[col[k - n + 1 - first :] for col in cols]))
+        self.window = rows[n - j :] + rows[: n - j]
+        self.j = j
         self.sums = sums
         self.flush = self.flush + k if idle else 0
-        return outs
+        return [list(r) for r in zip(*outs_cols)]

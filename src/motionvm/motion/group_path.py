@@ -80,6 +80,13 @@ class Segment:
     def point(self, f: float) -> list[float]:  # pragma: no cover - abstract
         raise NotImplementedError
 
+    def points(self, fs: list[float]) -> list[list[float]]:
+        """The poses `point` gives at the fractions `fs`, one list per coordinate (the
+        same values: the closed-form advance of a group computes many at once)."""
+        if not fs:
+            return [[] for _ in range(self.n)]
+        return [list(c) for c in zip(*map(self.point, fs))]
+
     def tangent(self, f: float) -> list[float]:  # pragma: no cover - abstract
         """Unit direction of motion at f in the translation space (or the rotation
         space of a segment that only rotates)."""
@@ -124,6 +131,10 @@ class Line(Segment):
         if f >= 1.0:
             return list(self.end)
         return [s + d * f for s, d in zip(self.start, self._d)]
+
+    def points(self, fs: list[float]) -> list[list[float]]:
+        return [[s + d * f if f < 1.0 else e for f in fs]
+                for s, d, e in zip(self.start, self._d, self.end)]  # fmt: skip
 
     def tangent(self, f: float) -> list[float]:
         return self._dir
@@ -199,6 +210,21 @@ class Arc(Segment):
             return list(self.end)
         xyz = self._xyz(f)[: min(self.n, 3)]
         return xyz + [s + d * f for s, d in zip(self._rot0, self._rotd)]
+
+    def points(self, fs: list[float]) -> list[list[float]]:
+        if not fs or max(fs) >= 1.0:
+            return super().points(fs)
+        phi, r_0, dr, dh = self.phi, self.r, self._dr, self._h
+        angles = [f * phi for f in fs]
+        cas = list(map(math.cos, angles))
+        sas = list(map(math.sin, angles))
+        rs = [r_0 + f * dr for f in fs]
+        hs = [f * dh for f in fs]
+        k = min(self.n, 3)
+        cols = [[c + r * (ca * e1 + sa * e2) + h * nv for r, ca, sa, h in zip(rs, cas, sas, hs)]
+                for c, e1, e2, nv in zip(self.center[:k], self._e1[:k], self._e2[:k],
+                                         self.normal[:k])]  # fmt: skip
+        return cols + [[s + d * f for f in fs] for s, d in zip(self._rot0, self._rotd)]
 
     def tangent(self, f: float) -> list[float]:
         a = f * self.phi

@@ -35,6 +35,7 @@ the group's commanded pose.
 from __future__ import annotations
 
 import math
+from bisect import bisect_left
 from collections import deque
 
 from motionvm.motion.group_average import PoseAverage
@@ -466,6 +467,28 @@ class PathPlanner:
         x = t - t_0
         return u_0 + (v_0 + 0.5 * a * x) * x
 
+    def _positions(self, c_0: int, c_1: int) -> list[float]:
+        """The path positions [unit] `_eval_at` gives at the times of cycles c_0 .. c_1
+        of the plan (c_0 >= 1: from the present time on), a piece at a time."""
+        dt, t_0, n_0 = self.dt, self._t0, self._n
+        ts = [t_0 + (n_0 + c) * dt for c in range(c_0, c_1 + 1)]
+        pieces = self._pieces
+        i, m = self._pi, len(pieces)
+        us: list[float] = []
+        lo, hi = 0, len(ts)
+        while lo < hi:
+            t = ts[lo]
+            while i < m and t >= pieces[i][1]:
+                i += 1
+            if i >= m:  # past the plan's end: its end position
+                us += [self._eval_at(t)] * (hi - lo)
+                break
+            p_t0, p_t1, u_0, v_0, a = pieces[i]
+            end = bisect_left(ts, p_t1, lo, hi)  # (the times grow with the cycle)
+            us += [u_0 + (v_0 + 0.5 * a * x) * x for x in [t - p_t0 for t in ts[lo:end]]]
+            lo = end
+        return us
+
     def _advance(self) -> None:
         """The path position of the next cycle (RUN or BRAKE)."""
         if self._dwell:
@@ -643,12 +666,12 @@ class PathPlanner:
             dt, t_0, n_0 = self.dt, self._t0, self._n
             seg = self.queue[0]
             geom, length = seg.geom, seg.length
-            eval_at = self._eval_at
+            positions = self._positions
 
-            def raw_at(c: int) -> list[float]:
-                return geom.point(eval_at(t_0 + (n_0 + c) * dt) / length)
+            def raws(c_0: int, c_1: int) -> list[list[float]]:
+                return geom.points([u / length for u in positions(c_0, c_1)])
 
-            outs = self._avg.advance(k, raw_at, False, back)
+            outs = self._avg.advance(k, raws, False, back)
             self._n = n_0 + k
             self.u, self.v, self.acc = self._eval(t_0 + (n_0 + k) * dt)
             self.raw = geom.point(self.u / length)
@@ -659,7 +682,8 @@ class PathPlanner:
                 length = seg.length
                 self.raw = seg.geom.point(self.u / length) if length > 0.0 else list(seg.geom.end)
             raw = self.raw
-            outs = self._avg.advance(k, lambda c: raw, mode == IDLE, back)
+            outs = self._avg.advance(k, lambda c_0, c_1: [[x] * (c_1 - c_0 + 1) for x in raw],
+                                     mode == IDLE, back)  # fmt: skip
         inv = self._inv_dt
         p_2, p_1, out = outs[-3], outs[-2], outs[-1]
         v_1 = [(x - y) * inv for x, y in zip(p_1, p_2)]
