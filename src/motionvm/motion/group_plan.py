@@ -37,6 +37,7 @@ from __future__ import annotations
 import math
 from bisect import bisect_left
 from collections import deque
+from operator import sub as _sub
 
 from motionvm.motion.group_average import PoseAverage
 
@@ -151,6 +152,7 @@ class PathPlanner:
         self._v_hi = 0.0  # highest cap or junction speed queued [unit/s]
         self._d_lo = math.inf  # lowest deceleration queued [unit/s^2]
         self._pending: list[Planned] = []
+        self._bounds_memo: tuple | None = None  # (`_segment_bounds`)
         self.raw = list(pose)
         """The pose at the path position (before smoothing)."""
         self.command_filter = None
@@ -636,27 +638,38 @@ class PathPlanner:
         their range, and no faster than they move."""
         window = self._avg.window
         j = self._avg.j
-        ordered = window[j:] + window[:j]
-        cols = list(zip(*ordered))
-        lo = [min(c) for c in cols]
-        hi = [max(c) for c in cols]
+        cols = list(zip(*window[j:], *window[:j]))  # each coordinate, oldest first
+        lo = list(map(min, cols))
+        hi = list(map(max, cols))
         inv = self._inv_dt
-        speed = [max((abs(b - a) for a, b in zip(c, c[1:])), default=0.0) * inv for c in cols]
+        speed = [max(map(abs, map(_sub, c[1:], c)), default=0.0) * inv for c in cols]
         if self.mode == RUN and not self._dwell:
             seg = self.queue[0]
             if not seg.length > 0.0:
                 return None
-            s_lo, s_hi = seg.geom.bounds()
-            v_top = abs(self.v)
-            for _t0, _t1, _u0, v_0, a in self._pieces[self._pi :]:
-                v_top = max(v_top, abs(v_0), abs(v_0 + a * (_t1 - _t0)))
-            rates = seg.geom.rates()
-            scale = v_top / seg.length
+            s_lo, s_hi, rates, v_top = self._segment_bounds(seg)
+            scale = max(v_top, abs(self.v)) / seg.length
             for i, r in enumerate(rates):
                 lo[i] = min(lo[i], s_lo[i])
                 hi[i] = max(hi[i], s_hi[i])
                 speed[i] = max(speed[i], r * scale)
         return lo, hi, speed
+
+    def _segment_bounds(self, seg: Planned) -> tuple:
+        """(lowest, highest value of each coordinate, the largest rate of each, the
+        highest speed [unit/s] of the plan's pieces from the present one on) of the
+        running segment `seg`; kept while the plan and its piece stay the same."""
+        memo = self._bounds_memo
+        pieces, pi = self._pieces, self._pi
+        if memo is not None and memo[0] is seg and memo[1] is pieces and memo[2] == pi:
+            return memo[3]
+        v_top = 0.0
+        for _t0, _t1, _u0, v_0, a in pieces[pi:]:
+            v_top = max(v_top, abs(v_0), abs(v_0 + a * (_t1 - _t0)))
+        s_lo, s_hi = seg.geom.bounds()
+        found = (s_lo, s_hi, seg.geom.rates(), v_top)
+        self._bounds_memo = (seg, pieces, pi, found)
+        return found
 
     def advance(self, k: int, back: int) -> list[list[float]]:
         """Advance k cycles (k <= `coast_room(k)`, k > back >= 2) as k `step`s would;
