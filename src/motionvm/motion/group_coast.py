@@ -41,25 +41,38 @@ def _back(g) -> int:
 
 def coast_cycles(g, wanted: int) -> int:
     """How many cycles (at most `wanted`) moving group `g` and its axes can be advanced
-    from now in closed form: 0 if they must be stepped."""
+    from now in closed form: 0 if they must be stepped (`coast_room`, then `clear`)."""
+    k = coast_room(g, wanted)
+    return k if k and clear(g) else 0
+
+
+def coast_room(g, wanted: int) -> int:
+    """The cycles (at most `wanted`) moving group `g` can be advanced by from now as far
+    as its path and the drives of its axes go (0: step it), before the limits of its
+    axes are looked at (`clear`): the cheap half of `coast_cycles`, asked of every
+    moving group first."""
     if g.state != MOVING:
         return 0
-    back = _back(g)
-    planner = g.planner
-    k = planner.coast_room(wanted)
-    if k <= back:
+    k = g.planner.coast_room(wanted)
+    if k <= _back(g):
         return 0
     for a in g.axes:
         if not axis_coast.following(a, g.link):
             return 0
-    bounds = planner.coast_bounds()
+    return k
+
+
+def clear(g) -> bool:
+    """True if over any advance `coast_room(g, ...)` allows, the references of the axes
+    of group `g` come near no limit and no position error."""
+    bounds = g.planner.coast_bounds()
     if bounds is None:
-        return 0
+        return False
     lo, hi, speed = bounds
     for i, a in enumerate(g.axes):
         if not axis_coast.clear_following(a, lo[i], hi[i], speed[i]):
-            return 0
-    return k
+            return False
+    return True
 
 
 def min_cycles(g) -> int:

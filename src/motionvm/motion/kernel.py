@@ -189,12 +189,18 @@ class MotionKernel:
         grouped = None
         for g in self.groups.enabled:
             if g.moving:
-                k = group_coast.coast_cycles(g, k)
+                k = group_coast.coast_room(g, k)
                 if not k:
                     return 0
                 if grouped is None:
-                    grouped = set()
-                grouped.update(g.axes)
+                    grouped = [g]
+                else:
+                    grouped.append(g)
+        if grouped is not None:  # (the limits only once no group's path ends the advance)
+            for g in grouped:
+                if not group_coast.clear(g):
+                    return 0
+            grouped = {a for g in grouped for a in g.axes}
         for a in self.axes:
             if not a.resting and (grouped is None or a not in grouped):
                 k = axis_coast.coast_cycles(a, k, watched is not None and a not in watched, memo)
