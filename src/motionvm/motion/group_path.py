@@ -133,8 +133,9 @@ class Line(Segment):
         return [s + d * f for s, d in zip(self.start, self._d)]
 
     def points(self, fs: list[float]) -> list[list[float]]:
-        return [[s + d * f if f < 1.0 else e for f in fs]
-                for s, d, e in zip(self.start, self._d, self.end)]  # fmt: skip
+        if not fs or max(fs) >= 1.0:
+            return super().points(fs)
+        return [[s + d * f for f in fs] for s, d in zip(self.start, self._d)]
 
     def tangent(self, f: float) -> list[float]:
         return self._dir
