@@ -4,6 +4,7 @@
 import { Rpc } from "./rpc.js";
 import { Editor } from "./editor.js";
 import { Scope } from "./scope.js";
+import { atMostEvery } from "./pace.js";
 import { PathView } from "./path.js";
 import { Console, AxesTable, IoPanel, DebugPanel } from "./panels.js";
 
@@ -42,6 +43,7 @@ async function act(method, params = {}) {
   }
 }
 
+let wasRunning = false;
 function showState(s) {
   state = { ...state, ...s };
   ui.time.textContent = `t = ${Number(state.time).toFixed(3)} s`;
@@ -58,7 +60,8 @@ function showState(s) {
   if (state.running) ui.status.textContent = "running";
   else if (!state.loaded) ui.status.textContent = state.error || "no program";
   document.body.dataset.runState = state.running ? "running" : state.waits_forever ? "waits forever" : "paused";
-  if (state.running) { debug.running(); editor.stoppedAt(null); }
+  if (state.running && !wasRunning) { debug.running(); editor.stoppedAt(null); }
+  wasRunning = state.running;
 }
 
 function describe(hello) {
@@ -74,7 +77,9 @@ function describe(hello) {
 rpc.on("state", showState);
 rpc.on("console", (p) => consoleView.add(p.lines));
 rpc.on("scope", (p) => { if (!scrubbing) { scope.append(p.t, p.values); path.append(p.t, p.values, p.groups); } });
-rpc.on("panels", (p) => { if (!scrubbing) { axes.show(p.axes); io.show(p.io); } });
+// the tables and lamps at most 10 times a second while a run goes (the scope at every update)
+const showPanels = atMostEvery(100, (p) => { if (!scrubbing) { axes.show(p.axes); io.show(p.io); } });
+rpc.on("panels", (p) => showPanels(p));
 rpc.on("stopped", (stop) => {
   const where = stop.line ? ` at ${stop.file.split("/").pop()}:${stop.line}` : "";
   const why = { goto: "paused", pause: "paused", step: "paused after a cycle", exited: "the run ended", "waits forever": "waits forever" }[stop.reason] || stop.reason;

@@ -4,6 +4,8 @@
 // group of three axes or more, Z) in the group's own coordinates; the "Plane" list picks
 // XY, XZ or YZ, or XYZ (an isometric projection) for a 3-D group. The columns come from
 // the recording, so the time slider scrubs every view.
+import { atMostEvery } from "./pace.js";
+
 const css = (name) => getComputedStyle(document.documentElement).getPropertyValue(name).trim() || "#888";
 const MAX_POINTS = 20000;
 const PLANES = { XY: [0, 1], XZ: [0, 2], YZ: [1, 2] };
@@ -91,10 +93,12 @@ export class PathView {
     this.append(t, values, groups);
   }
 
+  // at most 10 times a second: the path is redrawn whole (every recorded point)
   redraw() {
     if (this.dirty) return;
     this.dirty = true;
-    requestAnimationFrame(() => { this.dirty = false; this.draw(); });
+    this.paced ??= atMostEvery(100, () => requestAnimationFrame(() => { this.dirty = false; this.draw(); }));
+    this.paced();
   }
 
   // the points of the current view: [x, y(, z)] per recorded time that has them
