@@ -41,7 +41,14 @@ from types import CodeType
 from motionvm.lang.coverage import compile_module
 from motionvm.lang.pdl import nodes as n
 from motionvm.lang.pdl.drive_sysvars import SYS_BASE
-from motionvm.lang.pdl.lower_base import assign, const, nm, storage_kind, subscript
+from motionvm.lang.pdl.lower_base import (
+    assign,
+    const,
+    finish_locations,
+    nm,
+    storage_kind,
+    subscript,
+)
 from motionvm.lang.pdl.lower_body import BodyLowerer
 from motionvm.lang.pdl.rt_memory import FLOAT, SHORT, USER_BASE
 from motionvm.lang.pdl.rt_print import PrintFormat, compile_format
@@ -234,12 +241,7 @@ class ProgramLowering:
                    subscript("_" + view, ast.Slice(lower=const(base), upper=const(end))))
             for name, (view, base, end) in sorted(self.views.items())
         ]  # fmt: skip
-        module = ast.Module(body=views + funcs + [main], type_ignores=[])
-        ast.fix_missing_locations(module)
-        for node in ast.walk(module):
-            if hasattr(node, "end_lineno"):
-                node.end_lineno = node.lineno
-                node.end_col_offset = node.col_offset
+        module = finish_locations(ast.Module(body=views + funcs + [main], type_ignores=[]))
         code = compile_module(module, self.path)
         globals_: dict[str, GlobalVar] = {}
         kinds: list[tuple[int, int, int]] = []

@@ -20,6 +20,75 @@ from motionvm.lang.pdl.rt_memory import FLOAT, LONG, SHORT
 from motionvm.lang.pdl.symbols import LabelSym, Symbols, VarSym
 
 
+_SHAPE: dict[type, tuple[bool, tuple[str, ...]]] = {}
+"""Node class -> (has a location, its fields), for the walks below."""
+
+
+def _shape(cls: type) -> tuple[bool, tuple[str, ...]]:
+    shape = _SHAPE.get(cls)
+    if shape is None:
+        shape = _SHAPE[cls] = ("lineno" in cls._attributes, cls._fields)
+    return shape
+
+
+def place(stmts: list[ast.stmt], line: int, col: int) -> list[ast.stmt]:
+    """Give every node under `stmts` that has no location `line` and `col` (what a walk
+    with `ast.walk` setting each one does, without a generator step per node)."""
+    AST, shape_of = ast.AST, _SHAPE.get
+    stack: list = list(stmts)
+    pop, push = stack.pop, stack.append
+    while stack:
+        node = pop()
+        located, fields = shape_of(type(node)) or _shape(type(node))
+        d = node.__dict__
+        if located and "lineno" not in d:
+            d["lineno"] = line
+            d["col_offset"] = col
+        for f in fields:
+            v = d.get(f)
+            if type(v) is list:
+                for x in v:
+                    if isinstance(x, AST):
+                        push(x)
+            elif isinstance(v, AST):
+                push(v)
+    return stmts
+
+
+def finish_locations(module: ast.Module) -> ast.Module:
+    """`ast.fix_missing_locations(module)`, then every node's end where it starts (a
+    fault's column is its start), in one pass: a node without a location takes its
+    parent's, in the order `fix_missing_locations` visits them."""
+    AST, shape_of = ast.AST, _SHAPE.get
+    stack: list = [(x, 1, 0) for x in reversed(module.body)]
+    pop, push = stack.pop, stack.append
+    while stack:
+        node, line, col = pop()
+        located, fields = shape_of(type(node)) or _shape(type(node))
+        d = node.__dict__
+        if located:
+            if "lineno" in d:
+                line = d["lineno"]
+            else:
+                d["lineno"] = line
+            if "col_offset" in d:
+                col = d["col_offset"]
+            else:
+                d["col_offset"] = col
+            d["end_lineno"] = line
+            d["end_col_offset"] = col
+        children: list = []
+        for f in fields:
+            v = d.get(f)
+            if type(v) is list:
+                children.extend(x for x in v if isinstance(x, AST))
+            elif isinstance(v, AST):
+                children.append(v)
+        for x in reversed(children):
+            push((x, line, col))
+    return module
+
+
 def nm(ident: str, store: bool = False) -> ast.Name:
     return ast.Name(id=ident, ctx=ast.Store() if store else ast.Load())
 

@@ -31,7 +31,16 @@ import ast
 
 from motionvm.lang.pdl import nodes as n
 from motionvm.lang.pdl.lower_assign import lower_assign
-from motionvm.lang.pdl.lower_base import ProgramContext, assign, binop, call, const, nm, subscript
+from motionvm.lang.pdl.lower_base import (
+    ProgramContext,
+    assign,
+    binop,
+    call,
+    const,
+    nm,
+    place,
+    subscript,
+)
 from motionvm.lang.pdl.lower_expr import FLT, ExprLowering
 from motionvm.lang.pdl.lower_flow import SLEEP, WAIT, FlowLowering, check_budget, is_jumpy
 from motionvm.lang.pdl.rt_memory import FLOAT
@@ -64,12 +73,7 @@ class BodyLowerer(FlowLowering):
     def at(self, stmts: list[ast.stmt], pos: object) -> list[ast.stmt]:
         line = self.prog.line_of(pos)
         col = pos.col - 1 if isinstance(pos, SourcePos) else 0  # a fault names the column
-        for s in stmts:
-            for node in ast.walk(s):
-                if "lineno" in node._attributes and not hasattr(node, "lineno"):
-                    node.lineno = line
-                    node.col_offset = col
-        return stmts
+        return place(stmts, line, col)
 
     def emit(self, stmts: list[ast.stmt], pos: object) -> None:
         self.cur.extend(self.at(stmts, pos))
