@@ -19,7 +19,6 @@ from motionvm.lang.pdl import nodes as n
 from motionvm.lang.pdl.rt_memory import FLOAT, LONG, SHORT
 from motionvm.lang.pdl.symbols import LabelSym, Symbols, VarSym
 
-
 _SHAPE: dict[type, tuple[bool, tuple[str, ...]]] = {}
 """Node class -> (has a location, its fields), for the walks below."""
 
