@@ -22,7 +22,7 @@ sys.path.insert(0, str(ROOT))  # the test's server helper
 
 from playwright.sync_api import sync_playwright  # noqa: E402
 
-from tests.studio.studio_client import StudioServer  # noqa: E402
+from tests.studio.studio_client import StudioServer, launch_chromium  # noqa: E402
 
 WINDOW = 3.0
 """Wall time measured [s]."""
@@ -53,11 +53,7 @@ def main() -> None:
         StudioServer([str(program)], folder) as server,
         sync_playwright() as p,
     ):
-        browser = p.chromium.launch(
-            executable_path="/usr/bin/chromium",
-            headless=True,
-            args=["--no-sandbox", "--disable-background-networking", "--disable-component-update"],
-        )
+        browser = launch_chromium(p)
         page = browser.new_page(viewport={"width": 1500, "height": 900})
         page.goto(server.url)
         page.wait_for_selector("body[data-ready=true]")

@@ -18,6 +18,8 @@ from motionvm.studio import Studio
 from motionvm.studio.app import bind, new_token, serve
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+CHROMIUM = "/usr/bin/chromium"
+"""Debian's chromium (`playwright install` cannot download a browser here)."""
 TIMEOUT_S = 30.0
 """Wall-clock limit of any one wait [s]."""
 
@@ -147,3 +149,26 @@ class StudioClient:
     def console_text(self) -> list[str]:
         return [line["text"] for n in self.notes if n.get("method") == "console"
                 for line in n["params"]["lines"]]  # fmt: skip
+
+
+def launch_chromium(playwright):
+    """Debian's chromium, headless, through a started Playwright (`sync_playwright()`)."""
+    return playwright.chromium.launch(
+        executable_path=CHROMIUM,
+        headless=True,
+        args=["--no-sandbox", "--disable-background-networking", "--disable-component-update"],
+    )
+
+
+def inked(page, canvas: str) -> int:
+    """Pixels drawn (not transparent) on the canvas `canvas` (a CSS selector) of a page."""
+    return page.evaluate(
+        """(selector) => {
+            const c = document.querySelector(selector);
+            const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
+            let n = 0;
+            for (let i = 3; i < d.length; i += 4) if (d[i] > 0) n++;
+            return n;
+        }""",
+        canvas,
+    )

@@ -15,9 +15,8 @@ from pathlib import Path
 
 import pytest
 
-from tests.studio.studio_client import EXAMPLES, StudioServer
+from tests.studio.studio_client import CHROMIUM, EXAMPLES, StudioServer, inked, launch_chromium
 
-CHROMIUM = "/usr/bin/chromium"
 if not Path(CHROMIUM).exists():
     pytest.skip(f"no {CHROMIUM} (apt-get install chromium)", allow_module_level=True)
 playwright = pytest.importorskip("playwright.sync_api")
@@ -39,11 +38,7 @@ def server(tmp_path_factory):
 @pytest.fixture(scope="module")
 def browser():
     with playwright.sync_playwright() as p:
-        b = p.chromium.launch(
-            executable_path=CHROMIUM,
-            headless=True,
-            args=["--no-sandbox", "--disable-background-networking", "--disable-component-update"],
-        )
+        b = launch_chromium(p)
         yield b
         b.close()
 
@@ -76,19 +71,6 @@ def _shot(page, tmp_path: Path, name: str) -> Path:
     return path
 
 
-def _inked(page) -> int:
-    """Pixels drawn on the scope's canvas."""
-    return page.evaluate(
-        """() => {
-            const c = document.querySelector('#scope-plot canvas');
-            const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
-            let n = 0;
-            for (let i = 3; i < d.length; i += 4) if (d[i] > 0) n++;
-            return n;
-        }"""
-    )
-
-
 def _run_to(page, seconds: float) -> None:
     page.get_by_label("Run to time [s]").fill(str(seconds))
     page.get_by_role("button", name="Go").click()
@@ -105,7 +87,9 @@ def test_the_page_shows_its_controls_and_a_scope_with_a_grid_from_the_start(page
     scope = page.get_by_role("region", name="Scope")
     expect(scope.locator("canvas")).to_be_visible()
     expect(scope).to_contain_text("axis0.pos_fb [mm]")
-    assert _inked(page) > 2000  # the axes and the grid are drawn before any run
+    assert (
+        inked(page, "#scope-plot canvas") > 2000
+    )  # the axes and the grid are drawn before any run
     expect(page.get_by_role("region", name="Axes").locator("tbody tr")).to_have_count(3)
     expect(page.get_by_role("group", name="Inputs (click to force)")).to_contain_text("gpi3")
     expect(page.locator(".cm-content")).to_contain_text("#define PART_SENSOR 2")

@@ -9,9 +9,8 @@ from pathlib import Path
 
 import pytest
 
-from tests.studio.studio_client import StudioServer
+from tests.studio.studio_client import CHROMIUM, StudioServer, inked, launch_chromium
 
-CHROMIUM = "/usr/bin/chromium"
 if not Path(CHROMIUM).exists():
     pytest.skip(f"no {CHROMIUM} (apt-get install chromium)", allow_module_level=True)
 playwright = pytest.importorskip("playwright.sync_api")
@@ -27,11 +26,7 @@ def page(tmp_path_factory):
     data = tmp_path_factory.mktemp("data")
     with StudioServer([str(HERE / "groups.hmpl")], data, machine=str(HERE / "groups.toml")) as server, \
             playwright.sync_playwright() as p:  # fmt: skip
-        browser = p.chromium.launch(
-            executable_path=CHROMIUM,
-            headless=True,
-            args=["--no-sandbox", "--disable-background-networking", "--disable-component-update"],
-        )
+        browser = launch_chromium(p)
         page = browser.new_page(viewport={"width": 1500, "height": 900})
         errors: list[str] = []
         page.on("pageerror", lambda e: errors.append(str(e)))
@@ -41,19 +36,6 @@ def page(tmp_path_factory):
         yield page
         browser.close()
         assert errors == []
-
-
-def _ink(page) -> int:
-    """Pixels drawn on the path's canvas."""
-    return page.evaluate(
-        """() => {
-            const c = document.querySelector('#path');
-            const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
-            let n = 0;
-            for (let i = 3; i < d.length; i += 4) if (d[i] > 0) n++;
-            return n;
-        }"""
-    )
 
 
 def test_each_group_is_drawn_in_its_own_coordinates_and_scrubbed(page, tmp_path):
@@ -77,7 +59,7 @@ def test_each_group_is_drawn_in_its_own_coordinates_and_scrubbed(page, tmp_path)
     expect(path).to_have_attribute(
         "aria-label", "Path (group1 XYZ): X 40.00 mm, Y 20.00 mm, Z 30.00 mm"
     )
-    assert _ink(page) > 500
+    assert inked(page, "#path") > 500
     page.screenshot(path=str(tmp_path / "group1.png"))
     plane.select_option("YZ")
     expect(path).to_have_attribute("aria-label", "Path (group1 YZ): Y 20.00 mm, Z 30.00 mm")
