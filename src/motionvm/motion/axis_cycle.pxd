@@ -1,4 +1,7 @@
 # Cython declarations augmenting axis_cycle.py (optional compiled build; see setup.py).
+# The int32 counts of a cycle (position actual, its change, the target's change) and
+# the small ints it compares (reference source, op mode, digital inputs) are C integers:
+# the same values as Python's ints, compared and wrapped in C.
 # AxisCycle becomes an extension type holding the cycle's state; `Axis` (axis.py) stays
 # a Python class deriving from it.
 import cython
@@ -10,9 +13,9 @@ cdef class AxisCycle:
     cdef public object _cmd_path
     cdef public object _command_queue
     cdef public object _comp_dependents
-    cdef public object _cycle
+    cdef public long long _cycle
     cdef public object _deferred_move
-    cdef public object _digital_inputs
+    cdef public long long _digital_inputs
     cdef public object _enable_cycles
     cdef public object _enable_timeout_cycles
     cdef public object _enabling
@@ -29,13 +32,13 @@ cdef class AxisCycle:
     cdef public object _move_start_cycle
     cdef public object _on_hw_limit
     cdef public object _pos_offset
-    cdef public object _position_actual
+    cdef public long long _position_actual
     cdef public object _provider
     cdef public object _pvt_cycle
     cdef public object _pvt_trajectory
     cdef public object _ramp_decel
     cdef public object _ramp_vel
-    cdef public object _reference_source
+    cdef public int _reference_source
     cdef public object _rest_after_cycles
     cdef public object _rollover
     cdef public double _slave_offset
@@ -61,7 +64,7 @@ cdef class AxisCycle:
     cdef public object last_error
     cdef public object move_time_ms
     cdef public object moving
-    cdef public object op_mode
+    cdef public int op_mode
     cdef public ProfileGenerator pg
     cdef public double pos_fb
     cdef public double pos_fb_raw
@@ -75,9 +78,11 @@ cdef class AxisCycle:
     @cython.locals(drive=Cia402Drive, pg=ProfileGenerator, s=Sensors, n=Py_ssize_t,
                    tau=double, x=double, p_prev=double, v_prev=double, inv_dt=double,
                    p=double, v=double, a=double, demand=double, raw=double,
-                   pos_fb=double, err=double, enabled=bint)
+                   pos_fb=double, err=double, enabled=bint, change=longlong,
+                   position_actual=longlong, delta=longlong)
     cpdef step(self)
-    @cython.locals(p=double, v=double, a=double, err=double)
+    @cython.locals(p=double, v=double, a=double, err=double, position_actual=longlong,
+                   delta=longlong)
     cpdef bint _step_general(self, Cia402Drive drive) except -1
     cpdef _software_limit(self, double p, double v)
     cpdef _settle(self)

@@ -146,10 +146,10 @@ class AxisCycle:
             drive._demand = demand = drive._demand + change
             drive._target_prev = counts
             x = drive.mechanics.step_position(demand, self.dt)
-            drive._encoder = position_actual = x.__round__()
-            if position_actual > 0x7FFFFFFF or position_actual < -0x80000000:  # int32 wraps
-                position_actual = ((position_actual + 0x80000000) & 0xFFFFFFFF) - 0x80000000
-            drive.position_actual = position_actual
+            drive._encoder = enc = x.__round__()
+            if enc > 0x7FFFFFFF or enc < -0x80000000:  # beyond int32: the counter wraps
+                enc = ((enc + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+            drive.position_actual = position_actual = enc  # (an int32: typed when compiled)
             s = drive.sensors
             if s.quiet_low < x < s.quiet_high:  # (see `Cia402Drive.step`)
                 digital_inputs = s.quiet_inputs
