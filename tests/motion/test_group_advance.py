@@ -56,7 +56,7 @@ def _state(pl: PathPlanner) -> tuple:
 
 @PROFILE
 @given(st.sampled_from([1, 2, 7, 50]), st.lists(segment, min_size=1, max_size=5),
-       st.sampled_from([BM_BUFF, BM_LOOKAHEAD]), st.integers(0, 2500), st.integers(3, 400),
+       st.sampled_from([BM_BUFF, BM_LOOKAHEAD]), st.integers(0, 2500), st.integers(3, 4000),
        st.integers(2, 6))  # fmt: skip
 def test_advance_lands_on_the_floats_of_stepping(n_avg, segments, bm, before, k, back):
     stepped, coasted = _planner(n_avg, segments, bm), _planner(n_avg, segments, bm)

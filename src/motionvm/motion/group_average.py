@@ -73,6 +73,16 @@ class PoseAverage:
 
     # ---- closed-form advance (time skipping) ----------------------------------------
 
+    def first_read(self, k: int, back: int) -> int:
+        """The first cycle whose raw pose `advance(k, ..., back)` reads (may be <= 0: in
+        the ring now)."""
+        n = self.n_avg
+        lo = k - back
+        if n == 1:
+            return lo
+        start = lo - (self.j + lo) % n
+        return (start if start >= 1 else 0) - n + 1
+
     def advance(self, k: int, raws, idle: bool, back: int) -> list:
         """Advance k cycles (k >= 1) as k `step`s with the raw poses `raws(c_0, c_1)`
         gives (one list per coordinate of the poses of cycles c_0 .. c_1, 1 <= c_0 <= c_1

@@ -97,6 +97,17 @@ def segment_profile(u_0: float, length: float, v_0: float, v_1: float, v_max: fl
     return pieces, t, v_1
 
 
+def _plan_last(t_0: float, n_0: int, dur: float, dt: float) -> int:
+    """The last cycle c (counted from the plan's cycle n_0, c >= 0) whose plan time
+    t_0 + (n_0 + c) * dt is before the plan's end `dur` (the cycle after it ends it)."""
+    c = max(0, int((dur - t_0) / dt) - n_0)
+    while c > 0 and t_0 + (n_0 + c) * dt >= dur:
+        c -= 1
+    while t_0 + (n_0 + c + 1) * dt < dur:
+        c += 1
+    return c
+
+
 class Planned:
     """One queued segment: its geometry and what the planner needs of it."""
 
@@ -153,6 +164,7 @@ class PathPlanner:
         self._d_lo = math.inf  # lowest deceleration queued [unit/s^2]
         self._pending: list[Planned] = []
         self._bounds_memo: tuple | None = None  # (`_segment_bounds`)
+        self._room_plans: list[tuple] = []  # (`_room_across`)
         self.raw = list(pose)
         """The pose at the path position (before smoothing)."""
         self.command_filter = None
@@ -564,6 +576,11 @@ class PathPlanner:
 
     def step(self) -> list[float]:
         """Advance one cycle; return the commanded pose."""
+        self._path_step()
+        return self._smooth()
+
+    def _path_step(self) -> None:
+        """The path position and raw pose of the next cycle (`step` before smoothing)."""
         if self._stale is not None and self.mode == RUN and self._maybe_catch_up():
             self._replan()
         if self.mode in (RUN, BRAKE):
@@ -573,7 +590,6 @@ class PathPlanner:
                 seg = q[0]
                 length = seg.length
                 self.raw = seg.geom.point(self.u / length) if length > 0.0 else list(seg.geom.end)
-        return self._smooth()
 
     # ---- closed-form advance (time skipping: motion/group_coast.py) -----------------
 
@@ -585,6 +601,7 @@ class PathPlanner:
         cycle before the next segment starts), halted, or while its smoothing flushes
         (up to the cycle before the output stands on the end). 0: step it. A command
         filter (a group input shaper) is stepped."""
+        self._room_plans = []
         if self.command_filter is not None or wanted <= 0:
             return 0
         mode = self.mode
@@ -607,6 +624,8 @@ class PathPlanner:
         while c > 0 and t_0 + (n_0 + c) * dt >= dur:
             c -= 1
         k = min(wanted, c)
+        if self._stale is None and k == c and k < wanted and c == _plan_last(t_0, n_0, dur, dt):
+            return self._room_across(wanted, c)
         if self._stale is not None and k > 0:
             # step i tests the position of cycle i - 1 (`_maybe_catch_up`); the position
             # grows, so the first step that finds it near ends the room
@@ -625,6 +644,68 @@ class PathPlanner:
                         hi = mid
                 k = lo + 1  # steps 1 .. lo + 1 test positions 0 .. lo
         return k
+
+    def _room_across(self, wanted: int, c: int) -> int:
+        """`coast_room` on from the last cycle c of the running plan, across the ends of
+        segments that the path runs through at speed (no stop on the corner, the next
+        segment queued, of some length, and its first plan longer than the rest of the
+        cycle it starts in), as `_advance` would plan them; each crossing is kept in
+        `_room_plans` (segment, its pieces) for `coast_bounds`."""
+        dt, t_0, n_0, dur = self.dt, self._t0, self._n, self._dur
+        q = self.queue
+        v_in = self._v_exit
+        base = 0  # the cycle the plan's count n_0 is of
+        i = 0
+        plans = self._room_plans
+        while c < wanted:
+            if (v_in == 0.0 and self._n_avg > 1) or i + 1 >= len(q):
+                break
+            seg = q[i + 1]
+            if not seg.length > 0.0:
+                break
+            c_e = c + 1  # the cycle the next segment starts in
+            r = (t_0 + (n_0 + c_e - base) * dt) - dur
+            pieces, dur_2, v_1 = segment_profile(0.0, seg.length, v_in, seg.v_end, seg.v_cap,
+                                                 seg.a, seg.d)  # fmt: skip
+            if not r < dur_2:
+                break
+            plans.append((seg, pieces))
+            t_0, n_0, dur, base, v_in = r, 0, dur_2, c_e, v_1
+            c = c_e + _plan_last(t_0, 0, dur, dt)
+            i += 1
+        return min(wanted, c)
+
+    def _raws_across(self, k: int, c_lo: int) -> list[list[float]]:
+        """Run the path k cycles on (`coast_room`: inside the running segment, or across
+        the ends `_room_across` allows, each such cycle stepped by `_path_step`); returns
+        the raw poses of cycles c_lo .. k, one list per coordinate."""
+        dt = self.dt
+        cols: list[list[float]] = [[] for _ in self.raw]
+        base = 0  # the cycle of the plan's count `_n`
+        c = 0  # the cycles run so far
+        while True:
+            seg = self.queue[0]
+            geom, length = seg.geom, seg.length
+            t_0, n_0 = self._t0, self._n
+            end = min(k, base + _plan_last(t_0, n_0, self._dur, dt))
+            a = max(c + 1, c_lo)
+            if a <= end:
+                fs = [u / length for u in self._positions(a - base, end - base)]
+                for col, new in zip(cols, geom.points(fs)):
+                    col += new
+            if end == k:
+                self._n = n = n_0 + k - base
+                self.u, self.v, self.acc = self._eval(t_0 + n * dt)
+                self.raw = geom.point(self.u / length)
+                return cols
+            self._n = n_0 + end - base  # the plan's count at cycle `end`
+            self._path_step()  # cycle end + 1: the next segment starts
+            c = base = end + 1
+            if c >= c_lo:
+                for col, x in zip(cols, self.raw):
+                    col.append(x)
+            if c == k:
+                return cols
 
     def _far(self, u: float) -> bool:
         """True if `_maybe_catch_up` at path position u leaves the deferred pass waiting."""
@@ -653,6 +734,22 @@ class PathPlanner:
                 lo[i] = min(lo[i], s_lo[i])
                 hi[i] = max(hi[i], s_hi[i])
                 speed[i] = max(speed[i], r * scale)
+            prev, s_prev = seg, [r * scale for r in rates]
+            for nxt, pieces in self._room_plans:  # the segments the room runs into
+                geom = nxt.geom
+                s_lo, s_hi = geom.bounds()
+                v_top = 0.0
+                for _t0, _t1, _u0, v_0, a in pieces:
+                    v_top = max(v_top, abs(v_0), abs(v_0 + a * (_t1 - _t0)))
+                scale = v_top / nxt.length
+                s_next = [r * scale for r in geom.rates()]
+                for i, x in enumerate(s_next):
+                    lo[i] = min(lo[i], s_lo[i])
+                    hi[i] = max(hi[i], s_hi[i])
+                    # the cycle across the corner: the rest of one, the gap, the start of the other
+                    gap = abs(geom.start[i] - prev.geom.end[i]) * inv
+                    speed[i] = max(speed[i], x, max(x, s_prev[i]) + gap)
+                prev, s_prev = nxt, s_next
         return lo, hi, speed
 
     def _segment_bounds(self, seg: Planned) -> tuple:
@@ -676,18 +773,11 @@ class PathPlanner:
         returns the commanded poses of cycles k - back .. k (the last is `out`)."""
         mode = self.mode
         if mode == RUN and not self._dwell:
-            dt, t_0, n_0 = self.dt, self._t0, self._n
-            seg = self.queue[0]
-            geom, length = seg.geom, seg.length
-            positions = self._positions
-
-            def raws(c_0: int, c_1: int) -> list[list[float]]:
-                return geom.points([u / length for u in positions(c_0, c_1)])
-
-            outs = self._avg.advance(k, raws, False, back)
-            self._n = n_0 + k
-            self.u, self.v, self.acc = self._eval(t_0 + (n_0 + k) * dt)
-            self.raw = geom.point(self.u / length)
+            c_lo = max(1, self._avg.first_read(k, back))
+            cols = self._raws_across(k, c_lo)
+            outs = self._avg.advance(
+                k, lambda c_0, c_1: [col[c_0 - c_lo : c_1 - c_lo + 1] for col in cols], False, back
+            )
         else:
             if mode == RUN:  # resting on a corner: the raw pose is that of the path position
                 self._dwell -= k
