@@ -8,7 +8,8 @@ EVENT_WAIT); a client its `next_event`; the motion kernel how far its axes can b
 advanced in closed form (`MotionKernel.coast_horizon`: a resting axis forever, an axis
 on a plain profile move until region I ends, or, when no task passed over reads its
 `IsMoving`, until it comes into position; a moving axis group and its axes to the
-end of its segment, motion/group_coast.py; any other axis not at all). Axes are
+next segment end where its path stops, motion/group_coast.py; any other axis not at
+all). Axes are
 advanced over the jumped cycles by `MotionKernel.coast`, which leaves every value as
 stepping would; a client that reads moving axes in its hooks (`observes_motion`)
 keeps the clock from jumping while an axis moves. A client that samples skipped cycles
