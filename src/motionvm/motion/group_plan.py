@@ -165,6 +165,7 @@ class PathPlanner:
         self._pending: list[Planned] = []
         self._bounds_memo: tuple | None = None  # (`_segment_bounds`)
         self._room_plans: list[tuple] = []  # (`_room_across`)
+        self._profiles: dict[tuple, tuple] = {}  # the plans `_room_across` looked ahead at
         self.raw = list(pose)
         """The pose at the path position (before smoothing)."""
         self.command_filter = None
@@ -659,6 +660,7 @@ class PathPlanner:
         base = 0  # the cycle the plan's count n_0 is of
         i = 0
         plans = self._room_plans
+        memo = self._profiles  # (segment_profile is a function of its arguments)
         while c < wanted:
             if (v_in == 0.0 and self._n_avg > 1) or i + 1 >= len(q):
                 break
@@ -667,8 +669,13 @@ class PathPlanner:
                 break
             c_e = c + 1  # the cycle the next segment starts in
             r = (t_0 + (n_0 + c_e - base) * dt) - dur
-            pieces, dur_2, v_1 = segment_profile(0.0, seg.length, v_in, seg.v_end, seg.v_cap,
-                                                 seg.a, seg.d)  # fmt: skip
+            key = (seg.length, v_in, seg.v_end, seg.v_cap, seg.a, seg.d)
+            found = memo.get(key)
+            if found is None:
+                if len(memo) > 64:
+                    memo.clear()
+                memo[key] = found = segment_profile(0.0, *key)
+            pieces, dur_2, v_1 = found
             if not r < dur_2:
                 break
             plans.append((seg, pieces))
