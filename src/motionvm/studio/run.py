@@ -28,10 +28,10 @@ from motionvm.studio.history import History, Recorder
 from motionvm.studio.views import Layout
 from motionvm.studio.workspace import Workspace
 
-FRAME = 1 / 36
-"""Wall time [s] between two updates of the page while a run goes (a little under
-1/30 s, so that the page, which redraws at most once per update, still draws 30 frames
-a second when an update comes late)."""
+FRAME = 1 / 42
+"""Wall time [s] between two updates of the page while a run goes (well under 1/30 s,
+so that the page, which redraws at most once per update, still draws 30 frames a second
+when some updates come late or are drawn together)."""
 RUN_SHARE = 0.8
 """The part of a frame the run takes at most; the rest sends what it did (the
 measured cost of that is taken off first)."""
