@@ -165,6 +165,7 @@ class PathPlanner:
         self._pending: list[Planned] = []
         self._bounds_memo: tuple | None = None  # (`_segment_bounds`)
         self._room_plans: list[tuple] = []  # (`_room_across`)
+        self._room_catch = 0  # the cycle `_room_catch_up` runs the deferred pass in (0: none)
         self._profiles: dict[tuple, tuple] = {}  # the plans `_room_across` looked ahead at
         self.raw = list(pose)
         """The pose at the path position (before smoothing)."""
@@ -605,6 +606,7 @@ class PathPlanner:
         the output stands on the end). 0: step it. A command filter (a group input
         shaper) is stepped."""
         self._room_plans = []
+        self._room_catch = 0
         if self.command_filter is not None or wanted <= 0:
             return 0
         mode = self.mode
@@ -646,18 +648,91 @@ class PathPlanner:
                     else:
                         hi = mid
                 k = lo + 1  # steps 1 .. lo + 1 test positions 0 .. lo
+                if k < wanted and k < c and c == _plan_last(t_0, n_0, dur, dt):
+                    return self._room_catch_up(wanted, k, c)
         return k
 
-    def _room_across(self, wanted: int, c: int) -> int:
+    def _room_catch_up(self, wanted: int, k: int, c: int) -> int:
+        """`coast_room` on from cycle k, whose next step runs the deferred backward pass
+        (`_maybe_catch_up`), inside the running plan (which ends at cycle c): that
+        cycle as `_path_step` makes it (the pass, and a new plan from the state of cycle
+        k if the running segment's exit speed changes), then `_room_across`."""
+        dt = self.dt
+        changed, v_ends = self._catch_up_preview()
+        seg = self.queue[0]
+        if changed:
+            u, v, _acc = self._state_at(self._t0 + (self._n + k) * dt)
+            pieces, dur, v_1 = segment_profile(u, seg.length, v, v_ends[seg], seg.v_cap, seg.a,
+                                               seg.d)  # fmt: skip
+            if not dt < dur:
+                return k
+            self._room_plans.append((seg, pieces))
+            c = k + _plan_last(0.0, 0, dur, dt)
+            plan = (0.0, 0, dur, k, v_1)
+        else:
+            plan = (self._t0, self._n, self._dur, 0, self._v_exit)
+        self._room_catch = k + 1
+        return self._room_across(wanted, c, plan, v_ends)
+
+    def _catch_up_preview(self) -> tuple[bool, dict]:
+        """What `_catch_up` would do now, doing nothing: (True if the running segment's
+        exit speed changes, {segment: its new exit speed})."""
+        stale = self._stale
+        q = self.queue
+        new: dict = {}
+        it = reversed(q)
+        nxt = next(it)
+        v2 = nxt.v_end * nxt.v_end + 2.0 * nxt.d * nxt.length
+        i = len(q) - 2
+        seen = False
+        sqrt = math.sqrt
+        for seg in it:
+            lim = seg.j_lim
+            v = lim if lim * lim <= v2 else sqrt(v2)
+            if seg is stale:
+                seen = True
+            if v == seg.v_end:
+                if seen:
+                    return False, new
+            else:
+                new[seg] = v
+                if i == 0:
+                    return True, new
+            i -= 1
+            v2 = v * v + 2.0 * seg.d * seg.length
+        return False, new
+
+    def _state_at(self, t: float) -> tuple[float, float, float]:
+        """What `_eval(t)` gives, for t at or after the present time, leaving the piece
+        index as it is."""
+        pieces = self._pieces
+        i = self._pi
+        while i < len(pieces) and t >= pieces[i][1]:
+            i += 1
+        if i >= len(pieces):
+            if pieces:
+                t_0, t_1, u_0, v_0, a = pieces[-1]
+                x = t_1 - t_0
+                return u_0 + (v_0 + 0.5 * a * x) * x, v_0 + a * x, 0.0
+            return self.u, self.v, 0.0
+        t_0, _t_1, u_0, v_0, a = pieces[i]
+        x = t - t_0
+        return u_0 + (v_0 + 0.5 * a * x) * x, v_0 + a * x, a
+
+    def _room_across(self, wanted: int, c: int, plan: tuple | None = None,
+                     v_ends: dict | None = None) -> int:  # fmt: skip
         """`coast_room` on from the last cycle c of the running plan, across the ends of
         segments that the path runs through at speed (no stop on the corner, the next
         segment queued, of some length, and its first plan longer than the rest of the
         cycle it starts in), as `_advance` would plan them; each crossing is kept in
-        `_room_plans` (segment, its pieces) for `coast_bounds`."""
-        dt, t_0, n_0, dur = self.dt, self._t0, self._n, self._dur
+        `_room_plans` (segment, its pieces) for `coast_bounds`. `plan`: (t_0, n_0, dur,
+        the cycle of n_0, exit speed) of the plan running at cycle c if not the present
+        one; `v_ends`: the segments' exit speeds where a backward pass changes them."""
+        dt = self.dt
+        if plan is None:
+            plan = (self._t0, self._n, self._dur, 0, self._v_exit)
+        t_0, n_0, dur, base, v_in = plan
         q = self.queue
-        v_in = self._v_exit
-        base = 0  # the cycle the plan's count n_0 is of
         i = 0
         plans = self._room_plans
         memo = self._profiles  # (segment_profile is a function of its arguments)
@@ -669,7 +744,8 @@ class PathPlanner:
                 break
             c_e = c + 1  # the cycle the next segment starts in
             r = (t_0 + (n_0 + c_e - base) * dt) - dur
-            key = (seg.length, v_in, seg.v_end, seg.v_cap, seg.a, seg.d)
+            v_end = seg.v_end if v_ends is None else v_ends.get(seg, seg.v_end)
+            key = (seg.length, v_in, v_end, seg.v_cap, seg.a, seg.d)
             found = memo.get(key)
             if found is None:
                 if len(memo) > 64:
@@ -697,6 +773,9 @@ class PathPlanner:
             geom, length = seg.geom, seg.length
             t_0, n_0 = self._t0, self._n
             end = min(k, base + _plan_last(t_0, n_0, self._dur, dt))
+            catch = self._room_catch
+            if c < catch <= end:  # the deferred pass runs in cycle `catch`
+                end = catch - 1
             a = max(c + 1, c_lo)
             if a <= end:
                 fs = [u / length for u in self._positions(a - base, end - base)]
@@ -707,8 +786,10 @@ class PathPlanner:
                 self.u, self.v, self.acc = self._eval(t_0 + n * dt)
                 self.raw = geom.point(self.u / length)
                 return cols
-            self._n = n_0 + end - base  # the plan's count at cycle `end`
-            self._path_step()  # cycle end + 1: the next segment starts
+            self._n = n = n_0 + end - base  # the plan's count at cycle `end`
+            if end + 1 == catch:
+                self.u, self.v, self.acc = self._eval(t_0 + n * dt)
+            self._path_step()  # cycle end + 1: the pass, or the next segment starts
             c = base = end + 1
             if c >= c_lo:
                 for col, x in zip(cols, self.raw):
@@ -756,7 +837,7 @@ class PathPlanner:
                     lo[i] = min(lo[i], s_lo[i])
                     hi[i] = max(hi[i], s_hi[i])
                     # the cycle across the corner: the rest of one, the gap, the start of the other
-                    gap = abs(geom.start[i] - prev.geom.end[i]) * inv
+                    gap = 0.0 if nxt is prev else abs(geom.start[i] - prev.geom.end[i]) * inv
                     speed[i] = max(speed[i], x, max(x, s_prev[i]) + gap)
                 prev, s_prev = nxt, s_next
         return lo, hi, speed
