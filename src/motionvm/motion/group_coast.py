@@ -15,8 +15,8 @@ which are in region I while it moves, stays the same) and runs on within one seg
 through the ends of segments it passes at speed (the cycle a segment starts in is
 computed as a step of the path alone, then its plan in closed form), rests on a corner,
 is halted, or flushes its smoothing; a stop at a segment's end, the start of the next
-segment after it, a deferred look-ahead pass coming due, a brake and the end of the
-flush are stepped. A group input shaper is stepped. An axis that is not on the common path (a
+segment after it, a deferred look-ahead pass coming due in a segment's last cycle or
+on a corner, a brake and the end of the flush are stepped. A group input shaper is stepped. An axis that is not on the common path (a
 filter on its command, a drive other than a steady CSP `Cia402Drive` with an ideal
 motor), or whose reference could come near a limit or a position error over the
 advance, makes its group step.

@@ -599,9 +599,10 @@ class PathPlanner:
         """How many cycles (at most `wanted`) `advance` can compute from now, in which
         the planner stays active and nothing but its position, its output and its queue
         of segments changes: the path runs on inside its segment (up to the cycle before
-        the segment ends, and before a deferred backward pass comes due) and, with no
-        pass deferred, on across the ends of segments it runs through at speed into the
-        next (`_room_across`), or rests on a corner (up to the cycle before the next
+        the segment ends; through the cycle a deferred backward pass comes due in, when
+        that is inside the plan: `_room_catch_up`) and, with no pass deferred, on across
+        the ends of segments it runs through at speed into the next (`_room_across`), or
+        rests on a corner (up to the cycle before the next
         segment starts), halted, or while its smoothing flushes (up to the cycle before
         the output stands on the end). 0: step it. A command filter (a group input
         shaper) is stepped."""
