@@ -288,30 +288,13 @@ class PathPlanner:
 
     def _catch_up(self) -> bool:
         """The deferred backward pass: from the last segment down, past the segment the
-        deferral began at, until an exit speed does not change."""
-        stale, self._stale = self._stale, None
-        q = self.queue
-        it = reversed(q)
-        nxt = next(it)
-        v2 = nxt.v_end * nxt.v_end + 2.0 * nxt.d * nxt.length
-        i = len(q) - 2
-        seen = False
-        sqrt = math.sqrt
-        for seg in it:
-            lim = seg.j_lim
-            v = lim if lim * lim <= v2 else sqrt(v2)
-            if seg is stale:
-                seen = True
-            if v == seg.v_end:
-                if seen:
-                    return False
-            else:
-                seg.v_end = v
-                if i == 0:
-                    return True
-            i -= 1
-            v2 = v * v + 2.0 * seg.d * seg.length
-        return False
+        deferral began at, until an exit speed does not change (`_catch_up_preview`'s
+        exit speeds, applied)."""
+        changed, v_ends = self._catch_up_preview()
+        self._stale = None
+        for seg, v in v_ends.items():
+            seg.v_end = v
+        return changed
 
     def _backward(self, i: int) -> bool:
         """Backward pass from segment i (the one before the last) down; True if the
