@@ -55,6 +55,12 @@ _CW_ENABLE = 0x0F
 _INT32 = 2.0**31 - 2.0
 """Counts [counts] beyond which the int32 target or position could wrap."""
 
+# `_round(x)` is round(x) of a float: its method in pure Python (no built-in's lookup);
+# the compiled build's cia402.pxd defines it as C's rint (the same integer, no Python
+# object), a name an assignment here cannot make (Cython refuses to assign a name the
+# .pxd declares), so the module's namespace gets it.
+globals()["_round"] = float.__round__
+
 
 class Cia402Drive:
     """One servo drive: object dictionary, power state machine, modes, mechanics, sensors."""
@@ -426,7 +432,7 @@ class Cia402Drive:
         if self._encoder_lost:
             enc = self._encoder
         else:
-            self._encoder = enc = x.__round__()  # round(x) without the built-in's lookup
+            self._encoder = enc = _round(x)  # noqa: F821
             if enc > 0x7FFFFFFF or enc < -0x80000000:  # beyond int32: the counter wraps
                 self.position_actual = ((enc + 0x80000000) & 0xFFFFFFFF) - 0x80000000
             else:
@@ -505,7 +511,7 @@ class Cia402Drive:
         self._target_prev = target
         self._demand = demand
         self.mechanics.land(demand, demand_vel, line, x_1, x, v_1, dt)
-        self._encoder = enc = x.__round__()
+        self._encoder = enc = _round(x)  # noqa: F821
         self.position_actual = enc  # (steady: no int32 wrap, `clear_of`)
         self.digital_inputs = self.sensors.update(x_1, x)
         self._motor_position_prev = x

@@ -55,6 +55,16 @@ _SW_CYCLIC = (State.OPERATION_ENABLED.value | SW_VOLTAGE_ENABLED | SW_REMOTE
               | SW_FOLLOWS_TARGET)  # fmt: skip
 """The statusword of a drive in Operation enabled in a cyclic mode, without fault or limit."""
 
+# The cycle's own copies of the reference sources and modes that other modules import
+# by name: C ints in the compiled build (axis_cycle.pxd declares them, and the CW_
+# constants and _SW_CYCLIC above; a C module variable is no Python attribute, hence
+# the copies), the same values in pure Python.
+_PG, _PVT, _RAMP, _TORQUE, _EXT = PG, PVT, RAMP, TORQUE, EXT
+_MODE_CSP, _MODE_CSV = MODE_CSP, MODE_CSV
+
+# `_round(x)` is round(x) of a float, as in cia402.py (C's rint in the compiled build).
+globals()["_round"] = float.__round__
+
 
 def step_axes(axes: list) -> None:
     """One cycle of each axis of `axes` that does not rest, in their order (the motion
@@ -104,9 +114,9 @@ class AxisCycle:
         other cycle goes through `_step_general`, where each part steps itself."""
         drive = self.drive
         self._cycle += 1
-        if not (self.enabled and self._reference_source == PG and self.op_mode == MODE_CSP
+        if not (self.enabled and self._reference_source == _PG and self.op_mode == _MODE_CSP
                 and drive._csp_ready and drive._controlword_prev == CW_ENABLE
-                and drive.mode == MODE_CSP and self._cmd_path is None
+                and drive.mode == _MODE_CSP and self._cmd_path is None
                 and self._fault_reset_cycles is None and not drive._forced
                 and not drive._encoder_lost and not drive._fe_checked
                 and not self._command_queue):  # fmt: skip
@@ -134,7 +144,7 @@ class AxisCycle:
             if not self._sw_stop_left < p < self._sw_stop_right:
                 self._software_limit(p, v)
             # 3. outputs
-            counts = ((p + self._slave_offset) * self.cpu).__round__()
+            counts = _round((p + self._slave_offset) * self.cpu)  # noqa: F821
             if counts > 0x7FFFFFFF or counts < -0x80000000:  # beyond int32: the target wraps
                 counts = ((counts + 0x80000000) & 0xFFFFFFFF) - 0x80000000
             drive.target_position = counts
@@ -146,7 +156,7 @@ class AxisCycle:
             drive._demand = demand = drive._demand + change
             drive._target_prev = counts
             x = drive.mechanics.step_position(demand, self.dt)
-            drive._encoder = enc = x.__round__()
+            drive._encoder = enc = _round(x)  # noqa: F821
             if enc > 0x7FFFFFFF or enc < -0x80000000:  # beyond int32: the counter wraps
                 enc = ((enc + 0x80000000) & 0xFFFFFFFF) - 0x80000000
             drive.position_actual = position_actual = enc  # (an int32: typed when compiled)
@@ -184,15 +194,15 @@ class AxisCycle:
         # 6. status
         if enabled:
             src = self._reference_source
-            if src == PG:
+            if src == _PG:
                 # region I lasts while the generator outputs new positions: until the
                 # first cycle that repeats the last one (the velocity is then 0)
                 moving = (self.ref_vel != 0.0 or not self.pg.is_done or bool(self._command_queue)
                           or self._deferred_move is not None
                           or (self._cmd_path is not None and self._cmd_path.pending))  # fmt: skip
-            elif src == TORQUE:
+            elif src == _TORQUE:
                 moving = self._torque_per_mille != 0
-            elif src == EXT:  # a provider may say when its reference rests (gear, gantry)
+            elif src == _EXT:  # a provider may say when its reference rests (gear, gantry)
                 ext = self._provider
                 moving = ext.moving(self) if hasattr(ext, "moving") else True
             else:
@@ -219,10 +229,10 @@ class AxisCycle:
         """The reference p [mm] (velocity v [mm/s]) is outside the software limits' stop
         positions: stop at the kill deceleration if it moves outward."""
         if p >= self._sw_stop_right and v > 0.0:
-            if self._reference_source != TORQUE:
+            if self._reference_source != _TORQUE:
                 self._limit_stop(st.SWRL, st.FS_SW_RIGHT)
         elif p <= self._sw_stop_left and v < 0.0:
-            if self._reference_source != TORQUE:
+            if self._reference_source != _TORQUE:
                 self._limit_stop(st.SWLL, st.FS_SW_LEFT)
 
     def _step_general(self, drive) -> bool:
@@ -230,7 +240,7 @@ class AxisCycle:
         returns whether the axis is still enabled."""
         # 1.-3. reference, software limits, outputs
         if self.enabled:
-            if self._reference_source == PG and not self._command_queue:
+            if self._reference_source == _PG and not self._command_queue:
                 p, v, a = self.pg.step()
             else:
                 p, v, a = self._reference()
@@ -243,13 +253,12 @@ class AxisCycle:
             if not self._sw_stop_left < p < self._sw_stop_right:
                 self._software_limit(p, v)
             mode = self.op_mode
-            if mode == MODE_CSP:
-                # x.__round__() is round(x) without the built-in's method lookup
-                counts = ((p + self._slave_offset) * self.cpu).__round__()
+            if mode == _MODE_CSP:
+                counts = _round((p + self._slave_offset) * self.cpu)  # noqa: F821
                 if counts > 0x7FFFFFFF or counts < -0x80000000:  # beyond int32: the target wraps
                     counts = ((counts + 0x80000000) & 0xFFFFFFFF) - 0x80000000
                 drive.target_position = counts
-            elif mode == MODE_CSV:
+            elif mode == _MODE_CSV:
                 drive.target_velocity = round(v * self.cpu)
             else:
                 drive.target_torque = self._torque_per_mille
@@ -385,33 +394,33 @@ class AxisCycle:
     def _reference(self) -> tuple[float, float, float]:
         """The reference of a cycle other than a plain profile move (see `step`)."""
         src = self._reference_source
-        if src == PG:
+        if src == _PG:
             pg = self.pg
             if self._command_queue and pg.is_done:
                 self._start_next()
-            if self._reference_source == PG:
+            if self._reference_source == _PG:
                 return pg.step()
             src = self._reference_source
-        if src == PVT:
+        if src == _PVT:
             self._pvt_cycle += 1
             t = self._pvt_cycle * self.dt
             p, v, a = self._pvt_trajectory.evaluate(t)
             if t >= self._pvt_trajectory.duration:
-                self._reference_source = PG
+                self._reference_source = _PG
                 self.pg.reset(p)
                 return p, 0.0, (0.0 - self.ref_vel) / self.dt
             return p, v, a
-        if src == RAMP:
+        if src == _RAMP:
             v_0 = self._ramp_vel
             dv = self._ramp_decel * self.dt
             v_1 = 0.0 if abs(v_0) <= dv else v_0 - math.copysign(dv, v_0)
             p = self.ref_pos + 0.5 * (v_0 + v_1) * self.dt
             self._ramp_vel = v_1
             if v_1 == 0.0:
-                self._reference_source = PG
+                self._reference_source = _PG
                 self.pg.reset(p)
             return p, v_1, (v_1 - v_0) / self.dt
-        if src == EXT:
+        if src == _EXT:
             return self._provider.reference(self)
         return self.pos_fb, self.vel_fb, 0.0  # torque mode: the reference follows
 
@@ -469,7 +478,7 @@ class AxisCycle:
         if self._enabling and state is _OPERATION_ENABLED:
             self._enabling = False
             self.enabled = True
-            self._reference_source = PG
+            self._reference_source = _PG
             self.pg.reset(self.pos_fb)
             self.ref_pos, self.ref_vel, self.ref_acc = self.pos_fb, 0.0, 0.0
             self._in_pos_cycles = 0
@@ -532,7 +541,7 @@ class AxisCycle:
         """True while the axis jogs at the constant velocity it was commanded and has
         reached (MoveVel; not stopping or halted, nothing buffered) and no software or
         hardware limit can stop it: nothing about its motion changes by itself."""
-        if not (self.moving and self.enabled and self._reference_source == PG) or (
+        if not (self.moving and self.enabled and self._reference_source == _PG) or (
             self.stopping or self.halted or self.error_stop or self._command_queue
             or self._deferred_move is not None or not self.pg.is_cruising
         ):  # fmt: skip
@@ -555,7 +564,7 @@ class AxisCycle:
         self.last_error = st.axis_error(code, self.axis_id)
         self._command_queue.clear()
         self.stopping = True
-        if self._reference_source == PG:
+        if self._reference_source == _PG:
             self.pg.stop(self.kill_dec)
         else:
             self._start_ramp(self.ref_vel, self.kill_dec)
@@ -583,11 +592,11 @@ class AxisCycle:
         self._fault_disable(st.PERR, st.FS_POSITION_ERROR)
 
     def _start_ramp(self, v_0: float, decel: float) -> None:
-        """Brake the reference from velocity v_0 to rest at `decel` (PVT and torque stops)."""
-        if self.op_mode not in (MODE_CSP, MODE_CSV):
-            self.op_mode = self.drive.mode = MODE_CSP
+        """Brake the reference from velocity v_0 to rest at `decel` (_PVT and torque stops)."""
+        if self.op_mode not in (_MODE_CSP, _MODE_CSV):
+            self.op_mode = self.drive.mode = _MODE_CSP
             self._torque_per_mille = 0
-        self._reference_source = RAMP
+        self._reference_source = _RAMP
         self._ramp_vel = v_0
         self._ramp_decel = decel
 
@@ -602,8 +611,8 @@ class AxisCycle:
             if not self.in_pos or self._command_queue:
                 return False
             src = self._reference_source
-            if src != EXT:
-                return src == PG
+            if src != _EXT:
+                return src == _PG
             # a provider with `holds_still` (an axis group) wakes its axes when its
             # reference moves again; the others keep their axes stepping
             holds_still = getattr(self._provider, "holds_still", None)
