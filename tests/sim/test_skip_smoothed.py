@@ -41,7 +41,7 @@ def _outcome(tmp_path, sources, skip: bool, machine: str):
     pg = sim.controller.motion.axes[0].pg
     fields = (pg._n, pg._flush, pg._tc_done, pg._idle, pg._seg_i, pg._seg_t_0, pg._seg_t_1,
               pg._seg_p_0, pg._seg_v_0, pg._seg_half_a, pg._j, pg._sum, tuple(pg._buf),
-              pg._out, pg.mode)  # fmt: skip
+              pg.output, pg.mode)  # fmt: skip
     return out, fields
 
 

@@ -18,6 +18,7 @@ cdef inline long long _round(double x) except? -1:
     return ((round(x) + 0x80000000) & 0xFFFFFFFF) - 0x80000000
 
 cdef int _CSP, _CW_ENABLE
+cdef long long _TWO_31, _MASK_32
 cdef long _SW_CYCLIC
 
 @cython.final

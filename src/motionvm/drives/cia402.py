@@ -60,6 +60,9 @@ _INT32 = 2.0**31 - 2.0
 # object), a name an assignment here cannot make (Cython refuses to assign a name the
 # .pxd declares), so the module's namespace gets it.
 globals()["_round"] = float.__round__
+_TWO_31, _MASK_32 = 0x80000000, 0xFFFFFFFF
+"""An int32 wraps as ((n + _TWO_31) & _MASK_32) - _TWO_31 (C long longs when compiled,
+where the literals would be Python ints)."""
 
 
 class Cia402Drive:
@@ -421,7 +424,7 @@ class Cia402Drive:
             target = self.target_position
             change = target - self._target_prev
             if change > 0x7FFFFFFF or change < -0x80000000:  # beyond int32: the target wrapped
-                change = ((change + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+                change = ((change + _TWO_31) & _MASK_32) - _TWO_31
             self._demand = demand = self._demand + change
             self._target_prev = target
             x = self.mechanics.step_position(demand, dt)
@@ -434,7 +437,7 @@ class Cia402Drive:
         else:
             self._encoder = enc = _round(x)  # noqa: F821
             if enc > 0x7FFFFFFF or enc < -0x80000000:  # beyond int32: the counter wraps
-                self.position_actual = ((enc + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+                self.position_actual = ((enc + _TWO_31) & _MASK_32) - _TWO_31
             else:
                 self.position_actual = enc
         s = self.sensors

@@ -18,7 +18,7 @@ cdef class IdealMechanics(_Motor):
     cdef public double _dt
     cdef public object _line
     cdef public double _velocity_before
-    cdef public object delay_cycles
+    cdef public Py_ssize_t delay_cycles
     cdef public object inertia
 
     @cython.locals(r_0=double, x=double)

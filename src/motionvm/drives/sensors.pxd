@@ -1,13 +1,14 @@
 # Cython declarations augmenting sensors.py (the optional compiled build: see
 # motionvm/compiled_build.py). The .py file is the only source of the code: this file
-# makes `Sensors` an extension type whose quiet interval the drive reads directly.
+# makes `Sensors` an extension type whose quiet interval the drive reads directly, and
+# the inputs and touch probe words the cycle reads C ints (ints of their objects' ranges).
 import cython
 
 @cython.final
 cdef class Sensors:
     cdef public object _edge_inputs
     cdef public object _edges
-    cdef public object _external
+    cdef public long long _external
     cdef public object _gap_bands
     cdef public object _home_high
     cdef public object _home_low
@@ -24,14 +25,14 @@ cdef class Sensors:
     cdef public object _switch_high
     cdef public object _switch_inputs
     cdef public object _switch_low
-    cdef public object _tp_function
+    cdef public int _tp_function
     cdef public object _tp_function_prev
-    cdef public object has_switches
+    cdef public bint has_switches
     cdef public object latched
     cdef public object on_change
     cdef public double quiet_high
-    cdef public object quiet_inputs
+    cdef public long long quiet_inputs
     cdef public double quiet_low
-    cdef public object tp_status
+    cdef public int tp_status
 
     cpdef bint clear_of_limits(self, lo, hi) except -1

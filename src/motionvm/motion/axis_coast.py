@@ -178,7 +178,7 @@ def _end(a, s: int) -> tuple[int, int, int, list[float], float]:
     demand), p the output [mm] of cycle s - 1."""
     pg, d = a.pg, a.drive
     delay = d.mechanics.delay_cycles
-    p = pg._out[0] if s == 1 else pg.sample(pg._n + s - 1)
+    p = pg._out_p if s == 1 else pg.sample(pg._n + s - 1)
     if a.moving:  # region I ends when the output repeats the target: velocity 0
         e = s if (pg._p_f - p) * pg._inv_dt == 0.0 else s + 1
     else:
@@ -418,7 +418,7 @@ def _land(a, k: int, demands: list, line: list | None, x_1: float, x: float,
     d = a.drive
     a._cycle += k
     if ref is None:
-        ref = a.pg._out
+        ref = a.pg.output
     a.ref_pos, a.ref_vel, a.ref_acc = ref
     demand = demands[-1]
     d.land(((ref[0] + a._slave_offset) * a.cpu).__round__(), demand,

@@ -14,6 +14,7 @@ from motionvm.motion.profile cimport ProfileGenerator
 
 cdef int _PG, _PVT, _RAMP, _TORQUE, _EXT, _MODE_CSP, _MODE_CSV
 cdef int CW_DISABLE, CW_SHUTDOWN, CW_ENABLE, CW_FAULT_RESET
+cdef long long _TWO_31, _MASK_32
 cdef long _SW_CYCLIC, _FS_HW_LIMITS
 
 cdef class AxisCycle:
@@ -83,7 +84,7 @@ cdef class AxisCycle:
     cdef public object stopping
 
     @cython.locals(drive=Cia402Drive, pg=ProfileGenerator, s=Sensors, n=Py_ssize_t,
-                   tau=double, x=double, p_prev=double, v_prev=double, inv_dt=double,
+                   tau=double, x=double, inv_dt=double,
                    p=double, v=double, a=double, demand=double, raw=double,
                    pos_fb=double, err=double, enabled=bint, change=longlong,
                    position_actual=longlong, delta=longlong, counts=longlong,

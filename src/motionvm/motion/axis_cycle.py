@@ -64,6 +64,9 @@ _MODE_CSP, _MODE_CSV = MODE_CSP, MODE_CSV
 
 # `_round(x)` is round(x) of a float, as in cia402.py (C's rint in the compiled build).
 globals()["_round"] = float.__round__
+_TWO_31, _MASK_32 = 0x80000000, 0xFFFFFFFF
+"""An int32 wraps as ((n + _TWO_31) & _MASK_32) - _TWO_31 (C long longs when compiled,
+where the literals would be Python ints)."""
 
 
 def step_axes(axes: list) -> None:
@@ -132,11 +135,11 @@ class AxisCycle:
                 pg._n = n
                 x = tau - pg._seg_t_0
                 p = pg._seg_p_0 + (pg._seg_v_0 + pg._seg_half_a * x) * x
-                p_prev, v_prev, _ = pg._out
                 inv_dt = pg._inv_dt
-                v = (p - p_prev) * inv_dt
-                a = (v - v_prev) * inv_dt
-                pg._out = (p, v, a)  # (the T-curve runs: the generator does not idle)
+                v = (p - pg._out_p) * inv_dt
+                a = (v - pg._out_v) * inv_dt
+                # (the T-curve runs: the generator does not idle)
+                pg._out_p, pg._out_v, pg._out_a = p, v, a
             self.ref_pos = p
             self.ref_vel = v
             self.ref_acc = a
@@ -146,19 +149,19 @@ class AxisCycle:
             # 3. outputs
             counts = _round((p + self._slave_offset) * self.cpu)  # noqa: F821
             if counts > 0x7FFFFFFF or counts < -0x80000000:  # beyond int32: the target wraps
-                counts = ((counts + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+                counts = ((counts + _TWO_31) & _MASK_32) - _TWO_31
             drive.target_position = counts
             drive.controlword = CW_ENABLE
             # 4. the drive's common cycle: the demand follows the target's change
             change = counts - drive._target_prev
             if change > 0x7FFFFFFF or change < -0x80000000:  # the target wrapped
-                change = ((change + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+                change = ((change + _TWO_31) & _MASK_32) - _TWO_31
             drive._demand = demand = drive._demand + change
             drive._target_prev = counts
             x = drive.mechanics.step_position(demand, self.dt)
             drive._encoder = enc = _round(x)  # noqa: F821
             if enc > 0x7FFFFFFF or enc < -0x80000000:  # beyond int32: the counter wraps
-                enc = ((enc + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+                enc = ((enc + _TWO_31) & _MASK_32) - _TWO_31
             drive.position_actual = position_actual = enc  # (an int32: typed when compiled)
             s = drive.sensors
             if s.quiet_low < x < s.quiet_high:  # (see `Cia402Drive.step`)
@@ -174,7 +177,7 @@ class AxisCycle:
             delta = position_actual - self._position_actual
             if delta:
                 if delta > 0x7FFFFFFF or delta < -0x80000000:  # the counter wrapped
-                    delta = ((delta + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+                    delta = ((delta + _TWO_31) & _MASK_32) - _TWO_31
                 self._feedback_counts = counts = self._feedback_counts + delta
                 self._position_actual = position_actual
                 self.pos_fb_raw = raw = counts / self.cpu
@@ -256,7 +259,7 @@ class AxisCycle:
             if mode == _MODE_CSP:
                 counts = _round((p + self._slave_offset) * self.cpu)  # noqa: F821
                 if counts > 0x7FFFFFFF or counts < -0x80000000:  # beyond int32: the target wraps
-                    counts = ((counts + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+                    counts = ((counts + _TWO_31) & _MASK_32) - _TWO_31
                 drive.target_position = counts
             elif mode == _MODE_CSV:
                 drive.target_velocity = round(v * self.cpu)
@@ -274,7 +277,7 @@ class AxisCycle:
         delta = position_actual - self._position_actual
         if delta:
             if delta > 0x7FFFFFFF or delta < -0x80000000:  # beyond int32: the counter wrapped
-                delta = ((delta + 0x80000000) & 0xFFFFFFFF) - 0x80000000
+                delta = ((delta + _TWO_31) & _MASK_32) - _TWO_31
             self._feedback_counts = counts = self._feedback_counts + delta
             self._position_actual = position_actual
             self.pos_fb_raw = raw = counts / self.cpu

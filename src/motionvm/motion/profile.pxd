@@ -13,7 +13,9 @@ cdef class ProfileGenerator:
     cdef public Py_ssize_t _n
     cdef public Py_ssize_t _n_avg
     cdef public Py_ssize_t _nseg
-    cdef public tuple _out
+    cdef public double _out_a
+    cdef public double _out_p
+    cdef public double _out_v
     cdef public double _p_f
     cdef public object _plan
     cdef public double _seg_half_a
@@ -41,7 +43,7 @@ cdef class ProfileGenerator:
     cpdef bint _segment_at(self, double tau) except -1
 
     @cython.locals(n=Py_ssize_t, tau=double, p=double, x=double, n_avg=Py_ssize_t, r=double,
-                   buf=list, j=Py_ssize_t, s=double, p_prev=double, v_prev=double,
+                   buf=list, j=Py_ssize_t, s=double,
                    inv_dt=double, v=double, a=double)
     cpdef tuple step(self)
 

@@ -60,7 +60,9 @@ class ProfileGenerator:
         "_n",
         "_n_avg",
         "_nseg",
-        "_out",
+        "_out_a",
+        "_out_p",
+        "_out_v",
         "_p_f",
         "_plan",
         "_seg_half_a",
@@ -102,10 +104,8 @@ class ProfileGenerator:
         """Factor [-] on v_max and on the jog velocity (manual SetVelScale / 100)."""
         self.mode = IDLE
         """IDLE, POSITION (move_to), VELOCITY (move_velocity) or STOP."""
-        self._n_avg = 1
-        self._smoothing = False
-        self._out = None  # (set by `reset`; None: not yet, for `set_smooth_time`)
-        self.set_smooth_time(t_smooth)
+        self._n_avg = self._smooth_samples(t_smooth)
+        self._smoothing = self._n_avg > 1
         self.reset(position)
 
     # ---- commands -------------------------------------------------------------------
@@ -124,7 +124,7 @@ class ProfileGenerator:
         self._j = 0
         self._sum = 0.0
         self._flush = self._n_avg
-        self._out = (p, 0.0, 0.0)
+        self._out_p, self._out_v, self._out_a = p, 0.0, 0.0  # (the output: `output`)
         self._idle = True
         self._from_rest = True
 
@@ -182,15 +182,19 @@ class ProfileGenerator:
         A move that has ended (`is_done`: the output rests on its target) counts as no
         motion, also in the cycle before the generator turns idle (its acceleration
         returns to 0 one cycle after its velocity)."""
+        n_avg = self._smooth_samples(t_smooth)
+        if not self.is_done and (not self._idle or self.mode != IDLE):
+            raise RuntimeError("the smooth time cannot change while the axis moves or is halted")
+        self._n_avg = n_avg
+        self._smoothing = n_avg > 1
+        self.reset(self._out_p)
+
+    def _smooth_samples(self, t_smooth: float) -> int:
+        """The moving average's samples N of smooth time `t_smooth` [s] (0..10 s)."""
         t_smooth = float(t_smooth)
         if not (0.0 <= t_smooth <= 10.0):
             raise ValueError(f"smooth time {t_smooth!r} s is outside 0..10 s")
-        if self._out is not None and not self.is_done and (not self._idle or self.mode != IDLE):
-            raise RuntimeError("the smooth time cannot change while the axis moves or is halted")
-        self._n_avg = max(1, round(t_smooth / self.dt))
-        self._smoothing = self._n_avg > 1
-        if self._out is not None:
-            self.reset(self._out[0])
+        return max(1, round(t_smooth / self.dt))
 
     # ---- queries --------------------------------------------------------------------
 
@@ -206,7 +210,7 @@ class ProfileGenerator:
         Never while jogging or halted by a zero velocity scale. The velocity of that
         cycle is still the backward difference of the last step, zero one cycle later.
         """
-        return self._tc_done and self._out[0] == self._p_f and not self._pending()
+        return self._tc_done and self._out_p == self._p_f and not self._pending()
 
     @property
     def is_cruising(self) -> bool:
@@ -231,7 +235,7 @@ class ProfileGenerator:
     @property
     def output(self) -> tuple[float, float, float]:
         """The last (ref_pos [mm], ref_vel [mm/s], ref_acc [mm/s^2])."""
-        return self._out
+        return self._out_p, self._out_v, self._out_a
 
     def planned_move_time(self) -> float:
         """Closed-form time [s] from the last (re)plan to the end of motion: T + Ts.
@@ -304,7 +308,7 @@ class ProfileGenerator:
                 self.mode = IDLE
                 return
             # From rest the filter window holds one value; store samples relative to it.
-            self._base = self._out[0]
+            self._base = self._out_p
             self._buf = [0.0] * self._n_avg
             self._sum = 0.0
             self._j = 0
@@ -317,7 +321,7 @@ class ProfileGenerator:
         """Advance one cycle; return (ref_pos [mm], ref_vel [mm/s], ref_acc [mm/s^2])."""
         if self._tc_done:  # idle implies done: one test while the T-curve runs
             if self._idle:
-                return self._out
+                return self._out_p, self._out_v, self._out_a
             self._n += 1
             p = self._p_f
         else:
@@ -348,16 +352,15 @@ class ProfileGenerator:
                     p = self._base + s / n_avg
             else:
                 p = self._base + s / n_avg
-        p_prev, v_prev, _ = self._out
         inv_dt = self._inv_dt
-        v = (p - p_prev) * inv_dt
-        a = (v - v_prev) * inv_dt
-        self._out = res = (p, v, a)
+        v = (p - self._out_p) * inv_dt
+        a = (v - self._out_v) * inv_dt
+        self._out_p, self._out_v, self._out_a = p, v, a
         if v == 0.0 and a == 0.0 and self._tc_done and p == self._p_f:
             self._idle = True
             if not self._pending():
                 self.mode = IDLE
-        return res
+        return p, v, a
 
     # ---- closed-form advance (time skipping) ----------------------------------------
     # The cycles nobody observes are computed for their last samples only, by the same
@@ -484,7 +487,7 @@ class ProfileGenerator:
         if n_avg == 1:
             for n in range(n_lo, n_e + 1):
                 if n == n_0:
-                    ps.append(self._out[0])
+                    ps.append(self._out_p)
                     continue
                 while seg < n_segs and n * dt >= segs[seg][1]:
                     seg += 1
@@ -512,7 +515,7 @@ class ProfileGenerator:
         else:
             start, s, j = n_0, self._sum, self._j
         if start == n_lo:
-            ps.append(self._out[0] if start == n_0 else base + s / n_avg)
+            ps.append(self._out_p if start == n_0 else base + s / n_avg)
         for n in range(start + 1, n_e + 1):
             while seg < n_segs and n * dt >= segs[seg][1]:
                 seg += 1
@@ -560,7 +563,7 @@ class ProfileGenerator:
         p_f = self._p_f
         inv_dt = self._inv_dt
         pending = self._pending()  # a move waits (nothing of the advance changes that)
-        p_0, v_0, _ = self._out
+        p_0, v_0 = self._out_p, self._out_v
         p = p_f if k >= s else self.sample(n_0 + k)
         p_1 = p_0 if k == 1 else p_f if k > s else self.sample(n_0 + k - 1)
         if k == 1:
@@ -583,7 +586,7 @@ class ProfileGenerator:
                     p_2 = p_0 if s == 2 else self.sample(n_0 + s - 2)
                     v_last = (p_last - p_2) * inv_dt
                 idle = s if v_last == 0.0 else s + 1
-        self._out = (p, v, acc)
+        self._out_p, self._out_v, self._out_a = p, v, acc
         if k < s:
             self._n = n_0 + k
             i = self.segment_of(n_0 + k)
@@ -620,7 +623,7 @@ class ProfileGenerator:
             self._flush = n_e - n_last
         elif i != self._seg_i:
             self._enter_segment(i)
-        self._out = (p, v, (v - v_1) * inv_dt)
+        self._out_p, self._out_v, self._out_a = p, v, (v - v_1) * inv_dt
         if smoothing is not None:
             self._buf, self._j, self._sum = smoothing
         return ps
