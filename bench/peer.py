@@ -11,7 +11,10 @@ axis at 100 mm/s (1,000 mm/s^2) at a 1 ms cycle, stepping every cycle:
   shared by the axes, as in a machine);
 - peer: `AxisSim.move_absolute` to a far target, which cycles the axis inside C++ until
   its cycle limit: the distance after `CYCLES`, the CPU time per cycle of a move of
-  `PEER_CYCLES`.
+  `PEER_CYCLES`;
+- motionvm's axis cycle alone: the same axes, moving, stepped `CYCLES` times by the
+  motion kernel's loop over them (`step_axes`) without the controller's per-cycle work
+  (tasks, clock, the run's checks): what the axes' own cycle costs.
 
 Both must have moved the same distance (within 1 %: the two kernels shape the ramp
 differently). Timing: `time.process_time`, the median of `REPEAT` interleaved runs of
@@ -32,6 +35,7 @@ from pathlib import Path
 from motionvm import compiled_build
 from motionvm.api import Simulation
 from motionvm.lang.hmpl.compiler import TaskFile
+from motionvm.motion.axis_cycle import step_axes
 from motionvm.sim.machine import MachineConfig, default_axes
 
 VENV = Path(__file__).resolve().parent / ".peer-venv"
@@ -95,23 +99,41 @@ def peer_once() -> tuple[float, float]:
     return float(ns), float(moved)
 
 
-def ours_once() -> tuple[float, float]:
-    """(ns per moving axis-cycle, distance axis 0 moved [mm]) of motionvm."""
+def _moving() -> Simulation:
+    """The simulation with every axis enabled and moving."""
     sim = Simulation(
         [TaskFile(0, "peer.hmpl", PROGRAM)],
         machine=MachineConfig(axes=default_axes(AXES)),
         skip=False,
     )
     sim.run(until=0.02)  # enabled, every move commanded
-    axes = sim.controller.motion.axes
-    if not all(a.moving for a in axes) or sim.faults:
+    if not all(a.moving for a in sim.controller.motion.axes) or sim.faults:
         raise SystemExit(f"benchmark broken: an axis does not move {sim.faults}")
+    return sim
+
+
+def ours_once() -> tuple[float, float]:
+    """(ns per moving axis-cycle, distance axis 0 moved [mm]) of motionvm."""
+    sim = _moving()
+    axes = sim.controller.motion.axes
     start, cycles0 = axes[0].ref_pos, sim.controller.cycle
     t0 = time.process_time()
     sim.run(until=0.02 + SECONDS)
     cpu = time.process_time() - t0
     cycles = sim.controller.cycle - cycles0
     return cpu / (cycles * AXES) * 1e9, axes[0].ref_pos - start
+
+
+def axes_once() -> float:
+    """ns per moving axis-cycle of the axes' own cycle (`step_axes` alone)."""
+    axes = _moving().controller.motion.axes
+    t0 = time.process_time()
+    for _ in range(CYCLES):
+        step_axes(axes)
+    cpu = time.process_time() - t0
+    if not all(a.moving for a in axes):
+        raise SystemExit("benchmark broken: an axis stopped")
+    return cpu / (CYCLES * AXES) * 1e9
 
 
 def main() -> None:
@@ -122,21 +144,26 @@ def main() -> None:
         install()
     if not peer_python().exists():
         sys.exit(f"no peer: run `python bench/peer.py --install` first (makes {VENV})")
-    ours_once(), peer_once()  # warm-up
-    ours, peer = [], []
+    ours_once(), axes_once(), peer_once()  # warm-up
+    ours, alone, peer = [], [], []
     for _ in range(REPEAT):
         ours.append(ours_once())
+        alone.append(axes_once())
         peer.append(peer_once())
     moved_ours, moved_peer = ours[0][1], peer[0][1]
     if abs(moved_ours - moved_peer) > 0.01 * moved_peer:
         raise SystemExit(f"the two moves differ: {moved_ours:.3f} mm vs {moved_peer:.3f} mm")
     o = statistics.median(ns for ns, _ in ours)
     p = statistics.median(ns for ns, _ in peer)
+    a = statistics.median(alone)
     print(f"motion cycle: {compiled_build.STATUS}")
     print(f"a moving axis-cycle: motionvm {o:.0f} ns, peer (C++) {p:.1f} ns: {o / p:.1f}x")
+    print(f"the axes' own cycle (no controller work): {a:.0f} ns: {a / p:.1f}x")
     print(f"RESULT axis_cycle_ns={o:.1f}")
     print(f"RESULT peer_axis_cycle_ns={p:.2f}")
     print(f"RESULT axis_cycle_ratio_to_peer={o / p:.1f}")
+    print(f"RESULT axis_step_alone_ns={a:.1f}")
+    print(f"RESULT axis_step_alone_ratio_to_peer={a / p:.1f}")
 
 
 if __name__ == "__main__":
