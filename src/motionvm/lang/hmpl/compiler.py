@@ -125,7 +125,14 @@ def _compile_units(
     units: list[Unit] = []
     with _gc_held():
         for f in files:
-            tu = parse_file(f.path, task_id=f.task, sink=sink, text=f.text, included=included)
+            tu = parse_file(
+                f.path,
+                task_id=f.task,
+                sink=sink,
+                text=f.text,
+                included=included,
+                function_keys=not bytecode,  # `check`: kept function checks
+            )
             if tu is not None:
                 units.append(Unit(f.task, f.path, tu))
         if sink.has_errors:

@@ -10,7 +10,7 @@ identity; the lowering turns them into Python `ast`. Nothing else lives here.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from motionvm.source.files import SourcePos
 
@@ -116,10 +116,13 @@ class FuncDef:
 
 @dataclass(slots=True, unsafe_hash=True)
 class TranslationUnit:
-    """One task's program after preprocessing: declarations and functions in order."""
+    """One task's program after preprocessing: declarations and functions in order.
+    `function_keys`: when the parser was asked, each function definition's key for kept
+    checks (`check_memo.function_keys`, by `id` of the FuncDef)."""
 
     pos: SourcePos
     items: tuple[VarDecl | FuncDef | StructDef | Typedef | DeclStmt, ...]
+    function_keys: dict | None = field(default=None, compare=False, repr=False)
 
 
 # ---------------------------------------------------------------- statements

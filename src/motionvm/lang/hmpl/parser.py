@@ -23,6 +23,7 @@ from collections.abc import Callable
 from operator import attrgetter
 from typing import ClassVar
 
+from motionvm.lang.hmpl import check_memo
 from motionvm.lang.hmpl import nodes as n
 from motionvm.lang.hmpl.lexer import gc_paused
 from motionvm.lang.hmpl.preprocess import preprocess
@@ -104,9 +105,10 @@ def parse_file(
     sink: DiagnosticSink,
     text: str | None = None,
     included: list[SourceFile] | None = None,
+    function_keys: bool = False,
 ) -> n.TranslationUnit | None:
     """Preprocess and parse one task file; None when the file cannot be read. `included`
-    receives the files its `#include`s read."""
+    receives the files its `#include`s read; `function_keys`: see `parse`."""
     if text is None:
         try:
             text = SourceFile.read(path).text
@@ -115,13 +117,24 @@ def parse_file(
             return None
     with gc_paused():
         tokens = preprocess(path, task_id=task_id, sink=sink, text=text, included=included)
-        return parse(tokens, sink)
+        return parse(tokens, sink, function_keys)
 
 
-def parse(tokens: list[Token], sink: DiagnosticSink) -> n.TranslationUnit:
-    """Parse preprocessed tokens (ending with 'eof'); errors go to `sink`."""
+def parse(
+    tokens: list[Token], sink: DiagnosticSink, function_keys: bool = False
+) -> n.TranslationUnit:
+    """Parse preprocessed tokens (ending with 'eof'); errors go to `sink`. With
+    `function_keys` the unit carries each function definition's key (`check_memo`)."""
     with gc_paused():
-        return run_deep(Parser(tokens, sink).run)
+        parser = Parser(tokens, sink)
+        if function_keys:
+            parser.function_spans = []
+        tu = run_deep(parser.run)
+        if function_keys:
+            tu.function_keys = check_memo.function_keys(
+                parser.toks, parser.keys, parser.function_spans
+            )
+        return tu
 
 
 def _end_of(t: Token) -> SourcePos:
@@ -156,6 +169,8 @@ class Parser:
         self.items: list = []
         self.new_structs: list[n.StructDef] = []
         self.depth = 0
+        # (FuncDef, first token, after its last, parser state): kept checks' keys
+        self.function_spans: list[tuple] | None = None
 
     def run(self) -> n.TranslationUnit:
         try:
@@ -299,8 +314,14 @@ class Parser:
 
     # BNF: translation_unit = { external_declaration } EOF
     def _parse_translation_unit(self) -> None:
+        spans = self.function_spans
         while self.keys[self.i] != "":
             start = self.i
+            if spans is not None:
+                count, state = (
+                    len(self.items),
+                    check_memo.parser_state(self.typedefs, self.enumerators),
+                )
             try:
                 self._parse_external_declaration()
             except _Fail:
@@ -309,6 +330,10 @@ class Parser:
             self.depth = 0
             if self.i == start:
                 self.i += 1
+            elif spans is not None and len(self.items) > count:
+                last = self.items[-1]
+                if type(last) is n.FuncDef and last.body is not None:
+                    spans.append((last, start, self.i, state))
 
     # BNF: external_declaration = ";" | typedef_declaration
     # BNF:     | [ "_AUTORUN_" ] declaration_specifiers ( ";" | function_definition | init_declarator { "," init_declarator } ";" )

@@ -18,7 +18,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from motionvm.lang.coverage import compile_module
-from motionvm.lang.hmpl import catalog
+from motionvm.lang.hmpl import catalog, check_memo
 from motionvm.lang.hmpl import ctypes_ as ct
 from motionvm.lang.hmpl import nodes as n
 from motionvm.lang.hmpl.analysis import FuncFacts, constant_init, scan
@@ -116,6 +116,8 @@ class ProgramCompiler:
         self.sysvars: dict[str, VarSym] = {}
         self.addr_taken: set[str] = set()
         self._warned: set[tuple[SourcePos, str]] = set()
+        # the static memory requests of the function being lowered, for its kept check
+        self._requests: list[tuple | None] | None = None
         self._alloc_system()
 
     def warn(self, pos: SourcePos, message: str) -> None:
@@ -166,11 +168,18 @@ class ProgramCompiler:
     def alloc_static_at(self, pos, size: int, name: str, align: int = 8) -> int:
         """`Memory.alloc_static` for an object declared at `pos`; a full static memory is
         a located error (SemanticError)."""
+        if self._requests is not None:
+            self._requests.append((pos, size, name, align))
+        return self._alloc_static_at(pos, size, name, align)
+
+    def _alloc_static_at(self, pos, size: int, name: str, align: int) -> int:
         mem = self.mem
         free = mem.static_free()
         try:
             return mem.alloc_static(size, name, align=align)
         except MemoryError:
+            if self._requests is not None:
+                self._requests.append(None)  # a function that fills the memory is not kept
             what = name if " " in name else f"'{name}'"  # a string literal has no name
             raise self._fail(
                 pos,
@@ -191,9 +200,11 @@ class ProgramCompiler:
         self._list_bytes += size
 
     def string_literal(self, data: bytes, pos=None) -> int:
+        if self._requests is not None:
+            self._requests.append((pos, data))
         addr = self._strings.get(data)
         if addr is None:
-            addr = self.alloc_static_at(pos, len(data) + 1, "a string literal", align=1)
+            addr = self._alloc_static_at(pos, len(data) + 1, "a string literal", 1)
             self.mem.buf[addr : addr + len(data)] = data
             self._strings[data] = addr
         return addr
@@ -711,30 +722,27 @@ class ProgramCompiler:
             self.declare_units(units)
             self._link_prototypes()
             self.classify_generators()
+            memo, env = self._kept_checks(units, bytecode)
             per_file: dict[str, list[ast.stmt]] = {}
             for u in sorted(units, key=lambda u: u.task):
                 scope = self.task_scopes[u.task]
                 per_file.setdefault(u.path, []).append(self._init_function(u, scope))
+                keys = u.tu.function_keys
                 for item in u.tu.items:
                     if isinstance(item, n.FuncDef) and item.body is not None:
                         sym = scope.names.get(item.name)
                         if not isinstance(sym, FuncSym) or sym.node is not item:
                             continue
-                        lint_function(item, self.warn)
-                        facts = self.facts[id(item)]
-                        lw = FunctionLowerer(
-                            self,
-                            u.task,
-                            Scope(scope, "function"),
-                            sym,
-                            facts.addr_taken,
-                            facts.assigned,
-                        )
-                        try:
-                            fn = lw.function(item, sym)
-                        except SemanticError:
-                            continue
-                        if bytecode:  # `check` wants the diagnostics only: memory stays flat
+                        key = keys.get(id(item)) if memo is not None else None
+                        if key is not None:
+                            if self._reuse(memo.get(env, u.task, key), key):
+                                continue
+                            first, self._requests = len(self.sink.items), []
+                        fn = self._lower_function(u.task, scope, item, sym)
+                        if key is not None:
+                            memo.put(env, u.task, key, self.sink.items[first:], self._requests)
+                            self._requests = None
+                        if bytecode and fn is not None:  # `check` wants the diagnostics only
                             per_file.setdefault(item.pos.file, []).append(fn)
         except TooManyErrors:
             return None
@@ -748,6 +756,50 @@ class ProgramCompiler:
                 codes.append((fname, compile_module(mod, fname)))
         globals_ = {k: v for k, v in self.global_scope.names.items() if isinstance(v, VarSym)}
         return CompiledProgram(self.tasks, modules, codes, self.sysvars, globals_)
+
+    def _lower_function(self, task: int, scope: Scope, item: n.FuncDef, sym: FuncSym):
+        """The function's Python tree, its diagnostics in the sink; None if it failed."""
+        lint_function(item, self.warn)
+        facts = self.facts[id(item)]
+        lw = FunctionLowerer(
+            self, task, Scope(scope, "function"), sym, facts.addr_taken, facts.assigned
+        )
+        try:
+            return lw.function(item, sym)
+        except SemanticError:
+            return None
+
+    def _kept_checks(self, units: list[Unit], bytecode: bool):
+        """The kept function checks and this program's environment key, when it is
+        checked (not compiled to code) and its units carry function keys."""
+        if bytecode or any(u.tu.function_keys is None for u in units):
+            return None, b""
+        scopes = [self.task_scopes[k] for k in sorted(self.task_scopes)]
+        env = check_memo.environment(units, scopes, self.addr_taken, self.array_uses)
+        return check_memo.CHECKS, env
+
+    def _reuse(self, entry: check_memo.Entry | None, key: check_memo.FunctionKey) -> bool:
+        """Report a kept check again (moved with its function) and make its memory
+        requests; False, doing nothing, when there is none or its requests might not fit."""
+        if entry is None or entry.need > self.mem.static_free():
+            return False
+        delta = key.first - entry.first
+        for r in entry.requests:
+            pos = check_memo.moved(r[0], key.file, delta) if r[0] is not None else None
+            if len(r) == 4:
+                self._alloc_static_at(pos, r[1], r[2], r[3])
+            else:
+                self.string_literal(r[1], pos)
+        for d in entry.diagnostics:
+            pos = check_memo.moved(d.pos, key.file, delta)
+            if d.severity == "error":
+                self.sink.error(pos, d.message)
+            elif d.severity == "warning":
+                self._warned.add((pos, d.message))
+                self.sink.warning(pos, d.message)
+            else:
+                self.sink.note(pos, d.message)
+        return True
 
     def _init_function(self, u: Unit, scope: Scope) -> ast.FunctionDef:
         lw = FunctionLowerer(self, u.task, scope, None, set())
