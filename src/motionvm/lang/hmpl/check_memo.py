@@ -40,6 +40,7 @@ from operator import attrgetter, itemgetter, sub
 from struct import pack
 
 from motionvm.lang.hmpl import nodes as n
+from motionvm.lang.hmpl.analysis import FuncFacts, scan
 from motionvm.lang.hmpl.cmemory import ALIGN, RED_ZONE
 from motionvm.lang.hmpl.symbols import FuncSym
 from motionvm.source.diagnostics import Diagnostic
@@ -166,6 +167,9 @@ class FunctionMemo:
     def __init__(self, limit: int = MAX_ENTRIES) -> None:
         self.limit = limit
         self._entries: OrderedDict[tuple, Entry] = OrderedDict()
+        # a function body's facts by its key's digest: (waits, callees, address-taken
+        # names, its array uses)
+        self._scans: OrderedDict[bytes, tuple] = OrderedDict()
         self.reused = 0
         """Entries found so far (a count for tests and benchmarks)."""
 
@@ -174,6 +178,7 @@ class FunctionMemo:
 
     def clear(self) -> None:
         self._entries.clear()
+        self._scans.clear()
 
     def get(self, env: bytes, task: int, key: FunctionKey) -> Entry | None:
         found = self._entries.get((env, task, key.digest))
@@ -183,6 +188,33 @@ class FunctionMemo:
             self._entries.move_to_end((env, task, key.digest))
             self.reused += 1
         return found
+
+    def scan(self, key: FunctionKey, body, uses: dict[str, set], blocking) -> FuncFacts:
+        """The facts of a function body (`analysis.scan`) with its array uses added to
+        `uses`, from the kept scan of the same tokens when there is one. Kept facts have
+        no `assigned` (lowering scans again a function it lowers)."""
+        kept = self._scans.get(key.digest)
+        if kept is None:
+            facts, mine = FuncFacts(), {}
+            scan(body, mine, facts, blocking)
+            kept = self._scans[key.digest] = (
+                facts.waits,
+                tuple(facts.callees),
+                frozenset(facts.addr_taken),
+                tuple((name, frozenset(found)) for name, found in mine.items()),
+            )
+            while len(self._scans) > self.limit:
+                self._scans.popitem(last=False)
+        else:
+            self._scans.move_to_end(key.digest)
+            facts = FuncFacts(kept[0], list(kept[1]), set(kept[2]))
+        for name, found in kept[3]:
+            has = uses.get(name)
+            if has is None:
+                uses[name] = set(found)
+            else:
+                has |= found
+        return facts
 
     def put(
         self,

@@ -678,12 +678,17 @@ class ProgramCompiler:
         uses: dict[str, set] = {}
         blocking = self.builtin_impl
         for u in units:
+            keys = u.tu.function_keys
             for item in u.tu.items:
                 if type(item) is n.FuncDef:
                     scan((item.ret, item.params), uses, None, blocking)
                     if item.body is not None:
-                        facts = FuncFacts()
-                        scan(item.body, uses, facts, blocking)
+                        key = keys.get(id(item)) if keys is not None else None
+                        if key is None:
+                            facts = FuncFacts()
+                            scan(item.body, uses, facts, blocking)
+                        else:  # a function's scan is kept with its check
+                            facts = check_memo.CHECKS.scan(key, item.body, uses, blocking)
                         self.facts[id(item)] = facts
                         self.addr_taken |= facts.addr_taken
                 else:
@@ -761,6 +766,9 @@ class ProgramCompiler:
         """The function's Python tree, its diagnostics in the sink; None if it failed."""
         lint_function(item, self.warn)
         facts = self.facts[id(item)]
+        if not facts.assigned:  # a kept scan: lowering wants the names each body assigns
+            facts = FuncFacts()
+            scan(item.body, {}, facts, self.builtin_impl)
         lw = FunctionLowerer(
             self, task, Scope(scope, "function"), sym, facts.addr_taken, facts.assigned
         )
