@@ -38,6 +38,7 @@ from dataclasses import dataclass
 from hashlib import blake2b
 from operator import attrgetter, itemgetter, sub
 from struct import pack
+from threading import Lock
 
 from motionvm.lang.hmpl import nodes as n
 from motionvm.lang.hmpl.analysis import FuncFacts, scan
@@ -162,7 +163,8 @@ class Entry:
 
 
 class FunctionMemo:
-    """Kept function checks by (environment, task, function key), least recent first."""
+    """Kept function checks by (environment, task, function key), least recent first.
+    Checks on several threads (the studio's) may share it: a lock guards its tables."""
 
     def __init__(self, limit: int = MAX_ENTRIES) -> None:
         self.limit = limit
@@ -172,41 +174,48 @@ class FunctionMemo:
         self._scans: OrderedDict[bytes, tuple] = OrderedDict()
         self.reused = 0
         """Entries found so far (a count for tests and benchmarks)."""
+        self._lock = Lock()
 
     def __len__(self) -> int:
         return len(self._entries)
 
     def clear(self) -> None:
-        self._entries.clear()
-        self._scans.clear()
+        with self._lock:
+            self._entries.clear()
+            self._scans.clear()
 
     def get(self, env: bytes, task: int, key: FunctionKey) -> Entry | None:
-        found = self._entries.get((env, task, key.digest))
-        if found is not None:
-            if not key.movable and found.first != key.first:
-                return None
-            self._entries.move_to_end((env, task, key.digest))
-            self.reused += 1
-        return found
+        with self._lock:
+            found = self._entries.get((env, task, key.digest))
+            if found is not None:
+                if not key.movable and found.first != key.first:
+                    return None
+                self._entries.move_to_end((env, task, key.digest))
+                self.reused += 1
+            return found
 
     def scan(self, key: FunctionKey, body, uses: dict[str, set], blocking) -> FuncFacts:
         """The facts of a function body (`analysis.scan`) with its array uses added to
         `uses`, from the kept scan of the same tokens when there is one. Kept facts have
         no `assigned` (lowering scans again a function it lowers)."""
-        kept = self._scans.get(key.digest)
+        with self._lock:
+            kept = self._scans.get(key.digest)
+            if kept is not None:
+                self._scans.move_to_end(key.digest)
         if kept is None:
             facts, mine = FuncFacts(), {}
             scan(body, mine, facts, blocking)
-            kept = self._scans[key.digest] = (
+            kept = (
                 facts.waits,
                 tuple(facts.callees),
                 frozenset(facts.addr_taken),
                 tuple((name, frozenset(found)) for name, found in mine.items()),
             )
-            while len(self._scans) > self.limit:
-                self._scans.popitem(last=False)
+            with self._lock:
+                self._scans[key.digest] = kept
+                while len(self._scans) > self.limit:
+                    self._scans.popitem(last=False)
         else:
-            self._scans.move_to_end(key.digest)
             facts = FuncFacts(kept[0], list(kept[1]), set(kept[2]))
         for name, found in kept[3]:
             has = uses.get(name)
@@ -238,12 +247,12 @@ class FunctionMemo:
             size = r[1] if len(r) == 4 else len(r[1]) + 1
             align = r[3] if len(r) == 4 else 1
             need += max(size, 1) + max(align, ALIGN) + ALIGN + RED_ZONE
-        self._entries[(env, task, key.digest)] = Entry(
-            key.first, tuple(diagnostics), tuple(requests), need
-        )
-        self._entries.move_to_end((env, task, key.digest))
-        while len(self._entries) > self.limit:
-            self._entries.popitem(last=False)
+        entry = Entry(key.first, tuple(diagnostics), tuple(requests), need)
+        with self._lock:
+            self._entries[(env, task, key.digest)] = entry
+            self._entries.move_to_end((env, task, key.digest))
+            while len(self._entries) > self.limit:
+                self._entries.popitem(last=False)
 
 
 def moved(pos: SourcePos, file: str, delta: int) -> SourcePos:
