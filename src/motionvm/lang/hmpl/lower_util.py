@@ -15,6 +15,8 @@ is
 from __future__ import annotations
 
 import ast
+from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from typing import Protocol
 
@@ -123,6 +125,24 @@ def placed_like(new: ast.AST, old: ast.AST) -> ast.AST:
     return new
 
 
+_stamping = True
+"""False while a check-only compile lowers (`positions_skipped`): its trees are never
+compiled, so their nodes need no location."""
+
+
+@contextmanager
+def positions_skipped(skip: bool) -> Iterator[None]:
+    """Inside the block (if `skip`) `at` leaves nodes unlocated: for a compile that keeps
+    only its diagnostics (compiles run one at a time: `source/deep.py`)."""
+    global _stamping
+    was = _stamping
+    _stamping = not skip
+    try:
+        yield
+    finally:
+        _stamping = was
+
+
 def at(stmts: list[ast.stmt], pos) -> list[ast.stmt]:
     """Give every generated node without a location the user's position `pos`.
 
@@ -133,6 +153,8 @@ def at(stmts: list[ast.stmt], pos) -> list[ast.stmt]:
     them too and `compile()` ignores them). Names and constants (most of the nodes) are
     stamped where their parent finds them, without a trip through the stack.
     """
+    if not _stamping:
+        return stmts
     line, col = pos.line, pos.col - 1
     if col < 0:
         col = 0
