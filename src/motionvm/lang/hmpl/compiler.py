@@ -10,7 +10,7 @@ from dataclasses import dataclass
 from motionvm.lang.hmpl import program_cache
 from motionvm.lang.hmpl.cmemory import Memory
 from motionvm.lang.hmpl.lib import implemented_builtins
-from motionvm.lang.hmpl.lower_util import positions_skipped
+from motionvm.lang.hmpl.lower_util import code_discarded
 from motionvm.lang.hmpl.parser import parse_file
 from motionvm.lang.hmpl.program import CompiledProgram, ProgramCompiler, Unit
 from motionvm.runtime.kernel import MAX_TASKS
@@ -139,5 +139,5 @@ def _compile_units(
         if sink.has_errors:
             return None, mem
         pc = ProgramCompiler(mem, sink, implemented_builtins())
-        with positions_skipped(not bytecode):
+        with code_discarded(not bytecode):
             return pc.compile(units, bytecode=bytecode), mem

@@ -125,22 +125,29 @@ def placed_like(new: ast.AST, old: ast.AST) -> ast.AST:
     return new
 
 
-_stamping = True
-"""False while a check-only compile lowers (`positions_skipped`): its trees are never
-compiled, so their nodes need no location."""
+_code_kept = True
+"""False while a check-only compile lowers (`code_discarded`): its trees are never
+compiled, so their nodes need no location and loops no aliased globals."""
+
+
+def code_kept() -> bool:
+    """Whether the code being lowered will be compiled (not a check-only compile)."""
+    return _code_kept
 
 
 @contextmanager
-def positions_skipped(skip: bool) -> Iterator[None]:
-    """Inside the block (if `skip`) `at` leaves nodes unlocated: for a compile that keeps
-    only its diagnostics (compiles run one at a time: `source/deep.py`)."""
-    global _stamping
-    was = _stamping
-    _stamping = not skip
+def code_discarded(discard: bool) -> Iterator[None]:
+    """Inside the block (if `discard`) the lowering skips what only the generated code
+    needs, not the diagnostics: `at` leaves nodes unlocated, `alias_globals` aliases
+    nothing. For a compile that keeps only its diagnostics (compiles run one at a time:
+    `source/deep.py`)."""
+    global _code_kept
+    was = _code_kept
+    _code_kept = not discard
     try:
         yield
     finally:
-        _stamping = was
+        _code_kept = was
 
 
 def at(stmts: list[ast.stmt], pos) -> list[ast.stmt]:
@@ -153,7 +160,7 @@ def at(stmts: list[ast.stmt], pos) -> list[ast.stmt]:
     them too and `compile()` ignores them). Names and constants (most of the nodes) are
     stamped where their parent finds them, without a trip through the stack.
     """
-    if not _stamping:
+    if not _code_kept:
         return stmts
     line, col = pos.line, pos.col - 1
     if col < 0:

@@ -50,6 +50,7 @@ from motionvm.lang.hmpl.lower_split import Nesting
 from motionvm.lang.hmpl.lower_util import (
     CHUNK,
     LoopBodies,
+    code_kept,
     generated_fields,
     generated_fields_of,
     placed_like,
@@ -290,6 +291,8 @@ def alias_globals(body: list[ast.stmt], temp, made: dict[str, str] | None = None
     (global initializers run no loop) and never rebound; `body` is changed in place.
     The statements that bind the locals are returned, to stand before the loop; `made`
     (global -> local) lets several bodies share them (then only new ones are returned)."""
+    if not code_kept():  # a check-only compile: the code is not kept
+        return []
     if made is None:
         made = {}
     seen: dict[str, list[ast.Subscript]] = {}
