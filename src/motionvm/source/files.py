@@ -57,6 +57,17 @@ class SourceFile:
         return sf
 
     @classmethod
+    def text_of(cls, path: str, text: str | None = None) -> str | None:
+        """`text` if given (an unsaved buffer), else the file's text read now; None when
+        the file cannot be read."""
+        if text is not None:
+            return text
+        try:
+            return cls.read(path).text
+        except OSError:
+            return None
+
+    @classmethod
     def lookup(cls, path: str) -> SourceFile | None:
         """The remembered file of that path, reading it from disk if needed."""
         sf = cls._cache.get(path)

@@ -37,12 +37,9 @@ def app_key(paths: Sequence[str], texts: Mapping[str, str]) -> str | None:
     file cannot be read."""
     parts = [FORMAT, package_digest(*_COMPILER)]
     for path in paths:
-        text = texts.get(path)
+        text = SourceFile.text_of(path, texts.get(path))
         if text is None:
-            try:
-                text = SourceFile.read(path).text
-            except OSError:
-                return None
+            return None
         parts += [path, _normal(text)]
     return digest(*parts)
 

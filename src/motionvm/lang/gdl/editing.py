@@ -25,15 +25,6 @@ class _Quiet(DiagnosticSink):
         pass
 
 
-def _text(path: str, text: str | None) -> str | None:
-    if text is not None:
-        return text
-    try:
-        return SourceFile.read(path).text
-    except OSError:
-        return None
-
-
 def _tokens(path: str, text: str):
     try:
         return tokenize(path, text, _Quiet())
@@ -43,7 +34,7 @@ def _tokens(path: str, text: str):
 
 def symbols(path: str, text: str | None) -> list[Symbol]:
     """Modules, their objects and procedures."""
-    text = _text(path, text)
+    text = SourceFile.text_of(path, text)
     if text is None:
         return []
     toks = _tokens(path, text)

@@ -32,19 +32,9 @@ _COMPILER = (("lang/pdl", "source", "runtime", "data"), ("", "lang"))
 """The package folders whose files make the compiler, and those whose own modules do."""
 
 
-def _text(path: str, text: str | None) -> str | None:
-    """The program's text as the compiler sees it (None: unreadable, not cached)."""
-    if text is not None:
-        return text
-    try:
-        return SourceFile.read(path).text
-    except OSError:
-        return None
-
-
 def program_key(path: str, text: str | None) -> str | None:
     """The cache key of compiling `path` (or `text` under that name); None if unreadable."""
-    source = _text(path, text)
+    source = SourceFile.text_of(path, text)
     if source is None:
         return None
     return digest(FORMAT, package_digest(*_COMPILER), path, source)
