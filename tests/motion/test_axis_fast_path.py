@@ -16,6 +16,7 @@ import random
 import pytest
 
 from motionvm import compiled_build
+from motionvm.drives.objects import wrap_i32
 from motionvm.motion.axis import Axis
 from motionvm.motion.axis_config import create
 from motionvm.motion.axis_status import AxisCommandError
@@ -142,3 +143,42 @@ def test_a_default_axis_takes_the_plain_path(monkeypatch):
     if compiled_build.STATUS == "compiled":
         pytest.skip("the compiled build calls _step_general in C: no spy sees it")
     assert calls == []
+
+
+def test_the_cycle_rounds_and_wraps_as_python():
+    """The counts of every cycle are Python's round (half to even) and int32 wrap of the
+    positions (the compiled build computes them in C: rint, long long arithmetic): at
+    exact ties, and on a jog whose targets and counts wrap the int32 range."""
+    ties = [{"counts_per_unit": 4.0, "start_position": s} for s in (0.625, 0.875, -0.625)]
+    wraps = {"counts_per_unit": 3_000_000.0, "sw_left": -900.0, "sw_right": 900.0}
+    k = MotionKernel([create(c) for c in ties + [wraps]], DT)
+
+    def check(targets: bool = True) -> None:
+        for a in k.axes:
+            d = a.drive
+            assert d.position_actual == wrap_i32(round(d.mechanics.position))
+            if targets:  # (the cycle that enables an axis sets its reference after them)
+                counts = round((a.ref_pos + a.slave_offset) * a.cpu)
+                assert d.target_position == wrap_i32(counts)
+
+    for a in k.axes:
+        a.enable()
+    assert [a.drive.position_actual for a in k.axes[:3]] == [2, 4, -2]  # 2.5, 3.5, -2.5
+    for _ in range(20):  # the enable sequence
+        k.step()
+        check(targets=False)
+    assert all(a.enabled for a in k.axes)
+    for a, offset in zip(k.axes[:3], (0.125, 0.375, -0.125), strict=True):
+        a.pos_offset = offset  # targets on half counts: (p + offset) * 4 = n + 0.5
+        a.wake()
+    k.step()
+    check()
+    assert [a.drive.target_position for a in k.axes[:3]] == [2, 6, -2]  # 2.5, 5.5, -2.5
+    jog = k.axes[3]
+    jog.move_vel(900.0)  # 2.7e9 counts/s: the int32 target wraps within a second
+    wrapped = False
+    for _ in range(1500):
+        k.step()
+        check()
+        wrapped = wrapped or jog.drive.target_position < 0 < jog.ref_pos
+    assert wrapped
