@@ -79,7 +79,7 @@ cdef class Cia402Drive:
     cdef object __weakref__
 
     @cython.locals(x=double, demand=double, s=Sensors, target="long long",
-                   change="long long", enc="long long")
+                   change="long long", enc="long long", fe="long long")
     cpdef step(self, double dt)
 
     # the closed-form advance (time skipping)

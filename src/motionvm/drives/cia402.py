@@ -454,9 +454,9 @@ class Cia402Drive:
             self.statusword = self._feedback_off(state, enc)
             return
         if self._fe_checked and self.mode == _CSP and self.local_demand is None:
-            fe = round(self._demand) - enc
-            fe = ((fe + 0x80000000) & 0xFFFFFFFF) - 0x80000000
-            if abs(fe) > self.following_error_window:
+            fe = _round(self._demand) - enc  # noqa: F821
+            fe = ((fe + _TWO_31) & _MASK_32) - _TWO_31
+            if abs(fe) > self._fe_window:
                 self._raise_fault(_ERR_FOLLOWING)  # no fault was pending in this state
                 sw |= od.SW_FOLLOWING_ERROR
         self.statusword_base = sw  # `statusword` adds the internal limit bit
