@@ -31,6 +31,7 @@ from motionvm.motion.axis import Axis
 from motionvm.motion.axis_config import AxisConfig
 from motionvm.motion.axis_cycle import step_axes
 from motionvm.motion.config_vars import ConfigVarTable
+from motionvm.motion.deferred import Deferrals
 from motionvm.motion.gantry import GantrySet
 from motionvm.motion.gear import GearBox
 from motionvm.motion.group import GroupSet
@@ -85,6 +86,11 @@ class MotionKernel:
         """Slaves that left the bus (a fault): they report Init (1) for good."""
         self._coast_memo: dict = {}
         """What `coast_horizon` found of each axis that `coast` can reuse (axis_coast.py)."""
+        self.deferring = False
+        """Set by the controller for each cycle in which nothing but the status flags
+        may read a moving axis: `step` then defers what it can (motion/deferred.py)."""
+        self.deferred = Deferrals()
+        """The axes whose cycles `step` deferred (`catch_up` brings them up to date)."""
         self.reads: list | None = None
         """While a task runs (and time skipping records them): the status flags the task
         read, as (object, attribute, value); None: nothing is recorded (runtime/kernel.py,
@@ -100,10 +106,19 @@ class MotionKernel:
         return len(self.axes)
 
     def axis(self, axis_id: int) -> Axis | None:
-        """Axis `axis_id`, or None if there is no such axis."""
+        """Axis `axis_id` (up to date: `catch_up`), or None if there is no such axis."""
         if 0 <= axis_id < len(self.axes):
-            return self.axes[axis_id]
+            a = self.axes[axis_id]
+            if self.deferred.lagging and a in self.deferred.lagging:
+                self.deferred.catch_up(a)
+            return a
         return None
+
+    def catch_up(self) -> None:
+        """Bring every axis whose cycles `step` deferred up to date (motion/deferred.py):
+        before anything but the status flags of an axis is read or changed."""
+        if self.deferred.lagging:
+            self.deferred.catch_up_all()
 
     # ---- the cycle ------------------------------------------------------------------
 
@@ -119,6 +134,11 @@ class MotionKernel:
         groups = self.groups
         if groups.enabled:  # most cycles no group is enabled: no call
             groups.step()
+        elif self.deferring and not (self._bus_steps or self.gantries.pairs or self.gears.gears):
+            self.deferred.step(self.step_order)  # (motion/deferred.py)
+            return
+        if self.deferred.lagging:
+            self.deferred.catch_up_all()
         step_axes(self.step_order)
 
     def busy(self) -> bool:
@@ -129,6 +149,7 @@ class MotionKernel:
         """
         if self._bus_steps or self.groups_moving():
             return True
+        self.catch_up()  # (`cruising` reads more than the status flags)
         for a in self.axes:
             if a._enabling:
                 return True
@@ -145,6 +166,7 @@ class MotionKernel:
 
     def still_running(self) -> list[Waiting]:
         """A `Waiting` for every axis that keeps the run busy (`busy`)."""
+        self.catch_up()
         out = [Waiting(f"axis group {g.group_id}", why="moving") for g in self.groups if g.moving]
         for a in self.axes:
             if a.moving and not a.cruising:
@@ -181,6 +203,7 @@ class MotionKernel:
         it and stop where they come into position (motion/axis_coast.py); and at the
         first cycle after which a position that a task waits for may be reached
         (`watches`: `PositionWatch`es, each false now)."""
+        self.catch_up()
         if not self.steps_alone():
             return 0 if not self.at_rest() else wanted
         k = wanted
@@ -215,6 +238,7 @@ class MotionKernel:
     def coast(self, k: int) -> None:
         """Advance every axis by `k` cycles (k <= `coast_horizon(k, ...)`), as k `step`s
         would. With a moving group, fewer cycles than its closed form takes are stepped."""
+        self.catch_up()
         grouped = None
         for g in self.groups.enabled:
             if g.moving:

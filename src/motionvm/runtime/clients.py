@@ -39,6 +39,10 @@ attributes, never by probing for a name:
                             advancing them in closed form (sim/jumps.py); otherwise axes
                             jump only while they rest. A class constant, or a property
                             (asked at every jump) where the answer changes.
+    touches_axes            True (the default) if a hook reads or writes anything of an
+                            axis or its drive. While no hooked client touches axes, the
+                            motion kernel may defer the cycles of moving axes that
+                            nobody else reads (motion/deferred.py). A class constant.
     samples_skipped_cycles  False by default; True for a recorder whose `end_cycle` is
                             called for every cycle a jump passes that it samples
                             (`next_sample`), after the axes were advanced to it.
@@ -112,6 +116,9 @@ class PassiveClient:
     observes_motion = True
     """True if a hook reads the state of moving axes (see the module docstring)."""
 
+    touches_axes = True
+    """True if a hook reads or writes an axis or its drive (see the module docstring)."""
+
     samples_skipped_cycles = False
     """True if `end_cycle` must see every cycle a jump passes (a recorder)."""
 
@@ -168,6 +175,16 @@ def motion_observation(client: PassiveClient) -> bool | None:
     if isinstance(declared, property) or "observes_motion" in vars(client):
         return None
     return bool(declared)
+
+
+def hooks_touch_axes(clients: list) -> bool:
+    """True if a client of `clients` that touches axes (`touches_axes`) has a hook the
+    cycle calls (`active_hooks`) or samples skipped cycles."""
+    for c in clients:
+        if c.touches_axes and (c.samples_skipped_cycles or active_hooks([c], BEGIN)
+                               or active_hooks([c], END)):  # fmt: skip
+            return True
+    return False
 
 
 def active_hooks(clients: list, name: str) -> list:

@@ -99,6 +99,10 @@ class Kernel:
         """True if in the last cycle run a task waited on an event."""
         self.unrecorded_waits = False
         """True if in the last cycle run a task waited on an event without a `record`."""
+        self.reads_axes = True
+        """False while no running task can read or change an axis other than through the
+        motion commands and status flags (the language run time that starts the tasks
+        says so): the motion kernel may then defer moving axes (motion/deferred.py)."""
         self.recorder = None
         """An object whose `reads` list the status flags record while a task runs (the
         motion kernel), or None: no task keeps a `record`."""

@@ -18,13 +18,14 @@ busy.
 from __future__ import annotations
 
 import math
+import sys
 from collections.abc import Callable
 
 from motionvm.comm.hub import CommHub
 from motionvm.io.position_trigger import PositionTriggers
 from motionvm.io.system import IOSystem
 from motionvm.motion.kernel import MotionKernel
-from motionvm.runtime.clients import CycleClient, active_hooks
+from motionvm.runtime.clients import CycleClient, active_hooks, hooks_touch_axes
 from motionvm.runtime.clock import Clock
 from motionvm.runtime.kernel import Kernel
 from motionvm.runtime.waits import Waiting
@@ -74,6 +75,14 @@ class Controller:
         again when `clients` changed)."""
         self._begin_hooks: list = []
         self._end_hooks: list = []
+        self._hooks_touch = False
+        """A client with hooks to call (or a recorder) reads or writes axes (`touches_axes`)."""
+        self.defer_axes = True
+        """False: no axis's cycles are ever deferred (motion/deferred.py), every axis
+        steps every cycle it does not rest (the reference the tests compare with)."""
+        self._defer = False
+        """Inside `run`, unpaced, with no progress callback and no tracer: the motion
+        kernel may defer moving axes while nothing else reads them (motion/deferred.py)."""
         self.comm = CommHub(self.clock, self.io.gpio, self.motion)
         """Servers' requests and client sockets (comm/hub.py), right after the inputs."""
         self.add_client(self.comm)
@@ -121,13 +130,17 @@ class Controller:
             hook()
         motion = self.motion
         motion.begin_cycle()
-        self.kernel.run_cycle()
+        kernel = self.kernel
+        kernel.run_cycle()
         self.jumps.after_tasks()  # (stepping too: a run that can never end is seen)
         if self.skip:
             if (fold and not self._end_hooks and clients == self._hooked
                     and self.jumps.jump(end_cycle, after_tasks=True)):  # fmt: skip
                 self.cycles_computed += 1
                 return
+        # no hook nor task but the status flags and the axis commands read an axis:
+        # moving axes may be deferred (motion/deferred.py)
+        motion.deferring = self._defer and not (self._hooks_touch or kernel.reads_axes)
         motion.step()
         if clients != self._hooked:  # a task added a client: it ends this cycle
             self._take_hooks()
@@ -145,6 +158,9 @@ class Controller:
             c.watch_work(self._work_changed)
         self._begin_hooks = active_hooks(hooked, "begin_cycle")
         self._end_hooks = active_hooks(hooked, "end_cycle")
+        self._hooks_touch = touch = hooks_touch_axes(hooked)
+        if touch:  # a hook may read any axis from now on
+            self.motion.catch_up()
 
     def _work_changed(self) -> None:
         """A client's work changed: take the hooks again before the next phase's calls."""
@@ -195,6 +211,9 @@ class Controller:
         # while skipping, a task's status wait records the flags it read (sim/jumps.py)
         # (stepping too, so that both see a run that can never end at the same cycle)
         self.kernel.recorder = self.motion
+        # nothing outside the cycle looks at the axes until the run returns
+        self._defer = (self.defer_axes and pacer is None and progress is None
+                       and sys.gettrace() is None)  # fmt: skip
         next_report = _NEVER if progress is None else clock.cycle
         active = self.kernel.active  # a running task keeps the run busy: no call
         try:
@@ -220,6 +239,8 @@ class Controller:
                 self.step(end_cycle, fold=pacer is None)  # (paced: a jump waits at its start)
             return FINISHED
         finally:
+            self._defer = self.motion.deferring = False
+            self.motion.catch_up()  # (the host may read any axis now)
             self.show_clock()
 
     def never_changes(self) -> bool:

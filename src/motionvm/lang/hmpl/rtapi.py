@@ -17,6 +17,7 @@ import sys
 import traceback
 from collections.abc import Callable
 from pathlib import Path
+from types import CodeType
 
 from motionvm.io.commands import IOCommands
 from motionvm.lang.coverage import bind
@@ -38,6 +39,30 @@ N_MUTEXES = 8
 RECURSION_LIMIT = 6000
 
 
+_AXIS_SAFE_LIBS = frozenset({
+    "motionvm.lang.hmpl.lib.system", "motionvm.lang.hmpl.lib.strings",
+    "motionvm.lang.hmpl.lib.mathlib", "motionvm.lang.hmpl.lib.axis",
+})  # fmt: skip
+"""The built-in libraries that touch no axis, or only through the motion commands'
+`MotionKernel.axis` (the axis chapter's commands and getters) and the status flags."""
+
+
+def reads_axes(codes: list, libs: list) -> bool:
+    """True if the generated code `codes` ((file, code object) pairs) may read or change
+    an axis otherwise than through the built-ins of `_AXIS_SAFE_LIBS` (a built-in of
+    another library, a Till on a position): `Kernel.reads_axes` (motion/deferred.py)."""
+    allowed = {"b_" + name for lib in libs if type(lib).__module__ in _AXIS_SAFE_LIBS
+               for name in lib.builtin_methods()}  # fmt: skip
+    stack = [code for _fname, code in codes]
+    while stack:
+        code = stack.pop()
+        for name in code.co_names:
+            if name == "_till_pos" or (name.startswith("b_") and name not in allowed):
+                return True
+        stack.extend(c for c in code.co_consts if isinstance(c, CodeType))
+    return False
+
+
 def _plain_to_gen(fn: Callable[[], object]):
     """Run a function that never blocks as a task body."""
     fn()
@@ -52,6 +77,7 @@ class HmplRuntime(PassiveClient):
     next event of its own (`PassiveClient`)."""
 
     observes_motion = False  # its hooks write the clock's system variables only
+    touches_axes = False
     clock_driven = True  # `begin_cycle` writes values of the clock only (sim/jumps.py)
 
     def __init__(
@@ -111,6 +137,7 @@ class HmplRuntime(PassiveClient):
             bind(self.ns, code)
             exec(code, self.ns)
         self.kernel.before_resume = self._resume_hook()
+        self.kernel.reads_axes = reads_axes(program.codes, self.libs)
         self.kernel.on_fault = self._on_fault
         self.kernel.on_stop = self._on_stop
         if sys.getrecursionlimit() < RECURSION_LIMIT:

@@ -1,0 +1,101 @@
+"""Deferred axis cycles: a moving axis that nobody reads is advanced in batches.
+
+While a run steps every cycle (time skipping off, or a task that polls every cycle so
+the clock cannot jump), most of a moving axis's cycles change nothing anybody looks at
+but its status flags, and those stay the same until its move reaches a status change.
+The motion kernel then defers such an axis's cycles (`Deferrals.step`): when the axis
+comes to a motion phase on the common path (motion/axis_coast.py), `coast_cycles` tells
+how many cycles it can be advanced without its status changing before the last of
+them (the horizon), and the axis is not stepped until then: each motion phase only
+counts one more deferred cycle. In the motion phase of the horizon's last cycle the
+deferred cycles and that one are advanced at once in closed form (`coast`), exactly
+as stepping them would, so a status change lands in the cycle stepping puts it in.
+
+Nothing may see a deferred axis in between except its status flags (`moving`,
+`in_pos`, `enabled`, `error_stop`, `resting`: all as stepping leaves them over the
+horizon). Whatever reads or changes anything else of it brings it up to date first
+(`catch_up`: the deferred cycles in closed form, or stepped when they are too few for
+the formulas): every command and getter of the axis (`MotionKernel.axis`), the motion
+kernel's own questions but the status flags (`busy`, `coast_horizon`, `coast`,
+`still_running`), and the end of every run. The controller defers only while nothing
+else can look (`Controller.step`): no hook of a client that reads or writes axes
+(`touches_axes`, runtime/clients.py), no task that might read an axis other than
+through those getters (`Kernel.reads_axes`: an HMPL program calling only the system,
+string, math and axis built-ins clears it), no gear, gantry pair, enabled axis group or
+starting bus, no debugger tracing, no progress callback and no real-time pacing.
+"""
+
+from __future__ import annotations
+
+from motionvm.motion.axis_coast import MAX_COAST, MIN_COAST, coast, coast_cycles
+
+MIN_DEFER = 8
+"""Fewest cycles worth deferring (a shorter horizon: the axis steps)."""
+
+RETRY = 4
+"""Cycles an axis steps before it asks again for a horizon after it had none."""
+
+
+class Deferrals:
+    """The deferred axes of one motion kernel: axis -> [cycles deferred, horizon], and
+    the axes that step a while before asking again (axis -> cycles left)."""
+
+    __slots__ = ("lagging", "_retry", "batches")
+
+    def __init__(self) -> None:
+        self.lagging: dict = {}
+        """Each deferred axis: [cycles deferred so far, its horizon]."""
+        self._retry: dict = {}
+        self.batches = 0
+        """Deferred runs of cycles advanced at once so far (at their horizon or caught up)."""
+
+    def step(self, axes: list) -> None:
+        """The motion phase of one cycle of `axes` (in step order), deferring what can be."""
+        lagging = self.lagging
+        retry = self._retry
+        for a in axes:
+            if a.resting:
+                continue
+            entry = lagging.get(a)
+            if entry is not None:
+                n = entry[0] + 1
+                if n < entry[1]:
+                    entry[0] = n
+                    continue
+                del lagging[a]  # the horizon's last cycle: advance all of them now
+                coast(a, n)
+                self.batches += 1
+                continue
+            wait = retry.get(a)
+            if wait is not None:
+                if wait > 1:
+                    retry[a] = wait - 1
+                else:
+                    del retry[a]
+                a.step()
+                continue
+            if a.moving or (a.enabled and not a.in_pos):  # (else: no move to advance)
+                if not a._comp_dependents:  # (an axis whose compensation reads it)
+                    h = coast_cycles(a, MAX_COAST)
+                    if h >= MIN_DEFER:
+                        lagging[a] = [1, h]
+                        continue
+                retry[a] = RETRY
+            a.step()
+
+    def catch_up(self, a) -> None:
+        """Bring deferred axis `a` up to date (the end of the last motion phase)."""
+        n = self.lagging.pop(a)[0]
+        self.batches += 1
+        if n >= max(MIN_COAST, a.drive.mechanics.delay_cycles + 3):
+            coast(a, n)
+        else:  # too few cycles for the closed form's formulas: step them
+            for _ in range(n):
+                a.step()
+
+    def catch_up_all(self) -> None:
+        """Bring every deferred axis up to date."""
+        lagging = self.lagging
+        while lagging:
+            self.catch_up(next(iter(lagging)))
+        self._retry.clear()
