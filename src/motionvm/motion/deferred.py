@@ -37,34 +37,49 @@ RETRY = 4
 
 
 class Deferrals:
-    """The deferred axes of one motion kernel: axis -> [cycles deferred, horizon], and
-    the axes that step a while before asking again (axis -> cycles left)."""
+    """The deferred axes of one motion kernel. Motion phases are counted (`phase`); a
+    deferred axis has [the phase before its first deferred one, the phase of its
+    horizon's last cycle] in `lagging` and waits in `_due` under the latter; the axes
+    not deferred (`_free`, in step order) are the only ones a motion phase looks at."""
 
-    __slots__ = ("lagging", "_retry", "batches")
+    __slots__ = ("lagging", "batches", "phase", "_due", "_free", "_order", "_retry")
 
     def __init__(self) -> None:
         self.lagging: dict = {}
-        """Each deferred axis: [cycles deferred so far, its horizon]."""
-        self._retry: dict = {}
+        """Each deferred axis: [the last phase it was up to date at, its horizon's end]."""
         self.batches = 0
         """Deferred runs of cycles advanced at once so far (at their horizon or caught up)."""
+        self.phase = 0
+        """Motion phases run so far (`step`)."""
+        self._due: dict = {}  # phase -> the axes whose horizon ends in it
+        self._free: list = []  # the axes of `_order` not deferred
+        self._order: list | None = None  # the step order `_free` was taken from
+        self._retry: dict = {}  # axis -> phases it steps before asking for a horizon again
+
+    def _freed(self, axes: list) -> None:
+        lagging = self.lagging
+        self._order = axes
+        self._free = [a for a in axes if a not in lagging]
 
     def step(self, axes: list) -> None:
         """The motion phase of one cycle of `axes` (in step order), deferring what can be."""
+        self.phase = phase = self.phase + 1
         lagging = self.lagging
+        if axes is not self._order:
+            self._freed(axes)
+        due = self._due.pop(phase, None)
+        if due is not None:  # the horizon's last cycle: advance all of them now
+            for a in due:
+                entry = lagging.get(a)
+                if entry is not None and entry[1] == phase:  # (else caught up since)
+                    del lagging[a]
+                    coast(a, phase - entry[0])
+                    self.batches += 1
+            self._freed(axes)
+        changed = False
         retry = self._retry
-        for a in axes:
-            if a.resting:
-                continue
-            entry = lagging.get(a)
-            if entry is not None:
-                n = entry[0] + 1
-                if n < entry[1]:
-                    entry[0] = n
-                    continue
-                del lagging[a]  # the horizon's last cycle: advance all of them now
-                coast(a, n)
-                self.batches += 1
+        for a in self._free:
+            if a.resting or (due is not None and a in due):  # (due: advanced just now)
                 continue
             wait = retry.get(a)
             if wait is not None:
@@ -72,21 +87,26 @@ class Deferrals:
                     retry[a] = wait - 1
                 else:
                     del retry[a]
-                a.step()
-                continue
-            if a.moving or (a.enabled and not a.in_pos):  # (else: no move to advance)
+            elif a.moving or (a.enabled and not a.in_pos):  # (else: no move to advance)
                 if not a._comp_dependents:  # (an axis whose compensation reads it)
                     h = coast_cycles(a, MAX_COAST)
                     if h >= MIN_DEFER:
-                        lagging[a] = [1, h]
+                        end = phase - 1 + h
+                        lagging[a] = [phase - 1, end]
+                        self._due.setdefault(end, []).append(a)
+                        changed = True
                         continue
                 retry[a] = RETRY
             a.step()
+        if changed:
+            self._freed(axes)
 
     def catch_up(self, a) -> None:
         """Bring deferred axis `a` up to date (the end of the last motion phase)."""
-        n = self.lagging.pop(a)[0]
+        n = self.phase - self.lagging.pop(a)[0]
         self.batches += 1
+        if self._order is not None:
+            self._freed(self._order)
         if n >= max(MIN_COAST, a.drive.mechanics.delay_cycles + 3):
             coast(a, n)
         else:  # too few cycles for the closed form's formulas: step them
@@ -98,4 +118,5 @@ class Deferrals:
         lagging = self.lagging
         while lagging:
             self.catch_up(next(iter(lagging)))
+        self._due.clear()
         self._retry.clear()
