@@ -28,6 +28,7 @@ starting bus, no debugger tracing, no progress callback and no real-time pacing.
 from __future__ import annotations
 
 from motionvm.motion.axis_coast import MAX_COAST, MIN_COAST, coast, coast_cycles
+from motionvm.motion.profile import VELOCITY
 
 MIN_DEFER = 8
 """Fewest cycles worth deferring (a shorter horizon: the axis steps)."""
@@ -100,6 +101,22 @@ class Deferrals:
             a.step()
         if changed:
             self._freed(axes)
+
+    def one_busy(self) -> bool:
+        """True if a deferred axis keeps the run busy (`MotionKernel.busy`) whatever its
+        deferred cycles hold: its status flags say it moves or settles (they are as
+        stepping leaves them) and it runs a positioning move with nothing buffered, so it
+        cannot be jogging at a reached velocity (`Axis.cruising`). The run loop asks
+        every cycle once its tasks ended: it need not catch the axes up to know. (A
+        jog's answer needs the axis up to date: `busy` then catches up.)"""
+        for a in self.lagging:
+            if (
+                (a.moving or (a.enabled and not a.in_pos))
+                and a.pg.mode != VELOCITY
+                and not a._command_queue
+            ):
+                return True
+        return False
 
     def catch_up(self, a) -> None:
         """Bring deferred axis `a` up to date (the end of the last motion phase)."""

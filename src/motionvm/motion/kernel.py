@@ -149,7 +149,10 @@ class MotionKernel:
         """
         if self._bus_steps or self.groups_moving():
             return True
-        self.catch_up()  # (`cruising` reads more than the status flags)
+        if self.deferred.lagging:
+            if self.deferred.one_busy():
+                return True
+            self.catch_up()  # (`cruising` reads more than the status flags)
         for a in self.axes:
             if a._enabling:
                 return True
