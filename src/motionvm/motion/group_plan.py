@@ -434,11 +434,25 @@ class PathPlanner:
     # ---- the cycle ------------------------------------------------------------------
 
     def _eval(self, t: float) -> tuple[float, float, float]:
+        self._pi = i = self._piece_at(t)
+        return self._on_piece(i, t)
+
+    def _eval_at(self, t: float) -> float:
+        """The path position [unit] `_eval(t)` gives, for t at or after the present
+        time, leaving the piece index as it is."""
+        return self._on_piece(self._piece_at(t), t)[0]
+
+    def _piece_at(self, t: float) -> int:
+        """The index of the piece time `t` (at or after the present) falls in."""
         pieces = self._pieces
         i = self._pi
         while i < len(pieces) and t >= pieces[i][1]:
             i += 1
-        self._pi = i
+        return i
+
+    def _on_piece(self, i: int, t: float) -> tuple[float, float, float]:
+        """(u, v, a) at time `t` on piece `i`; past the last piece, where it ended."""
+        pieces = self._pieces
         if i >= len(pieces):
             if pieces:
                 t_0, t_1, u_0, v_0, a = pieces[-1]
@@ -448,23 +462,6 @@ class PathPlanner:
         t_0, _t_1, u_0, v_0, a = pieces[i]
         x = t - t_0
         return u_0 + (v_0 + 0.5 * a * x) * x, v_0 + a * x, a
-
-    def _eval_at(self, t: float) -> float:
-        """The path position [unit] `_eval(t)` gives, for t at or after the present
-        time, leaving the piece index as it is."""
-        pieces = self._pieces
-        i = self._pi
-        while i < len(pieces) and t >= pieces[i][1]:
-            i += 1
-        if i >= len(pieces):
-            if pieces:
-                t_0, t_1, u_0, v_0, a = pieces[-1]
-                x = t_1 - t_0
-                return u_0 + (v_0 + 0.5 * a * x) * x
-            return self.u
-        t_0, _t_1, u_0, v_0, a = pieces[i]
-        x = t - t_0
-        return u_0 + (v_0 + 0.5 * a * x) * x
 
     def _positions(self, c_0: int, c_1: int) -> list[float]:
         """The path positions [unit] `_eval_at` gives at the times of cycles c_0 .. c_1
