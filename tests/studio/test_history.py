@@ -57,6 +57,19 @@ def test_a_column_added_later_reads_nothing_before_it_and_windows_are_thinned():
     assert h.index_at(1000) == 100 and h.index_at(-1) is None
 
 
+def test_a_thinned_window_ends_at_its_last_row():
+    h = History(0.001)
+    h.ensure(["x"])
+    for c in range(98):
+        h.add(c, {"x": float(c)})
+    for points in (1, 7, 10, 32, 97, 98, 200):
+        times, values = h.window(0, 97, ["x"], points=points)
+        assert times[-1] == 0.097 and values["x"][-1] == 97.0 and values["x"][0] == 0.0
+        assert len(times) <= points + 1
+    times, values = h.window(10, 20, ["x"], points=3)
+    assert values["x"][0] == 10.0 and values["x"][-1] == 20.0
+
+
 def test_an_axis_state_word_reads_as_the_table_shows_it():
     assert state_text(0) == "disabled"
     assert state_text(0b1) == "standstill"

@@ -115,11 +115,14 @@ class History:
     def window(
         self, first: int, last: int, names: Sequence[str], points: int = 2000
     ) -> tuple[list[float], dict[str, list[float | None]]]:
-        """The rows with `first` <= cycle <= `last`, thinned to about `points`: (times
-        [s], values by column)."""
+        """The rows with `first` <= cycle <= `last`, thinned to about `points` and
+        always ending at the last of them (a path drawn up to a cycle ends where the
+        machine was then): (times [s], values by column)."""
         lo, hi = bisect_left(self.cycles, first), bisect_right(self.cycles, last)
         step = max(1, math.ceil((hi - lo) / max(1, points)))
-        idx = range(lo, hi, step)
+        idx = list(range(lo, hi, step))
+        if idx and idx[-1] != hi - 1:
+            idx.append(hi - 1)
         dt = self.cycle_time
         times = [round(self.cycles[i] * dt, 9) for i in idx]
         values = {n: [_json(self.columns[n][i]) for i in idx] for n in names if n in self.columns}

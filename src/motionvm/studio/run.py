@@ -212,11 +212,12 @@ class StudioRun:
 
     async def _stopped(self, stop: Stop) -> None:
         self.forever = stop.reason == "waits forever"
-        if self.forever:
+        if self.forever or stop.reason == "exited":
             # the run ends here: its last state is recorded, whatever the stride (the
             # row of cycle c is the state after it, the stop is at the start of the next)
             if self.history is not None and self.layout is not None:
                 self.history.add(stop.position.cycle - 1, self.layout.live_row(), always=True)
+        if self.forever:
             why = f": {stop.text}" if stop.text else ""
             self._err(f"the run waits forever at t = {stop.time:.3f} s (nothing left in it "
                       f"can change what it waits on){why}")  # fmt: skip
