@@ -19,7 +19,9 @@ void main() { START_ASCII_AGENT(Echo); }
 
 @pytest.fixture(scope="module")
 def server():
-    with served(PROGRAM) as (sim, srv):
+    # no idle timeout (test_idle_timeout.py tests it): a CI machine stalled for 30 s
+    # would drop a client that waits its turn and free a place the tests count on
+    with served(PROGRAM, access={"idle_timeout": 0}) as (sim, srv):
         yield sim, srv
 
 
