@@ -101,3 +101,9 @@ cdef class AxisCycle:
 
 @cython.locals(a=AxisCycle)
 cpdef step_axes(list axes)
+
+@cython.locals(a=AxisCycle)
+cpdef bint axes_busy(list axes) except -1
+
+@cython.locals(a=AxisCycle, k=Py_ssize_t)
+cpdef Py_ssize_t step_axes_alone(list order, list axes, Py_ssize_t n, bint until_idle) except -1

@@ -77,6 +77,39 @@ def step_axes(axes: list) -> None:
             a.step()
 
 
+def axes_busy(axes: list) -> bool:
+    """True if an axis of `axes` moves, enables, settles into position or stops: the
+    test `MotionKernel.busy` makes of each axis. An axis jogging at a constant velocity
+    it has reached (`AxisCycle.cruising`) counts as settled."""
+    for a in axes:
+        if a._enabling:
+            return True
+        if (a.moving or (a.enabled and not a.in_pos)) and not a.cruising:
+            return True
+    return False
+
+
+def step_axes_alone(order: list, axes: list, n: int, until_idle: bool) -> int:
+    """Up to `n` cycles of `step_axes(order)` in a row, with nothing else in those
+    cycles (`MotionKernel.step_alone`); `axes` are the same axes by id. Stops after the
+    first cycle that leaves every axis resting or, with `until_idle`, none busy
+    (`axes_busy`), where the run loop has something to decide. Returns the cycles run."""
+    k = 0
+    while k < n:
+        for a in order:
+            if not a.resting:
+                a.step()
+        k += 1
+        for a in axes:
+            if not a.resting:
+                break
+        else:
+            return k  # every axis rests
+        if until_idle and not axes_busy(axes):
+            return k
+    return k
+
+
 class AxisCycle:
     """The cyclic part of `Axis` (a mixin: the attributes are set up by `Axis.__init__`).
 

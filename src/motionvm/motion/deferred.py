@@ -43,7 +43,7 @@ class Deferrals:
     horizon's last cycle] in `lagging` and waits in `_due` under the latter; the axes
     not deferred (`_free`, in step order) are the only ones a motion phase looks at."""
 
-    __slots__ = ("lagging", "batches", "phase", "_due", "_free", "_order", "_retry")
+    __slots__ = ("lagging", "batches", "phase", "passed", "_due", "_free", "_order", "_retry")
 
     def __init__(self) -> None:
         self.lagging: dict = {}
@@ -51,7 +51,9 @@ class Deferrals:
         self.batches = 0
         """Deferred runs of cycles advanced at once so far (at their horizon or caught up)."""
         self.phase = 0
-        """Motion phases run so far (`step`)."""
+        """Motion phases run so far (`step`, and those `pass_idle` counted)."""
+        self.passed = 0
+        """Of `phase`, those `pass_idle` counted."""
         self._due: dict = {}  # phase -> the axes whose horizon ends in it
         self._free: list = []  # the axes of `_order` not deferred
         self._order: list | None = None  # the step order `_free` was taken from
@@ -101,6 +103,25 @@ class Deferrals:
             a.step()
         if changed:
             self._freed(axes)
+
+    def pass_idle(self, axes: list, n: int) -> int:
+        """Pass up to `n` motion phases of `axes` in which `step` would do nothing, by
+        counting them (`MotionKernel.step_alone`): every axis not deferred rests and no
+        deferred axis's horizon ends before the last of them. Returns the phases passed
+        (0: the next phase has work). Nothing changes in them, so what the run asks of
+        the kernel between them (`busy`, `at_rest`) answers as after the last phase."""
+        if axes is not self._order:
+            return 0
+        for a in self._free:
+            if not a.resting:
+                return 0
+        due = self._due
+        k = n if not due else min(n, min(due) - self.phase - 1)
+        if k <= 0:
+            return 0
+        self.phase += k
+        self.passed += k
+        return k
 
     def one_busy(self) -> bool:
         """True if a deferred axis keeps the run busy (`MotionKernel.busy`) whatever its

@@ -29,7 +29,7 @@ from motionvm.motion import axis_coast, config_axis, config_group, group_coast
 from motionvm.motion import axis_status as st
 from motionvm.motion.axis import Axis
 from motionvm.motion.axis_config import AxisConfig
-from motionvm.motion.axis_cycle import step_axes
+from motionvm.motion.axis_cycle import axes_busy, step_axes, step_axes_alone
 from motionvm.motion.config_vars import ConfigVarTable
 from motionvm.motion.deferred import Deferrals
 from motionvm.motion.gantry import GantrySet
@@ -153,12 +153,35 @@ class MotionKernel:
             if self.deferred.one_busy():
                 return True
             self.catch_up()  # (`cruising` reads more than the status flags)
-        for a in self.axes:
-            if a._enabling:
-                return True
-            if (a.moving or (a.enabled and not a.in_pos)) and not a.cruising:
-                return True
-        return False
+        return axes_busy(self.axes)
+
+    def step_alone(self, n: int, until_idle: bool) -> int:
+        """Up to `n` cycles of this kernel alone (`begin_cycle`, `step`): cycles in which
+        nothing else of the controller has work (the controller's `_motion_alone`).
+        Stops after the first cycle that leaves the kernel at rest (`at_rest`) or, with
+        `until_idle`, not busy (`busy`): the run loop decides something there. Returns
+        the cycles run. Axes alone (no group enabled, no bus starting, no gantry pair,
+        nothing deferred) run in one loop (`step_axes_alone`, in C when compiled)."""
+        if not (self.groups.enabled or self._bus_steps or self.gantries.pairs
+                or self.deferring or self.deferred.lagging):  # fmt: skip
+            return step_axes_alone(self.step_order, self.axes, n, until_idle)
+        # deferring as `step` does: the phases with nothing to do are only counted
+        deferrals = self.deferred if self.deferring and not (
+            self.groups.enabled or self._bus_steps or self.gantries.pairs or self.gears.gears
+        ) else None  # fmt: skip
+        k = 0
+        while k < n:
+            if deferrals is not None:
+                idle = deferrals.pass_idle(self.step_order, n - k)
+                if idle:
+                    k += idle
+                    continue
+            self.begin_cycle()
+            self.step()
+            k += 1
+            if self.at_rest() or (until_idle and not self.busy()):
+                return k
+        return n
 
     def groups_moving(self) -> bool:
         """`groups.busy()`: a group moves (only an enabled group's planner is asked)."""

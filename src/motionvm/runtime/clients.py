@@ -187,15 +187,19 @@ def hooks_touch_axes(clients: list) -> bool:
     return False
 
 
-def active_hooks(clients: list, name: str) -> list:
-    """The bound `name` methods (BEGIN or END) of `clients`, in order, leaving out a
-    `PassiveClient`'s inherited no-op and a hook whose client has no work for it now
-    (`has_work`): what the cycle must call."""
+def hooked_clients(clients: list, name: str) -> list:
+    """The clients, in order, whose `name` hook (BEGIN or END) the cycle must call:
+    not a `PassiveClient`'s inherited no-op, and its client has work for it now
+    (`has_work`)."""
     begin = name == BEGIN
     noop = PassiveClient.begin_cycle if begin else PassiveClient.end_cycle
-    hooks = []
-    for c in clients:
-        hook = c.begin_cycle if begin else c.end_cycle
-        if not is_default(hook, noop) and c.has_work(name):
-            hooks.append(hook)
-    return hooks
+    return [
+        c
+        for c in clients
+        if not is_default(c.begin_cycle if begin else c.end_cycle, noop) and c.has_work(name)
+    ]
+
+
+def active_hooks(clients: list, name: str) -> list:
+    """The bound `name` methods of `hooked_clients(clients, name)`: what the cycle calls."""
+    return [getattr(c, name) for c in hooked_clients(clients, name)]

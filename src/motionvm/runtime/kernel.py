@@ -99,6 +99,8 @@ class Kernel:
         """True if in the last cycle run a task waited on an event."""
         self.unrecorded_waits = False
         """True if in the last cycle run a task waited on an event without a `record`."""
+        self.resumed = True
+        """True if the last cycle run resumed a task (False: none was due)."""
         self.reads_axes = True
         """False while no running task can read or change an axis other than through the
         motion commands and status flags (the language run time that starts the tasks
@@ -175,6 +177,16 @@ class Kernel:
             return None
         return min(t.wake_cycle for t in self.active)
 
+    def idle_until(self, cycle: int) -> int | None:
+        """The first cycle from `cycle` on whose `run_cycle` would resume a task (None:
+        no task runs); in the cycles before it `run_cycle` would change nothing of this
+        kernel. That needs the last cycle to have left the kernel as a cycle without a
+        task due leaves it (no event wait, nothing started or stopped since, `quiet`);
+        else the answer is `cycle`."""
+        if self.event_waits or self._changed or not self.quiet:
+            return cycle
+        return self.next_wake()
+
     def wake_horizon(
         self, cycle: int, status_holds: Callable[[], bool], flag: str
     ) -> tuple[int | None, set | None, list]:
@@ -242,10 +254,12 @@ class Kernel:
         recorder = self.recorder
         before_resume = self.before_resume
         reads = None
+        resumed = False
         for t in self._visits:  # a task started in this cycle runs from the next one
             gen = t.gen
             if gen is None or t.wake_cycle > cycle:
                 continue
+            resumed = True
             self.current = t
             before_resume(t)
             if recorder is not None:
@@ -294,6 +308,7 @@ class Kernel:
                     recorder.reads = None
         self.event_waits = polled
         self.unrecorded_waits = unrecorded
+        self.resumed = resumed
         self.quiet = not stale and not self._changed
         self._changed = False
 

@@ -25,7 +25,14 @@ from motionvm.comm.hub import CommHub
 from motionvm.io.position_trigger import PositionTriggers
 from motionvm.io.system import IOSystem
 from motionvm.motion.kernel import MotionKernel
-from motionvm.runtime.clients import CycleClient, active_hooks, hooks_touch_axes
+from motionvm.runtime.clients import (
+    BEGIN,
+    END,
+    CycleClient,
+    active_hooks,
+    hooked_clients,
+    hooks_touch_axes,
+)
 from motionvm.runtime.clock import Clock
 from motionvm.runtime.kernel import Kernel
 from motionvm.runtime.waits import Waiting
@@ -47,6 +54,8 @@ end)."""
 
 _NEVER = 1 << 62
 """A cycle no run reaches (`run` without a progress callback)."""
+_ALONE_MOST = 1000
+"""The most cycles `_motion_alone` steps before the run loop looks again."""
 
 
 class Controller:
@@ -83,6 +92,12 @@ class Controller:
         self._defer = False
         """Inside `run`, unpaced, with no progress callback and no tracer: the motion
         kernel may defer moving axes while nothing else reads them (motion/deferred.py)."""
+        self.alone_cycles = True
+        """False: `run` never steps cycles as motion phases alone (`_motion_alone`), each
+        cycle goes through `step` (the reference the tests compare with)."""
+        self._alone = False
+        """The hooks as taken allow a cycle of the motion kernel alone: no end hook, no
+        begin hook but clock-driven ones (`_take_hooks`)."""
         self.comm = CommHub(self.clock, self.io.gpio, self.motion)
         """Servers' requests and client sockets (comm/hub.py), right after the inputs."""
         self.add_client(self.comm)
@@ -93,6 +108,8 @@ class Controller:
         self.jumps = JumpPlanner(self)
         self.cycles_computed = 0
         """Cycles stepped so far (the others were jumped over)."""
+        self.cycles_alone = 0
+        """Of `cycles_computed`, those stepped as motion phases alone (`_motion_alone`)."""
         self.stop_requested = False  # set to end run() at the next cycle (e.g. stdout closed)
         self.hmi_scope = False
         """SetHMIScope(1) sets it, SetHMIScope(0) clears it (a scope may follow it)."""
@@ -156,9 +173,11 @@ class Controller:
         self._hooked = hooked = list(self.clients)  # first: a change from now on counts
         for c in hooked:
             c.watch_work(self._work_changed)
-        self._begin_hooks = active_hooks(hooked, "begin_cycle")
-        self._end_hooks = active_hooks(hooked, "end_cycle")
+        begins = hooked_clients(hooked, BEGIN)
+        self._begin_hooks = [c.begin_cycle for c in begins]
+        self._end_hooks = active_hooks(hooked, END)
         self._hooks_touch = touch = hooks_touch_axes(hooked)
+        self._alone = not self._end_hooks and all(c.clock_driven for c in begins)
         if touch:  # a hook may read any axis from now on
             self.motion.catch_up()
 
@@ -215,7 +234,10 @@ class Controller:
         self._defer = (self.defer_axes and pacer is None and progress is None
                        and sys.gettrace() is None)  # fmt: skip
         next_report = _NEVER if progress is None else clock.cycle
-        active = self.kernel.active  # a running task keeps the run busy: no call
+        kernel = self.kernel
+        active = kernel.active  # a running task keeps the run busy: no call
+        # stepping, unpaced: cycles with nothing but motion to do run as motion alone
+        alone = self.alone_cycles and not self.skip and pacer is None
         try:
             while active or self.busy():
                 if self.stop_requested:
@@ -236,12 +258,58 @@ class Controller:
                     never = self.never_changes()
                 if never and ends:
                     return FOREVER
+                if (alone and self._alone and not kernel.resumed
+                        and self._motion_alone(end_cycle, next_report)):  # fmt: skip
+                    continue
                 self.step(end_cycle, fold=pacer is None)  # (paced: a jump waits at its start)
             return FINISHED
         finally:
             self._defer = self.motion.deferring = False
             self.motion.catch_up()  # (the host may read any axis now)
             self.show_clock()
+
+    def _motion_alone(self, end_cycle: int | None, next_report: int) -> bool:
+        """Step the cycles from this one on in which nothing but the motion kernel has
+        work, as motion phases alone (`MotionKernel.step_alone`), without the rest of
+        `step`; False if this cycle is not one (the run loop asks only after a cycle
+        that resumed no task, `Kernel.resumed`). Such a cycle: no task is due and the
+        task kernel is as a cycle without one leaves it (`Kernel.idle_until`), no client
+        has an event (`next_event`) nor a hook but clock-driven ones (not called: the
+        next `step`, or `show_clock` at the run's end, writes their values before
+        anything reads them) and no client came.
+        Stepped so, the cycles change what `step` would: no more of them than the run
+        loop would step without deciding anything (up to the end time, the next
+        progress report, a task's wake, `_ALONE_MOST` at a time for `stop_requested`),
+        and no cycle after one that leaves the axes at rest (the run may never change
+        again) or, while no task runs and no client is busy, the motion kernel not busy
+        (the run ends)."""
+        clock, kernel = self.clock, self.kernel
+        cycle = clock.cycle
+        if self.clients != self._hooked:
+            return False
+        limit = kernel.idle_until(cycle)
+        if limit is not None and limit <= cycle:
+            return False
+        for c in self.clients:
+            e = c.next_event()
+            if e is not None and (limit is None or e < limit):
+                if e <= cycle:
+                    return False
+                limit = e
+        n = min(_ALONE_MOST, next_report - cycle)
+        for bound in (limit, end_cycle):
+            if bound is not None:
+                n = min(n, bound - cycle)
+        if n <= 0:
+            return False
+        until_idle = not kernel.active and not any(c.busy() for c in self.clients)
+        motion = self.motion
+        motion.deferring = self._defer and not (self._hooks_touch or kernel.reads_axes)
+        k = motion.step_alone(n, until_idle)
+        clock.cycle = cycle + k
+        self.cycles_computed += k
+        self.cycles_alone += k
+        return True
 
     def never_changes(self) -> bool:
         """At a cycle boundary: nothing left in the run can change anything (every
