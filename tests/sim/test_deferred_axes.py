@@ -14,6 +14,7 @@ from pathlib import Path
 
 from hypothesis import given
 from hypothesis import strategies as st
+from skip_util import task_files
 from test_skip_random import PROFILE, _task, statement
 
 from motionvm.api import Simulation
@@ -23,12 +24,7 @@ import motion as bench_motion  # noqa: E402
 
 
 def _outcome(tmp: Path, sources: list[str], skip: bool, defer: bool) -> tuple:
-    paths = []
-    for i, text in enumerate(sources):
-        p = tmp / f"t{i}.hmpl"
-        p.write_text(text, encoding="utf-8")
-        paths.append(p)
-    sim = Simulation.from_files(paths, skip=skip, stamp=True)
+    sim = Simulation.from_files(task_files(tmp, sources), skip=skip, stamp=True)
     sim.controller.defer_axes = defer
     result = sim.run(timeout=60.0)
     axes = [(a.pos_fb, a.ref_pos, a.ref_vel, a.ref_acc, a.in_pos, a.moving, a.move_time_ms,

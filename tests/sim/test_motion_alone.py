@@ -16,7 +16,7 @@ from pathlib import Path
 
 from hypothesis import given
 from hypothesis import strategies as st
-from skip_util import machine_file
+from skip_util import axis_states, machine_file, task_files
 from test_skip_random import AXES, PROFILE, _task, machine, statement
 
 from motionvm.api import Simulation
@@ -25,19 +25,13 @@ from motionvm.sim.machine import MachineConfig, default_axes
 
 
 def _axes(sim: Simulation) -> list:
-    return [(a.pos_fb, a.ref_pos, a.ref_vel, a.ref_acc, a.in_pos, a.moving, a.move_time_ms,
-             a.settling_time_ms, a.last_error, a.resting, a._cycle, a.drive.position_actual,
-             a.drive.digital_inputs, a.drive.mechanics.velocity, a.drive.mechanics.torque)
-            for a in sim.controller.motion.axes]  # fmt: skip
+    """`axis_states` and the cycle each axis counts."""
+    axes = sim.controller.motion.axes
+    return [s + (a._cycle,) for s, a in zip(axis_states(sim), axes, strict=True)]
 
 
 def _outcome(tmp: Path, sources: list[str], alone: bool, defer: bool, machine=None) -> tuple:
-    paths = []
-    for i, text in enumerate(sources):
-        p = tmp / f"t{i}.hmpl"
-        p.write_text(text, encoding="utf-8")
-        paths.append(p)
-    sim = Simulation.from_files(paths, skip=False, stamp=True, machine=machine)
+    sim = Simulation.from_files(task_files(tmp, sources), skip=False, stamp=True, machine=machine)
     ctl = sim.controller
     ctl.alone_cycles, ctl.defer_axes = alone, defer
     result = sim.run(timeout=60.0)
