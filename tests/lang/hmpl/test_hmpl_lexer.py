@@ -258,3 +258,8 @@ def test_dots_and_slashes_where_punctuators_meet_numbers_and_comments():
     assert [t for _, t in kinds("a/b/=c/*d*/e//f\ng...h")] == [
         "a", "/", "b", "/=", "c", "e", "g", "...", "h",
     ]  # fmt: skip
+
+
+def test_scan_collects_the_texts_of_names_and_keywords():
+    sc = scan(SourceFile("n.hmpl", 'int x = y1 + 2; /* zz */ "s" while\n#define Q 1\n'))
+    assert sc.names == {"int", "x", "y1", "while", "define", "Q"}

@@ -458,3 +458,30 @@ def test_malformed_line_is_an_error(text, message):
     out, errors = pp(text + "\nx")
     assert len(errors) == 1 and errors[0].startswith(message), errors
     assert out == "x"
+
+
+def test_a_file_without_macro_names_is_not_expanded(monkeypatch):
+    """Regions of a file in which no name is a macro, `__LINE__` or `__FILE__` pass
+    without the expansion pass (`Scan.names`); the others still expand."""
+    from motionvm.lang.hmpl.preprocess import Preprocessor
+
+    calls = []
+    real = Preprocessor.expand
+
+    def counted(self, toks, hs_map=None):
+        calls.append(len(toks))
+        return real(self, toks, hs_map)
+
+    monkeypatch.setattr(Preprocessor, "expand", counted)
+    assert ok("int a;\n#undef Z\nint b = 2;\nint c;") == "int a ; int b = 2 ; int c ;"
+    assert calls == []
+    assert ok("#define N 3\nint a[N];\nint b = __LINE__;") == "int a [ 3 ] ; int b = 3 ;"
+    assert calls
+    calls.clear()
+    assert ok("int t = _TASKID_;", task_id=5) == "int t = 5 ;"
+    assert calls
+
+
+def test_a_keyword_defined_as_a_macro_is_expanded():
+    assert ok("#define while if\nwhile (x) y;") == "if ( x ) y ;"
+    assert ok("#define int long\nint a;") == "long a ;"

@@ -138,6 +138,7 @@ def _scan(root, uses, facts, blocking, sets, parents, keys, frame: int) -> None:
     Assign, Postfix, For = n.Assign, n.Postfix, n.For
     loops = _LOOPS_AND_JUMPS
     counts = _COUNTS
+    literals = _LITERALS
     assigned = sets[frame]
     while stack:
         x = pop()
@@ -149,6 +150,8 @@ def _scan(root, uses, facts, blocking, sets, parents, keys, frame: int) -> None:
             continue
         if t is Name:
             uses.setdefault(x.id, set()).add("escape")
+            continue
+        if t in literals:
             continue
         if t is Index:
             depth, r = 0, x
@@ -211,8 +214,15 @@ def _scan(root, uses, facts, blocking, sets, parents, keys, frame: int) -> None:
                     push(x.step)
                     push(_ForBody(x.body))
                     continue
-        get = getters.get(t) or children_getter(t)
-        push(get(x))
+        kids = (getters.get(t) or children_getter(t))(x)
+        if type(kids) is tuple:
+            extend(kids)
+        else:
+            push(kids)
+
+
+_LITERALS = frozenset((n.IntLit, n.FloatLit, n.CharLit, n.StrLit))
+"""Expression classes without children (and no name in them)."""
 
 
 def constant_init(init) -> bool:

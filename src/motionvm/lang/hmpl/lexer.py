@@ -150,12 +150,15 @@ class Scan:
     `tokens` holds every token (no 'eof'); `directives` holds (start, end) index
     ranges of the `#` lines in `tokens` (the '#' included); `errors` holds
     (pos, message, always) in source order — `always` errors are reported even in
-    skipped `#if` regions (an unterminated comment ends the file regardless).
+    skipped `#if` regions (an unterminated comment ends the file regardless);
+    `names` holds the text of every name and keyword token (the preprocessor's test
+    whether a region can hold a macro use, without a pass over its tokens).
     """
 
     tokens: list[Token] = field(default_factory=list)
     directives: list[tuple[int, int]] = field(default_factory=list)
     errors: list[tuple[SourcePos, str, bool]] = field(default_factory=list)
+    names: set[str] = field(default_factory=set)
 
 
 def tokenize(sf: SourceFile, sink: DiagnosticSink) -> list[Token]:
@@ -203,6 +206,7 @@ def scan(sf: SourceFile) -> Scan:
     append = toks.append
     errors = out.errors
     keywords = KEYWORDS
+    add_name = out.names.add
     line = 1
     line_start = 0
     bol = True  # no token yet on this logical line
@@ -222,6 +226,7 @@ def scan(sf: SourceFile) -> Scan:
             set_line(pos, line)
             set_col(pos, m.start(k) - line_start + 1)
             if k == NAME:
+                add_name(s)
                 append(tnew(Token, ("keyword" if s in keywords else "name", s, pos, None, "")))
             elif k == PUNCT:
                 if bol and s == "#":

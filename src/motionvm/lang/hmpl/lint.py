@@ -8,7 +8,7 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from motionvm.lang.hmpl import nodes as n
-from motionvm.lang.hmpl.analysis import _GETTERS, children_getter, walk
+from motionvm.lang.hmpl.analysis import _GETTERS, _LITERALS, children_getter, walk
 from motionvm.source.files import SourcePos
 
 Warn = Callable[[SourcePos, str], None]
@@ -139,10 +139,16 @@ class _Lint:
     def uses(self, e) -> None:
         """Mark every variable named in expression `e` used (one walk); check the
         conditions of `?:` and `Till` on the way."""
-        if e is None:
+        t = type(e)
+        if t is n.Name:  # the common expressions first, without the walk's set-up
+            entries = self.live.get(e.id)
+            if entries:
+                entries[-1][1] = True
+            return
+        if t in _LITERALS or e is None:
             return
         live = self.live
-        Name, Cond, Call, getters = n.Name, n.Cond, n.Call, _GETTERS
+        Name, Cond, Call, getters, literals = n.Name, n.Cond, n.Call, _GETTERS, _LITERALS
         stack = [e]
         pop, push, extend = stack.pop, stack.append, stack.extend
         while stack:
@@ -156,14 +162,17 @@ class _Lint:
             if t is tuple or t is list:
                 extend(x)
                 continue
-            if x is None:
+            if x is None or t in literals:
                 continue
             if t is Cond:
                 _check_condition(x.cond, t, self.warn)
             elif t is Call:
                 _check_till(x, self.warn)
-            get = getters.get(t) or children_getter(t)
-            push(get(x))
+            kids = (getters.get(t) or children_getter(t))(x)
+            if type(kids) is tuple:
+                extend(kids)
+            else:
+                push(kids)
 
     def declare(self, d: n.VarDecl) -> None:
         if type(d) is n.FuncDef:  # a prototype: no variable

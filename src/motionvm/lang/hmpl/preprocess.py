@@ -196,7 +196,13 @@ class Preprocessor:
         return st
 
     def _text(self, st: _State, toks: list[Token]) -> list[Token]:
-        """A region of program text: renumbered, expanded, `__LINE__`/`__FILE__` replaced."""
+        """A region of program text: renumbered, expanded, `__LINE__`/`__FILE__` replaced.
+
+        When no name in the whole file is a macro, `__LINE__` or `__FILE__` (the
+        common case), the region is only renumbered: no pass over its tokens."""
+        names = st.scan.names
+        if self.macros.keys().isdisjoint(names) and _LINE_FILE.isdisjoint(names):
+            return st.mapped(toks)
         return _line_and_file(self.expand(st.mapped(toks)))
 
     def _flush_errors(self, st: _State, last_line: int, active: bool) -> None:
