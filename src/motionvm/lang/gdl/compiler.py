@@ -6,6 +6,7 @@ from collections.abc import Mapping
 from types import CodeType
 from typing import TYPE_CHECKING
 
+from motionvm.lang.gc_hold import gc_held
 from motionvm.lang.gdl import nodes as n
 from motionvm.lang.gdl.app import App
 from motionvm.lang.gdl.check import check_app
@@ -83,19 +84,20 @@ def _compile_app(
     codes: list[tuple[str, CodeType]] | None,
 ) -> App | None:
     try:
-        parsed = (parse_file(p, sink, texts.get(p)) for p in paths)
-        files = [f for f in parsed if f is not None]
-        if sink.has_errors:
-            # Names and types are checked only on a syntactically clean application, so
-            # one typo does not cascade into "unknown object" errors elsewhere.
-            return None
-        app = check_app(files, list(paths), sink)
-        if app is not None:
-            compiled = compile_app_code(app)
-            if codes is not None:
-                codes.extend(compiled)
-            app.functions = load_app_code(app, compiled)
-        return app
+        with gc_held():
+            parsed = (parse_file(p, sink, texts.get(p)) for p in paths)
+            files = [f for f in parsed if f is not None]
+            if sink.has_errors:
+                # Names and types are checked only on a syntactically clean application, so
+                # one typo does not cascade into "unknown object" errors elsewhere.
+                return None
+            app = check_app(files, list(paths), sink)
+            if app is not None:
+                compiled = compile_app_code(app)
+                if codes is not None:
+                    codes.extend(compiled)
+                app.functions = load_app_code(app, compiled)
+            return app
     except TooManyErrors:
         return None
     except RecursionError:  # pragma: no cover - past 100,000 levels of nesting

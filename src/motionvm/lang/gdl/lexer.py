@@ -15,6 +15,7 @@
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
 
 from motionvm.lang.gdl.objects import CATALOG_WORDS
@@ -54,7 +55,11 @@ INSTRUCTION_WORDS = frozenset(
 RESERVED_WORDS: frozenset[str] = INSTRUCTION_WORDS | CATALOG_WORDS
 
 SINGLE_DELIMITERS = "=+-*/(),;<>[]{}&"
-SPACE = " \t\r\n"
+_SPACES = re.compile(r"[ \t\r\n]*")
+_WORD_CHARS = re.compile(r"[A-Za-z0-9_$]*")
+_DIGITS = re.compile(r"[0-9]*")
+_WORD_START = frozenset("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz_")
+_DIGIT_CHARS = frozenset("0123456789")
 
 
 @dataclass(frozen=True, slots=True)
@@ -76,18 +81,6 @@ class Token:
         if self.kind == "string":
             return "a string"
         return f"'{self.text}'"
-
-
-def _is_letter(c: str) -> bool:
-    return ("A" <= c <= "Z") or ("a" <= c <= "z")
-
-
-def _is_digit(c: str) -> bool:
-    return "0" <= c <= "9"
-
-
-def _is_word_char(c: str) -> bool:
-    return _is_letter(c) or _is_digit(c) or c in "_$"
 
 
 class Lexer:
@@ -121,35 +114,38 @@ class Lexer:
             if tok is not None:
                 out.append(tok)
 
+    def _lines_to(self, end: int) -> None:
+        """Count the line ends in text[i:end] (`i` itself is not moved)."""
+        text = self.text
+        ends = text.count("\n", self.i, end)
+        if ends:
+            self.line += ends
+            self.line_start = text.rindex("\n", self.i, end) + 1
+
     def _skip_space_and_comments(self) -> None:
         text = self.text
-        while self.i < len(text):
-            c = text[self.i]
-            if c == "\n":
-                self.i += 1
-                self._newline(self.i)
-            elif c in SPACE:
-                self.i += 1
-            elif c == "|":
-                start = self.pos()
-                j = self.i + 1
-                while j < len(text) and text[j] != "|":
-                    if text[j] == "\n":
-                        self._newline(j + 1)
-                    j += 1
-                if j >= len(text):
-                    self.sink.error(start, "unterminated comment: no closing vertical bar")
-                    self.i = j
-                    return
-                self.i = j + 1
-            else:
+        while True:
+            end = _SPACES.match(text, self.i).end()
+            if end > self.i:
+                self._lines_to(end)
+                self.i = end
+            if end >= len(text) or text[end] != "|":
                 return
+            start = self.pos()
+            j = text.find("|", end + 1)
+            if j < 0:
+                self._lines_to(len(text))
+                self.sink.error(start, "unterminated comment: no closing vertical bar")
+                self.i = len(text)
+                return
+            self._lines_to(j)
+            self.i = j + 1
 
     def _next(self) -> Token | None:
         c = self.text[self.i]
-        if _is_letter(c) or c == "_":
+        if c in _WORD_START:
             return self._word()
-        if _is_digit(c):
+        if c in _DIGIT_CHARS:
             return self._number()
         if c == "'":
             return self._string()
@@ -177,13 +173,12 @@ class Lexer:
     def _digit_around(self) -> bool:
         before = self.text[self.i - 2 : self.i - 1]
         after = self.text[self.i : self.i + 1]
-        return _is_digit(before) or _is_digit(after)
+        return before in _DIGIT_CHARS or after in _DIGIT_CHARS
 
     def _word(self) -> Token | None:
         start = self.i
         pos = self.pos()
-        while self.i < len(self.text) and _is_word_char(self.text[self.i]):
-            self.i += 1
+        self.i = _WORD_CHARS.match(self.text, start).end()
         word = self.text[start : self.i]
         upper = word.upper()
         if upper in RESERVED_WORDS:
@@ -205,8 +200,7 @@ class Lexer:
     def _number(self) -> Token:
         start = self.i
         pos = self.pos()
-        while self.i < len(self.text) and _is_digit(self.text[self.i]):
-            self.i += 1
+        self.i = _DIGITS.match(self.text, start).end()
         digits = self.text[start : self.i]
         significant = digits.lstrip("0")
         value = int(significant or "0") if len(significant) <= MAX_DIGITS else 0
@@ -217,10 +211,8 @@ class Lexer:
                 f"integer constant {shown} is beyond the GDL integer range: at most "
                 f"{MAX_INT} ({MAX_DIGITS} digits)",
             )
-        if self.i < len(self.text) and _is_word_char(self.text[self.i]):
-            end = self.i
-            while end < len(self.text) and _is_word_char(self.text[end]):
-                end += 1
+        end = _WORD_CHARS.match(self.text, self.i).end()
+        if end > self.i:
             self.sink.error(
                 pos,
                 f"'{self.text[start:end]}': a number cannot be followed by "

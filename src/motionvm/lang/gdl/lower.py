@@ -95,7 +95,11 @@ class Lowerer:
     def procedure(self, proc: ProcInfo) -> ast.FunctionDef:
         pos = proc.node.pos
         args = ast.arguments(
-            posonlyargs=[], args=[ast.arg("rt")], kwonlyargs=[], kw_defaults=[], defaults=[]
+            posonlyargs=[],
+            args=[_at(ast.arg("rt"), pos)],
+            kwonlyargs=[],
+            kw_defaults=[],
+            defaults=[],
         )
         body = self._block(proc.node.body) or [_at(ast.Pass(), pos)]
         func = ast.FunctionDef(name=function_name(proc), args=args, body=body, decorator_list=[])
@@ -189,10 +193,10 @@ class Lowerer:
 
 
 def lower_file(procs: list[ProcInfo]) -> ast.Module:
-    """The Python module of the procedures of one file."""
+    """The Python module of the procedures of one file. Every node is built with its
+    location (`_at`): no walk over the tree fills in missing ones."""
     lowerer = Lowerer()
-    module = ast.Module(body=[lowerer.procedure(p) for p in procs], type_ignores=[])
-    return ast.fix_missing_locations(module)
+    return ast.Module(body=[lowerer.procedure(p) for p in procs], type_ignores=[])
 
 
 def _by_file(app: App) -> dict[str, list[ProcInfo]]:

@@ -13,33 +13,49 @@ bottom, so that no lowering module imports one that imports it back.
 from __future__ import annotations
 
 import ast
-from typing import Protocol
+from typing import Protocol, TypeVar
 
 from motionvm.lang.pdl import nodes as n
 from motionvm.lang.pdl.rt_memory import FLOAT, LONG, SHORT
 from motionvm.lang.pdl.symbols import LabelSym, Symbols, VarSym
 
+T = TypeVar("T")
+
 _SHAPE: dict[type, tuple[bool, tuple[str, ...]]] = {}
-"""Node class -> (has a location, its fields), for the walks below."""
+"""Node class -> (has a location, the fields that may hold nodes with a location), for
+the walks below: a name's `id` and `ctx`, an operator, a constant's value never do."""
+
+_NO_LOCATED_CHILDREN = frozenset({"ctx", "op", "ops", "id", "attr", "arg"})
+
+PLACED = "_mv_placed"
+"""Marks the statements `place` gave their line: every node under them has a location
+(the walks below stop there: each node is walked about once, not once per nesting
+level). `clone` leaves the mark off its copies."""
 
 
 def _shape(cls: type) -> tuple[bool, tuple[str, ...]]:
     shape = _SHAPE.get(cls)
     if shape is None:
-        shape = _SHAPE[cls] = ("lineno" in cls._attributes, cls._fields)
+        skip = {"value"} if cls is ast.Constant else _NO_LOCATED_CHILDREN
+        fields = tuple(f for f in cls._fields if f not in skip)
+        shape = _SHAPE[cls] = ("lineno" in cls._attributes, fields)
     return shape
 
 
 def place(stmts: list[ast.stmt], line: int, col: int) -> list[ast.stmt]:
     """Give every node under `stmts` that has no location `line` and `col` (what a walk
-    with `ast.walk` setting each one does, without a generator step per node)."""
+    with `ast.walk` setting each one does), and mark `stmts` placed. The walk does not
+    enter statements placed before (nested bodies lowered first): all their nodes have a
+    location already."""
     AST, shape_of = ast.AST, _SHAPE.get
     stack: list = list(stmts)
     pop, push = stack.pop, stack.append
     while stack:
         node = pop()
-        located, fields = shape_of(type(node)) or _shape(type(node))
         d = node.__dict__
+        if PLACED in d:
+            continue
+        located, fields = shape_of(type(node)) or _shape(type(node))
         if located and "lineno" not in d:
             d["lineno"] = line
             d["col_offset"] = col
@@ -51,20 +67,24 @@ def place(stmts: list[ast.stmt], line: int, col: int) -> list[ast.stmt]:
                         push(x)
             elif isinstance(v, AST):
                 push(v)
+    for s in stmts:
+        s.__dict__[PLACED] = True
     return stmts
 
 
 def finish_locations(module: ast.Module) -> ast.Module:
-    """`ast.fix_missing_locations(module)`, then every node's end where it starts (a
-    fault's column is its start), in one pass: a node without a location takes its
-    parent's, in the order `fix_missing_locations` visits them."""
+    """`ast.fix_missing_locations(module)` for the start of every node (its end is left
+    unset: `compile()` then puts it at the start, as a fault's column is its start): a
+    node without a location takes its parent's. Placed statements are not entered."""
     AST, shape_of = ast.AST, _SHAPE.get
     stack: list = [(x, 1, 0) for x in reversed(module.body)]
     pop, push = stack.pop, stack.append
     while stack:
         node, line, col = pop()
-        located, fields = shape_of(type(node)) or _shape(type(node))
         d = node.__dict__
+        if PLACED in d:
+            continue
+        located, fields = shape_of(type(node)) or _shape(type(node))
         if located:
             if "lineno" in d:
                 line = d["lineno"]
@@ -74,18 +94,35 @@ def finish_locations(module: ast.Module) -> ast.Module:
                 col = d["col_offset"]
             else:
                 d["col_offset"] = col
-            d["end_lineno"] = line
-            d["end_col_offset"] = col
-        children: list = []
         for f in fields:
             v = d.get(f)
             if type(v) is list:
-                children.extend(x for x in v if isinstance(x, AST))
+                for x in v:
+                    if isinstance(x, AST):
+                        push((x, line, col))
             elif isinstance(v, AST):
-                children.append(v)
-        for x in reversed(children):
-            push((x, line, col))
+                push((v, line, col))
     return module
+
+
+def clone(node: T) -> T:
+    """A deep copy of a generated tree or list of trees, locations included
+    (`copy.deepcopy` without its memo and reduce protocol); operator and context nodes,
+    which hold nothing, are shared. The copy is not marked placed."""
+    AST = ast.AST
+    if type(node) is list:
+        return [clone(x) for x in node]  # type: ignore[return-value]
+    cls = type(node)
+    new = cls.__new__(cls)
+    nd = new.__dict__
+    for k, v in node.__dict__.items():
+        if type(v) is list:
+            nd[k] = [clone(x) if isinstance(x, AST) else x for x in v]
+        elif isinstance(v, AST):
+            nd[k] = clone(v) if v._fields or v._attributes else v
+        elif k != PLACED:
+            nd[k] = v
+    return new
 
 
 def nm(ident: str, store: bool = False) -> ast.Name:

@@ -41,12 +41,19 @@ the analysis bounds by 2**24 skips the float32 rounding (`f = (i & 1023) + 0.0`)
 from __future__ import annotations
 
 import ast
-import copy
 from dataclasses import dataclass
 from typing import Protocol
 
 from motionvm.lang.pdl import nodes as n
-from motionvm.lang.pdl.lower_base import ProgramContext, assign, binop, const, nm, walk_nodes
+from motionvm.lang.pdl.lower_base import (
+    ProgramContext,
+    assign,
+    binop,
+    clone,
+    const,
+    nm,
+    walk_nodes,
+)
 from motionvm.lang.pdl.lower_cache import MIN_COUNT, Promotion
 from motionvm.lang.pdl.lower_expr import USER_END, wrap_inline
 
@@ -685,7 +692,7 @@ def chunk_loop(
         return None
     if _nested_loop(s) or not _budget_only(body):
         return None
-    fast = copy.deepcopy(body)
+    fast = clone(body)
     fixed = sum(x.value.value for x in fast if _is_charge(x))  # type: ignore[attr-defined]
     fast = [x for x in fast if not _is_charge(x)]
     _, extra = _costs(body)
@@ -704,13 +711,13 @@ def chunk_loop(
     sizes = {base: size for base, (size, _) in promo.lists.items()} if promo is not None else {}
     an = _Ranges(ints, ck, views, sizes)
     an.classify(fast)
-    checked = copy.deepcopy(fast)
+    checked = clone(fast)
     fast = an.block(fast, an.start_state())
     if an.retry:  # a split store the guard cannot prove may reload every scalar
         views.clear()
         an = _Ranges(ints, ck, views, sizes, trust=False)
         an.classify(checked)
-        fast = an.block(copy.deepcopy(checked), an.start_state())
+        fast = an.block(clone(checked), an.start_state())
     if an.failed:
         an = _Ranges(ints, ck, {})
         an.vars = {}
@@ -801,7 +808,7 @@ def _list_variant(
                 and not isinstance(node.slice, ast.Constant)
             ):
                 return None  # an access not proved: it might reach the array in memory
-    out = copy.deepcopy(fast)
+    out = clone(fast)
     for s in out:
         for node in ast.walk(s):
             if isinstance(node, ast.Name) and node.id == vname:

@@ -26,7 +26,6 @@ divides as real numbers.
 from __future__ import annotations
 
 import ast
-import copy
 from typing import TYPE_CHECKING
 
 from motionvm.lang.pdl import nodes as n
@@ -35,6 +34,7 @@ from motionvm.lang.pdl.lower_base import (
     assign,
     binop,
     call,
+    clone,
     const,
     nm,
     storage_kind,
@@ -187,7 +187,7 @@ class ExprLowering:
             flush = self.promo.flush_exprs()  # type: ignore[union-attr]
             slow = ast.Subscript(value=ast.Tuple(elts=flush + [full], ctx=ast.Load()),
                                  slice=const(-1), ctx=ast.Load())  # fmt: skip
-            fast = self._checked(copy.deepcopy(addr), span[0], span[1], v.name, idx, slow)
+            fast = self._checked(clone(addr), span[0], span[1], v.name, idx, slow)
             return view, fast, kind
         idx = self.index_value(v.index)
         if sym.scope == "system":
@@ -271,7 +271,7 @@ class ExprLowering:
         """
         test, fast = _in_span(addr, lo, hi, idx, "_i")
         if orelse is None:
-            orelse = call("_oob", const(name), copy.deepcopy(idx))
+            orelse = call("_oob", const(name), clone(idx))
         return ast.IfExp(test=test, body=fast, orelse=orelse)
 
     # ------------------------------------------------------------ reads
@@ -475,9 +475,9 @@ class ExprLowering:
         view, addr, lo, hi, base, idx = ix
         promo = self.promo
         assert promo is not None
-        test, fast = _in_span(copy.deepcopy(addr), span[0], span[1], idx, "_j")
+        test, fast = _in_span(clone(addr), span[0], span[1], idx, "_j")
         full = self._checked(addr, lo, hi, name, idx)
-        slow = self._store_at(view, full, skind, copy.deepcopy(value), kind)
+        slow = self._store_at(view, full, skind, clone(value), kind)
         node = ast.If(test=test, body=self._store_at(view, fast, skind, value, kind),
                       orelse=promo.stores() + slow + promo.loads())  # fmt: skip
         if isinstance(test.comparators[0], ast.Name):
@@ -507,7 +507,7 @@ class ExprLowering:
             wrapped = ast.IfExp(test=test, body=nm("_w"), orelse=wrap_inline(nm("_w"), bits))
             return [assign(subscript(view, ix, True), wrapped)]
         fast = assign(subscript(view, ix, True), value)
-        slow = assign(subscript(view, copy.deepcopy(ix), True), call(wrap, copy.deepcopy(value)))
+        slow = assign(subscript(view, clone(ix), True), call(wrap, clone(value)))
         handler = ast.ExceptHandler(type=nm("ValueError"), name=None, body=[slow])
         return [ast.Try(body=[fast], handlers=[handler], orelse=[], finalbody=[])]
 

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
+from motionvm.lang.gc_hold import gc_held
 from motionvm.lang.pdl.front import front_end
 from motionvm.lang.pdl.lower import PdlProgram, lower_program
 from motionvm.source.deep import run_deep
@@ -60,7 +61,8 @@ def _compile_cached(
 def _compile_pdl(
     path: str, sink: DiagnosticSink, text: str | None, included: list[SourceFile] | None
 ) -> PdlProgram | None:
-    result = front_end(path, sink=sink, text=text, included=included)
-    if result is None:
-        return None
-    return lower_program(path, result.symbols)
+    with gc_held():
+        result = front_end(path, sink=sink, text=text, included=included)
+        if result is None:
+            return None
+        return lower_program(path, result.symbols)
