@@ -42,12 +42,16 @@ def _shape(cls: type) -> tuple[bool, tuple[str, ...]]:
     return shape
 
 
+_LEAVES = frozenset({ast.Name, ast.Constant})
+"""Located nodes without located children: `place` sets them where it meets them."""
+
+
 def place(stmts: list[ast.stmt], line: int, col: int) -> list[ast.stmt]:
     """Give every node under `stmts` that has no location `line` and `col` (what a walk
     with `ast.walk` setting each one does), and mark `stmts` placed. The walk does not
     enter statements placed before (nested bodies lowered first): all their nodes have a
     location already."""
-    AST, shape_of = ast.AST, _SHAPE.get
+    AST, shape_of, leaves = ast.AST, _SHAPE.get, _LEAVES
     stack: list = list(stmts)
     pop, push = stack.pop, stack.append
     while stack:
@@ -61,12 +65,14 @@ def place(stmts: list[ast.stmt], line: int, col: int) -> list[ast.stmt]:
             d["col_offset"] = col
         for f in fields:
             v = d.get(f)
-            if type(v) is list:
-                for x in v:
-                    if isinstance(x, AST):
-                        push(x)
-            elif isinstance(v, AST):
-                push(v)
+            for x in v if type(v) is list else (v,):
+                if type(x) in leaves:
+                    xd = x.__dict__
+                    if "lineno" not in xd:
+                        xd["lineno"] = line
+                        xd["col_offset"] = col
+                elif isinstance(x, AST):
+                    push(x)
     for s in stmts:
         s.__dict__[PLACED] = True
     return stmts
@@ -125,8 +131,12 @@ def clone(node: T) -> T:
     return new
 
 
+_LOAD, _STORE = ast.Load(), ast.Store()
+"""The contexts every generated name and subscript shares (as `ast.parse`'s do)."""
+
+
 def nm(ident: str, store: bool = False) -> ast.Name:
-    return ast.Name(id=ident, ctx=ast.Store() if store else ast.Load())
+    return ast.Name(id=ident, ctx=_STORE if store else _LOAD)
 
 
 def const(v: object) -> ast.Constant:
@@ -150,7 +160,7 @@ def binop(left: ast.expr, op: ast.operator, right: ast.expr) -> ast.expr:
 
 
 def subscript(view: str, index: ast.expr, store: bool = False) -> ast.Subscript:
-    return ast.Subscript(value=nm(view), slice=index, ctx=ast.Store() if store else ast.Load())
+    return ast.Subscript(value=nm(view), slice=index, ctx=_STORE if store else _LOAD)
 
 
 def assign(target: ast.expr, value: ast.expr) -> ast.stmt:

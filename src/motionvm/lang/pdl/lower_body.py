@@ -333,22 +333,33 @@ class BodyLowerer(FlowLowering):
         return [ast.While(test=const(True), body=chain + tail, orelse=[])]
 
 
+_CLOCK_SKIPPED = frozenset({"pos", "body", "then_body", "else_body"})
+_CLOCK_FIELDS: dict[type, tuple[str, ...]] = {}
+"""Node class -> the fields `_reads_clock` looks into."""
+
+
 def _reads_clock(node: object) -> bool:
     """True if a statement (not counting nested bodies) reads fclk or tests TOUT."""
-    if isinstance(node, n.VarRef):
-        return node.name.lower() == "fclk"
-    if isinstance(node, n.Relation) and node.op == "TOUT":
-        return True
-    if isinstance(node, tuple):
-        return any(_reads_clock(x) for x in node)
-    fields = getattr(node, "__dataclass_fields__", None)
-    if not fields:
-        return False
-    return any(
-        _reads_clock(getattr(node, f))
-        for f in fields
-        if f not in ("pos", "body", "then_body", "else_body")
-    )
+    stack = [node]
+    pop, push, extend = stack.pop, stack.append, stack.extend
+    while stack:
+        x = pop()
+        cls = type(x)
+        if cls is tuple:
+            extend(x)
+        elif cls is n.VarRef:
+            if x.name.lower() == "fclk":
+                return True
+        elif cls is n.Relation and x.op == "TOUT":
+            return True
+        else:
+            fields = _CLOCK_FIELDS.get(cls)
+            if fields is None:
+                names = getattr(cls, "__dataclass_fields__", None) or ()
+                fields = _CLOCK_FIELDS[cls] = tuple(f for f in names if f not in _CLOCK_SKIPPED)
+            for f in fields:
+                push(getattr(x, f))
+    return False
 
 
 def _walk(items: tuple[n.Item, ...]):

@@ -53,7 +53,8 @@ class Parser:
     # ------------------------------------------------------------ token helpers
 
     def peek(self, k: int = 0) -> Token:
-        return self.toks[min(self.i + k, len(self.toks) - 1)]
+        toks, j = self.toks, self.i + k
+        return toks[j] if j < len(toks) else toks[-1]
 
     def next(self) -> Token:
         t = self.toks[self.i]

@@ -68,6 +68,9 @@ class _Item:
     hide: frozenset[str] = field(default_factory=frozenset)
 
 
+_NO_HIDE: frozenset[str] = frozenset()
+
+
 class _ExpansionTooLarge(Exception):
     pass
 
@@ -299,7 +302,7 @@ class Preprocessor:
 
     def expand(self, toks: list[Token], depth: int) -> list[Token]:
         """Expand every macro use in `toks`, rescanning results with the following tokens."""
-        stack = [_Item(t) for t in reversed(toks)]
+        stack = [_Item(t, _NO_HIDE) for t in reversed(toks)]
         out: list[Token] = []
         while stack:
             item = stack.pop()
