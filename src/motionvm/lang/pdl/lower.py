@@ -185,8 +185,8 @@ class ProgramLowering:
         body.body(items)
         body.uses_dispatch = True  # tasks enter at any label
         stmts = self._prologue() + [
-            assign(nm("rs", True), ast.List(elts=[], ctx=ast.Load())),
-            assign(nm("b", True), ast.Yield(value=const(0))),
+            assign(nm("rs", True), ast.List([], ast.Load())),
+            assign(nm("b", True), ast.Yield(const(0))),
         ]
         stmts += body.dispatcher()
         fn = _function("_main", ["T", "pc"], stmts, self.syms.program.pos.line)
@@ -204,32 +204,20 @@ class ProgramLowering:
         body.prepare_landings(self.syms.proc_labels.get(d.name, {}), d.body)
         body.body(d.body)
         stmts = self._prologue() + [
-            assign(nm("bp", True), ast.Attribute(value=nm("T"), attr="sp", ctx=ast.Load())),
-            assign(nm("d0", True), ast.Attribute(value=nm("T"), attr="depth", ctx=ast.Load())),
-            ast.Expr(
-                ast.Call(
-                    func=nm("_enter"),
-                    args=[nm("T"), const(bytes(kinds)), const(n_params)],
-                    keywords=[],
-                )
-            ),
+            assign(nm("bp", True), ast.Attribute(nm("T"), "sp", ast.Load())),
+            assign(nm("d0", True), ast.Attribute(nm("T"), "depth", ast.Load())),
+            ast.Expr(ast.Call(nm("_enter"), [nm("T"), const(bytes(kinds)), const(n_params)], [])),
         ]
         for i, (_p, v) in enumerate(zip(d.params, list(sym.locals.values())[:n_params])):
             view = "F" if storage_kind(v) == FLOAT and v.type != "instate" else "M"
-            slot = (
-                ast.BinOp(left=nm("bp"), op=ast.Add(), right=const(frame[id(v)]))
-                if frame[id(v)]
-                else nm("bp")
-            )
+            slot = ast.BinOp(nm("bp"), ast.Add(), const(frame[id(v)])) if frame[id(v)] else nm("bp")
             stmts.append(assign(subscript(view, slot, True), nm(f"a{i}")))
         if body.uses_dispatch:
             stmts.append(assign(nm("pc", True), const(0)))
-        stmts.append(assign(nm("rs", True), ast.List(elts=[], ctx=ast.Load())))
+        stmts.append(assign(nm("rs", True), ast.List([], ast.Load())))
         stmts += body.dispatcher()
         if not _contains_yield(stmts):
-            stmts.append(
-                ast.If(test=const(False), body=[ast.Expr(ast.Yield(value=None))], orelse=[])
-            )
+            stmts.append(ast.If(const(False), [ast.Expr(ast.Yield(None))], []))
         params = ["T", "b"] + [f"a{i}" for i in range(n_params)]
         return _function(self.proc_pyname(d.name), params, stmts, d.pos.line)
 
@@ -238,10 +226,10 @@ class ProgramLowering:
         main, body = self.main()
         views = [
             assign(nm("_" + name, True),
-                   subscript("_" + view, ast.Slice(lower=const(base), upper=const(end))))
+                   subscript("_" + view, ast.Slice(const(base), const(end))))
             for name, (view, base, end) in sorted(self.views.items())
         ]  # fmt: skip
-        module = finish_locations(ast.Module(body=views + funcs + [main], type_ignores=[]))
+        module = finish_locations(ast.Module(views + funcs + [main], []))
         code = compile_module(module, self.path)
         globals_: dict[str, GlobalVar] = {}
         kinds: list[tuple[int, int, int]] = []
@@ -275,9 +263,9 @@ class ProgramLowering:
 
 
 def _function(name: str, params: list[str], body: list[ast.stmt], line: int) -> ast.FunctionDef:
-    args = ast.arguments(posonlyargs=[], args=[ast.arg(arg=p) for p in params], kwonlyargs=[],
+    args = ast.arguments(posonlyargs=[], args=[ast.arg(p) for p in params], kwonlyargs=[],
                          kw_defaults=[], defaults=[])  # fmt: skip
-    fn = ast.FunctionDef(name=name, args=args, body=body, decorator_list=[], returns=None)
+    fn = ast.FunctionDef(name, args, body, [], None)
     fn.lineno = line
     fn.col_offset = 0
     return fn

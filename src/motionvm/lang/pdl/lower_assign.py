@@ -88,10 +88,10 @@ def _func(x: ExprLowering, t: n.VarRef | n.Deref, f: n.FuncCall) -> list[ast.stm
         src, kind = x.target_address(args[0])  # type: ignore[arg-type]
         got = call("_" + name, src, x.read(args[1])[0], const(kind))
         rkind = FLT if kind == FLOAT else (WIDE if name == "memsum" else INT)
-        test = ast.Compare(left=nm("_t"), ops=[ast.IsNot()], comparators=[const(None)])
+        test = ast.Compare(nm("_t"), [ast.IsNot()], [const(None)])
         return [
             assign(nm("_t", True), got),
-            ast.If(test=test, body=x.store(t, nm("_t"), rkind), orelse=[]),
+            ast.If(test, x.store(t, nm("_t"), rkind), []),
         ]
     values = [x.read(a) for a in args]
     if name in ("max", "min"):

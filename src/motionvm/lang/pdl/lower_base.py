@@ -136,15 +136,15 @@ _LOAD, _STORE = ast.Load(), ast.Store()
 
 
 def nm(ident: str, store: bool = False) -> ast.Name:
-    return ast.Name(id=ident, ctx=_STORE if store else _LOAD)
+    return ast.Name(ident, _STORE if store else _LOAD)
 
 
 def const(v: object) -> ast.Constant:
-    return ast.Constant(value=v)
+    return ast.Constant(v)
 
 
 def call(func: str, *args: ast.expr) -> ast.Call:
-    return ast.Call(func=nm(func), args=list(args), keywords=[])
+    return ast.Call(nm(func), list(args), [])
 
 
 def binop(left: ast.expr, op: ast.operator, right: ast.expr) -> ast.expr:
@@ -156,15 +156,15 @@ def binop(left: ast.expr, op: ast.operator, right: ast.expr) -> ast.expr:
         return const(left.value + right.value)
     if isinstance(right, ast.Constant) and right.value == 0 and isinstance(op, ast.Add):
         return left
-    return ast.BinOp(left=left, op=op, right=right)
+    return ast.BinOp(left, op, right)
 
 
 def subscript(view: str, index: ast.expr, store: bool = False) -> ast.Subscript:
-    return ast.Subscript(value=nm(view), slice=index, ctx=_STORE if store else _LOAD)
+    return ast.Subscript(nm(view), index, _STORE if store else _LOAD)
 
 
 def assign(target: ast.expr, value: ast.expr) -> ast.stmt:
-    return ast.Assign(targets=[target], value=value)
+    return ast.Assign([target], value)
 
 
 def storage_kind(sym: VarSym) -> int:

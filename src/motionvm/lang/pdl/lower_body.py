@@ -80,9 +80,7 @@ class BodyLowerer(FlowLowering):
 
     def flush(self) -> None:
         if self.pending:
-            self.cur.append(
-                ast.AugAssign(target=nm("b", True), op=ast.Sub(), value=const(self.pending))
-            )
+            self.cur.append(ast.AugAssign(nm("b", True), ast.Sub(), const(self.pending)))
             self.pending = 0
 
     def new_segment(self) -> int:
@@ -111,15 +109,15 @@ class BodyLowerer(FlowLowering):
     def end_task(self) -> list[ast.stmt]:
         """End the whole task: from the top level `return`, from a procedure `raise _Exit`."""
         if self.proc is None:
-            return [ast.Return(value=None)]
-        return [ast.Raise(exc=nm("_Exit"), cause=None)]
+            return [ast.Return(None)]
+        return [ast.Raise(nm("_Exit"), None)]
 
     def leave_proc(self) -> list[ast.stmt]:
         """Return from a procedure: drop its frame, give the budget back to the caller."""
         return [
-            assign(ast.Attribute(value=nm("T"), attr="sp", ctx=ast.Store()), nm("bp")),
-            assign(ast.Attribute(value=nm("T"), attr="depth", ctx=ast.Store()), nm("d0")),
-            ast.Return(value=nm("b")),
+            assign(ast.Attribute(nm("T"), "sp", ast.Store()), nm("bp")),
+            assign(ast.Attribute(nm("T"), "depth", ast.Store()), nm("d0")),
+            ast.Return(nm("b")),
         ]
 
     # ------------------------------------------------------------ bodies
@@ -202,7 +200,7 @@ class BodyLowerer(FlowLowering):
     def s_StateAssign(self, s: n.StateAssign, flat: bool) -> None:
         self.pending += 1
         bit, _ = self.x.state_ref(s.state)
-        value = ast.IfExp(test=self.x.cond(s.cond), body=const(1), orelse=const(0))
+        value = ast.IfExp(self.x.cond(s.cond), const(1), const(0))
         self.emit([ast.Expr(call("_set", bit, value))], s.pos)
 
     def s_SetState(self, s: n.SetState, flat: bool) -> None:
@@ -230,8 +228,7 @@ class BodyLowerer(FlowLowering):
     def s_CallLabel(self, s: n.CallLabel, flat: bool) -> None:
         self.pending += 1
         ret = const(-1)
-        self.emit([ast.Expr(ast.Call(func=ast.Attribute(value=nm("rs"), attr="append", ctx=ast.Load()),
-                                     args=[ret], keywords=[])),
+        self.emit([ast.Expr(ast.Call(ast.Attribute(nm("rs"), "append", ast.Load()), [ret], [])),
                    ast.Expr(call("_push", nm("T")))], s.pos)  # fmt: skip
         self.jump(self.label_target(s.label), s.pos, check=True)
         ret.value = self.new_segment()
@@ -240,16 +237,14 @@ class BodyLowerer(FlowLowering):
         """`ret`: back to the last `call`, or the end of the task if there is none."""
         self.flush()
         self.uses_dispatch = True
-        pop = ast.Call(
-            func=ast.Attribute(value=nm("rs"), attr="pop", ctx=ast.Load()), args=[], keywords=[]
-        )
+        pop = ast.Call(ast.Attribute(nm("rs"), "pop", ast.Load()), [], [])
         back = [
             ast.Expr(call("_pop", nm("T"))),
             assign(nm("pc", True), pop),
             check_budget(),
             ast.Continue(),
         ]
-        self.emit([ast.If(test=nm("rs"), body=back, orelse=[])] + self.end_task(), pos)
+        self.emit([ast.If(nm("rs"), back, [])] + self.end_task(), pos)
 
     def s_Simple(self, s: n.Simple, flat: bool) -> None:
         self.pending += 1
@@ -269,9 +264,9 @@ class BodyLowerer(FlowLowering):
         self.flush()
         amount, _ = self.x.read(s.amount)
         req = ast.Tuple(
-            elts=[const(SLEEP if s.command == "sleep" else WAIT), amount, nm("b")], ctx=ast.Load()
+            [const(SLEEP if s.command == "sleep" else WAIT), amount, nm("b")], ast.Load()
         )
-        self.emit([assign(nm("b", True), ast.Yield(value=req))], s.pos)
+        self.emit([assign(nm("b", True), ast.Yield(req))], s.pos)
 
     def s_Kill(self, s: n.Kill, flat: bool) -> None:
         self.pending += 1
@@ -280,7 +275,7 @@ class BodyLowerer(FlowLowering):
     def s_Print(self, s: n.Print, flat: bool) -> None:
         self.pending += 1
         k = self.prog.add_format(s)
-        args = ast.Tuple(elts=[self.x.read(a)[0] for a in s.args], ctx=ast.Load())
+        args = ast.Tuple([self.x.read(a)[0] for a in s.args], ast.Load())
         self.emit([ast.Expr(call("_print", nm("T"), const(k), args))], s.pos)
         if s.command == "retprintl":
             self.ret(s.pos)
@@ -292,7 +287,7 @@ class BodyLowerer(FlowLowering):
         assert isinstance(proc, ProcSym)
         args = [nm("T"), nm("b")] + [self.arg(a, p) for a, p in zip(s.args, proc.params)]
         gen = call(self.prog.proc_pyname(proc.name), *args)
-        self.emit([assign(nm("b", True), ast.YieldFrom(value=gen))], s.pos)
+        self.emit([assign(nm("b", True), ast.YieldFrom(gen))], s.pos)
 
     def arg(self, a: n.Operand, p: n.Param) -> ast.expr:
         if p.type == "instate":
@@ -310,9 +305,9 @@ class BodyLowerer(FlowLowering):
     def s_Till(self, s: n.Till, flat: bool) -> None:
         self.pending += 1
         self.flush()
-        wait = assign(nm("b", True), ast.Yield(value=const(0)))
-        test = ast.UnaryOp(op=ast.Not(), operand=self.x.cond(s.cond))
-        self.emit([ast.While(test=test, body=[wait], orelse=[])], s.pos)
+        wait = assign(nm("b", True), ast.Yield(const(0)))
+        test = ast.UnaryOp(ast.Not(), self.x.cond(s.cond))
+        self.emit([ast.While(test, [wait], [])], s.pos)
 
     # ------------------------------------------------------------ assembly
 
@@ -328,9 +323,9 @@ class BodyLowerer(FlowLowering):
         for k, seg in enumerate(self.segments):
             if not seg:
                 continue
-            test = ast.Compare(left=nm("pc"), ops=[ast.LtE()], comparators=[const(k)])
-            chain.append(ast.If(test=test, body=seg, orelse=[]))
-        return [ast.While(test=const(True), body=chain + tail, orelse=[])]
+            test = ast.Compare(nm("pc"), [ast.LtE()], [const(k)])
+            chain.append(ast.If(test, seg, []))
+        return [ast.While(const(True), chain + tail, [])]
 
 
 _CLOCK_SKIPPED = frozenset({"pos", "body", "then_body", "else_body"})

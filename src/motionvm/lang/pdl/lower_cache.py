@@ -123,9 +123,7 @@ class Promotion:
         """`M.__setitem__(i, m_i)` for each written scalar: memory right for a read."""
         return [
             ast.Call(
-                func=ast.Attribute(value=nm(view), attr="__setitem__", ctx=ast.Load()),
-                args=[ast.Constant(i), nm(local)],
-                keywords=[],
+                ast.Attribute(nm(view), "__setitem__", ast.Load()), [ast.Constant(i), nm(local)], []
             )
             for (view, i), local in self.slots.items()
             if local in self.written
@@ -135,11 +133,10 @@ class Promotion:
         """`if L is not None: <write L back>; L = None` for each list-backed array."""
         out: list[ast.stmt] = []
         for base, (_size, local) in self.lists.items():
-            test = ast.Compare(left=nm(local), ops=[ast.IsNot()], comparators=[ast.Constant(None)])
-            back = ast.Expr(ast.Call(func=nm("_wbl"), args=[ast.Constant(base), nm(local),
-                                                            ast.Constant(1)], keywords=[]))  # fmt: skip
-            out.append(ast.If(test=test, body=[back, assign(nm(local, True), ast.Constant(None))],
-                              orelse=[]))  # fmt: skip
+            test = ast.Compare(nm(local), [ast.IsNot()], [ast.Constant(None)])
+            back = ast.Expr(ast.Call(nm("_wbl"), [ast.Constant(base), nm(local),
+                                                            ast.Constant(1)], []))  # fmt: skip
+            out.append(ast.If(test, [back, assign(nm(local, True), ast.Constant(None))], []))  # fmt: skip
         return out
 
     def local_of(self, view: str, index: int) -> str | None:
@@ -160,10 +157,8 @@ class Promotion:
 
     def wrap(self, body: list[ast.stmt]) -> list[ast.stmt]:
         """loads; try: body except Exception: stores; raise; stores."""
-        handler = ast.ExceptHandler(
-            type=nm("Exception"), name=None, body=self.stores() + [ast.Raise()]
-        )
-        guarded = ast.Try(body=body, handlers=[handler], orelse=[], finalbody=[])
+        handler = ast.ExceptHandler(nm("Exception"), None, self.stores() + [ast.Raise()])
+        guarded = ast.Try(body, [handler], [], [])
         return self.loads() + [guarded] + self.stores()
 
 

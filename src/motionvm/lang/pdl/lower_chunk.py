@@ -389,7 +389,7 @@ class _Ranges:
         out: list[ast.expr] = []
         for table, op in ((self.guard_ge, ast.GtE), (self.guard_le, ast.LtE)):
             for terms, v in table.items():
-                out.append(ast.Compare(left=_terms_expr(terms), ops=[op()], comparators=[const(v)]))
+                out.append(ast.Compare(_terms_expr(terms), [op()], [const(v)]))
         return out
 
     # ------------------------------------------------------------ the walk
@@ -519,7 +519,7 @@ class _Ranges:
         r = self.rng(s.value, st)
         if not self.require(r, -_F32_EXACT, _F32_EXACT):
             return None
-        value = ast.BinOp(left=s.value, op=ast.Add(), right=const(0.0))
+        value = ast.BinOp(s.value, ast.Add(), const(0.0))
         return ast.copy_location(assign(nm(nxt.targets[0].id, True), value), nxt)
 
     def exprs(self, s: ast.Assign, st: dict[str, Range]) -> ast.Assign:
@@ -586,7 +586,7 @@ class _Ranges:
             base = addr.left.value
             vname = f"v{view}{base}"
             self.views[(view, base)] = vname
-            return ast.copy_location(ast.Subscript(value=nm(vname), slice=nm(mid.id), ctx=e.ctx), e)
+            return ast.copy_location(ast.Subscript(nm(vname), nm(mid.id), e.ctx), e)
         if self.require(r, lo, hi - 1):
             e.slice = addr
         return e
@@ -610,13 +610,11 @@ def _terms_expr(terms: tuple[tuple[str, int], ...]) -> ast.expr:
     e: ast.expr | None = None
     for name, coef in terms:
         mag = abs(coef)
-        term: ast.expr = (
-            nm(name) if mag == 1 else ast.BinOp(left=const(mag), op=ast.Mult(), right=nm(name))
-        )
+        term: ast.expr = nm(name) if mag == 1 else ast.BinOp(const(mag), ast.Mult(), nm(name))
         if e is None:
-            e = term if coef > 0 else ast.UnaryOp(op=ast.USub(), operand=term)
+            e = term if coef > 0 else ast.UnaryOp(ast.USub(), term)
         else:
-            e = ast.BinOp(left=e, op=ast.Add() if coef > 0 else ast.Sub(), right=term)
+            e = ast.BinOp(e, ast.Add() if coef > 0 else ast.Sub(), term)
     assert e is not None
     return e
 
@@ -723,21 +721,19 @@ def chunk_loop(
         an.vars = {}
         fast = checked
         views.clear()
-    guard = [ast.Compare(left=nm(ck), ops=[ast.Gt()], comparators=[const(0)])] + (
-        an.guard() if not an.failed else []
-    )
-    test = guard[0] if len(guard) == 1 else ast.BoolOp(op=ast.And(), values=guard)
+    guard = [ast.Compare(nm(ck), [ast.Gt()], [const(0)])] + (an.guard() if not an.failed else [])
+    test = guard[0] if len(guard) == 1 else ast.BoolOp(ast.And(), guard)
 
     def chunk(stmts: list[ast.stmt]) -> ast.stmt:
-        rng = ast.Call(func=nm("range"), args=[nm(ck)], keywords=[])
-        return ast.For(target=nm("_", True), iter=rng, body=stmts or [ast.Pass()], orelse=[])
+        rng = ast.Call(nm("range"), [nm(ck)], [])
+        return ast.For(nm("_", True), rng, stmts or [ast.Pass()], [])
 
     run: list[ast.stmt] = [
-        ast.AugAssign(target=nm(cn, True), op=ast.Sub(), value=nm(ck)),
+        ast.AugAssign(nm(cn, True), ast.Sub(), nm(ck)),
         ast.AugAssign(
-            target=nm("b", True),
-            op=ast.Sub(),
-            value=nm(ck) if fixed == 1 else binop(const(fixed), ast.Mult(), nm(ck)),
+            nm("b", True),
+            ast.Sub(),
+            nm(ck) if fixed == 1 else binop(const(fixed), ast.Mult(), nm(ck)),
         ),
     ]
     flush = promo.flush_lists() if promo is not None else []
@@ -747,44 +743,26 @@ def chunk_loop(
     else:
         base, size, local, fast_list = listed
         # load the list when the chunk is long enough to pay for the copies
-        load = ast.If(
-            test=ast.BoolOp(op=ast.And(), values=[
-                ast.Compare(left=nm(local), ops=[ast.Is()], comparators=[const(None)]),
-                ast.Compare(left=binop(nm(ck), ast.Mult(), const(4)), ops=[ast.GtE()],
-                            comparators=[const(size)])]),
-            body=[assign(nm(local, True), ast.Call(
-                func=ast.Attribute(value=ast.Subscript(
-                    value=nm(views[("M", base)]), slice=ast.Slice(lower=const(0), upper=const(size)),
-                    ctx=ast.Load()), attr="tolist", ctx=ast.Load()), args=[], keywords=[]))],
-            orelse=[])  # fmt: skip
+        load = ast.If(ast.BoolOp(ast.And(), [
+                ast.Compare(nm(local), [ast.Is()], [const(None)]),
+                ast.Compare(binop(nm(ck), ast.Mult(), const(4)), [ast.GtE()], [const(size)])]), [assign(nm(local, True), ast.Call(ast.Attribute(ast.Subscript(nm(views[("M", base)]), ast.Slice(lower=const(0), upper=const(size)), ast.Load()), "tolist", ast.Load()), [], []))], [])  # fmt: skip
         use = ast.If(
-            test=ast.Compare(left=nm(local), ops=[ast.IsNot()], comparators=[const(None)]),
-            body=[chunk(fast_list)],
-            orelse=[chunk(fast)],
+            ast.Compare(nm(local), [ast.IsNot()], [const(None)]), [chunk(fast_list)], [chunk(fast)]
         )
         run += [load, use]
-    slow = (
-        [ast.AugAssign(target=nm(cn, True), op=ast.Sub(), value=const(1))]
-        + flush
-        + body
-        + [slow_tail]
-    )
+    slow = [ast.AugAssign(nm(cn, True), ast.Sub(), const(1))] + flush + body + [slow_tail]
     size = binop(binop(nm("b"), ast.Sub(), const(1)), ast.FloorDiv(), const(kmax))
     loop_body: list[ast.stmt] = [
         assign(nm(ck, True), size),
-        ast.If(
-            test=ast.Compare(left=nm(ck), ops=[ast.Gt()], comparators=[nm(cn)]),
-            body=[assign(nm(ck, True), nm(cn))],
-            orelse=[],
-        ),
-        ast.If(test=test, body=run, orelse=slow),
+        ast.If(ast.Compare(nm(ck), [ast.Gt()], [nm(cn)]), [assign(nm(ck, True), nm(cn))], []),
+        ast.If(test, run, slow),
     ]
     out: list[ast.stmt] = []
     for (view, base), vname in sorted(views.items()):
         out.append(assign(nm(vname, True), nm("_" + vname)))
         lw.prog.views[vname] = (view, base, _VIEW_END[view])
     out.append(assign(nm(cn, True), times))
-    out.append(ast.While(test=nm(cn), body=loop_body, orelse=[]))
+    out.append(ast.While(nm(cn), loop_body, []))
     return out
 
 
@@ -830,10 +808,9 @@ def _explicit_wraps(body: list[ast.stmt], local: str) -> list[ast.stmt]:
             and s.body[0].targets[0].value.id == local
         ):
             st = s.body[0]
-            walrus = ast.NamedExpr(target=nm("_w", True), value=st.value)
-            test = ast.Compare(left=const(-0x8000_0000), ops=[ast.LtE(), ast.LtE()],
-                               comparators=[walrus, const(0x7FFF_FFFF)])  # fmt: skip
-            value = ast.IfExp(test=test, body=nm("_w"), orelse=wrap_inline(nm("_w"), 32))
+            walrus = ast.NamedExpr(nm("_w", True), st.value)
+            test = ast.Compare(const(-0x8000_0000), [ast.LtE(), ast.LtE()], [walrus, const(0x7FFF_FFFF)])  # fmt: skip
+            value = ast.IfExp(test, nm("_w"), wrap_inline(nm("_w"), 32))
             out.append(ast.copy_location(assign(st.targets[0], value), st))
             continue
         if isinstance(s, ast.If):

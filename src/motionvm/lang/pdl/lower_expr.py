@@ -52,7 +52,7 @@ USER_END = USER_BASE + USER_MEMORY_WORDS
 
 
 def _cmp(left: ast.expr, op: ast.cmpop, right: ast.expr) -> ast.Compare:
-    return ast.Compare(left=left, ops=[op], comparators=[right])
+    return ast.Compare(left, [op], [right])
 
 
 _BINOPS = {"+": ast.Add, "-": ast.Sub, "*": ast.Mult, "/": ast.Div, "&": ast.BitAnd,
@@ -79,23 +79,21 @@ def _store_local(local: str, bits: int, value: ast.expr, kind: str) -> list[ast.
     fix = assign(nm(local, True), wrap_inline(nm(local), bits))
     step = _constant_step(value)
     if step is not None and step > 0:  # x + 1 can only overflow upwards
-        test: ast.expr = ast.Compare(left=nm(local), ops=[ast.Gt()], comparators=[const(hi)])
+        test: ast.expr = ast.Compare(nm(local), [ast.Gt()], [const(hi)])
     elif step is not None:
-        test = ast.Compare(left=nm(local), ops=[ast.Lt()], comparators=[const(lo)])
+        test = ast.Compare(nm(local), [ast.Lt()], [const(lo)])
     else:
-        inside = ast.Compare(
-            left=const(lo), ops=[ast.LtE(), ast.LtE()], comparators=[nm(local), const(hi)]
-        )
-        test = ast.UnaryOp(op=ast.Not(), operand=inside)
-    return out + [ast.If(test=test, body=[fix], orelse=[])]
+        inside = ast.Compare(const(lo), [ast.LtE(), ast.LtE()], [nm(local), const(hi)])
+        test = ast.UnaryOp(ast.Not(), inside)
+    return out + [ast.If(test, [fix], [])]
 
 
 def wrap_inline(v: ast.expr, bits: int) -> ast.expr:
     """`((v + 2**(bits-1)) & (2**bits - 1)) - 2**(bits-1)`: w32/w16 without a call."""
     half = 1 << (bits - 1)
-    masked = binop(ast.BinOp(left=v, op=ast.Add(), right=const(half)), ast.BitAnd(),
+    masked = binop(ast.BinOp(v, ast.Add(), const(half)), ast.BitAnd(),
                    const((1 << bits) - 1))  # fmt: skip
-    return ast.BinOp(left=masked, op=ast.Sub(), right=const(half))
+    return ast.BinOp(masked, ast.Sub(), const(half))
 
 
 def _constant_step(value: ast.expr) -> int | None:
@@ -125,11 +123,10 @@ def _in_span(
         and isinstance(hi, ast.Constant)
     ):
         base = addr.left.value
-        test = ast.Compare(left=const(lo.value - base), ops=[ast.LtE(), ast.Lt()],
-                           comparators=[nm(idx.id), const(hi.value - base)])  # fmt: skip
+        test = ast.Compare(const(lo.value - base), [ast.LtE(), ast.Lt()], [nm(idx.id), const(hi.value - base)])  # fmt: skip
         return test, addr
-    walrus = ast.NamedExpr(target=nm(tmp, True), value=addr)
-    return ast.Compare(left=lo, ops=[ast.LtE(), ast.Lt()], comparators=[walrus, hi]), nm(tmp)
+    walrus = ast.NamedExpr(nm(tmp, True), addr)
+    return ast.Compare(lo, [ast.LtE(), ast.Lt()], [walrus, hi]), nm(tmp)
 
 
 class ExprLowering:
@@ -185,8 +182,7 @@ class ExprLowering:
             if span is None:
                 return view, full, kind
             flush = self.promo.flush_exprs()  # type: ignore[union-attr]
-            slow = ast.Subscript(value=ast.Tuple(elts=flush + [full], ctx=ast.Load()),
-                                 slice=const(-1), ctx=ast.Load())  # fmt: skip
+            slow = ast.Subscript(ast.Tuple(flush + [full], ast.Load()), const(-1), ast.Load())  # fmt: skip
             fast = self._checked(clone(addr), span[0], span[1], v.name, idx, slow)
             return view, fast, kind
         idx = self.index_value(v.index)
@@ -272,7 +268,7 @@ class ExprLowering:
         test, fast = _in_span(addr, lo, hi, idx, "_i")
         if orelse is None:
             orelse = call("_oob", const(name), clone(idx))
-        return ast.IfExp(test=test, body=fast, orelse=orelse)
+        return ast.IfExp(test, fast, orelse)
 
     # ------------------------------------------------------------ reads
 
@@ -380,11 +376,11 @@ class ExprLowering:
             bit, is_const = self.state_ref(c.ref)
             return subscript("ST", bit) if is_const else call("_stv", bit)
         if isinstance(c, n.Not):
-            return ast.UnaryOp(op=ast.Not(), operand=self.cond(c.operand))
+            return ast.UnaryOp(ast.Not(), self.cond(c.operand))
         if isinstance(c, n.Logic):
             e = self.cond(c.terms[0])
             for op, t in zip(c.ops, c.terms[1:]):
-                e = ast.BoolOp(op=ast.And() if op == "&" else ast.Or(), values=[e, self.cond(t)])
+                e = ast.BoolOp(ast.And() if op == "&" else ast.Or(), [e, self.cond(t)])
             return e
         if isinstance(c, n.BitTest):
             v = self.read(c.var)[0]
@@ -407,11 +403,11 @@ class ExprLowering:
         """(expression, kind) of the right-hand side forms that produce one number."""
         if isinstance(v, n.Neg):
             e, k = self.read(v.operand)
-            return ast.UnaryOp(op=ast.USub(), operand=e), (FLT if k == FLT else WIDE)
+            return ast.UnaryOp(ast.USub(), e), (FLT if k == FLT else WIDE)
         if isinstance(v, n.BinOp):
             return self.binop(v.op, self.read(v.left), self.read(v.right))
         if isinstance(v, n.SttoVar):
-            return ast.IfExp(test=self.cond(v.cond), body=const(1), orelse=const(0)), I16
+            return ast.IfExp(self.cond(v.cond), const(1), const(0)), I16
         if isinstance(v, n.SizeOf):
             sym = self.sym(v)
             size = sym.size if isinstance(sym, VarSym) else 1
@@ -424,10 +420,10 @@ class ExprLowering:
         (le, lk), (re_, rk) = lhs, rhs
         is_float = FLT in (lk, rk)
         if op == "/":
-            return ast.BinOp(left=le, op=ast.Div(), right=re_), FLT
+            return ast.BinOp(le, ast.Div(), re_), FLT
         if op == "%":
             return call("_mod", le, re_), INT
-        e = ast.BinOp(left=le, op=_BINOPS[op](), right=re_)
+        e = ast.BinOp(le, _BINOPS[op](), re_)
         if is_float:
             return e, FLT
         if op in "&|@":
@@ -478,8 +474,7 @@ class ExprLowering:
         test, fast = _in_span(clone(addr), span[0], span[1], idx, "_j")
         full = self._checked(addr, lo, hi, name, idx)
         slow = self._store_at(view, full, skind, clone(value), kind)
-        node = ast.If(test=test, body=self._store_at(view, fast, skind, value, kind),
-                      orelse=promo.stores() + slow + promo.loads())  # fmt: skip
+        node = ast.If(test, self._store_at(view, fast, skind, value, kind), promo.stores() + slow + promo.loads())  # fmt: skip
         if isinstance(test.comparators[0], ast.Name):
             node.alias_guard = (view, base)  # type: ignore[attr-defined]
         return node
@@ -500,16 +495,14 @@ class ExprLowering:
         if isinstance(value, ast.BinOp) and isinstance(value.op, ast.Mult):
             # a product usually leaves 32 bits: test it instead of raising ValueError
             lo, hi = (-0x8000, 0x7FFF) if bits == 16 else (-0x8000_0000, 0x7FFF_FFFF)
-            walrus = ast.NamedExpr(target=nm("_w", True), value=value)
-            test = ast.Compare(
-                left=const(lo), ops=[ast.LtE(), ast.LtE()], comparators=[walrus, const(hi)]
-            )
-            wrapped = ast.IfExp(test=test, body=nm("_w"), orelse=wrap_inline(nm("_w"), bits))
+            walrus = ast.NamedExpr(nm("_w", True), value)
+            test = ast.Compare(const(lo), [ast.LtE(), ast.LtE()], [walrus, const(hi)])
+            wrapped = ast.IfExp(test, nm("_w"), wrap_inline(nm("_w"), bits))
             return [assign(subscript(view, ix, True), wrapped)]
         fast = assign(subscript(view, ix, True), value)
         slow = assign(subscript(view, clone(ix), True), call(wrap, clone(value)))
-        handler = ast.ExceptHandler(type=nm("ValueError"), name=None, body=[slow])
-        return [ast.Try(body=[fast], handlers=[handler], orelse=[], finalbody=[])]
+        handler = ast.ExceptHandler(nm("ValueError"), None, [slow])
+        return [ast.Try([fast], [handler], [], [])]
 
     def auto_increments(self, *operands: object) -> list[ast.stmt]:
         """`n += 1` for every `a[n+]` among the operands, in the order given."""

@@ -70,11 +70,11 @@ def needs_flat(s: object) -> bool:
 
 def check_budget(promo: Promotion | None = None) -> ast.stmt:
     """`if b <= 0: b = yield b`, saving and reloading promoted scalars around the yield."""
-    test = ast.Compare(left=nm("b"), ops=[ast.LtE()], comparators=[const(0)])
-    body = [assign(nm("b", True), ast.Yield(value=nm("b")))]
+    test = ast.Compare(nm("b"), [ast.LtE()], [const(0)])
+    body = [assign(nm("b", True), ast.Yield(nm("b")))]
     if promo is not None:
         body = promo.stores() + body + promo.loads()
-    return ast.If(test=test, body=body, orelse=[])
+    return ast.If(test, body, [])
 
 
 class BodyContext(Protocol):
@@ -120,12 +120,11 @@ class FlowLowering:
             self.flush()
             then = self.native_block(s.then_body, 0, False)
             orelse = self.native_block(s.else_body, 0, False) if s.else_body else []
-            self.emit([ast.If(test=self.x.cond(s.cond), body=then, orelse=orelse)], s.pos)
+            self.emit([ast.If(self.x.cond(s.cond), then, orelse)], s.pos)
             return
         skip = const(-1)
         self.flush()
-        self.emit([ast.If(test=ast.UnaryOp(op=ast.Not(), operand=self.x.cond(s.cond)),
-                          body=[assign(nm("pc", True), skip), ast.Continue()], orelse=[])], s.pos)  # fmt: skip
+        self.emit([ast.If(ast.UnaryOp(ast.Not(), self.x.cond(s.cond)), [assign(nm("pc", True), skip), ast.Continue()], [])], s.pos)  # fmt: skip
         self.uses_dispatch = True
         self.block(s.then_body, flat=True)
         if s.else_body is not None:
@@ -144,9 +143,7 @@ class FlowLowering:
             promo = self.begin_promotion(s)
             body = self.native_block(s.body, 1, True)
             self.emit(
-                self.end_promotion(
-                    promo, [ast.While(test=self.x.cond(s.cond), body=body, orelse=[])]
-                ),
+                self.end_promotion(promo, [ast.While(self.x.cond(s.cond), body, [])]),
                 s.pos,
             )
             return
@@ -154,8 +151,7 @@ class FlowLowering:
         self.pending += 1
         self.flush()
         exit_ = const(-1)
-        self.emit([ast.If(test=ast.UnaryOp(op=ast.Not(), operand=self.x.cond(s.cond)),
-                          body=[assign(nm("pc", True), exit_), ast.Continue()], orelse=[])], s.pos)  # fmt: skip
+        self.emit([ast.If(ast.UnaryOp(ast.Not(), self.x.cond(s.cond)), [assign(nm("pc", True), exit_), ast.Continue()], [])], s.pos)  # fmt: skip
         self.block(s.body, flat=True)
         self.jump(const(head), s.pos, check=True)
         exit_.value = self.new_segment()
@@ -164,9 +160,7 @@ class FlowLowering:
         self.pending += 1
         count, _ = self.x.read(s.count)
         # n is read once as an unsigned 16-bit count, 0 meaning 65536.
-        times = ast.BoolOp(
-            op=ast.Or(), values=[binop(count, ast.BitAnd(), const(0xFFFF)), const(65536)]
-        )
+        times = ast.BoolOp(ast.Or(), [binop(count, ast.BitAnd(), const(0xFFFF)), const(65536)])
         if not (flat and needs_flat(s)):
             self.flush()
             promo = self.begin_promotion(s)
@@ -174,15 +168,14 @@ class FlowLowering:
             if promo is not None:
                 count, _ = self.x.read(s.count)
                 times = ast.BoolOp(
-                    op=ast.Or(), values=[binop(count, ast.BitAnd(), const(0xFFFF)), const(65536)]
+                    ast.Or(), [binop(count, ast.BitAnd(), const(0xFFFF)), const(65536)]
                 )
             tail = check_budget(self.x.promo)
             chunked = (
                 chunk_loop(self, s, body, times, self.x.promo, tail) if self.prog.chunk else None
             )
             if chunked is None:
-                chunked = [ast.For(target=nm("_", True), iter=call("range", times),
-                                   body=body + [tail], orelse=[])]  # fmt: skip
+                chunked = [ast.For(nm("_", True), call("range", times), body + [tail], [])]  # fmt: skip
                 if self.x.promo is not None:
                     chunked = self.x.promo.flush_lists() + chunked
             self.emit(self.end_promotion(promo, chunked), s.pos)
@@ -194,10 +187,10 @@ class FlowLowering:
         self.block(s.body, flat=True)
         self.pending += 1
         self.flush()
-        dec = ast.AugAssign(target=nm(c, True), op=ast.Sub(), value=const(1))
+        dec = ast.AugAssign(nm(c, True), ast.Sub(), const(1))
         again = [assign(nm("pc", True), const(top)), check_budget(), ast.Continue()]
-        test = ast.Compare(left=nm(c), ops=[ast.Gt()], comparators=[const(0)])
-        self.emit([dec, ast.If(test=test, body=again, orelse=[])], s.pos)
+        test = ast.Compare(nm(c), [ast.Gt()], [const(0)])
+        self.emit([dec, ast.If(test, again, [])], s.pos)
         self.new_segment()
 
     def begin_promotion(self: BodyContext, s: n.Loop | n.While) -> Promotion | None:
