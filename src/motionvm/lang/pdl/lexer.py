@@ -120,13 +120,13 @@ _DIGITS = frozenset("0123456789")
 """ASCII digits only: `str.isdigit` also accepts digits of other scripts and superscripts."""
 
 _COMMON = re.compile(
-    r"(?P<space>[ \t\r\f\v]+)|(?P<newline>\n)|(?P<word>[A-Za-z_][A-Za-z0-9_]*)"
+    r"[ \t\r\f\v]*+(?:(?P<newline>\n)|(?P<word>[A-Za-z_][A-Za-z0-9_]*)"
     r"|(?P<int>[0-9]++(?![.xX]))"  # not a float, a hexadecimal constant or `1..`
     r"|(?P<punct>\+=|-=|\*=|/=|%=|&=|\|=|@=|\+\+|--|<=|>=|<>|->"
-    r"|[=+\-*%&|@~<>()\[\]{},;:]|/(?![/*]))"
+    r"|[=+\-*%&|@~<>()\[\]{},;:]|/(?![/*])))"
 )
-"""The common tokens, matched at once: what `run` reads one character at a time
-otherwise (the same tokens; anything else, and every error, takes that way)."""
+"""A common token after spaces, matched at once: what `run` reads one character at a
+time otherwise (the same tokens; anything else, and every error, takes that way)."""
 
 
 def _shown(text: str, limit: int = 24) -> str:
@@ -180,34 +180,32 @@ class _Lexer:
         text, path, out = self.text, self.path, self.out
         common = _COMMON.match
         while self.i < len(text):
-            m = common(text, self.i)
-            if m is not None:
-                kind, word = m.lastgroup, m.group()
+            i, line, col, bol = self.i, self.line, self.col, self.bol
+            while (m := common(text, i)) is not None:
+                kind, end = m.lastgroup, m.end()
                 if kind == "newline":
-                    self.line += 1
-                    self.col = 1
-                    self.bol = True
-                    self.i += 1
+                    line, col, bol, i = line + 1, 1, True, end
                     continue
-                col = self.col
-                self.i = m.end()
-                self.col = col + len(word)
-                if kind == "space":
-                    continue
-                p = SourcePos(path, self.line, col)
+                word = m.group(kind)
+                col += end - i - len(word)  # the spaces before it
+                p = SourcePos(path, line, col)
+                col += len(word)
+                i = end
                 if kind == "word":
                     low = word.lower()
                     if low in KEYWORDS:
-                        out.append(Token("keyword", word, p, low, self.bol, self.col))
+                        out.append(Token("keyword", word, p, low, bol, col))
                     else:
-                        out.append(Token("name", word, p, None, self.bol, self.col))
-                    self.bol = False
+                        out.append(Token("name", word, p, None, bol, col))
                 elif kind == "int":
+                    self.bol = bol
                     self._decimal(word, p)
                 else:
-                    out.append(Token("punct", word, p, None, self.bol, self.col))
-                    self.bol = False
-                continue
+                    out.append(Token("punct", word, p, None, bol, col))
+                bol = False
+            self.i, self.line, self.col, self.bol = i, line, col, bol
+            if i >= len(text):
+                break
             c = self.peek()
             if c == "\n":
                 self.advance()
