@@ -51,7 +51,7 @@ def place(stmts: list[ast.stmt], line: int, col: int) -> list[ast.stmt]:
     with `ast.walk` setting each one does), and mark `stmts` placed. The walk does not
     enter statements placed before (nested bodies lowered first): all their nodes have a
     location already."""
-    AST, shape_of, leaves = ast.AST, _SHAPE.get, _LEAVES
+    AST, shapes, leaves = ast.AST, _SHAPE, _LEAVES
     stack: list = list(stmts)
     pop, push = stack.pop, stack.append
     while stack:
@@ -59,20 +59,31 @@ def place(stmts: list[ast.stmt], line: int, col: int) -> list[ast.stmt]:
         d = node.__dict__
         if PLACED in d:
             continue
-        located, fields = shape_of(type(node)) or _shape(type(node))
+        cls = type(node)
+        located, fields = shapes[cls] if cls in shapes else _shape(cls)
         if located and "lineno" not in d:
             d["lineno"] = line
             d["col_offset"] = col
         for f in fields:
             v = d.get(f)
-            for x in v if type(v) is list else (v,):
-                if type(x) in leaves:
-                    xd = x.__dict__
-                    if "lineno" not in xd:
-                        xd["lineno"] = line
-                        xd["col_offset"] = col
-                elif isinstance(x, AST):
-                    push(x)
+            if v is None:
+                continue
+            if type(v) is list:
+                for x in v:
+                    if type(x) in leaves:
+                        xd = x.__dict__
+                        if "lineno" not in xd:
+                            xd["lineno"] = line
+                            xd["col_offset"] = col
+                    elif isinstance(x, AST):
+                        push(x)
+            elif type(v) in leaves:
+                xd = v.__dict__
+                if "lineno" not in xd:
+                    xd["lineno"] = line
+                    xd["col_offset"] = col
+            elif isinstance(v, AST):
+                push(v)
     for s in stmts:
         s.__dict__[PLACED] = True
     return stmts

@@ -28,6 +28,7 @@ costs one comparison per segment before its label.
 from __future__ import annotations
 
 import ast
+from collections.abc import Callable
 
 from motionvm.lang.pdl import nodes as n
 from motionvm.lang.pdl.lower_assign import lower_assign
@@ -170,7 +171,11 @@ class BodyLowerer(FlowLowering):
             # Pay for the statements before it first, so `t0 = fclk;` sees the right time.
             self.flush()
             self.cur.append(check_budget())
-        getattr(self, "s_" + type(s).__name__)(s, flat)
+        key = (type(self), type(s))
+        method = _DISPATCH.get(key)
+        if method is None:
+            method = _DISPATCH[key] = getattr(key[0], "s_" + key[1].__name__)
+        method(self, s, flat)
 
     def s_Label(self, s: n.Label, flat: bool) -> None:
         self.label_seg[s.name] = self.new_segment()
@@ -327,6 +332,9 @@ class BodyLowerer(FlowLowering):
             chain.append(ast.If(test, seg, []))
         return [ast.While(const(True), chain + tail, [])]
 
+
+_DISPATCH: dict[tuple[type, type], Callable[..., None]] = {}
+"""(lowerer class, statement class) -> the `s_<class>` method lowering it."""
 
 _CLOCK_SKIPPED = frozenset({"pos", "body", "then_body", "else_body"})
 _CLOCK_FIELDS: dict[type, tuple[str, ...]] = {}
