@@ -179,3 +179,15 @@ def test_positions_count_lines_and_columns() -> None:
         ("ab", 3, 1),
         ("y", 4, 6),
     ]
+
+
+def test_positions_after_comments_over_lines_and_at_an_unclosed_one() -> None:
+    sink = DiagnosticSink()
+    toks = tokenize("t.gdl", "a |one\ntwo\n  three| b\r\n\t c |open\nnever\n", sink)
+    assert [(t.kind, t.pos.line, t.pos.col) for t in toks] == [
+        ("ident", 1, 1),
+        ("ident", 3, 10),
+        ("ident", 4, 3),
+        ("eof", 6, 1),
+    ]
+    assert [f"{d.pos.line}:{d.pos.col}" for d in sink.errors()] == ["4:5"]

@@ -2,13 +2,14 @@
 
 from __future__ import annotations
 
+import ast
 import re
 from pathlib import Path
 
 import pytest
 
 from motionvm.lang.gdl import compile_app
-from motionvm.lang.gdl.lower import emit_python
+from motionvm.lang.gdl.lower import _by_file, emit_python, lower_file
 from motionvm.source.diagnostics import DiagnosticSink
 
 PROGRAMS = Path(__file__).resolve().parents[2] / "programs" / "gdl"
@@ -72,3 +73,32 @@ def test_gdl_generated_code_uses_only_the_api(monkeypatch: pytest.MonkeyPatch) -
         assert calls <= {"at", "loop", "read", "assign", "call", "div"}
         for fn in app.functions.values():
             assert fn.__globals__["__builtins__"] == {}
+
+
+def _deep_whiles(depth: int) -> str:
+    loops = "".join(f"WHILE VALUE OF v < {k} DO\n" for k in range(depth))
+    return (
+        "MODULE deep;\n  INTEGER$VARIABLE v [ ];\n  DIGITAL$FLAG f [ ];\n"
+        "  PROCEDURE p;\n  DECLARE { STATUS OF f };\n  BEGIN\n"
+        + loops
+        + "RETURN;\n"
+        + "END$WHILE;\n" * depth
+        + "  END$PROCEDURE;\nEND$MODULE;\n"
+    )
+
+
+def test_gdl_every_generated_node_is_built_with_its_location(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """No walk fills in missing locations: each node has all four from the start."""
+    monkeypatch.chdir(PROGRAMS)
+    apps = [compile_app([f"{name}.gdl"], sink=DiagnosticSink()) for name in ("packer", "all_types")]
+    apps.append(compile_app(["d.gdl"], sink=DiagnosticSink(), texts={"d.gdl": _deep_whiles(40)}))
+    for app in apps:
+        assert app is not None
+        for procs in _by_file(app).values():
+            for node in ast.walk(lower_file(procs)):
+                if "lineno" in node._attributes:
+                    assert {"lineno", "col_offset", "end_lineno", "end_col_offset"} <= set(
+                        node.__dict__
+                    ), ast.dump(node)
