@@ -337,6 +337,7 @@ _DISPATCH: dict[tuple[type, type], Callable[..., None]] = {}
 """(lowerer class, statement class) -> the `s_<class>` method lowering it."""
 
 _CLOCK_SKIPPED = frozenset({"pos", "body", "then_body", "else_body"})
+_ATOMS = frozenset({str, int, float, bool, type(None)})
 _CLOCK_FIELDS: dict[type, tuple[str, ...]] = {}
 """Node class -> the fields `_reads_clock` looks into."""
 
@@ -361,7 +362,9 @@ def _reads_clock(node: object) -> bool:
                 names = getattr(cls, "__dataclass_fields__", None) or ()
                 fields = _CLOCK_FIELDS[cls] = tuple(f for f in names if f not in _CLOCK_SKIPPED)
             for f in fields:
-                push(getattr(x, f))
+                v = getattr(x, f)
+                if type(v) not in _ATOMS:
+                    push(v)
     return False
 
 

@@ -302,6 +302,15 @@ class Preprocessor:
 
     def expand(self, toks: list[Token], depth: int) -> list[Token]:
         """Expand every macro use in `toks`, rescanning results with the following tokens."""
+        macros = self.macros
+        if not any(
+            t.kind == "name"
+            and t.text in macros
+            or t.kind == "directive"
+            and t.value in PP_DIRECTIVES
+            for t in toks
+        ):
+            return list(toks)  # what the loop below gives: nothing to expand or report
         stack = [_Item(t, _NO_HIDE) for t in reversed(toks)]
         out: list[Token] = []
         while stack:
