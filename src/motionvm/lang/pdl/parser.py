@@ -53,24 +53,27 @@ class Parser:
     # ------------------------------------------------------------ token helpers
 
     def peek(self, k: int = 0) -> Token:
+        if not k:  # `i` never passes the last token (the 'eof')
+            return self.toks[self.i]
         toks, j = self.toks, self.i + k
         return toks[j] if j < len(toks) else toks[-1]
 
     def next(self) -> Token:
-        t = self.toks[self.i]
-        if self.i < len(self.toks) - 1:
-            self.i += 1
+        i = self.i
+        t = self.toks[i]
+        if i < len(self.toks) - 1:
+            self.i = i + 1
         return t
 
     def prev(self) -> Token:
         return self.toks[max(self.i - 1, 0)]
 
     def at(self, text: str) -> bool:
-        t = self.peek()
+        t = self.toks[self.i]
         return t.kind == "punct" and t.text == text
 
     def at_kw(self, *words: str) -> bool:
-        t = self.peek()
+        t = self.toks[self.i]
         return t.kind == "keyword" and t.value in words
 
     @staticmethod
