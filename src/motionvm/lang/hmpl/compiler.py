@@ -2,11 +2,9 @@
 
 from __future__ import annotations
 
-import gc
-from collections.abc import Iterator
-from contextlib import contextmanager
 from dataclasses import dataclass
 
+from motionvm.lang.gc_hold import gc_held
 from motionvm.lang.hmpl import program_cache
 from motionvm.lang.hmpl.cmemory import Memory
 from motionvm.lang.hmpl.lib import implemented_builtins
@@ -37,29 +35,6 @@ def new_memory() -> Memory:
     mem = Memory(STATIC_SIZE + N_TASKS * STACK_SIZE)
     mem.reserve_static(STATIC_SIZE)
     return mem
-
-
-@contextmanager
-def _gc_held() -> Iterator[None]:
-    """Hold off the cyclic garbage collector for a whole compilation.
-
-    Tokens and AST nodes form no reference cycles, yet once the collector is back on it
-    would walk every node that survives (the program keeps its modules and symbols) in
-    its young generation, then again in the middle one. They go straight to the oldest
-    generation instead: `freeze` then `unfreeze` splices the generation lists in O(1).
-    That generation is collected rarely, so a run does not leave its large memory to the
-    collector: `HmplRuntime.close()` frees it at once (the host API calls it when a
-    simulation is closed or dropped).
-    """
-    was_enabled = gc.isenabled()
-    gc.disable()
-    try:
-        yield
-    finally:
-        if was_enabled:
-            gc.freeze()
-            gc.unfreeze()
-            gc.enable()
 
 
 def compile_tasks(
@@ -124,7 +99,9 @@ def _compile_units(
     included: list[SourceFile] | None,
 ) -> tuple[CompiledProgram | None, Memory]:
     units: list[Unit] = []
-    with _gc_held():
+    # (the survivors go to the oldest generation, which is collected rarely: a run
+    # does not leave its large memory to the collector, `HmplRuntime.close()` frees it)
+    with gc_held():
         for f in files:
             tu = parse_file(
                 f.path,

@@ -7,12 +7,10 @@ holds lexical errors back, so that text inside `#if 0` does not produce errors.
 
 from __future__ import annotations
 
-import gc
 import re
-from collections.abc import Iterator
-from contextlib import contextmanager
 from dataclasses import dataclass, field
 
+from motionvm.lang.gc_hold import gc_held
 from motionvm.lang.hmpl.tokens import KEYWORDS, Token
 from motionvm.source.diagnostics import DiagnosticSink, TooManyErrors
 from motionvm.source.files import SourceFile, SourcePos
@@ -163,7 +161,7 @@ class Scan:
 
 def tokenize(sf: SourceFile, sink: DiagnosticSink) -> list[Token]:
     """All tokens of a file, ending with an 'eof' token; lexical errors go to `sink`."""
-    with gc_paused():
+    with gc_held():
         sc = scan(sf)
     try:
         for pos, msg, _ in sc.errors:
@@ -172,22 +170,6 @@ def tokenize(sf: SourceFile, sink: DiagnosticSink) -> list[Token]:
         pass
     sc.tokens.append(Token("eof", "", end_pos(sf)))
     return sc.tokens
-
-
-@contextmanager
-def gc_paused() -> Iterator[None]:
-    """Hold off Python's cyclic garbage collector while a front end runs.
-
-    Tokens and nodes form no reference cycles, but the collector would still walk
-    all of them again and again as they pile up (it cost a third of the lexing time).
-    """
-    was_enabled = gc.isenabled()
-    gc.disable()
-    try:
-        yield
-    finally:
-        if was_enabled:
-            gc.enable()
 
 
 def end_pos(sf: SourceFile) -> SourcePos:

@@ -23,9 +23,9 @@ from collections.abc import Callable
 from operator import attrgetter
 from typing import ClassVar
 
+from motionvm.lang.gc_hold import gc_held
 from motionvm.lang.hmpl import check_memo
 from motionvm.lang.hmpl import nodes as n
-from motionvm.lang.hmpl.lexer import gc_paused
 from motionvm.lang.hmpl.preprocess import preprocess
 from motionvm.lang.hmpl.tokens import BINARY_PREC, Token
 from motionvm.source.deep import run_deep
@@ -115,7 +115,7 @@ def parse_file(
         except OSError as e:
             sink.error(SourcePos(path, 1, 1), f"cannot read '{path}': {e.strerror or e}")
             return None
-    with gc_paused():
+    with gc_held():
         tokens = preprocess(path, task_id=task_id, sink=sink, text=text, included=included)
         return parse(tokens, sink, function_keys)
 
@@ -125,7 +125,7 @@ def parse(
 ) -> n.TranslationUnit:
     """Parse preprocessed tokens (ending with 'eof'); errors go to `sink`. With
     `function_keys` the unit carries each function definition's key (`check_memo`)."""
-    with gc_paused():
+    with gc_held():
         parser = Parser(tokens, sink)
         if function_keys:
             parser.function_spans = []

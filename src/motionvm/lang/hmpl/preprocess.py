@@ -16,7 +16,8 @@ import os
 from dataclasses import dataclass, field
 from operator import attrgetter
 
-from motionvm.lang.hmpl.lexer import Scan, end_pos, gc_paused, lex_fragment, scan
+from motionvm.lang.gc_hold import gc_held
+from motionvm.lang.hmpl.lexer import Scan, end_pos, lex_fragment, scan
 from motionvm.lang.hmpl.tokens import BINARY_PREC, Token
 from motionvm.source.diagnostics import DiagnosticSink, TooManyErrors
 from motionvm.source.files import SourceFile, SourcePos
@@ -113,7 +114,7 @@ def preprocess(
     errors the tokens produced so far are returned. `included` receives every file that
     an `#include` read, in order (what the compile cache checks).
     """
-    with gc_paused():
+    with gc_held():
         return _preprocess(path, task_id, sink, text, include_depth_limit, included)
 
 
