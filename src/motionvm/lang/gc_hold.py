@@ -15,14 +15,19 @@ from contextlib import contextmanager
 
 
 @contextmanager
-def gc_held() -> Iterator[None]:
-    """No cyclic collection inside the block (the collector's state restored after)."""
+def gc_held(promote: bool = True) -> Iterator[None]:
+    """No cyclic collection inside the block (the collector's state restored after).
+    `promote`: what survives the block goes to the oldest generation (a compile, whose
+    program lives on); False leaves it young, to be collected as usual (a front end's
+    pass whose tokens and trees are soon dropped: the language server parses a file at
+    every edit, and promoting those would keep their garbage until a full collection)."""
     was_enabled = gc.isenabled()
     gc.disable()
     try:
         yield
     finally:
         if was_enabled:
-            gc.freeze()
-            gc.unfreeze()
+            if promote:
+                gc.freeze()
+                gc.unfreeze()
             gc.enable()

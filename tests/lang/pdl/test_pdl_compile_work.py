@@ -173,3 +173,21 @@ def test_gc_held_restores_the_collector() -> None:
         assert not gc.isenabled()
     finally:
         gc.enable()
+
+
+def test_gc_held_promotes_what_survives_only_when_asked() -> None:
+    class Node:
+        pass
+
+    def generation_of(obj: object) -> int:
+        for g in range(3):
+            if any(o is obj for o in gc.get_objects(generation=g)):
+                return g
+        return -1
+
+    with gc_held():
+        kept = Node()
+    assert generation_of(kept) == 2  # a compile's program: the oldest generation at once
+    with gc_held(promote=False):
+        young = Node()
+    assert generation_of(young) == 0  # a front end's pass: left young, collected as usual

@@ -161,7 +161,7 @@ class Scan:
 
 def tokenize(sf: SourceFile, sink: DiagnosticSink) -> list[Token]:
     """All tokens of a file, ending with an 'eof' token; lexical errors go to `sink`."""
-    with gc_held():
+    with gc_held(promote=False):
         sc = scan(sf)
     try:
         for pos, msg, _ in sc.errors:

@@ -115,7 +115,7 @@ def parse_file(
         except OSError as e:
             sink.error(SourcePos(path, 1, 1), f"cannot read '{path}': {e.strerror or e}")
             return None
-    with gc_held():
+    with gc_held(promote=False):
         tokens = preprocess(path, task_id=task_id, sink=sink, text=text, included=included)
         return parse(tokens, sink, function_keys)
 
@@ -125,7 +125,7 @@ def parse(
 ) -> n.TranslationUnit:
     """Parse preprocessed tokens (ending with 'eof'); errors go to `sink`. With
     `function_keys` the unit carries each function definition's key (`check_memo`)."""
-    with gc_held():
+    with gc_held(promote=False):
         parser = Parser(tokens, sink)
         if function_keys:
             parser.function_spans = []

@@ -114,7 +114,7 @@ def preprocess(
     errors the tokens produced so far are returned. `included` receives every file that
     an `#include` read, in order (what the compile cache checks).
     """
-    with gc_held():
+    with gc_held(promote=False):
         return _preprocess(path, task_id, sink, text, include_depth_limit, included)
 
 
