@@ -8,7 +8,7 @@ builds alternate, REPEAT times each, and the medians are compared. Then, for thi
 the rebuild after one module's source is edited (the other modules are reused).
 
 Needs a Python with Cython (setup.py's build requirement): `--python PY`, e.g.
-    python -m venv /tmp/cy && /tmp/cy/bin/pip install Cython==3.1.8 setuptools wheel
+    python -m venv /tmp/cy && /tmp/cy/bin/pip install Cython==3.1.8 "setuptools>=77" wheel
     python bench/install_build.py --python /tmp/cy/bin/python --old /tmp/old
 Prints `RESULT name=value` lines.
 """
