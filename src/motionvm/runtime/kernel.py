@@ -10,7 +10,9 @@ so the clock may jump past it while nothing it tests changes (`quiet`).
 Two more (`STATUS_WAIT`, `STATUS_POLL`) say the condition depends on nothing but the
 answers of axis status flags: with a `recorder`, the kernel keeps the flags such a
 poll read (`Task.record`), and the task need not be resumed while they answer the same
-(`Task.record_holds`), whatever other tasks did since.
+(`Task.record_holds`), whatever other tasks did since. A task that can yield neither
+any more (`Kernel.end_records`: it entered a loop it never leaves that has no such
+poll) records nothing from its next slice on.
 A task ends when its generator returns, raises `TaskExit`, or faults; a fault stops
 only that task and is reported through `on_fault`. No wall clock, no threads: the
 same program gives the same schedule every run.
@@ -54,6 +56,9 @@ class Task:
     record: list | None = None
     """After a STATUS_WAIT or STATUS_POLL: the flags the task read in that slice, as
     (object, attribute, value), the condition's last evaluation among them; else None."""
+    records: bool = True
+    """False once the task can never again yield STATUS_WAIT or STATUS_POLL
+    (`Kernel.end_records`): its slices need no record of the flags they read."""
     watch: Callable[[], bool] | None = None
     """After an EVENT_WAIT or EVENT_POLL whose condition also tests an axis's position:
     the position test alone (called: true if the wait's condition may hold now), which
@@ -121,6 +126,7 @@ class Kernel:
         t.starts += 1
         t.event_wait = False
         t.record = None
+        t.records = True
         self._changed = True
         if t not in self.active:
             self.active.append(t)
@@ -244,6 +250,13 @@ class Kernel:
             t.record = None
         self._changed = True
 
+    def end_records(self) -> None:
+        """The running task can never again yield STATUS_WAIT or STATUS_POLL (its
+        language's code says so: it entered a loop it never leaves, with no such wait
+        in it): from its next slice on, no record of the flags it reads is kept, as no
+        `Task.record` would ever be taken from it. Until it is started again."""
+        self.current.records = False
+
     # ------------------------------------------------------------ one cycle
 
     def run_cycle(self) -> None:
@@ -263,7 +276,8 @@ class Kernel:
             self.current = t
             before_resume(t)
             if recorder is not None:
-                recorder.reads = reads = []
+                # (a task that can no longer poll a status keeps no record: `end_records`)
+                recorder.reads = reads = [] if t.records else None
             t.record = t.watch = None
             try:
                 y = gen.send(None)

@@ -72,3 +72,45 @@ void main() {
     assert messages == []
     assert len(faults) == 1 and "step is 0" in faults[0].message, faults
     assert faults[0].line == 5
+
+
+
+ONE_CHUNK = [(5, "<", 9, 1), (5, "<=", 20, 3), (10, ">", 0, -4), (0, "<", 64, 1),
+             (-3, ">=", -9, -1)]  # fmt: skip
+"""(start, comparison, bound, step) of counting loops of 1 .. 64 values."""
+
+
+def _c_loop(start: int, op: str, bound: int, inc: int) -> tuple[int, int]:
+    """(the counter after the loop, the sum of its values), as C runs the loop."""
+    i, s = start, 0
+    holds = {"<": int.__lt__, "<=": int.__le__, ">": int.__gt__, ">=": int.__ge__}[op]
+    while holds(i, bound):
+        s += i
+        i += inc
+    return i, s
+
+
+@pytest.mark.parametrize("start,op,bound,inc", ONE_CHUNK)
+def test_a_loop_of_one_chunk_known_when_compiling_runs_without_chunks(start, op, bound, inc):
+    step = f"i += {inc}" if inc > 0 else f"i -= {-inc}"
+    loop = f"for (i = {start}; i {op} {bound}; {step}) s += i;"
+    src = f"""
+void main() {{
+    int i;
+    int s = 0;
+    int k;
+    {loop}
+    Print("%d %d", i, s);
+    for (k = 0; k < 3; k++) {{ {loop} }}
+    Print("%d %d", i, s);
+}}
+"""
+    py = _python_of(src)
+    assert "_chunks" not in py and "len(" not in py
+    i, s = _c_loop(start, op, bound, inc)
+    assert _run(src) == ([f"{i} {s}", f"{i} {4 * s}"], [])
+
+
+def test_a_loop_of_more_than_one_chunk_keeps_its_chunks():
+    src = "void main() { int i; int s = 0; for (i = 0; i < 65; i++) s += i; }"
+    assert "_chunks" in _python_of(src)

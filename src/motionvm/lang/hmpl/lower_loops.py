@@ -18,7 +18,8 @@ becomes
 `LoopLowerer` hands a loop to the part that makes it faster where it can: a counting
 loop to `lower_range.RangeLowerer`, a pointer walk to `lower_walk.PointerWalkLowerer`,
 a loop that only waits to the statement lowerer's wait (`Till`), a polling loop's
-back-edge to lower_poll.py.
+back-edge to lower_poll.py; a loop its task never leaves may end the task's records of
+status reads (lower_records.py).
 """
 
 from __future__ import annotations
@@ -32,6 +33,7 @@ from motionvm.lang.hmpl.lower_expr import ExprLowerer
 from motionvm.lang.hmpl.lower_facts import AssignedNames, _fill_assigned
 from motionvm.lang.hmpl.lower_poll import continue_check, fixed_point, fixed_point_end
 from motionvm.lang.hmpl.lower_range import RangeLowerer
+from motionvm.lang.hmpl.lower_records import records_end
 from motionvm.lang.hmpl.lower_split import Nesting
 from motionvm.lang.hmpl.lower_stmt import StatementLowerer
 from motionvm.lang.hmpl.lower_util import LoopCtx, PollCtx, at, backedge, countdown_init
@@ -104,8 +106,8 @@ class LoopLowerer:
         cont = [continue_check() if polling else backedge(b), ast.Continue()]
         body, ctx = self.loop_body(s.body, _flat(cont), polling=polling)
         before, end = fixed_point_end(self.ctx, polling, b, body) if polling else ([], backedge(b))
-        loop = ast.While(test=test, body=body + end, orelse=[])
-        return [countdown_init(b), *before] + self.nesting.placed(ctx, loop)
+        loop = self.nesting.placed(ctx, ast.While(test=test, body=body + end, orelse=[]))
+        return [*records_end(s.cond, s.body, loop), countdown_init(b), *before] + loop
 
     def _busy_wait(self, s: n.While) -> list[ast.stmt] | None:
         """A loop that only waits, `while (c);` or `while (c) RunScheduler();` (or the same
@@ -192,9 +194,9 @@ class LoopLowerer:
             before, end = (
                 fixed_point_end(self.ctx, polling, b, body) if polling else ([], backedge(b))
             )
-            out += [countdown_init(b), *before]
-            loop = ast.While(test=test, body=body + step2 + end, orelse=[])
-            return out + self.nesting.placed(ctx, loop)
+            loop = self.nesting.placed(ctx, ast.While(test=test, body=body + step2 + end, orelse=[]))
+            out += [*records_end(s.cond, s.body, loop), countdown_init(b), *before]
+            return out + loop
         finally:
             fn.scope = saved
 

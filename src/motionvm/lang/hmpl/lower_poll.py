@@ -69,8 +69,14 @@ def fixed_point_end(ctx: FunctionContext, polling: PollCtx, b: str, body: list[a
     as they were (those declared outside it: a block-scope local of the body lives
     for one iteration). It yields EVENT_POLL if that iteration is the first since the
     task's last yield, else EVENT_WAIT, when its quiet iterations read only what a
-    computed cycle changes (`PollCtx.on_events`: the clock may jump), else None."""
+    computed cycle changes (`PollCtx.on_events`: the clock may jump), else None.
+    A body whose first statement may act marks every iteration: it never reaches a
+    fixed point, and has the plain back-edge (no mark, no check)."""
     mark = polling.mark
+    if _marks_first(body, mark):
+        del body[0]
+        _FillContinues(backedge(b)).visit(ast.Module(body, []))
+        return [], backedge(b)
     written = sorted({
         x.id for st in body for x in ast.walk(st)
         if type(x) is ast.Name and type(x.ctx) is ast.Store and x.id.startswith("v_")
@@ -98,8 +104,18 @@ def fixed_point_end(ctx: FunctionContext, polling: PollCtx, b: str, body: list[a
     else:
         repeat.append(ast.Expr(ast.Yield(None)))
     check = ast.If(changed, record + backedge(b), repeat)
-    _FillContinues(check).visit(ast.Module(body, []))  # a `continue` checks as well
+    _FillContinues([check]).visit(ast.Module(body, []))  # a `continue` checks as well
     return before, [check]
+
+
+def _marks_first(body: list[ast.stmt], mark: str) -> bool:
+    """True if lowered body `body` starts with `mark = 1` (`mark_effect`)."""
+    if not body or type(body[0]) is not ast.Assign:
+        return False
+    st = body[0]
+    target = st.targets[0]
+    return (type(target) is ast.Name and target.id == mark
+            and type(st.value) is ast.Constant and st.value.value == 1)  # fmt: skip
 
 
 def quiet_statement(ctx: FunctionContext, s, polling: PollCtx) -> bool:
@@ -167,18 +183,19 @@ def continue_check() -> ast.stmt:
 
 
 class _FillContinues(ast.NodeTransformer):
-    """Replaces each `continue_check()` by a copy of the loop's check."""
+    """Replaces each `continue_check()` by a copy of the loop's check (statements)."""
 
-    def __init__(self, check: ast.stmt) -> None:
+    def __init__(self, check: list[ast.stmt]) -> None:
         self.check = check
 
     def visit_Expr(self, node: ast.Expr):
         v = node.value
         if type(v) is ast.Name and v.id == _CONTINUE_CHECK:
             check = copy.deepcopy(self.check)
-            for x in ast.walk(check):  # at the `continue`'s place
-                if "lineno" in x._attributes:
-                    ast.copy_location(x, node)
+            for st in check:
+                for x in ast.walk(st):  # at the `continue`'s place
+                    if "lineno" in x._attributes:
+                        ast.copy_location(x, node)
             return check
         return node
 

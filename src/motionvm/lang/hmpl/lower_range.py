@@ -158,8 +158,10 @@ class RangeLowerer:
         else:
             step_node = const(inc)
         if chunked:
+            first = start[0] if start is not None and start[0] == start[1] else None
             loops = self._chunked_range(
-                sym, stop, step_node, body, outlives=not isinstance(s.init, n.DeclStmt)
+                sym, stop, step_node, body, outlives=not isinstance(s.init, n.DeclStmt),
+                first=first,
             )
             return pre + loops[:-1] + self.nesting.placed(ctx, loops[-1])
         pre.append(countdown_init(b))
@@ -184,7 +186,8 @@ class RangeLowerer:
         return pre + self.nesting.placed(ctx, loop)
 
     def _chunked_range(
-        self, sym: VarSym, stop: ast.expr, step: ast.expr, body: list[ast.stmt], outlives: bool
+        self, sym: VarSym, stop: ast.expr, step: ast.expr, body: list[ast.stmt], outlives: bool,
+        first: int | None = None,
     ) -> list[ast.stmt]:
         """The counting loop in chunks of CHUNK values, charging the budget once per chunk
         (`_chunks` gives none for an empty range, the range itself for a short one):
@@ -198,7 +201,9 @@ class RangeLowerer:
 
         When i outlives the loop, the range is kept (`_r = range(...)`) and the loop's
         `else` sets C's value after it: `v_i = _r.start + len(_r) * _r.step`. A loop
-        inside another loop takes its chunks inline (`_inline_chunks`).
+        inside another loop takes its chunks inline (`_inline_chunks`). A loop known to
+        be one chunk (`first`: the counter's start, a constant, as are the bound and the
+        step) runs without chunks (`_one_chunk`).
         """
         k = self.ctx.temp()
         rng: ast.expr = _range_call(name(sym.pyname), stop, step)
@@ -229,6 +234,10 @@ class RangeLowerer:
         # the arrays' local names are bound once a chunk, inside the loop (and so inside
         # its split function, if it has one)
         aliases = alias_globals(inner.body, self.ctx.temp)
+        count = _count(first, stop, step)
+        if count and count <= CHUNK and not aliases:
+            return [_one_chunk(sym, stop, step, inner, charge, first + count * step.value,
+                               outlives)]  # fmt: skip
         if any(c.kind == "loop" for c in self.nesting.loops):
             return pre + self._inline_chunks(k, rng, inner, aliases, [inner] + charge, orelse)
         outer = ast.For(
@@ -328,6 +337,37 @@ class RangeLowerer:
             if step.target.id == ivar and isinstance(step.value, n.IntLit) and step.value.value > 0:
                 return step.value.value if step.op == "+=" else -step.value.value
         return None
+
+
+def _count(first: int | None, stop: ast.expr, step: ast.expr) -> int | None:
+    """The values of a counting loop from `first` (None: not known) to `stop` by `step`
+    (None unless all three are constants)."""
+    if first is None or type(stop) is not ast.Constant or type(step) is not ast.Constant:
+        return None
+    return len(range(first, stop.value, step.value))
+
+
+def _one_chunk(
+    sym: VarSym, stop: ast.expr, step: ast.expr, inner: ast.For, charge: list, last: int,
+    outlives: bool,
+) -> ast.For:
+    """A counting loop of 1 .. CHUNK values (known when compiling: the start, the bound
+    and the step are constants) as the one chunk it is, charged after it as a chunk is,
+    with C's value of the counter after the loop, `last`, a constant (no `break` leaves a
+    chunked loop: its `else` always runs):
+
+    for v_i in range(v_i, 4):
+        BODY
+    else:
+        _budget -= 64
+        if _budget < 0:
+            yield
+        v_i = 4
+    """
+    inner.iter = _range_call(name(sym.pyname), stop, step)
+    after = [ast.Assign(targets=[name(sym.pyname, True)], value=const(last))]
+    inner.orelse = charge + (after if outlives else [])
+    return inner
 
 
 def _range_call(start: ast.expr, stop: ast.expr, step: ast.expr) -> ast.Call:

@@ -129,6 +129,7 @@ class HmplRuntime(PassiveClient):
         self.ns["_gpo_set"] = self._gpo_set
         self.ns["_till_ms"] = self._till_ms
         self.ns["_till_pos"] = self._till_pos
+        self.ns["_end_records"] = self.kernel.end_records
         self.libs = [cls(self) for cls in library_classes()]
         for lib in self.libs:
             for hname, (attr, _blocking) in lib.builtin_methods().items():
