@@ -256,8 +256,8 @@ class Controller:
                     if self.jumps.jump(end_cycle):
                         continue
                     never = self.jumps.never
-                else:  # the test a jump makes, alone (`never_changes`, its first test inline)
-                    never = (kernel.event_waits or not active) and self.never_changes()
+                else:  # the test a jump makes, alone (`never_changes`, inline)
+                    never = (kernel.event_waits or not active) and self.jumps.never_changes()
                 if never and ends:
                     return FOREVER
                 if (alone and self._alone and not kernel.resumed

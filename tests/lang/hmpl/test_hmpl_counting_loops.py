@@ -74,7 +74,6 @@ void main() {
     assert faults[0].line == 5
 
 
-
 ONE_CHUNK = [(5, "<", 9, 1), (5, "<=", 20, 3), (10, ">", 0, -4), (0, "<", 64, 1),
              (-3, ">=", -9, -1)]  # fmt: skip
 """(start, comparison, bound, step) of counting loops of 1 .. 64 values."""

@@ -194,7 +194,9 @@ class LoopLowerer:
             before, end = (
                 fixed_point_end(self.ctx, polling, b, body) if polling else ([], backedge(b))
             )
-            loop = self.nesting.placed(ctx, ast.While(test=test, body=body + step2 + end, orelse=[]))
+            loop = self.nesting.placed(
+                ctx, ast.While(test=test, body=body + step2 + end, orelse=[])
+            )
             out += [*records_end(s.cond, s.body, loop), countdown_init(b), *before]
             return out + loop
         finally:

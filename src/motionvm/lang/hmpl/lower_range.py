@@ -160,7 +160,11 @@ class RangeLowerer:
         if chunked:
             first = start[0] if start is not None and start[0] == start[1] else None
             loops = self._chunked_range(
-                sym, stop, step_node, body, outlives=not isinstance(s.init, n.DeclStmt),
+                sym,
+                stop,
+                step_node,
+                body,
+                outlives=not isinstance(s.init, n.DeclStmt),
                 first=first,
             )
             return pre + loops[:-1] + self.nesting.placed(ctx, loops[-1])
@@ -186,7 +190,12 @@ class RangeLowerer:
         return pre + self.nesting.placed(ctx, loop)
 
     def _chunked_range(
-        self, sym: VarSym, stop: ast.expr, step: ast.expr, body: list[ast.stmt], outlives: bool,
+        self,
+        sym: VarSym,
+        stop: ast.expr,
+        step: ast.expr,
+        body: list[ast.stmt],
+        outlives: bool,
         first: int | None = None,
     ) -> list[ast.stmt]:
         """The counting loop in chunks of CHUNK values, charging the budget once per chunk
@@ -348,7 +357,12 @@ def _count(first: int | None, stop: ast.expr, step: ast.expr) -> int | None:
 
 
 def _one_chunk(
-    sym: VarSym, stop: ast.expr, step: ast.expr, inner: ast.For, charge: list, last: int,
+    sym: VarSym,
+    stop: ast.expr,
+    step: ast.expr,
+    inner: ast.For,
+    charge: list,
+    last: int,
     outlives: bool,
 ) -> ast.For:
     """A counting loop of 1 .. CHUNK values (known when compiling: the start, the bound
