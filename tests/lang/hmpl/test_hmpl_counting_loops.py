@@ -113,3 +113,9 @@ void main() {{
 def test_a_loop_of_more_than_one_chunk_keeps_its_chunks():
     src = "void main() { int i; int s = 0; for (i = 0; i < 65; i++) s += i; }"
     assert "_chunks" in _python_of(src)
+
+
+def test_a_constant_start_outside_the_counters_type_is_not_taken_as_known():
+    # the unsigned counter starts at 4294967295: the loop runs no time and leaves it so
+    src = 'void main() { unsigned int i; int s = 0; for (i = -1; i < 5; i++) s++; Print("%u %d", i, s); }'  # noqa: E501
+    assert _run(src) == (["4294967295 0"], [])

@@ -158,7 +158,8 @@ class RangeLowerer:
         else:
             step_node = const(inc)
         if chunked:
-            first = start[0] if start is not None and start[0] == start[1] else None
+            # the counter's start, if known when compiling and in its type (as assigned)
+            first = start[0] if known is not None and start[0] == start[1] else None
             loops = self._chunked_range(
                 sym,
                 stop,

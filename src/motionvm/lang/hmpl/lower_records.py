@@ -64,8 +64,8 @@ def _no_status_wait(lowered: list[ast.stmt]) -> bool:
     """True if the Python statements `lowered` yield no status wait: each yield is a
     plain one, a constant that is no status wait, a variable (a polling loop's
     EVENT_WAIT or EVENT_POLL: lower_poll.py) or a time or position wait's, and each
-    `yield from` calls a built-in or a function defined in them (a split loop: its
-    body is among them)."""
+    `yield from` calls a built-in (a blocking built-in yields no status wait) or a
+    function defined in them (a split loop: its body is among them)."""
     nodes = [x for st in lowered for x in ast.walk(st)]
     local = {x.name for x in nodes if type(x) is ast.FunctionDef}
     for x in nodes:
