@@ -52,3 +52,10 @@ def test_a_task_that_still_records_keeps_its_status_poll_record():
     assert kernel.tasks[0].record == [(flag, "in_pos", False)]
     assert kernel.tasks[0].record_holds()
     assert not kernel.unrecorded_waits
+
+
+def test_end_records_outside_a_slice_changes_no_task():
+    kernel = Kernel()
+    kernel.start(0, iter(()))
+    kernel.end_records()
+    assert kernel.tasks[0].records

@@ -254,8 +254,11 @@ class Kernel:
         """The running task can never again yield STATUS_WAIT or STATUS_POLL (its
         language's code says so: it entered a loop it never leaves, with no such wait
         in it): from its next slice on, no record of the flags it reads is kept, as no
-        `Task.record` would ever be taken from it. Until it is started again."""
-        self.current.records = False
+        `Task.record` would ever be taken from it. Until it is started again. (Outside
+        a task's slice: nothing.)"""
+        t = self.current
+        if t is not None:
+            t.records = False
 
     # ------------------------------------------------------------ one cycle
 
