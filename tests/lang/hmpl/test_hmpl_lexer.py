@@ -139,6 +139,22 @@ def test_comments_are_skipped_and_lines_counted():
     ]
 
 
+def test_columns_after_continued_lines_and_multi_line_literals():
+    # the lexer counts a line's columns from the last newline it met: a line continuation
+    # or an escaped newline inside a string literal starts a line as a newline token does
+    toks, errors = lex("a \\\n  b \"x\\\ny\" c\n 1.5 'q' /* \n */ d")
+    assert errors == []
+    assert [(t.text, t.pos.line, t.pos.col) for t in toks[:-1]] == [
+        ("a", 1, 1),
+        ("b", 2, 3),
+        ('"x\\\ny"', 2, 5),
+        ("c", 3, 4),
+        ("1.5", 4, 2),
+        ("'q'", 4, 6),
+        ("d", 5, 5),
+    ]
+
+
 def test_positions_count_columns_from_one():
     toks, _ = lex("int  x=1;\n\tfoo ( );")
     assert [(t.text, t.pos.line, t.pos.col) for t in toks[:-1]] == [

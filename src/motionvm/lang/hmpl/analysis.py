@@ -149,7 +149,11 @@ def _scan(root, uses, facts, blocking, sets, parents, keys, frame: int) -> None:
         if x is None:
             continue
         if t is Name:
-            uses.setdefault(x.id, set()).add("escape")
+            found = uses.get(x.id)  # (no new set per name, as `setdefault` would make)
+            if found is None:
+                uses[x.id] = {"escape"}
+            else:
+                found.add("escape")
             continue
         if t in literals:
             continue
