@@ -131,15 +131,21 @@ class MotionKernel:
         """The motion phase of one cycle: the bus, then every axis in `step_order`."""
         if self._bus_steps:
             self.ecat_state = self._bus_steps.pop(0)
+        if self.deferring and self._through_deferrals():
+            self.deferred.step(self.step_order)  # (motion/deferred.py)
+            return
         groups = self.groups
         if groups.enabled:  # most cycles no group is enabled: no call
             groups.step()
-        elif self.deferring and not (self._bus_steps or self.gantries.pairs or self.gears.gears):
-            self.deferred.step(self.step_order)  # (motion/deferred.py)
-            return
         if self.deferred.lagging:
             self.deferred.catch_up_all()
         step_axes(self.step_order)
+
+    def _through_deferrals(self) -> bool:
+        """While `deferring`: True if a motion phase now goes through the deferrals
+        (`step`): no group enabled, no bus starting, no gantry pair, no gear."""
+        return not (self.groups.enabled or self._bus_steps or self.gantries.pairs
+                    or self.gears.gears)  # fmt: skip
 
     def busy(self) -> bool:
         """True while an axis moves, enables, settles or stops, or the bus starts up.
@@ -166,9 +172,7 @@ class MotionKernel:
                 or self.deferring or self.deferred.lagging):  # fmt: skip
             return step_axes_alone(self.step_order, self.axes, n, until_idle)
         # deferring as `step` does: the phases with nothing to do are only counted
-        deferrals = self.deferred if self.deferring and not (
-            self.groups.enabled or self._bus_steps or self.gantries.pairs or self.gears.gears
-        ) else None  # fmt: skip
+        deferrals = self.deferred if self.deferring and self._through_deferrals() else None
         k = 0
         while k < n:
             if deferrals is not None:

@@ -149,9 +149,7 @@ class Controller:
         motion.begin_cycle()
         kernel = self.kernel
         kernel.run_cycle()
-        jumps = self.jumps  # (stepping too: a run that can never end is seen)
-        if kernel.unrecorded_waits or jumps.signature is not None:  # (else: no change)
-            jumps.after_tasks()
+        self.jumps.after_tasks()  # (stepping too: a run that can never end is seen)
         if self.skip:
             if (fold and not self._end_hooks and clients == self._hooked
                     and self.jumps.jump(end_cycle, after_tasks=True)):  # fmt: skip
@@ -256,8 +254,8 @@ class Controller:
                     if self.jumps.jump(end_cycle):
                         continue
                     never = self.jumps.never
-                else:  # the test a jump makes, alone (`never_changes`, inline)
-                    never = (kernel.event_waits or not active) and self.jumps.never_changes()
+                else:  # the test a jump makes, alone
+                    never = self.never_changes()
                 if never and ends:
                     return FOREVER
                 if (alone and self._alone and not kernel.resumed

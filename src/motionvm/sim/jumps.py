@@ -50,9 +50,8 @@ class JumpPlanner:
 
     def __init__(self, controller) -> None:
         self.controller = controller
-        self.signature: tuple | None = None
-        """The status right after the tasks of the last computed cycle (None: unknown;
-        `after_tasks` changes nothing while it is None and no task waits unrecorded)."""
+        self._signature: tuple | None = None
+        """The status right after the tasks of the last computed cycle (None: unknown)."""
         self.jumps = 0
         """Jumps made so far (the cycles they covered were not computed)."""
         self.never = False
@@ -71,11 +70,11 @@ class JumpPlanner:
     def after_tasks(self) -> None:
         """Record what the waiting tasks without a record of their own saw (the
         controller calls it after the tasks)."""
-        self.signature = self._status() if self.controller.kernel.unrecorded_waits else None
+        self._signature = self._status() if self.controller.kernel.unrecorded_waits else None
 
     def forget(self) -> None:
         """Something outside the cycle may have changed what a task tests."""
-        self.signature = None
+        self._signature = None
 
     def _take_clients(self, clients: list) -> None:
         """What a jump asks of `clients`: their next events (a `PassiveClient` has none),
@@ -183,7 +182,7 @@ class JumpPlanner:
         """True if the status is what it was right after the tasks of the last computed
         cycle (`after_tasks`): what a task waiting on an event without a record of its
         own tests is unchanged (`Kernel.wake_horizon`)."""
-        seen = self.signature
+        seen = self._signature
         return seen is not None and seen == self._status()
 
     def _motion_cycle(self, cycle: int) -> bool:
