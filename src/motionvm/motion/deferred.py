@@ -127,15 +127,18 @@ class Deferrals:
         """True if a deferred axis keeps the run busy (`MotionKernel.busy`) whatever its
         deferred cycles hold: its status flags say it moves or settles (they are as
         stepping leaves them) and it runs a positioning move with nothing buffered, so it
-        cannot be jogging at a reached velocity (`Axis.cruising`). The run loop asks
-        every cycle once its tasks ended: it need not catch the axes up to know. (A
-        jog's answer needs the axis up to date: `busy` then catches up.)"""
+        cannot be jogging at a reached velocity (`Axis.cruising`), or it moves with its
+        software limits on (not a rollover axis): such a jog ends on a limit, so it never
+        cruises. The run loop asks every cycle once its tasks ended: it need not catch
+        the axes up to know. (The answer for a jog that may cruise needs the axis up to
+        date: `busy` then catches up.)"""
         for a in self.lagging:
-            if (
-                (a.moving or (a.enabled and not a.in_pos))
-                and a.pg.mode != VELOCITY
-                and not a._command_queue
-            ):
+            if a.moving:
+                if not (a._ignore_swl or a._rollover):
+                    return True
+            elif not (a.enabled and not a.in_pos):
+                continue
+            if a.pg.mode != VELOCITY and not a._command_queue:
                 return True
         return False
 
