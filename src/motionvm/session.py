@@ -61,6 +61,7 @@ from motionvm.sim.machine import (
 )
 from motionvm.sim.scope import ChannelRegistry, ScopeRecorder, ScopeRequest
 from motionvm.source.diagnostics import Diagnostic, in_order, render_diagnostic
+from motionvm.source.files import why_unreadable
 
 __all__ = [
     "CompileFailed",
@@ -153,7 +154,7 @@ def check_sources(sources: Sequence[Source]) -> None:
                 f"unknown file type '{suffix}' of {s.path} (expected {suffix_list()})"
             )
         if s.text is None and not Path(s.path).is_file():
-            raise SessionError(f"{s.path}: no such file")
+            raise SessionError(f"{s.path}: {why_unreadable(s.path)}")
         if s.text is not None and not lang.accepts_text:
             takers = " or ".join(x.name for x in LANGUAGES if x.accepts_text)
             raise SessionError(f"{s.path}: only {takers} programs can be given as text")

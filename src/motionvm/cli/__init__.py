@@ -75,7 +75,12 @@ def _dispatch(args) -> int:
     if args.cmd == "lsp":
         from motionvm.lsp import serve
 
-        serve(args.tcp)
+        try:
+            serve(args.tcp)
+        except OSError as exc:
+            if args.tcp is None:
+                raise
+            raise UsageError(f"--tcp {args.tcp}: {exc.strerror or exc}") from None
         return EXIT_OK
     if args.cmd == "debug":
         from motionvm.cli.debug import cmd_debug

@@ -8,12 +8,13 @@ from pathlib import Path
 from motionvm.cli.exits import EXIT_COMPILE, EXIT_OK, UsageError
 from motionvm.lang import LanguageInputError, language_of, suffix_list
 from motionvm.source.diagnostics import render_diagnostic
+from motionvm.source.files import why_unreadable
 
 
 def cmd_dump(args) -> int:
     path, stage = args.file, args.stage
     if not Path(path).is_file():
-        raise UsageError(f"{path}: no such file")
+        raise UsageError(f"{path}: {why_unreadable(path)}")
     lang = language_of(path)
     if lang is None:
         suffix = Path(path).suffix.lower()

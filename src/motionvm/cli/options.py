@@ -36,6 +36,18 @@ def duration(text: str) -> float:
     return seconds
 
 
+def port(text: str) -> int:
+    """A TCP port option's value, 0..65535 (0: a free port); argparse reports the
+    ArgumentTypeError as `argument --port: MESSAGE` (exit 3)."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"'{text}' is not a port number") from None
+    if not 0 <= value <= 65535:
+        raise argparse.ArgumentTypeError(f"{value}: a port is 0..65535")
+    return value
+
+
 class _Formatter(argparse.HelpFormatter):
     """Help whose descriptions are wrapped but whose tables (text of several lines, as
     the exit codes of the epilog) are kept as written."""
@@ -231,7 +243,7 @@ def add_lsp_parser(sub) -> None:
         formatter_class=_Formatter,
     )
     s.add_argument(
-        "--tcp", type=int, metavar="PORT", help="listen on 127.0.0.1:PORT instead of stdin/stdout"
+        "--tcp", type=port, metavar="PORT", help="listen on 127.0.0.1:PORT instead of stdin/stdout"
     )
     s.add_argument(
         "--stdio", action="store_true", help="speak on stdin/stdout (the default; editors pass it)"
@@ -419,7 +431,7 @@ def add_debug_parser(sub) -> None:
     )
     d.add_argument(
         "--port",
-        type=int,
+        type=port,
         metavar="N",
         help="listen on 127.0.0.1:N for one client instead (0: a free port, printed on stderr)",
     )
@@ -440,7 +452,7 @@ def add_studio_parser(sub) -> None:
     _machine(s)
     _scenario(s)
     s.add_argument(
-        "--port", type=int, default=0, metavar="N", help="listen on 127.0.0.1:N (0: a free port)"
+        "--port", type=port, default=0, metavar="N", help="listen on 127.0.0.1:N (0: a free port)"
     )
     s.add_argument(
         "--no-browser", action="store_true", help="print the address only, open no browser"

@@ -16,8 +16,6 @@ def cmd_studio(args) -> int:
     from motionvm.studio.app import bind, new_token, serve
     from motionvm.studio.workspace import WorkspaceError
 
-    if not 0 <= args.port <= 65535:
-        raise UsageError(f"--port {args.port}: a port is 0..65535")
     try:
         if args.machine is not None:
             load_machine_spec(args.machine)

@@ -78,11 +78,30 @@ def suspended_at(
     return found
 
 
-def why_waiting(place: tuple[str, int, int] | None, wake_time: float | None = None) -> str:
-    """What a suspended task waits for, for `Waiting.why`: `sleeping until t=S s` while it
-    sleeps (`wake_time` [s]), else the name of the call or statement at its `place`
-    (file, line, col) in the user's source: `in Till`, `in MutexLock`, `in a loop` (a
-    loop that used up its slice of the cycle), `running` when the source says nothing."""
+def not_started(gen: Generator | None) -> bool:
+    """True for a task's generator that has not run yet (a run that ended before the
+    task's first slice): its frame stands at the function's first line, where it waits
+    for nothing."""
+    return (
+        isinstance(gen, GeneratorType)
+        and gen.gi_frame is not None
+        and not gen.gi_suspended
+        and not gen.gi_running
+    )
+
+
+def why_waiting(
+    place: tuple[str, int, int] | None,
+    wake_time: float | None = None,
+    gen: Generator | None = None,
+) -> str:
+    """What a suspended task waits for, for `Waiting.why`: `not started yet` if its
+    generator `gen` has not run, `sleeping until t=S s` while it sleeps (`wake_time`
+    [s]), else the name of the call or statement at its `place` (file, line, col) in the
+    user's source: `in Till`, `in MutexLock`, `in a loop` (a loop that used up its slice
+    of the cycle), `running` when the source says nothing."""
+    if not_started(gen):
+        return "not started yet"
     if wake_time is not None:
         return f"sleeping until t={wake_time:.6g} s"
     if place is None:

@@ -40,20 +40,22 @@ from motionvm.sim.jumps import JumpPlanner
 from motionvm.sim.machine import DEFAULT_MACHINE, MachineConfig
 from motionvm.sim.pacer import RealTimePacer
 
+_NEVER = 1 << 62
+"""A cycle no run reaches (`run` without a progress callback)."""
+
 
 def until_cycle(until: float, cycle_time: float) -> int:
     """The cycle a run of `until` seconds ends at: the first cycle boundary at or after
     `until` (a run lasts at least that long; 0.35 s of 1 ms cycles is 350 cycles, not 351,
-    despite 0.35 / 0.001 being 349.99999999999994 in floating point)."""
-    return math.ceil(until / cycle_time - 1e-9)
+    despite 0.35 / 0.001 being 349.99999999999994 in floating point). A time beyond any
+    cycle a run reaches (1e308 s: its cycle count overflows a float) ends at `_NEVER`."""
+    cycles = until / cycle_time - 1e-9
+    return _NEVER if cycles >= _NEVER else math.ceil(cycles)
 
 
 FINISHED, UNTIL, STOPPED, FOREVER = "finished", "until", "stopped", "forever"
 """Why `Controller.run` returned (FOREVER: nothing left can change, the run can never
 end)."""
-
-_NEVER = 1 << 62
-"""A cycle no run reaches (`run` without a progress callback)."""
 _ALONE_MOST = 1000
 """The most cycles `_motion_alone` steps before the run loop looks again."""
 

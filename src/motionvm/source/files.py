@@ -12,6 +12,12 @@ NOT_REGULAR = "not a regular file (a device, pipe or folder)"
 """The reason `SourceFile.read` gives for a path that is not a regular file."""
 
 
+def why_unreadable(path: str | Path) -> str:
+    """Why `path`, which is no regular file, cannot be a source file: `no such file`, or
+    NOT_REGULAR when something else (a folder named `x.hmpl`) is there."""
+    return NOT_REGULAR if os.path.lexists(path) else "no such file"
+
+
 @dataclass(frozen=True, slots=True)
 class SourcePos:
     """A place in a user's source file; `line` and `col` count from 1."""

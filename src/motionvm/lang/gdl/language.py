@@ -23,7 +23,8 @@ from motionvm.lang.interface import (
     visible_completions,
 )
 from motionvm.lang.tools import statement_lines
-from motionvm.source.diagnostics import Diagnostic, DiagnosticSink
+from motionvm.source.deep import run_deep
+from motionvm.source.diagnostics import Diagnostic, DiagnosticSink, TooManyErrors
 
 
 class GdlSide(RunSide):
@@ -120,9 +121,12 @@ class Gdl(Language):
             items = sorted(sink.items, key=lambda d: (d.pos.line, d.pos.col))
             return ("" if app is None else emit_python(app)), items
         try:
-            text = (dump_tokens if stage == "tokens" else dump_ast)(path, sink)
+            # the parser and the printer recurse per level of nesting, as the compile does
+            text = run_deep(dump_tokens if stage == "tokens" else dump_ast, path, sink)
         except OSError as exc:
             raise LanguageInputError(f"error: cannot read {path}: {exc.strerror or exc}") from None
+        except TooManyErrors:  # the errors are the dump: the lexer gave up on the file
+            text = ""
         return text, list(sink.items)
 
     def python_source(self, program: object) -> str:

@@ -258,7 +258,7 @@ class HmplRuntime(PassiveClient):
                 continue
             asleep = t.wake_cycle > cycle and not t.event_wait
             wake = t.wake_cycle * self.controller.cycle_time if asleep else None
-            out.append(Waiting(f"task {t.id}", *at, why=why_waiting(at, wake)))
+            out.append(Waiting(f"task {t.id}", *at, why=why_waiting(at, wake, t.gen)))
         return out
 
     def scope_sources(self) -> list:

@@ -25,7 +25,7 @@ from motionvm.lang.interface import (
     visible_completions,
 )
 from motionvm.lang.tools import statement_lines
-from motionvm.source.diagnostics import Diagnostic, DiagnosticSink
+from motionvm.source.diagnostics import Diagnostic, DiagnosticSink, TooManyErrors
 
 
 class PdlSide(RunSide):
@@ -133,7 +133,10 @@ class Pdl(Language):
         sink = DiagnosticSink()
         text = ""
         if stage == "tokens":
-            text = dump.dump_tokens(preprocess(path, sink)) + "\n"
+            try:
+                text = dump.dump_tokens(preprocess(path, sink)) + "\n"
+            except TooManyErrors:  # the errors are the dump: too many for a token list
+                pass
         elif stage == "ast":
             prog = compile_front(path, sink=sink)
             if prog is not None:
