@@ -104,6 +104,14 @@ def test_print_decodes_latin1(rt, lib):
     assert rt.lines == ["\u00b0C 5"]
 
 
+def test_messages_decode_utf8_and_a_stray_byte_as_latin1(rt, lib):
+    lib.Print(cstr(rt, "25 °C, 回原點".encode()))
+    lib.Print(cstr(rt, b"%cC = " + "°C".encode()), 0xB0)  # a stray byte, then UTF-8
+    lib.SendMsgEvent(cstr(rt, "Störung".encode()))
+    assert rt.lines == ["25 °C, 回原點", "°C = °C", "Störung"]
+    assert rt.events == [("msg", "Störung")]
+
+
 def test_print_faults(rt, lib):
     with pytest.raises(RuntimeFault, match="Print: format needs 2 arguments, got 1"):
         lib.Print(cstr(rt, b"%d %d"), 1)

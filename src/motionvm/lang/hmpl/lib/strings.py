@@ -1,8 +1,10 @@
 """HMPL string and memory built-ins (manual chapter 3) and host events (SendEvent, SendMsgEvent).
 
 Every string argument is an address of a NUL-terminated `char` array in `self.mem`.
-Text is bytes inside the controller; a message leaves it decoded as latin-1, so each
-byte is one character.
+Text is bytes inside the controller: a string literal is its UTF-8 bytes, as gcc
+stores it. A message leaves it decoded as UTF-8 (`message_text`), so `Print("25 °C")`
+prints what the source says; a byte that is not part of a valid UTF-8 sequence (`%c`
+of 0xB0) is one latin-1 character, so no byte is lost.
 
 Decisions where the manual is silent:
 - Writing past the end of the destination object (StringPrint, StringCopy[Ex],
@@ -63,6 +65,25 @@ EVENT_BURST = 100.0
 
 ERR_ARG_OUT_OF_RANGE = 0x138F  # eERR_HMPL_ARG_OUT_OF_RANGE
 ERR_EVENT_RATE = 0x1770  # eERR_HMPL_EXEC_FAILED
+
+
+def message_text(data: bytes) -> str:
+    """The text of a message's bytes: UTF-8, with each byte outside a valid UTF-8
+    sequence read as the latin-1 character of that byte."""
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError:
+        pass
+    out = []
+    while True:
+        try:
+            out.append(data.decode("utf-8"))
+            return "".join(out)
+        except UnicodeDecodeError as exc:
+            out.append(data[: exc.start].decode("utf-8"))
+            out.append(data[exc.start : exc.end].decode("latin-1"))
+            data = data[exc.end :]
+
 
 _STRTOD = re.compile(
     rb"[ \t\n\v\f\r]*([+-]?(?:"
@@ -223,7 +244,7 @@ class StringLib(Library):
         text = self._format("Print", format, args)
         if text is None:
             return -1
-        self.rt.emit(text.decode("latin-1"))
+        self.rt.emit(message_text(text))
         return len(text)
 
     @builtin()
@@ -287,7 +308,7 @@ class StringLib(Library):
         )
         if not self._msg_bucket.take(self.rt.sim_time):
             return ERR_EVENT_RATE
-        msg = text[:SENDMSG_MAX_LEN].decode("latin-1")
+        msg = message_text(text[:SENDMSG_MAX_LEN])
         self.rt.emit_event("msg", msg)
         self.rt.emit(msg)
         return 0
