@@ -87,3 +87,38 @@ def test_a_folder_named_as_a_program_is_not_reported_missing(cli, argv):
     assert r.stderr == (
         "motionvm: error: cell.hmpl: not a regular file (a device, pipe or folder)\n"
     )
+
+
+@pytest.mark.parametrize(
+    ("name", "text"),
+    [
+        ("long.hmpl", "x" * 200_000 + "\n"),
+        ("long.pdl", "#task/0;\n" + "x" * 200_000 + "\nhalt;\n"),
+        ("long.hmpl", "void main() { int " + "y" * 200_000 + " = 1; }\n"),
+    ],
+)
+def test_a_name_of_200000_characters_is_quoted_by_its_ends(cli, name, text):
+    (cli.folder / name).write_text(text, encoding="utf-8")
+    r = cli("check", name)
+    assert r.code in (0, 2)
+    assert len(r.stderr) < 2_000  # each line shown is cut, each long name shortened
+    assert "(200000 characters)" in r.stderr
+
+
+def test_a_control_character_in_hmpl_is_named_as_gcc_names_it(cli):
+    r = cli("check", "a.hmpl", a__hmpl="void main() {\n    int x;\x01\n}\x7f\n")
+    assert r.code == 2
+    errors = [line for line in r.stderr.splitlines() if ": error: " in line]
+    assert errors == [
+        "a.hmpl:2:11: error: stray '\\1' in program",
+        "a.hmpl:3:2: error: stray '\\177' in program",
+    ]
+
+
+@pytest.mark.parametrize("timeout", ["1e7", "1e308"])
+def test_a_case_timeout_past_what_the_system_waits_runs_the_cases(cli, timeout):
+    # (one wait of 1e7 s overflows epoll's milliseconds; 1e308 s overflows time_t)
+    case = 'void main() {\n    Print("hi"); // expect: hi\n}\n'
+    r = cli("test", "--case-timeout", timeout, "c.hmpl", c__hmpl=case)
+    assert r.code == 0
+    assert "1 passed, 0 failed" in r.stdout

@@ -39,6 +39,9 @@ _READY = "ready"
 _RUNNING = "running"
 _START_TIMEOUT_S = 120.0
 """Wall-clock time a new worker process may take to start and import motionvm [s]."""
+_WAIT_MOST_S = 3600.0
+"""Longest single wait for the workers [s]; a longer deadline (`--case-timeout 1e308`)
+is waited for in several, as the system's wait overflows past about 24 days."""
 _RUN_MODULES = ("motionvm.cli.run", "motionvm.session")
 """What every run imports."""
 OUTPUT_LIMIT = 16 * 1024 * 1024
@@ -343,6 +346,7 @@ def local_outcomes(
                     w.send(i, cases[i], timeout, coverage)
             live = [w for w in workers if not w.ready or w.index is not None]
             wait_s = max(0.0, min(w.deadline for w in live) - time.monotonic())
+            wait_s = min(wait_s, _WAIT_MOST_S)
             ready = set(wait([w.conn for w in live] + [w.process.sentinel for w in live], wait_s))
             for k, w in enumerate(workers):
                 if w not in live:

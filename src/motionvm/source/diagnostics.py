@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
 
 from motionvm.source.files import SourceFile, SourcePos
@@ -10,6 +11,11 @@ MAX_ERRORS_PER_FILE = 20
 SHOWN_WIDTH = 160
 """Longest source line shown under a message [characters]; a longer one is cut to a
 window around the caret, marked with `...`."""
+QUOTED_WIDTH = 64
+"""Longest name or token a headline quotes whole [characters]; a longer one (a 100,000
+character identifier) is shown by its ends and its length. A path (with a `/` or `\\`)
+is always quoted whole."""
+_LONG_QUOTED = re.compile(rf"'([^'\s/\\]{{{QUOTED_WIDTH + 1},}})'")
 
 
 @dataclass(frozen=True, slots=True)
@@ -21,7 +27,15 @@ class Diagnostic:
     severity: str = "error"  # "error" | "warning" | "note"
 
     def headline(self) -> str:
-        return f"{self.pos.file}:{self.pos.line}:{self.pos.col}: {self.severity}: {self.message}"
+        """`FILE:LINE:COL: SEVERITY: MESSAGE`, a quoted name or token longer than
+        QUOTED_WIDTH shortened to its ends (`'aaaaaaaaaaaa...aaaaaa' (100000 characters)`)."""
+        message = _LONG_QUOTED.sub(_shorten, self.message)
+        return f"{self.pos.file}:{self.pos.line}:{self.pos.col}: {self.severity}: {message}"
+
+
+def _shorten(m: re.Match[str]) -> str:
+    word = m.group(1)
+    return f"'{word[:12]}...{word[-6:]}' ({len(word)} characters)"
 
 
 def render_diagnostic(d: Diagnostic) -> str:

@@ -284,6 +284,8 @@ def _stray_message(ch: str) -> str:
         return f"stray '{ch}' in program (a full-width character; did you mean '{chr(ord(ch) - 0xFEE0)}'?)"
     if ch in _IDEOGRAPHIC_PUNCT:
         return f"stray '{ch}' in program (a full-width character; did you mean '{_IDEOGRAPHIC_PUNCT[ch]}'?)"
+    if not ch.isprintable():  # a control character: gcc's octal escape, not the raw byte
+        return f"stray '\\{ord(ch):o}' in program"
     return f"stray '{ch}' in program"
 
 
