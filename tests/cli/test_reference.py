@@ -126,6 +126,13 @@ def test_errors_takes_the_manuals_spelling_and_names(motionvm, tmp_path):
         ("0x820200a0", "has the form of a group error code (group 2), but 0x00a0 is not"),
         ("eERR_AXIS_CMD_INVALID_PO", "did you mean eERR_AXIS_CMD_INVALID_POS"),
         ("0x1ffffffff", "is neither an error code"),
+        # hex digits without 0x: read as decimal, with the code they spell in hex
+        (
+            "83010136",
+            "0x04f2a258 is not an error code of the manual's chapter 18 (did you "
+            "mean 0x83010136, in hex?)",
+        ),
+        ("83XX0136", "nor the name of one (did you mean 0x83XX0136, in hex?)"),
     ],
 )
 def test_an_unknown_code_says_so_exit_3(motionvm, tmp_path, code, words):

@@ -281,7 +281,23 @@ def _parse_code(text: str) -> int | None:
 
 def lookup_error(text: str) -> tuple[int | None, ErrorCode, int | None]:
     """(the code's value, its table row, the axis or group id) for a code or a name;
-    UsageError for what the tables do not have."""
+    UsageError for what the tables do not have (with a hint when the text, read as hex,
+    is a code: `83000136` is decimal, `0x83000136` meant)."""
+    try:
+        return _lookup_error(text)
+    except UsageError as exc:
+        t = text.strip()
+        if re.fullmatch(r"[0-9a-fA-F]+|[0-9a-fA-F]{2}[xX]{2}[0-9a-fA-F]{4}", t):
+            try:
+                _lookup_error(f"0x{t}")
+            except UsageError:
+                pass
+            else:
+                raise UsageError(f"{exc} (did you mean 0x{t}, in hex?)") from None
+        raise
+
+
+def _lookup_error(text: str) -> tuple[int | None, ErrorCode, int | None]:
     system, per_id = error_tables()
     generic = re.fullmatch(r"0x(8[23])xx([0-9a-f]{4})", text.strip().lower())
     if generic:  # the manual's own spelling, 0x83XX0136: any axis
