@@ -16,6 +16,7 @@ channels (sim/variables.py); docs/api.md has the whole API with examples.
 from __future__ import annotations
 
 import math
+import operator
 import threading
 import weakref
 from collections.abc import Callable, Sequence
@@ -25,9 +26,19 @@ from typing import Any
 
 from motionvm.comm.config import COMM_KEYS, CommConfig, load_comm
 from motionvm.debug import Breakpoint, BreakpointSpec, DebugEngine, Frame, Position, Stop
+from motionvm.io.system import bit_of
 from motionvm.lang import CallError
 from motionvm.runtime.fault_position import Fault
-from motionvm.session import CompileFailed, RunResult, RunSpec, Session, SessionError, Source
+from motionvm.session import (
+    TIMEOUT,
+    CompileFailed,
+    RunResult,
+    RunSpec,
+    Session,
+    SessionError,
+    Source,
+    check_run_times,
+)
 from motionvm.sim.controller import FINISHED, FOREVER, UNTIL, until_cycle
 from motionvm.sim.machine import MachineConfig
 from motionvm.sim.scope import ScopeRecorder
@@ -265,6 +276,14 @@ class Simulation:
     def closed(self) -> bool:
         return self.session.closed
 
+    def _open(self, what: str) -> None:
+        """SessionError once closed: the run's state is gone with its memory."""
+        if self.closed:
+            raise SessionError(
+                f"{what}: this simulation was closed; what it recorded (messages, faults, "
+                "recordings) stays readable"
+            )
+
     # ------------------------------------------------------------ running
 
     def run(self, until: float | None = None, timeout: float | None = None) -> RunResult:
@@ -278,7 +297,7 @@ class Simulation:
         With `raise_faults`, raises `TaskFault` instead at the first fault."""
         self._not_serving("run")
         if self.debugger is not None:
-            return self._debug_run(until)
+            return self._debug_run(until, timeout)
         result = self.session.run(until, timeout=timeout)
         self._log.raise_pending()
         return result
@@ -288,12 +307,15 @@ class Simulation:
         The end is counted in whole cycles from the cycle the clock shows now, so that
         `advance(0.1)` ten times ends where `run(until=1.0)` does. `timeout`: seconds
         from now, as `run`'s. ValueError for a negative or infinite duration."""
-        if not (seconds >= 0 and math.isfinite(seconds)):
-            raise ValueError(f"advance takes a finite, non-negative duration [s], got {seconds}")
+        for value, what in ((seconds, "duration"), (timeout, "timeout")):
+            if value is not None and not (
+                isinstance(value, int | float) and value >= 0 and math.isfinite(value)
+            ):
+                raise ValueError(f"advance takes a finite, non-negative {what} [s], got {value!r}")
         dt = self.controller.cycle_time
         now = self.controller.cycle
-        until = (now + round(seconds / dt)) * dt
-        end = None if timeout is None else (now + round(timeout / dt)) * dt
+        until = _after(now, seconds, dt)
+        end = None if timeout is None else _after(now, timeout, dt)
         return self.run(until=until, timeout=end)
 
     def call(self, name: str, *args: Any) -> Any:
@@ -320,17 +342,20 @@ class Simulation:
             "(an HMPL program)"
         )
 
-    def _debug_run(self, until: float | None) -> RunResult:
+    def _debug_run(self, until: float | None, timeout: float | None) -> RunResult:
+        check_run_times(until, timeout)
         engine = self.debugger
+        by_timeout = timeout is not None and (until is None or timeout <= until)
+        end = timeout if by_timeout else until
         target = None
-        if until is not None:
-            target = Position(until_cycle(until, self.controller.cycle_time))
+        if end is not None:
+            target = Position(until_cycle(end, self.controller.cycle_time))
         stop = self.pause_reason = engine.resume_to(target)
         reason = {"exited": FINISHED, "waits forever": FOREVER}.get(stop.reason, "paused")
         if target is not None and stop.reason == "goto":
-            reason = UNTIL
-        waiting = self.controller.still_running() if reason == FOREVER else []
-        return RunResult(reason, stop.time, waiting, until)
+            reason = TIMEOUT if by_timeout else UNTIL
+        waiting = self.controller.still_running() if reason in (TIMEOUT, FOREVER) else []
+        return RunResult(reason, stop.time, waiting, end)
 
     # ------------------------------------------------------------ debugging
 
@@ -446,8 +471,10 @@ class Simulation:
 
     def step(self, cycles: int = 1) -> None:
         """Run exactly `cycles` controller cycles (with `raise_faults`: fewer, if a fault
-        raises `TaskFault` at the end of its cycle)."""
+        raises `TaskFault` at the end of its cycle). ValueError for a negative count."""
         self._not_serving("step")
+        if cycles < 0:
+            raise ValueError(f"step takes a number of cycles >= 0, got {cycles}")
         if self.debugger is not None:
             self.pause_reason = self.debugger.step_cycle(cycles)
             return
@@ -489,7 +516,9 @@ class Simulation:
 
     @property
     def variables(self) -> Variables:
-        """Every variable of the run by its scope channel name (read, write, units)."""
+        """Every variable of the run by its scope channel name (read, write, units);
+        SessionError once closed."""
+        self._open("variables")
         if self.debugger is not None:
             return Variables(self.session.scope_registry(), self.controller)
         if self._variables is None:
@@ -502,7 +531,8 @@ class Simulation:
         output (`gpi3`, `gpo5`), an axis variable of manual 5.1.1 (`axis0.pos_fb`, in mm
         or deg), a PDL drive variable (`drive1.x_ref_pos`), a GDL state
         (`cooling_fan.VALUE`). `index`: an array element (`read("table", 3)`). KeyError
-        (with the closest names) for an unknown name."""
+        (with the closest names) for an unknown name; SessionError once closed."""
+        self._open("read")
         if index is not None:
             name = f"{name}[{index}]"
         return self.variables.read(name)
@@ -513,7 +543,9 @@ class Simulation:
         an HMPL Set* function sets (`axis0.max_vel` by SetVel, ... `WRITABLE_AXIS`),
         through that function; `driveN.<name>` as the drive's host write; GDL states as a
         scenario input. KeyError for an unknown name, `WriteError` for a read-only
-        variable or a refused value (with the manual's error code)."""
+        variable or a refused value (with the manual's error code); SessionError once
+        closed."""
+        self._open("write")
         self._not_serving("write")
         if self.debugger is not None:  # an input of the run: replayed when going back
             self.variables.channel(name)
@@ -524,7 +556,9 @@ class Simulation:
     def axis(self, n: int) -> AxisState:
         """A snapshot of axis `n` now: every axis variable of manual 5.1.1 by its name
         (`pos_fb`, `ref_vel`, ...; mm or deg) and its status flags (`enabled`, `moving`,
-        `in_pos`, `error_stop`, ...). IndexError if the machine has no axis `n`."""
+        `in_pos`, `error_stop`, ...). IndexError if the machine has no axis `n`, TypeError
+        if `n` is not an integer."""
+        n = operator.index(n)
         axes = self.controller.axes
         if not 0 <= n < len(axes):
             raise IndexError(f"no axis {n} on this machine (axes 0..{len(axes) - 1})")
@@ -533,9 +567,12 @@ class Simulation:
     def set_input(self, name: int | str, value: Any) -> None:
         """Drive an input now: a controller input by number (`set_input(4, True)`: GetGPI(4),
         numbered from 1) or any input by name (`gpi4`, `slv8.di1`, `slv9.ai1` with a raw
-        word), as a scenario's `set` does; IndexError / KeyError if there is no such input."""
+        word), as a scenario's `set` does; IndexError / KeyError if there is no such input,
+        ValueError for a value the input cannot take (a digital input: 0 or 1, True/False,
+        "ON"/"OFF"); SessionError once closed."""
+        self._open("set_input")
         if isinstance(name, int):
-            self.controller.io.gpio.set_input(name, value)
+            self.controller.io.gpio.set_input(name, bit_of(value))
             return
         found = self.controller.io.channel(name)
         if (
@@ -552,14 +589,18 @@ class Simulation:
         """Inject a fault now, as a scenario's fault event does: `inject_fault("drive",
         axis=0, code=0x7500)`, `("encoder_loss", axis=1)`, `("following_error", axis=0)`,
         `("hw_limit", axis=0, side="left")`, `("slave_lost", slave=9)`, `("estop")`
-        (motionvm.io.faults). ValueError for an unknown fault or a bad target."""
+        (motionvm.io.faults). ValueError for an unknown fault or a bad target; SessionError
+        once closed."""
         from motionvm.io.faults import inject_fault
 
+        self._open("inject_fault")
         inject_fault(self.controller.io, fault, **target)
 
     def output(self, name: int | str) -> int:
         """An output's state now: a controller output by number (GetGPO numbering, from 1)
-        or by name (`gpo3`, `slv8.do2`, `slv9.ao1`: the raw word)."""
+        or by name (`gpo3`, `slv8.do2`, `slv9.ao1`: the raw word); SessionError once
+        closed."""
+        self._open("output")
         if isinstance(name, int):
             return self.controller.io.gpio.output(name)
         found = self.controller.io.channel(name)
@@ -573,13 +614,24 @@ class Simulation:
         """Record `channels` (scope channel names, as `read` takes them) at the end of
         every `every`-th cycle from now on; the returned `Recording` gives the data.
         KeyError for an unknown channel. While recording, the clock does not jump over
-        idle cycles (the results are the same)."""
+        idle cycles (the results are the same). TypeError for one name given as a string
+        (`scope("count")`: its letters would be channels); SessionError once closed."""
+        if isinstance(channels, str):
+            raise TypeError(f"scope takes a list of channel names, got the string {channels!r}")
+        self._open("scope")
         if every < 1:
             raise ValueError(f"every must be a whole number of cycles >= 1, got {every}")
         found = [self.variables.channel(name) for name in channels]
         recorder = ScopeRecorder(found, self.controller.cycle_time, every)
         recorder.attach(self.controller)
         return Recording(recorder, self.controller)
+
+
+def _after(cycle: int, seconds: float, dt: float) -> float:
+    """The time [s] `seconds` after the start of `cycle`, counted in whole cycles of `dt`
+    [s] (a time too long to count in cycles, 1e308 s, as it is)."""
+    cycles = seconds / dt
+    return (cycle + round(cycles)) * dt if math.isfinite(cycles) else cycle * dt + seconds
 
 
 class _RaiseValueError:

@@ -144,6 +144,18 @@ def load_machine_spec(machine: MachineConfig | str | Path | None) -> MachineConf
         raise SessionError(*exc.messages, located=exc.located) from None
 
 
+def check_run_times(until: object, timeout: object) -> None:
+    """SessionError unless `until` and `timeout` are each None or a finite, non-negative
+    number of seconds (every way of running checks them so)."""
+    for value, option in ((until, "--until"), (timeout, "--timeout")):
+        if value is not None and not (
+            isinstance(value, int | float) and value >= 0 and math.isfinite(value)
+        ):
+            raise SessionError(
+                f"{option} must be a finite, non-negative number of seconds, got {value!r}"
+            )
+
+
 def check_sources(sources: Sequence[Source]) -> None:
     """Every source has a known language and, unless given as text, exists."""
     for s in sources:
@@ -412,11 +424,7 @@ class Session:
         have finished by then). Returns why it stopped and, if it did not finish, what
         still ran and where. `progress(sim_time)` is called between cycles every so often
         (`Controller.run`); it must not change the run."""
-        for value, option in ((until, "--until"), (timeout, "--timeout")):
-            if value is not None and not (value >= 0 and math.isfinite(value)):
-                raise SessionError(
-                    f"{option} must be a finite, non-negative number of seconds, got {value}"
-                )
+        check_run_times(until, timeout)
         self.boot()
         self.controller.comm.paced = realtime  # client built-ins take network time
         by_timeout = timeout is not None and (until is None or timeout <= until)

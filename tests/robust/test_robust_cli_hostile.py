@@ -122,3 +122,9 @@ def test_a_case_timeout_past_what_the_system_waits_runs_the_cases(cli, timeout):
     r = cli("test", "--case-timeout", timeout, "c.hmpl", c__hmpl=case)
     assert r.code == 0
     assert "1 passed, 0 failed" in r.stdout
+
+
+def test_a_link_to_nothing_is_reported_missing(cli):
+    (cli.folder / "cell.hmpl").symlink_to(cli.folder / "gone.hmpl")
+    r = cli("run", "cell.hmpl")
+    assert (r.code, r.stderr) == (3, "motionvm: error: cell.hmpl: no such file\n")

@@ -22,6 +22,7 @@ variables; the line tables that place breakpoints).
 
 from __future__ import annotations
 
+import math
 import os
 import threading
 from collections.abc import Callable, Sequence
@@ -35,6 +36,7 @@ from motionvm.debug.tracer import is_user_file
 from motionvm.lang import DebugThread, language_of
 from motionvm.runtime.fault_position import Fault
 from motionvm.session import RunSpec, Session
+from motionvm.sim.controller import until_cycle
 from motionvm.sim.variables import Variables
 
 
@@ -189,7 +191,16 @@ class DebugEngine:
         return self._replay_to(target, reason)
 
     def go_to_time(self, seconds: float) -> Stop:
-        cycle = round(seconds / self.controller.cycle_time)
+        """To the start of the cycle nearest `seconds` [s] (0 if negative); ValueError
+        for a time that is not a finite number."""
+        if not (isinstance(seconds, int | float) and math.isfinite(seconds)):
+            raise ValueError(f"go to a time: a finite number of seconds, got {seconds!r}")
+        cycles = seconds / self.controller.cycle_time
+        cycle = (
+            round(cycles)
+            if math.isfinite(cycles)
+            else until_cycle(seconds, self.controller.cycle_time)
+        )
         return self.go_to(Position(max(0, cycle), 0))
 
     def position(self) -> Position:

@@ -22,7 +22,7 @@ change is on its way through a wire.
 Channels by name (`channel(name)`: the scope, a scenario, the host API):
 `gpiN`, `gpoN`, `slvS.diK`, `slvS.doK`, `slvS.aiK`, `slvS.aoK` (`slvS.sM.diK`: slot M),
 `slvS.state` (EtherCAT state). Inputs are written at the pin, outputs as a program
-writes them. The E-stop (rising edge of the bound input) disables every axis
+writes them; a digital channel takes what `bit_of` reads as 0 or 1. The E-stop (rising edge of the bound input) disables every axis
 (`MotionKernel.estop`) and calls the handlers given to `on_estop` (a language run
 side stops its tasks).
 A lost slave (`lose_slave`) leaves Operation for good: it reports Init, its outputs
@@ -31,6 +31,7 @@ drop to 0 at the pins, its inputs keep their last value, and a drive's axis faul
 
 from __future__ import annotations
 
+import math
 import weakref
 from collections.abc import Callable
 
@@ -49,6 +50,19 @@ from motionvm.io.slave_objects import build as build_slave_objects
 from motionvm.io.slaves import DRIVE, Module, Slave, SlaveBus
 from motionvm.io.wiring import Sensor, Wire, delay_cycles
 from motionvm.runtime.clients import PassiveClient
+
+
+def bit_of(value: object) -> int:
+    """A digital channel's value [0 or 1] as a scenario or the host gives it: a boolean,
+    ON or OFF (any case), or a finite number (0 is 0, any other 1). ValueError for
+    anything else: the text '0' or 'off' is not read by its truth (it would be 1)."""
+    if isinstance(value, bool):
+        return int(value)
+    if isinstance(value, str) and value.upper() in ("ON", "OFF"):
+        return 1 if value.upper() == "ON" else 0
+    if isinstance(value, int | float) and math.isfinite(value):
+        return 1 if value else 0
+    raise ValueError(f"a digital value is 0 or 1, true/false or ON/OFF, not {value!r}")
 
 
 class IOSystem(PassiveClient):
@@ -286,11 +300,15 @@ class IOSystem(PassiveClient):
         if ep.kind == "gpi":
             if not gpio.has_input(ep.channel):
                 return None
-            return (lambda: gpio.input(ep.channel)), (lambda v: gpio.set_input(ep.channel, v))
+            return (lambda: gpio.input(ep.channel)), (
+                lambda v: gpio.set_input(ep.channel, bit_of(v))
+            )
         if ep.kind == "gpo":
             if not gpio.has_output(ep.channel):
                 return None
-            return (lambda: gpio.output(ep.channel)), (lambda v: gpio.set_output(ep.channel, v))
+            return (lambda: gpio.output(ep.channel)), (
+                lambda v: gpio.set_output(ep.channel, bit_of(v))
+            )
         found = self.endpoint_module(ep)
         if found is None:
             return None
@@ -304,7 +322,7 @@ class IOSystem(PassiveClient):
         if ep.kind in ("di", "do"):
 
             def set_bit(v: object) -> None:
-                values[i] = 1 if v else 0
+                values[i] = bit_of(v)
 
             return (lambda: values[i]), set_bit
         bits = module.bits

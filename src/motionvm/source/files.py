@@ -15,7 +15,7 @@ NOT_REGULAR = "not a regular file (a device, pipe or folder)"
 def why_unreadable(path: str | Path) -> str:
     """Why `path`, which is no regular file, cannot be a source file: `no such file`, or
     NOT_REGULAR when something else (a folder named `x.hmpl`) is there."""
-    return NOT_REGULAR if os.path.lexists(path) else "no such file"
+    return NOT_REGULAR if os.path.exists(path) else "no such file"
 
 
 @dataclass(frozen=True, slots=True)
