@@ -111,3 +111,21 @@ def test_going_to_a_time_that_is_not_finite_is_a_value_error():
                 sim.go_to(t)
         assert sim.go_to(1e308).reason == "exited"  # past the end of the run
         assert sim.messages == ["done"]
+
+
+def test_a_breakpoint_in_gdl_nested_400_deep_is_verified(tmp_path):
+    # the line table parsed the file with Python's default recursion limit: the
+    # RecursionError left every line "no statement"
+    deep = "(" * 400 + "1" + ")" * 400
+    path = tmp_path / "cell.gdl"
+    path.write_text(
+        "MODULE cell;\n  IO$BOARD io [ SLOT = 1 ];\n"
+        "  DIGITAL$INPUT start [ BOARD$NAME = io, CHANNEL = 1 ];\n"
+        "  INTEGER$VARIABLE runs [ ];\n\n  PROCEDURE counter;\n"
+        "  DECLARE { STATUS OF start };\n  BEGIN\n"
+        f"    VALUE OF runs = {deep};\n  END$PROCEDURE;\nEND$MODULE;\n",
+        encoding="utf-8",
+    )
+    with Simulation.from_files([path], debug=True) as sim:
+        bp = sim.break_at(path, 9)
+        assert (bp.line, bp.verified, bp.message) == (9, True, "")

@@ -169,7 +169,10 @@ class Gdl(Language):
             text = SourceFile.read(path).text if text is None else text
         except OSError:
             return None
-        return parse_tokens(tokenize(path, text, sink), path, sink)
+        try:  # the parser recurses per level of nesting, as the compile does
+            return run_deep(lambda: parse_tokens(tokenize(path, text, sink), path, sink))
+        except TooManyErrors:  # a file the lexer gives up on has no statements to show
+            return None
 
     def line_table(self, path: str, text: str | None = None) -> LineTable:
         from motionvm.lang.gdl import nodes as n
