@@ -6,8 +6,11 @@ and the documented exit code, never an internal error (exit 4)."""
 from __future__ import annotations
 
 import socket
+from pathlib import Path
 
 import pytest
+
+GDL = Path(__file__).parents[1] / "programs" / "gdl"
 
 HELLO = 'void main() {\n    Print("hi");\n}\n'
 
@@ -128,3 +131,21 @@ def test_a_link_to_nothing_is_reported_missing(cli):
     (cli.folder / "cell.hmpl").symlink_to(cli.folder / "gone.hmpl")
     r = cli("run", "cell.hmpl")
     assert (r.code, r.stderr) == (3, "motionvm: error: cell.hmpl: no such file\n")
+
+
+def test_a_gdl_file_given_twice_is_named_not_reported_as_clashing_modules(cli):
+    gdl = str(GDL / "globals.gdl")
+    r = cli("check", gdl, str(GDL / "globals.2.gdl"), gdl)
+    assert (r.code, r.stdout) == (3, "")
+    assert r.stderr == (
+        f"motionvm: error: {gdl}: given twice; an application takes each of its .gdl files once\n"
+    )
+
+
+def test_two_pdl_files_on_the_command_line_are_named(cli):
+    pdl = "#task/0;\nhalt;\n"
+    r = cli("run", "a.pdl", "b.pdl", a__pdl=pdl, b__pdl=pdl)
+    assert (r.code, r.stdout) == (3, "")
+    assert r.stderr.startswith(
+        "motionvm: error: at most one .pdl file on the command line, got 2 (a.pdl, b.pdl); "
+    )

@@ -3,6 +3,7 @@ one application; its run side takes the scenario's GDL entries and ends a run in
 
 from __future__ import annotations
 
+import os
 from collections.abc import Mapping, Sequence
 from typing import Any
 
@@ -96,6 +97,7 @@ class Gdl(Language):
         from motionvm.source.cache import CompileCache
 
         paths = [s.path for s in sources]
+        _once_each(paths)
         texts = {s.path: s.text for s in sources if s.text is not None}
         sink = DiagnosticSink()
         # (a check keeps nothing; a compile with coverage probes is neither read nor kept)
@@ -207,3 +209,17 @@ class Gdl(Language):
 
 
 LANGUAGE = Gdl()
+
+
+def _once_each(paths: Sequence[str]) -> None:
+    """LanguageInputError for a file given twice: its modules would clash with
+    themselves (`name 'cell' is already used by the module at cell.gdl:2:8`)."""
+    seen: dict[str, str] = {}
+    for path in paths:
+        key = os.path.realpath(path)
+        if key in seen:
+            also = "" if seen[key] == path else f" (also as {seen[key]})"
+            raise LanguageInputError(
+                f"{path}: given twice{also}; an application takes each of its .gdl files once"
+            )
+        seen[key] = path

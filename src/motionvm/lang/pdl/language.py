@@ -87,9 +87,11 @@ class Pdl(Language):
         if not sources:
             return machine
         if len(sources) > 1:
+            given = ", ".join(s.path for s in sources)
             raise LanguageInputError(
-                "one .pdl program per drive on the command line; a machine file puts programs "
-                'on several drives (pdl = "x.pdl" in an [[axis]] table)'
+                f"at most one .pdl file on the command line, got {len(sources)} ({given}); a "
+                'machine file puts programs on several drives (pdl = "x.pdl" in an [[axis]] '
+                "table)"
             )
         taken = {d.axis for d in machine.pdl_drives}
         free = [i for i in range(len(machine.axes)) if i not in taken]
