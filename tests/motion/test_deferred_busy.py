@@ -5,12 +5,15 @@ axis still moves (`MotionKernel.busy`). For axes on a positioning move the statu
 answer that (motion/deferred.py, `Deferrals.one_busy`): the axes are not brought up to
 date every cycle (which cost a closed-form advance of every axis each cycle, five times
 a stepped cycle). A jog may reach its velocity inside a deferred stretch (`cruising`,
-which ends a run): the kernel still brings it up to date to answer; a jog with its
-software limits on never cruises (it ends on a limit), so the flags answer for it too.
-Both runs end as stepping ends.
+which ends a run): the kernel still brings it up to date to answer. A jog that can
+never cruise (its software limits on, or a hardware limit switch ahead of it that is
+checked: it ends on that limit) is answered by its flags too. Both runs end as stepping
+ends.
 """
 
 from __future__ import annotations
+
+import pytest
 
 from motionvm.api import Simulation
 from motionvm.lang.hmpl.compiler import TaskFile
@@ -28,6 +31,7 @@ void main() {{
 JOG = """
 void main() {
     SetRollover(0, 360.0);
+    IgnoreHWL(0, 1);
     SetVel(0, 50.0); SetAcc(0, 200.0); SetDec(0, 200.0);
     Enable(0);
     Till(IsEnabled(0));
@@ -43,6 +47,8 @@ void main() {
     MoveVel(0, 1);
 }
 """
+
+TOWARD_SWITCH = LIMITED_JOG.replace("Enable(0);", "IgnoreSWL(0, 1); Enable(0);")
 
 
 def _run(
@@ -75,13 +81,15 @@ def test_a_jog_after_the_tasks_end_runs_as_stepped():
     stepped = _run(JOG, defer=False, axes=1, timeout=2.0)
     deferred = _run(JOG, defer=True, axes=1, timeout=2.0)
     assert deferred[0] == stepped[0] and deferred[2:] == stepped[2:]
+    assert "reason='finished'" in stepped[2] and stepped[3] < 1.0  # it cruises: the run ends
 
 
-def test_a_jog_toward_a_software_limit_stays_deferred_and_ends_as_stepped():
-    # the default axis's software limit stops the jog after some seconds: until then the
-    # axis stays deferred, where a catch-up each cycle made the run slower than stepping
-    stepped = _run(LIMITED_JOG, defer=False, axes=1, timeout=4.0)
-    deferred = _run(LIMITED_JOG, defer=True, axes=1, timeout=4.0)
+@pytest.mark.parametrize("program", [LIMITED_JOG, TOWARD_SWITCH], ids=["swl", "hw-switch"])
+def test_a_jog_that_never_cruises_stays_deferred_and_ends_as_stepped(program):
+    # it jogs toward a limit for the whole run: until then the axis stays deferred, where
+    # a catch-up each cycle made the run slower than stepping
+    stepped = _run(program, defer=False, axes=1, timeout=4.0)
+    deferred = _run(program, defer=True, axes=1, timeout=4.0)
     assert deferred[0] == stepped[0] and deferred[2:] == stepped[2:]
     cycles = round(deferred[3] * 1000)
     assert stepped[0][0][4] and cycles >= 4000  # still jogging at the end

@@ -126,15 +126,14 @@ class Deferrals:
     def one_busy(self) -> bool:
         """True if a deferred axis keeps the run busy (`MotionKernel.busy`) whatever its
         deferred cycles hold: its status flags say it moves or settles (they are as
-        stepping leaves them) and it runs a positioning move with nothing buffered, so it
-        cannot be jogging at a reached velocity (`Axis.cruising`), or it moves with its
-        software limits on (not a rollover axis): such a jog ends on a limit, so it never
-        cruises. The run loop asks every cycle once its tasks ended: it need not catch
-        the axes up to know. (The answer for a jog that may cruise needs the axis up to
-        date: `busy` then catches up.)"""
+        stepping leaves them) and it runs a positioning move with nothing buffered, or
+        it moves and can never be jogging at a reached velocity (`Axis.cruising`,
+        `_never_cruises`). The run loop asks every cycle once its tasks ended: it need
+        not catch the axes up to know. (The answer for a jog that may cruise needs the
+        axis up to date: `busy` then catches up.)"""
         for a in self.lagging:
             if a.moving:
-                if not (a._ignore_swl or a._rollover):
+                if _never_cruises(a):
                     return True
             elif not (a.enabled and not a.in_pos):
                 continue
@@ -161,3 +160,18 @@ class Deferrals:
             self.catch_up(next(iter(lagging)))
         self._due.clear()
         self._retry.clear()
+
+
+def _never_cruises(a) -> bool:
+    """Whether moving axis `a` can never be cruising (`Axis.cruising`) before it is
+    commanded again, from what its deferred cycles do not change: a jog with its software
+    limits on ends on a limit (not a rollover axis), and a jog toward a hardware limit
+    switch that is checked ends on it (a cruise runs in its commanded velocity's
+    direction)."""
+    if not (a._ignore_swl or a._rollover):
+        return True
+    pg = a.pg
+    if a.ignore_hwl or pg.mode != VELOCITY or pg._v_cmd == 0.0:
+        return False
+    sensors = a.drive.sensors
+    return (sensors.positive_limit if pg._v_cmd > 0.0 else sensors.negative_limit) is not None

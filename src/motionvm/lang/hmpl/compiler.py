@@ -8,7 +8,6 @@ from motionvm.lang.gc_hold import gc_held
 from motionvm.lang.hmpl import program_cache
 from motionvm.lang.hmpl.cmemory import Memory
 from motionvm.lang.hmpl.lib import implemented_builtins
-from motionvm.lang.hmpl.lower_util import code_discarded
 from motionvm.lang.hmpl.parser import parse_file
 from motionvm.lang.hmpl.program import CompiledProgram, ProgramCompiler, Unit
 from motionvm.runtime.kernel import MAX_TASKS
@@ -115,6 +114,5 @@ def _compile_units(
                 units.append(Unit(f.task, f.path, tu))
         if sink.has_errors:
             return None, mem
-        pc = ProgramCompiler(mem, sink, implemented_builtins())
-        with code_discarded(not bytecode):
-            return pc.compile(units, bytecode=bytecode), mem
+        pc = ProgramCompiler(mem, sink, implemented_builtins(), bytecode=bytecode)
+        return pc.compile(units), mem

@@ -1,11 +1,12 @@
 """The function being lowered, as every part of the HMPL lowering sees it.
 
 One `FunctionContext` per lowered function (or per task's global initializers): the
-program and task it belongs to, the current block scope, the names of the generated
-Python function (temporaries `_t1`, `_t2`, ... and locals `v_x`, `v_x_2`, ...), the
-layout of its stack frame, and what the finished function must declare (`global`
-names, whether it is a generator). The parts (lower_expr.py, lower_access.py,
-lower_stmt.py, ...) own their own state and share only this.
+program and task it belongs to, whether its code is kept (not a check), the current
+block scope, the names of the generated Python function (temporaries `_t1`, `_t2`, ...
+and locals `v_x`, `v_x_2`, ...), the layout of its stack frame, and what the finished
+function must declare (`global` names, whether it is a generator). The parts
+(lower_expr.py, lower_access.py, lower_stmt.py, ...) own their own state and share
+only this.
 
     int f(int x) { struct P q; int *p = &x; ... }      (struct P: two ints)
 has a frame of 32 bytes: x at offset 0 (its address is taken), q at offset 16, each
@@ -15,9 +16,12 @@ followed by a red zone of 8 bytes that no access may touch; `p` is the Python lo
 
 from __future__ import annotations
 
+import ast
+
 from motionvm.lang.hmpl import ctypes_ as ct
 from motionvm.lang.hmpl.cmemory import RED_ZONE, shadow_pattern
 from motionvm.lang.hmpl.symbols import FuncSym, Scope
+from motionvm.lang.placing import place
 
 
 class SemanticError(Exception):
@@ -31,6 +35,7 @@ class FunctionContext:
         "_ntemp",
         "_pynames",
         "addr_taken",
+        "bytecode",
         "frame_size",
         "frame_valid",
         "func",
@@ -51,6 +56,10 @@ class FunctionContext:
         self.prog = prog
         self.sink = prog.sink
         self.task = task
+        self.bytecode: bool = prog.bytecode
+        """Whether the generated code is compiled; false in a check (`motionvm check`),
+        which keeps only the diagnostics: nodes need no location (`at`), loops no
+        aliased globals (`lower_walk.alias_globals`)."""
         self.scope = scope
         """The innermost block scope; a part entering a block sets it, and restores it."""
         self.func = func
@@ -71,6 +80,15 @@ class FunctionContext:
         (reserved above the frame, never valid) so that recursion stays bounded."""
         self._ntemp = 0
         self._pynames: set[str] = set()
+
+    def at(self, stmts: list[ast.stmt], pos) -> list[ast.stmt]:
+        """`stmts`, every generated node under them without a location placed at the
+        user's position `pos` (`placing.place`: what an inner statement placed is not
+        entered); left unplaced in a check, whose code is not kept."""
+        if self.bytecode:
+            col = pos.col - 1
+            place(stmts, pos.line, col if col > 0 else 0)
+        return stmts
 
     def fail(self, pos, message: str) -> SemanticError:
         """Report an error at `pos`; the exception abandons the statement."""

@@ -20,7 +20,6 @@ from motionvm.lang.hmpl import nodes as n
 from motionvm.lang.hmpl.lower_access import AccessLowerer
 from motionvm.lang.hmpl.lower_context import FunctionContext, SemanticError
 from motionvm.lang.hmpl.lower_expr import ExprLowerer
-from motionvm.lang.hmpl.lower_util import at
 from motionvm.lang.hmpl.lvalues import call, name, view_code
 from motionvm.lang.hmpl.symbols import VarSym, error_symbol
 
@@ -159,7 +158,7 @@ class DeclLowerer:
                         )
                     self.ctx.scope.names[d.name] = self.prog.block_prototype(d, self.ctx.task)
                     continue
-                out.extend(at(self.declare_local(d), d.pos))
+                out.extend(self.ctx.at(self.declare_local(d), d.pos))
             except SemanticError:
                 pass
         return out

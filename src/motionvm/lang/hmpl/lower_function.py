@@ -45,7 +45,6 @@ from motionvm.lang.hmpl.lower_loops import LoopLowerer
 from motionvm.lang.hmpl.lower_split import Nesting, bind_splits
 from motionvm.lang.hmpl.lower_stmt import RETURNS, StatementLowerer, ends_in
 from motionvm.lang.hmpl.lower_switch import SwitchLowerer
-from motionvm.lang.hmpl.lower_util import at
 from motionvm.lang.hmpl.lvalues import name
 from motionvm.lang.hmpl.symbols import FuncSym, Scope, VarSym
 
@@ -111,14 +110,14 @@ class FunctionLowerer:
             params.append(ast.arg(pyname))
             if p.name in ctx.addr_taken and pt.is_scalar:
                 sym_p = VarSym(p.name, pt, "frame", p.pos, offset=ctx.frame_alloc(pt))
-                copies.extend(at(self.access.var_lvalue(sym_p).store(name(pyname)), p.pos))
+                copies.extend(self.ctx.at(self.access.var_lvalue(sym_p).store(name(pyname)), p.pos))
             else:
                 sym_p = VarSym(p.name, pt, "local", p.pos, pyname=pyname, is_const=p.type.is_const)
             ctx.scope.names[p.name] = sym_p
         body = copies + self.jumps.function_body(f.body)
         if not isinstance(sym.type.ret, ct.VoidT) and not ends_in(f.body, RETURNS):
             zero = ast.Constant(0.0 if sym.type.ret.is_float else 0)
-            body.append(at([ast.Return(zero)], f.pos)[0])
+            body.append(self.ctx.at([ast.Return(zero)], f.pos)[0])
         if ctx.frame_size or ctx.list_bytes:
             push = [
                 ast.Assign([name("_s", True)], name("_stack")),
@@ -146,11 +145,11 @@ class FunctionLowerer:
         fn = ast.FunctionDef(
             sym.pyname,
             ast.arguments([], params, None, [], [], None, []),
-            at(body or [ast.Pass()], f.pos),
+            self.ctx.at(body or [ast.Pass()], f.pos),
             [],
             None,
         )
-        fn = at([fn], f.pos)[0]
+        fn = self.ctx.at([fn], f.pos)[0]
         if self.nesting.has_splits:
             bind_splits(fn, set(gl))
         return fn

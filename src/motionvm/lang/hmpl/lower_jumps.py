@@ -31,7 +31,7 @@ from motionvm.lang.hmpl.lower_context import FunctionContext
 from motionvm.lang.hmpl.lower_decl import DeclLowerer
 from motionvm.lang.hmpl.lower_split import Nesting
 from motionvm.lang.hmpl.lower_stmt import StatementLowerer
-from motionvm.lang.hmpl.lower_util import at, backedge, countdown_init
+from motionvm.lang.hmpl.lower_util import backedge, countdown_init
 from motionvm.lang.hmpl.lvalues import call, name
 from motionvm.lang.hmpl.symbols import Scope, VarSym
 from motionvm.source.suggest import did_you_mean
@@ -157,7 +157,7 @@ class JumpLowerer:
         )
         loop = ast.While(ast.Constant(True), [ast.Try(tries, [handler], [], [])], [])
         pre = [ast.Assign([name(lbl, True)], ast.Constant(0)), countdown_init(b)]
-        return at(self._declared_at_entry(body, scope) + pre + [loop], body.pos)
+        return self.ctx.at(self._declared_at_entry(body, scope) + pre + [loop], body.pos)
 
     def _declared_at_entry(self, body: n.Block, scope: Scope) -> list[ast.stmt]:
         """C lets a `goto` jump past a declaration at the top level of the body: the

@@ -36,7 +36,7 @@ from motionvm.lang.hmpl.lower_range import RangeLowerer
 from motionvm.lang.hmpl.lower_records import records_end
 from motionvm.lang.hmpl.lower_split import Nesting
 from motionvm.lang.hmpl.lower_stmt import StatementLowerer
-from motionvm.lang.hmpl.lower_util import LoopCtx, PollCtx, at, backedge, countdown_init
+from motionvm.lang.hmpl.lower_util import LoopCtx, PollCtx, backedge, countdown_init
 from motionvm.lang.hmpl.lower_walk import PointerWalkLowerer
 from motionvm.lang.hmpl.lvalues import const
 from motionvm.lang.hmpl.symbols import Scope
@@ -142,7 +142,7 @@ class LoopLowerer:
                 orelse=[],
             )
         ]
-        cont = at(exit_, s.cond.pos) + backedge(b) + [ast.Continue()]
+        cont = self.ctx.at(exit_, s.cond.pos) + backedge(b) + [ast.Continue()]
         body, ctx = self.loop_body(s.body, cont)
         exit2 = [
             ast.If(
@@ -152,7 +152,9 @@ class LoopLowerer:
             )
         ]
         loop = ast.While(
-            test=ast.Constant(True), body=body + at(exit2, s.cond.pos) + backedge(b), orelse=[]
+            test=ast.Constant(True),
+            body=body + self.ctx.at(exit2, s.cond.pos) + backedge(b),
+            orelse=[],
         )
         return [countdown_init(b)] + self.nesting.placed(ctx, loop)
 
@@ -168,7 +170,7 @@ class LoopLowerer:
         try:
             out: list[ast.stmt] = []
             if s.init is not None:
-                out.extend(at(self.stmts.stmt(s.init), s.init.pos))
+                out.extend(self.ctx.at(self.stmts.stmt(s.init), s.init.pos))
             fast = self.ranges.range_for(s)
             if fast is None and s.cond is not None and s.step is not None:
                 fast = self.walk.pointer_walk(s.cond, s.step, s.body, None, s.pos)
@@ -177,7 +179,7 @@ class LoopLowerer:
             b = self.ctx.temp()
             test = self.x.cond(s.cond) if s.cond is not None else ast.Constant(True)
             step = (
-                at(self.stmts.s_ExprStmt(n.ExprStmt(s.step.pos, s.step)), s.step.pos)
+                self.ctx.at(self.stmts.s_ExprStmt(n.ExprStmt(s.step.pos, s.step)), s.step.pos)
                 if s.step is not None
                 else []
             )
@@ -187,7 +189,7 @@ class LoopLowerer:
             cont = _flat([step, continue_check() if polling else backedge(b), ast.Continue()])
             body, ctx = self.loop_body(s.body, cont, polling=polling)
             step2 = (
-                at(self.stmts.s_ExprStmt(n.ExprStmt(s.step.pos, s.step)), s.step.pos)
+                self.ctx.at(self.stmts.s_ExprStmt(n.ExprStmt(s.step.pos, s.step)), s.step.pos)
                 if s.step is not None
                 else []
             )

@@ -243,7 +243,7 @@ class RangeLowerer:
         ]
         # the arrays' local names are bound once a chunk, inside the loop (and so inside
         # its split function, if it has one)
-        aliases = alias_globals(inner.body, self.ctx.temp)
+        aliases = alias_globals(inner.body, self.ctx)
         count = _count(first, stop, step)
         if count and count <= CHUNK and not aliases:
             return [_one_chunk(sym, stop, step, inner, charge, first + count * step.value,

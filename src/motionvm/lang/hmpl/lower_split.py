@@ -30,13 +30,9 @@ import ast
 
 from motionvm.lang.hmpl import ctypes_ as ct
 from motionvm.lang.hmpl.lower_context import FunctionContext
-from motionvm.lang.hmpl.lower_util import (
-    LOOP_BLOCKS,
-    MAX_LOOP_NESTING,
-    LoopCtx,
-    child_fields,
-)
+from motionvm.lang.hmpl.lower_util import LOOP_BLOCKS, MAX_LOOP_NESTING, LoopCtx
 from motionvm.lang.hmpl.lvalues import name
+from motionvm.lang.placing import child_fields
 
 _NO_ARGS = ast.arguments(
     posonlyargs=[], args=[], vararg=None, kwonlyargs=[], kw_defaults=[], kwarg=None, defaults=[]

@@ -30,7 +30,7 @@ from motionvm.lang.hmpl.lower_context import FunctionContext, SemanticError
 from motionvm.lang.hmpl.lower_expr import ExprLowerer
 from motionvm.lang.hmpl.lower_poll import mark_effect, quiet_statement
 from motionvm.lang.hmpl.lower_split import Nesting
-from motionvm.lang.hmpl.lower_util import PollCtx, at
+from motionvm.lang.hmpl.lower_util import PollCtx
 from motionvm.lang.hmpl.lvalues import call
 from motionvm.lang.hmpl.symbols import Scope, VarSym
 from motionvm.lang.hmpl.till_events import position_wait, status_only, time_wait, waits_on_event
@@ -81,7 +81,7 @@ class StatementLowerer:
                     if polling is not None and not quiet_statement(ctx, s, polling):
                         lowered = [mark_effect(polling.mark), *lowered]
                         polling = None
-                    out.extend(at(lowered, s.pos))
+                    out.extend(ctx.at(lowered, s.pos))
                 except SemanticError:
                     pass
                 if type(s) is n.If and s.else_ is None and ends_in(s.then, _LEAVES):

@@ -35,9 +35,10 @@ from motionvm.lang.hmpl.lower_expr import ExprLowerer
 from motionvm.lang.hmpl.lower_jumps import JumpLowerer
 from motionvm.lang.hmpl.lower_split import Nesting
 from motionvm.lang.hmpl.lower_stmt import StatementLowerer
-from motionvm.lang.hmpl.lower_util import LoopCtx, at, placed_like
+from motionvm.lang.hmpl.lower_util import LoopCtx
 from motionvm.lang.hmpl.lvalues import const, name
 from motionvm.lang.hmpl.symbols import Scope, VarSym
+from motionvm.lang.placing import placed_like
 
 
 class SwitchLowerer:
@@ -155,7 +156,7 @@ class SwitchLowerer:
                 test = tests[0] if len(tests) == 1 else ast.BoolOp(ast.Or(), tests)
                 is_default = any(isinstance(lab, n.Default) for lab in labels)
                 pos = labels[0].pos
-                at([test], pos)
+                ctx.at([test], pos)
                 chain.append((None if is_default else test, inner, pos))
                 lowered.append((test, inner, pos))
                 if inner and type(inner[-1]) is ast.Break:
@@ -173,7 +174,8 @@ class SwitchLowerer:
             return pre + self._switch_chain(out, subject, chain)
         # the loop form's groups (an empty one, `case 2: }`, gets a `pass` at its label)
         body = pre + [
-            at([ast.If(test, inner or [ast.Pass()], [])], pos)[0] for test, inner, pos in lowered
+            ctx.at([ast.If(test, inner or [ast.Pass()], [])], pos)[0]
+            for test, inner, pos in lowered
         ]
         body.append(ast.Break())
         loop = ast.While(ast.Constant(True), body, [])
@@ -215,7 +217,7 @@ class SwitchLowerer:
             for sym in sc.names.values():
                 if isinstance(sym, VarSym) and sym.storage in ("local", "pylist"):
                     out += self.decls.init_var(sym, None, pos)
-        return at(out, pos)
+        return self.ctx.at(out, pos)
 
     def _switch_chain(self, out: list[ast.stmt], subject: ast.expr, chain) -> list[ast.stmt]:
         """`if sw == 1: ... elif sw == 2: ... else: <default>` without the groups' final

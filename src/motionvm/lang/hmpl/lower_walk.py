@@ -47,17 +47,11 @@ from motionvm.lang.hmpl.lower_context import FunctionContext
 from motionvm.lang.hmpl.lower_expr import ExprLowerer
 from motionvm.lang.hmpl.lower_facts import assigned_in_nodes, invariant
 from motionvm.lang.hmpl.lower_split import Nesting
-from motionvm.lang.hmpl.lower_util import (
-    CHUNK,
-    LoopBodies,
-    code_kept,
-    generated_fields,
-    generated_fields_of,
-    placed_like,
-)
+from motionvm.lang.hmpl.lower_util import CHUNK, LoopBodies
 from motionvm.lang.hmpl.lower_values import wrap_node
 from motionvm.lang.hmpl.lvalues import VIEW_NAMES, call, name
 from motionvm.lang.hmpl.symbols import VarSym
+from motionvm.lang.placing import CHILD_FIELDS, child_fields, placed_like
 
 _STRAIGHT = (n.Block, n.ExprStmt, n.If, n.Empty, n.DeclStmt)
 """Statements a walk's body may hold (any other: loop, switch, jump, label, return)."""
@@ -233,7 +227,7 @@ def _chunked_walk(low, pvar, stop, stride, size, checked, fast, sums) -> list[as
     made: dict[str, str] = {}
     for body in (checked, fast):
         if body is not None:
-            pre += alias_globals(body, low.temp, made)
+            pre += alias_globals(body, low, made)
 
     def over(body):
         return ast.For(target=name(pvar, True), iter=name(c), body=body or [ast.Pass()], orelse=[])
@@ -284,14 +278,17 @@ def _chunked_walk(low, pvar, stop, stride, size, checked, fast, sums) -> list[as
 _VIEWS = frozenset(VIEW_NAMES.values()) | {"_SH"}
 
 
-def alias_globals(body: list[ast.stmt], temp, made: dict[str, str] | None = None) -> list[ast.stmt]:
+def alias_globals(
+    body: list[ast.stmt], ctx: FunctionContext, made: dict[str, str] | None = None
+) -> list[ast.stmt]:
     """Read the arrays a loop body indexes through locals: `_t5 = g_a` before the loop
     and `_t5[i]` in it (a local is cheaper to load than a module global). Only for the
     memory views and list-backed arrays, which are bound once before any task runs
     (global initializers run no loop) and never rebound; `body` is changed in place.
     The statements that bind the locals are returned, to stand before the loop; `made`
-    (global -> local) lets several bodies share them (then only new ones are returned)."""
-    if not code_kept():  # a check-only compile: the code is not kept
+    (global -> local) lets several bodies share them (then only new ones are returned).
+    Nothing in a check, whose code is not kept (`ctx.bytecode`)."""
+    if not ctx.bytecode:
         return []
     if made is None:
         made = {}
@@ -300,7 +297,7 @@ def alias_globals(body: list[ast.stmt], temp, made: dict[str, str] | None = None
     # a walk of the generated body without a generator step per node; names and
     # constants, most of the nodes, are looked at where their parent finds them
     Name, Constant, Subscript, Load = ast.Name, ast.Constant, ast.Subscript, ast.Load
-    fields_of = generated_fields
+    fields_of = CHILD_FIELDS
     stack: list = body.copy()
     pop, push = stack.pop, stack.append
     while stack:
@@ -317,7 +314,7 @@ def alias_globals(body: list[ast.stmt], temp, made: dict[str, str] | None = None
         elif t is ast.Global or t is ast.Nonlocal:
             stored.update(node.names)
         d = node.__dict__
-        for f in fields_of.get(t) or generated_fields_of(t):
+        for f in fields_of.get(t) or child_fields(t):
             v = d.get(f)
             if v is None or type(v) is Constant:
                 continue
@@ -333,7 +330,7 @@ def alias_globals(body: list[ast.stmt], temp, made: dict[str, str] | None = None
             continue
         local = made.get(gname)
         if local is None:
-            local = made[gname] = temp()
+            local = made[gname] = ctx.temp()
             out.append(ast.Assign(targets=[name(local, True)], value=name(gname)))
         for sub in uses:
             sub.value = placed_like(name(local), sub.value)

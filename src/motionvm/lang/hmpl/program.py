@@ -29,7 +29,6 @@ from motionvm.lang.hmpl.lint import lint_function
 from motionvm.lang.hmpl.lower_context import SemanticError
 from motionvm.lang.hmpl.lower_expr import ExprLowerer
 from motionvm.lang.hmpl.lower_function import FunctionLowerer
-from motionvm.lang.hmpl.lower_util import at as _at
 from motionvm.lang.hmpl.lvalues import VIEW_NAMES, call, name, view_code
 from motionvm.lang.hmpl.symbols import FuncSym, Scope, VarSym, error_symbol
 from motionvm.source.deep import run_deep
@@ -96,8 +95,17 @@ class CompiledProgram:
 class ProgramCompiler:
     """Compiles all task units of one program against one Memory."""
 
-    def __init__(self, mem: Memory, sink: DiagnosticSink, builtin_impl: dict[str, bool]) -> None:
+    def __init__(
+        self,
+        mem: Memory,
+        sink: DiagnosticSink,
+        builtin_impl: dict[str, bool],
+        bytecode: bool = True,
+    ) -> None:
         self.mem = mem
+        self.bytecode = bytecode
+        """Whether the program is compiled to code; false: a check (`motionvm check`), which
+        keeps only the diagnostics, so the lowering skips what only the code needs."""
         self.sink = sink
         self.builtins = catalog.builtin_signatures()
         self.builtin_impl = builtin_impl  # name -> blocking, for implemented built-ins
@@ -415,7 +423,7 @@ class ProgramCompiler:
                 if v.type != t:
                     raise self._fail(init.pos, f"cannot initialize '{t}' from '{v.type}'")
                 stores.append(
-                    _at(
+                    lw.ctx.at(
                         [ast.Expr(call("_copy", _offset(addr, off), v.node, ast.Constant(t.size)))],
                         init.pos,
                     )[0]
@@ -459,7 +467,7 @@ class ProgramCompiler:
             struct.pack_into("<" + _PACK[code], image, off, value)
             return
         target = ast.Subscript(name(VIEW_NAMES[code]), _scaled(addr, off, t.size), ast.Store())
-        stores.append(_at([ast.Assign([target], node)], init.pos)[0])
+        stores.append(lw.ctx.at([ast.Assign([target], node)], init.pos)[0])
 
     # ------------------------------------------------------------ declarations
 
@@ -720,7 +728,8 @@ class ProgramCompiler:
 
     # ------------------------------------------------------------ lowering
 
-    def compile(self, units: list[Unit], bytecode: bool = True) -> CompiledProgram | None:
+    def compile(self, units: list[Unit]) -> CompiledProgram | None:
+        bytecode = self.bytecode
         self._pending_inits: dict[int, list] = {}
         try:
             self.analyse(units)
@@ -822,7 +831,7 @@ class ProgramCompiler:
                         item.pos,
                         f"the initializer of '{item.name}' must not call a function that waits",
                     )
-                body.extend(_at(stmts, item.pos))
+                body.extend(lw.ctx.at(stmts, item.pos))
             except SemanticError:
                 pass
         if lw.globals_stored:
@@ -834,7 +843,7 @@ class ProgramCompiler:
             [],
             None,
         )
-        return _at([fn], u.tu.pos)[0]
+        return lw.ctx.at([fn], u.tu.pos)[0]
 
 
 def _offset(addr: ast.expr, off: int) -> ast.expr:

@@ -44,7 +44,6 @@ from motionvm.lang.pdl.drive_sysvars import SYS_BASE
 from motionvm.lang.pdl.lower_base import (
     assign,
     const,
-    finish_locations,
     nm,
     storage_kind,
     subscript,
@@ -53,6 +52,7 @@ from motionvm.lang.pdl.lower_body import BodyLowerer
 from motionvm.lang.pdl.rt_memory import FLOAT, SHORT, USER_BASE
 from motionvm.lang.pdl.rt_print import PrintFormat, compile_format
 from motionvm.lang.pdl.symbols import LabelSym, Symbols, VarSym, code_units
+from motionvm.lang.placing import finish_locations
 from motionvm.source.files import SourcePos
 
 LINE_STRIDE = 100_000

@@ -39,13 +39,13 @@ from motionvm.lang.pdl.lower_base import (
     call,
     const,
     nm,
-    place,
     subscript,
 )
 from motionvm.lang.pdl.lower_expr import FLT, ExprLowering
 from motionvm.lang.pdl.lower_flow import SLEEP, WAIT, FlowLowering, check_budget, is_jumpy
 from motionvm.lang.pdl.rt_memory import FLOAT
 from motionvm.lang.pdl.symbols import LabelSym, ProcSym, VarSym, code_units
+from motionvm.lang.placing import place
 from motionvm.source.files import SourcePos
 
 
