@@ -243,6 +243,18 @@ def test_set_pos_changes_the_offset_not_the_motor():
     assert a.pos_fb == pytest.approx(10.0) and a.variable("offset_pos_out") == pytest.approx(50.0)
 
 
+def test_set_pos_at_rest_on_a_target_makes_the_reference_read_exactly_the_position():
+    # 0.1 * 3 is 0.30000000000000004: the reference, while the feedback is 3000 counts,
+    # 0.3. Within half a count they are one position: after SetPos(a, 0) GetRefPos reads
+    # exactly 0.0 (the homing example of manual 20.1.2 tests GetRefPos(axis) == 0.0).
+    a = enabled()
+    a.move_abs(0.1 * 3)
+    run_until(a, lambda: a.in_pos)
+    assert a.ref_pos != a.pos_fb
+    a.set_pos(0.0)
+    assert a.ref_pos == 0.0 and a.pos_fb == 0.0
+
+
 def test_set_pos_is_refused_while_moving():
     a = enabled()
     a.move_abs(40.0)

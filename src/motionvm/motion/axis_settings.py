@@ -153,13 +153,28 @@ class AxisSettings(ScopeAxis):
             )
         if not math.isfinite(pos):
             raise AxisCommandError(st.CMD_INVALID_POS, f"axis {self.axis_id}: position {pos!r}")
-        shift = pos - self.pos_fb
-        self.pos_offset -= shift
-        self.pos_fb = self.pos_fb_raw - self.slave_offset
-        self.ref_pos += shift
-        self.pg.reset(self.ref_pos)
+        self.shift_origin(self.pos_fb, pos)
         self._in_pos_cycles = 0
         self.in_pos = False
+
+    def shift_origin(self, anchor: float, value: float) -> None:
+        """Make the position `anchor` [mm] read `value` by changing the position offset.
+
+        The feedback and the reference shift alike. A reference within half an encoder
+        count of `anchor` is the same position as far as the encoder can tell: it reads
+        exactly `value` (an axis at rest on its target after SetPos(a, 0) has
+        GetRefPos(a) == 0.0, as the homing example of 20.1.2 tests), not `value` plus
+        the rounding of the floating-point shift. SetPos and homing (homing.py) both
+        shift the origin here.
+        """
+        shift = value - anchor
+        self.pos_offset -= shift
+        self.pos_fb = self.pos_fb_raw - self.slave_offset
+        if abs(self.ref_pos - anchor) * self.cpu < 0.5:
+            self.ref_pos = value
+        else:
+            self.ref_pos += shift
+        self.pg.reset(self.ref_pos)
 
     @property
     def pos_out(self) -> float:

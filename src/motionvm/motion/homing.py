@@ -228,12 +228,7 @@ class AxisHoming:
 
     def _rezero(self, home: float) -> None:
         """Make the position `home` [mm] read the home offset (as SetPos does)."""
-        a = self.axis
-        offset = self.settings.offset
-        a.pos_offset -= offset - home
-        a.pos_fb = a.pos_fb_raw - a.slave_offset
-        a.ref_pos = offset if a.ref_pos == home else a.ref_pos + (offset - home)
-        a.pg.reset(a.ref_pos)
+        self.axis.shift_origin(home, self.settings.offset)
 
 
 def _missing_signal(switches: Switches, method) -> str:
