@@ -533,6 +533,7 @@ class Simulation:
         (`cooling_fan.VALUE`). `index`: an array element (`read("table", 3)`). KeyError
         (with the closest names) for an unknown name; SessionError once closed."""
         self._open("read")
+        _check_name("read", name)
         if index is not None:
             name = f"{name}[{index}]"
         return self.variables.read(name)
@@ -546,6 +547,7 @@ class Simulation:
         variable or a refused value (with the manual's error code); SessionError once
         closed."""
         self._open("write")
+        _check_name("write", name)
         self._not_serving("write")
         if self.debugger is not None:  # an input of the run: replayed when going back
             self.variables.channel(name)
@@ -697,3 +699,12 @@ class Serving:
 
     def __exit__(self, *exc: object) -> None:
         self.stop()
+
+
+def _check_name(what: str, name: object) -> None:
+    """TypeError unless `name` is a variable's name (a string, as a scope channel)."""
+    if not isinstance(name, str):
+        raise TypeError(
+            f"{what}: a variable is named by a string ('count', 'table[3]', 'axis0.pos_fb'),"
+            f" got {name!r}"
+        )

@@ -147,7 +147,7 @@ def load_machine_spec(machine: MachineConfig | str | Path | None) -> MachineConf
 def check_run_times(until: object, timeout: object) -> None:
     """SessionError unless `until` and `timeout` are each None or a finite, non-negative
     number of seconds (every way of running checks them so)."""
-    for value, option in ((until, "--until"), (timeout, "--timeout")):
+    for value, option in ((until, "until"), (timeout, "timeout")):
         if value is not None and not (
             isinstance(value, int | float) and value >= 0 and math.isfinite(value)
         ):

@@ -100,7 +100,7 @@ def test_a_debugged_run_keeps_to_its_timeout():
 @pytest.mark.parametrize("until", [math.inf, math.nan, -1.0, "1"])
 def test_a_debugged_run_checks_its_end_time(until):
     with Simulation.from_source(FOREVER, debug=True) as sim:
-        with pytest.raises(SessionError, match="--until must be a finite, non-negative"):
+        with pytest.raises(SessionError, match="until must be a finite, non-negative"):
             sim.run(until=until)
 
 
@@ -129,3 +129,18 @@ def test_a_breakpoint_in_gdl_nested_400_deep_is_verified(tmp_path):
     with Simulation.from_files([path], debug=True) as sim:
         bp = sim.break_at(path, 9)
         assert (bp.line, bp.verified, bp.message) == (9, True, "")
+
+
+@pytest.mark.parametrize("name", [5, None, ("count",)])
+def test_a_variable_is_named_by_a_string(name):
+    with Simulation.from_source("int count; void main() { count = 1; }") as sim:
+        with pytest.raises(TypeError, match="a variable is named by a string"):
+            sim.read(name)
+        with pytest.raises(TypeError, match="a variable is named by a string"):
+            sim.write(name, 1)
+
+
+def test_the_api_names_its_own_parameters_in_time_errors():
+    with Simulation.from_source("void main() { }") as sim:
+        with pytest.raises(SessionError, match="^timeout must be"):
+            sim.run(timeout=-1.0)
