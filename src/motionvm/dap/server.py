@@ -61,6 +61,7 @@ class DapServer:
         self._exit_sent = False
         self._no_debug = False
         self._running = False
+        self._terminated = False
 
     # ---------------------------------------------------------------- the loop
 
@@ -94,9 +95,13 @@ class DapServer:
         try:
             body = handler(args if isinstance(args, dict) else {}, request)
         except (SessionError, ExpressionError, KeyError, ValueError, IndexError, TypeError) as exc:
-            self.out.respond(request, error=str(exc).strip("'\""))
+            text = exc.args[0] if isinstance(exc, KeyError) and exc.args else exc
+            self.out.respond(request, error=str(text))
             return
         except _Answered:
+            return
+        except Exception as exc:  # noqa: BLE001 — a request the adapter did not foresee
+            self.out.respond(request, error=f"{command}: {type(exc).__name__}: {exc}")
             return
         self.out.respond(request, body)
 
@@ -109,7 +114,9 @@ class DapServer:
         self.launch_args = args
         cwd = args.get("cwd")
         if cwd:
-            os.chdir(cwd)
+            if not os.path.isdir(str(cwd)):
+                raise ValueError(f"launch: cwd '{cwd}' is not a folder")
+            os.chdir(str(cwd))
         program = args.get("program")
         files = [program] if isinstance(program, str) else list(program or [])
         if not files:
@@ -141,6 +148,10 @@ class DapServer:
         raise _Answered()
 
     def do_configurationDone(self, args: dict, request: dict) -> dict:
+        if not self._no_debug:
+            self._engine()  # launched first
+        if self._runner is not None:
+            raise ValueError("configurationDone: the run has started already")
         self.out.respond(request)
         if self._no_debug:
             self._start_runner(self._run_plain)
@@ -175,8 +186,8 @@ class DapServer:
         return {}
 
     def do_terminate(self, args: dict, request: dict) -> dict:
-        self.out.respond(request)
-        self._done = True
+        self.out.respond(request)  # the client's `disconnect` comes next: it ends the loop
+        self._terminated = True
         if self.engine is not None:
             self.engine.pause()
         self._exit(self.engine.exit_code if self.engine else 0)
@@ -307,13 +318,17 @@ class DapServer:
         self._runner.start()
 
     def _paused(self) -> None:
+        if self._terminated:
+            raise ValueError("the debug session was terminated")
         if self._running:
             raise ValueError("the program is running (pause it first)")
 
     def _stopped(self, stop: Stop) -> None:
+        if self._terminated:
+            return
         self._refs.clear()
         self._ref_kind.clear()
-        if stop.reason == "exited":
+        if stop.reason == "exited" and not self._exit_sent:
             self._exit(self.engine.exit_code)
             return
         body = {
@@ -499,6 +514,8 @@ def _text(value: object) -> str:
         return f"{value:g}"
     if isinstance(value, bool):
         return "1" if value else "0"
+    if isinstance(value, int) and value.bit_length() > 64:
+        return f"an integer of {value.bit_length()} bits"
     return str(value)
 
 

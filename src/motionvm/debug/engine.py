@@ -29,8 +29,8 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from functools import lru_cache
 
-from motionvm.debug.expressions import ExpressionError, evaluate
-from motionvm.debug.positions import Breakpoint, History, Input, Position, Stop
+from motionvm.debug.expressions import ExpressionError, compile_expression, evaluate
+from motionvm.debug.positions import Breakpoint, History, Input, Position, Stop, hit_rule
 from motionvm.debug.timeline import Goal, Timeline, user_depth, user_root
 from motionvm.debug.tracer import is_user_file
 from motionvm.lang import DebugThread, language_of
@@ -276,8 +276,11 @@ class DebugEngine:
                             spec.hit_condition, spec.log_message)  # fmt: skip
             self._next_bp += 1
             line = table.next_line(spec.line) if table is not None else None
+            problem = _breakpoint_problem(spec)
             if line is None:
                 bp.message = "no statement at or after this line"
+            elif problem:
+                bp.line, bp.message = line, problem
             else:
                 bp.line, bp.verified = line, True
             out.append(bp)
@@ -714,6 +717,17 @@ def _safe_true(engine: DebugEngine, condition: str, frame, session: Session) -> 
         return True
 
 
+def _breakpoint_problem(spec: BreakpointSpec) -> str:
+    """Why a breakpoint's condition or hit condition cannot be used ("" if it can)."""
+    try:
+        hit_rule(spec.hit_condition)
+        if spec.condition:
+            compile_expression(spec.condition)
+    except (ValueError, ExpressionError) as exc:
+        return str(exc)
+    return ""
+
+
 def _generator_frames(gen) -> list:
     """The user frames of a suspended generator chain, innermost first."""
     frames = []
@@ -743,10 +757,22 @@ def _set_local(frame, name: str, value: object) -> None:
 
     for key in (name, f"v_{name}"):
         if key in frame.f_locals:
-            frame.f_locals[key] = value
+            frame.f_locals[key] = _like(frame.f_locals[key], name, value)
             ctypes.pythonapi.PyFrame_LocalsToFast(ctypes.py_object(frame), ctypes.c_int(0))
             return
     raise KeyError(name)
+
+
+def _like(old: object, name: str, value: object) -> object:
+    """`value` as the kind of number the local holds now: an integer local takes only a
+    whole number (ValueError otherwise), a double takes any number."""
+    if isinstance(old, float):
+        return float(value)
+    if isinstance(old, int) and not isinstance(value, int):
+        if not (isinstance(value, float) and value.is_integer()):
+            raise ValueError(f"'{name}' is an integer variable: it cannot hold {value!r}")
+        return int(value)
+    return value
 
 
 @lru_cache(maxsize=1024)

@@ -106,7 +106,34 @@ def compile_expression(text: str):
             continue
         if not isinstance(node, _ALLOWED):
             raise ExpressionError(f"'{text}': {type(node).__name__} is not evaluated")
+    tree = ast.fix_missing_locations(_Elements().visit(tree))
     return compile(tree, "<expression>", "eval")
+
+
+class _Elements(ast.NodeTransformer):
+    """`a[i]` as `_at(a, i)`: C's indices (no counting from the end)."""
+
+    def visit_Subscript(self, node: ast.Subscript) -> ast.AST:
+        self.generic_visit(node)
+        at = ast.Name("_at", ast.Load())
+        return ast.copy_location(ast.Call(at, [node.value, node.slice], []), node)
+
+
+def _at(array, index):
+    """An element of an array, its index checked as C would want it."""
+    if not isinstance(array, list | tuple):
+        raise ExpressionError(f"{_show(array)} is not an array")
+    if isinstance(index, float) and index.is_integer():
+        index = int(index)
+    if not isinstance(index, int) or isinstance(index, bool):
+        raise ExpressionError(f"index {_show(index)} is not a whole number")
+    if not 0 <= index < len(array):
+        raise ExpressionError(f"index {index} is out of range for an array of {len(array)}")
+    return array[index]
+
+
+def _show(value) -> str:
+    return f"{value:g}" if isinstance(value, float) else str(value)
 
 
 def evaluate(text: str, resolve: Callable[[str], object]):
@@ -121,13 +148,18 @@ def evaluate(text: str, resolve: Callable[[str], object]):
         base, bracket, index = name.partition("[")
         if bracket:  # an element of an array that is one value: `cells[2]`
             try:
-                return resolve(base)[int(index.rstrip("]"))]
-            except (KeyError, IndexError, TypeError, ValueError):
+                array = resolve(base)
+            except KeyError:
                 pass
+            else:
+                try:
+                    return _at(array, int(index.rstrip("]")))
+                except ExpressionError as exc:
+                    raise ExpressionError(f"'{name}': {exc}") from None
         raise ExpressionError(f"unknown name '{name}'")
 
     try:
-        return eval(code, {"__builtins__": {}, "_v": lookup})  # noqa: S307 — checked above
+        return eval(code, {"__builtins__": {}, "_v": lookup, "_at": _at})  # noqa: S307 — checked above
     except ExpressionError:
         raise
     except Exception as exc:  # noqa: BLE001 — a division by zero, an index out of range

@@ -40,21 +40,32 @@ class Breakpoint:
 
     def hit_allows(self) -> bool:
         """After counting this hit: whether the hit condition lets it stop."""
-        cond = (self.hit_condition or "").strip()
-        if not cond:
-            return True
-        try:
-            if cond.startswith(">="):
-                return self.hits >= int(cond[2:])
-            if cond.startswith(">"):
-                return self.hits > int(cond[1:])
-            if cond.startswith("%"):
-                return self.hits % int(cond[1:]) == 0
-            if cond.startswith("=="):
-                return self.hits == int(cond[2:])
-            return self.hits == int(cond)
-        except ValueError:
-            return True
+        op, n = hit_rule(self.hit_condition)
+        return {
+            "==": self.hits == n,
+            ">=": self.hits >= n,
+            ">": self.hits > n,
+            "%": self.hits % n == 0,
+        }[op]
+
+
+def hit_rule(text: str | None) -> tuple[str, int]:
+    """A hit condition (`N`, `== N`, `>= N`, `> N`, `% N`) as (operator, N); ("%", 1)
+    for none. ValueError with a message for anything else (`% 0` too)."""
+    cond = (text or "").strip()
+    if not cond:
+        return "%", 1
+    op = next((o for o in (">=", "==", ">", "%") if cond.startswith(o)), "==")
+    number = cond[len(op) :] if cond.startswith(op) else cond
+    try:
+        n = int(number.strip())
+    except ValueError:
+        raise ValueError(
+            f"hit condition '{cond}' is not N, == N, >= N, > N or % N (N a whole number)"
+        ) from None
+    if op == "%" and n < 1:
+        raise ValueError(f"hit condition '{cond}': % needs a number of 1 or more")
+    return op, n
 
 
 @dataclass(frozen=True)
