@@ -1,10 +1,15 @@
 """The language interface's records as LSP's: diagnostics, symbols, completions, ranges.
 
-Lines and columns: the interface counts from 1, LSP from 0."""
+Lines and columns: the interface counts from 1, LSP from 0. A column of the interface
+counts characters (code points); LSP's counts the client's code units (UTF-16 unless
+the client chose another encoding): `from_client` and `to_client` convert on a line."""
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 from lsprotocol import types as t
+from pygls.workspace.position_codec import PositionCodec
 
 from motionvm.lang import Completion, Language, Occurrence, Signature, Symbol
 from motionvm.source.diagnostics import Diagnostic
@@ -51,13 +56,17 @@ _SYMBOL_KIND = {
 }
 
 
-def diagnostic(d: Diagnostic, line_text: str, language: Language) -> t.Diagnostic:
-    """An LSP diagnostic whose range covers the token the diagnostic points at."""
+def diagnostic(
+    d: Diagnostic, line_text: str, language: Language, codec: PositionCodec
+) -> t.Diagnostic:
+    """An LSP diagnostic whose range covers the token the diagnostic points at (on
+    `line_text`, its line)."""
     line = max(0, d.pos.line - 1)
     col = max(0, d.pos.col - 1)
     end = max(col + 1, language.token_end(line_text, d.pos.col) - 1) if line_text else col
+    start, end = _units(codec, line_text, col), _units(codec, line_text, end)
     return t.Diagnostic(
-        range=t.Range(t.Position(line, col), t.Position(line, end)),
+        range=t.Range(t.Position(line, start), t.Position(line, end)),
         message=d.message,
         severity=SEVERITY.get(d.severity, t.DiagnosticSeverity.Information),
         source=SOURCE,
@@ -134,3 +143,42 @@ def signature_help(sig: Signature, arg: int) -> t.SignatureHelp:
         active_parameter=active,
     )
     return t.SignatureHelp(signatures=[info], active_signature=0, active_parameter=active)
+
+
+def from_client(codec: PositionCodec, lines: Sequence[str], pos: t.Position) -> int:
+    """The 0-based character column of a client's position (past the end: as far past)."""
+    if not 0 <= pos.line < len(lines):
+        return pos.character
+    units = 0
+    for i, ch in enumerate(lines[pos.line]):
+        if units >= pos.character:
+            return i
+        units += codec.client_num_units(ch)
+    return len(lines[pos.line]) + max(0, pos.character - units)
+
+
+def to_client(codec: PositionCodec, lines: Sequence[str], pos: t.Position) -> t.Position:
+    """A position of characters as the client counts it."""
+    if not 0 <= pos.line < len(lines):
+        return pos
+    return t.Position(pos.line, _units(codec, lines[pos.line], pos.character))
+
+
+def _units(codec: PositionCodec, text: str, col: int) -> int:
+    """The client's code units before 0-based character `col` of `text`."""
+    return codec.client_num_units(text[:col]) + max(0, col - len(text))
+
+
+def range_to_client(codec: PositionCodec, lines: Sequence[str], r: t.Range) -> t.Range:
+    return t.Range(to_client(codec, lines, r.start), to_client(codec, lines, r.end))
+
+
+def symbols_to_client(
+    codec: PositionCodec, lines: Sequence[str], symbols: list[t.DocumentSymbol]
+) -> list[t.DocumentSymbol]:
+    """Document symbols (and their children) with ranges as the client counts them."""
+    for s in symbols:
+        s.range = range_to_client(codec, lines, s.range)
+        s.selection_range = range_to_client(codec, lines, s.selection_range)
+        symbols_to_client(codec, lines, s.children or [])
+    return symbols

@@ -24,6 +24,11 @@ class Document:
     _index: SourceIndex | None = field(default=None, repr=False)
 
     @property
+    def lines(self) -> list[str]:
+        """Its lines as the languages count them (at each "\\n"): LSP positions are on these."""
+        return self.text.split("\n")
+
+    @property
     def index(self) -> SourceIndex:
         """The names of this version, made on first use."""
         if self._index is None:

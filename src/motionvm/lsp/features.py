@@ -8,6 +8,7 @@ from pathlib import Path
 
 from lsprotocol import types as t
 from pygls import uris
+from pygls.workspace.position_codec import PositionCodec
 
 from motionvm.lang import Completion
 from motionvm.lsp import convert
@@ -18,8 +19,14 @@ from motionvm.source.files import SourceFile
 class Features:
     """The open documents and what the server answers about them."""
 
-    def __init__(self, publish: Callable[[t.PublishDiagnosticsParams], None]) -> None:
+    def __init__(
+        self,
+        publish: Callable[[t.PublishDiagnosticsParams], None],
+        codec: Callable[[], PositionCodec] = PositionCodec,
+    ) -> None:
         self.publish = publish
+        self.codec = codec
+        """The client's position encoding (the workspace's, known after `initialize`)."""
         self.docs: dict[str, Document] = {}
         self._others: dict[str, set[str]] = {}
         """Document uri -> uris of other files (headers) it published diagnostics for."""
@@ -50,7 +57,8 @@ class Features:
 
     def _publish(self, doc: Document) -> None:
         by_file: dict[str, list[t.Diagnostic]] = {doc.uri: []}
-        lines = doc.text.splitlines()
+        lines = doc.lines
+        codec = self.codec()
         for d in doc.diagnostics():
             if same_file(d.pos.file, doc.path):
                 uri = doc.uri
@@ -59,7 +67,8 @@ class Features:
                 uri = uris.from_fs_path(str(Path(d.pos.file).resolve())) or d.pos.file
                 sf = SourceFile.lookup(d.pos.file)
                 text = sf.line(d.pos.line) if sf is not None else ""
-            by_file.setdefault(uri, []).append(convert.diagnostic(d, text or "", doc.language))
+            item = convert.diagnostic(d, text or "", doc.language, codec)
+            by_file.setdefault(uri, []).append(item)
         stale = self._others.get(doc.uri, set()) - set(by_file)
         self._others[doc.uri] = set(by_file) - {doc.uri}
         for uri in stale:
@@ -73,7 +82,11 @@ class Features:
         doc = self.docs.get(params.text_document.uri)
         if doc is None:
             return None
-        return doc, params.position.line + 1, params.position.character + 1
+        col = convert.from_client(self.codec(), doc.lines, params.position)
+        return doc, params.position.line + 1, col + 1
+
+    def _range(self, doc: Document, r: t.Range) -> t.Range:
+        return convert.range_to_client(self.codec(), doc.lines, r)
 
     def hover(self, params: t.HoverParams) -> t.Hover | None:
         found = self._at(params)
@@ -113,7 +126,7 @@ class Features:
         doc, sym = self._symbol_at(params)
         if sym is None:
             return None
-        return [t.Location(doc.uri, convert.symbol_range(sym))]
+        return [t.Location(doc.uri, self._range(doc, convert.symbol_range(sym)))]
 
     def references(self, params: t.ReferenceParams) -> list[t.Location] | None:
         doc, sym = self._symbol_at(params)
@@ -121,7 +134,7 @@ class Features:
             return None
         declared = params.context.include_declaration if params.context else True
         return [
-            t.Location(doc.uri, convert.occurrence_range(o))
+            t.Location(doc.uri, self._range(doc, convert.occurrence_range(o)))
             for o in doc.index.uses(sym)
             if declared or (o.line, o.col) != (sym.line, sym.col)
         ]
@@ -131,7 +144,8 @@ class Features:
         if sym is None:
             return None
         edits = [
-            t.TextEdit(convert.occurrence_range(o), params.new_name) for o in doc.index.uses(sym)
+            t.TextEdit(self._range(doc, convert.occurrence_range(o)), params.new_name)
+            for o in doc.index.uses(sym)
         ]
         return t.WorkspaceEdit(changes={doc.uri: edits})
 
@@ -143,13 +157,14 @@ class Features:
         occ = doc.index.at(line, col)
         if occ is None or occ.symbol is None:
             return None
-        return convert.occurrence_range(occ)
+        return self._range(doc, convert.occurrence_range(occ))
 
     def document_symbols(self, params: t.DocumentSymbolParams) -> list[t.DocumentSymbol] | None:
         doc = self.docs.get(params.text_document.uri)
         if doc is None:
             return None
-        return convert.document_symbols(doc.index.symbols)
+        symbols = convert.document_symbols(doc.index.symbols)
+        return convert.symbols_to_client(self.codec(), doc.lines, symbols)
 
 
 _ITEMS: dict[Completion, t.CompletionItem] = {}

@@ -23,7 +23,9 @@ TRIGGERS = [".", ">"]
 
 def build_server() -> LanguageServer:
     server = LanguageServer("motionvm", __version__, t.TextDocumentSyncKind.Incremental)
-    features = Features(server.text_document_publish_diagnostics)
+    features = Features(
+        server.text_document_publish_diagnostics, lambda: server.workspace.position_codec
+    )
     server.motionvm = features  # type: ignore[attr-defined]
 
     def guarded(fn):
