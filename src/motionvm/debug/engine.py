@@ -266,8 +266,11 @@ class DebugEngine:
         lang = language_of(file)
         table = None
         if lang is not None:
+            # the run's text of the file: an unsaved buffer (the studio's) if it runs one
+            text = next((s.text for s in self.spec.sources if _norm(s.path) == _norm(file)),
+                        None)  # fmt: skip
             try:
-                table = lang.line_table(file)
+                table = lang.line_table(file, text)
             except Exception:  # noqa: BLE001 — a file that does not parse: nothing verified
                 table = None
         out = []

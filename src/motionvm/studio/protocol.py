@@ -12,20 +12,23 @@ from __future__ import annotations
 
 import asyncio
 import json
+import math
 from collections.abc import Awaitable, Callable
 
 from motionvm import __version__
 from motionvm.studio.run import StudioError, StudioRun
 from motionvm.studio.workspace import Workspace, WorkspaceError, diagnostics
 
-PARSE_ERROR, INVALID_REQUEST, NO_METHOD, BAD_PARAMS, REFUSED = (
+PARSE_ERROR, INVALID_REQUEST, NO_METHOD, BAD_PARAMS, INTERNAL, REFUSED = (
     -32700,
     -32600,
     -32601,
     -32602,
+    -32603,
     -32000,
 )
-"""JSON-RPC error codes; REFUSED: a request the run cannot do now (the message says why)."""
+"""JSON-RPC error codes; REFUSED: a request the run cannot do now (the message says why);
+INTERNAL: a failure of the studio itself (the request is answered all the same)."""
 
 Send = Callable[[str], Awaitable[None]]
 
@@ -103,9 +106,11 @@ class Studio:
             result = await method(params)
         except (StudioError, WorkspaceError) as exc:
             return _error(rid, REFUSED, str(exc))
-        except (KeyError, TypeError, ValueError) as exc:
+        except (KeyError, TypeError, ValueError, OverflowError) as exc:
             what = f"missing parameter {exc}" if isinstance(exc, KeyError) else str(exc)
             return _error(rid, BAD_PARAMS, f"{message['method']}: {what}")
+        except Exception as exc:  # noqa: BLE001 — answered: the page waits for every answer
+            return _error(rid, INTERNAL, f"{message['method']}: {type(exc).__name__}: {exc}")
         if rid is None:
             return None
         return json.dumps({"jsonrpc": "2.0", "id": rid, "result": result})
@@ -122,7 +127,7 @@ class Studio:
                 "diagnostics": found}  # fmt: skip
 
     async def file_edit(self, params: dict) -> dict:
-        f = self.workspace.edit(str(params["path"]), str(params["text"]))
+        f = self.workspace.edit(str(params["path"]), _string(params, "text"))
         found = await asyncio.to_thread(diagnostics, f.path, f.text)
         await self.broadcast("diagnostics", {"path": f.path, "items": found})
         return {"path": f.path, "dirty": f.dirty, "diagnostics": found}
@@ -130,7 +135,7 @@ class Studio:
     async def file_save(self, params: dict) -> dict:
         path = str(params["path"])
         if "text" in params:
-            self.workspace.edit(path, str(params["text"]))
+            self.workspace.edit(path, _string(params, "text"))
         f = self.workspace.save(path)
         return {"path": f.path, "dirty": f.dirty}
 
@@ -141,10 +146,9 @@ class Studio:
     async def seek(self, params: dict) -> dict:
         if "cycle" in params:
             return await self.run.seek(int(params["cycle"]))
-        seconds = float(params["time"])
         engine = self.run.engine
         dt = engine.controller.cycle_time if engine is not None else 0.001
-        return await self.run.seek(round(max(0.0, seconds) / dt))
+        return await self.run.seek(_cycle(params["time"], dt))
 
     async def history_at(self, params: dict) -> dict:
         span = params.get("span")
@@ -153,12 +157,27 @@ class Studio:
         else:
             history = self.run.history
             dt = history.cycle_time if history is not None else 0.001
-            cycle = round(float(params["time"]) / dt)
+            cycle = _cycle(params["time"], dt)
         return self.run.at(cycle, None if span is None else float(span))
 
 
 def _error(rid, code: int, message: str) -> str:
     return json.dumps({"jsonrpc": "2.0", "id": rid, "error": {"code": code, "message": message}})
+
+
+def _string(params: dict, name: str) -> str:
+    value = params[name]
+    if not isinstance(value, str):
+        raise ValueError(f"'{name}' must be a string")
+    return value
+
+
+def _cycle(seconds, cycle_time: float) -> int:
+    """The cycle at a time [s] (0 for a time before 0)."""
+    cycles = max(0.0, float(seconds)) / cycle_time
+    if not math.isfinite(cycles):
+        raise ValueError(f"time {seconds} s is beyond any run")
+    return round(cycles)
 
 
 def _opt_int(value) -> int | None:

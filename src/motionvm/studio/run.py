@@ -80,6 +80,8 @@ class StudioRun:
         self._lines: deque[dict] = deque()
         self._pause_asked = False
         self._task: asyncio.Task | None = None
+        self._moving = False
+        """An engine call that runs the program is under way (a seek, a step)."""
         self._executor = ThreadPoolExecutor(1, thread_name_prefix="motionvm-studio")
         self.frames = 0
         """Updates sent while running (the page's frame count)."""
@@ -91,6 +93,15 @@ class StudioRun:
     async def _call(self, fn, *args):
         loop = asyncio.get_running_loop()
         return await loop.run_in_executor(self._executor, partial(fn, *args))
+
+    async def _move(self, fn, *args) -> Stop:
+        """An engine call that runs the program, however far (a seek far beyond the
+        recording, many cycles): `pause` stops it at the next cycle boundary."""
+        self._moving = True
+        try:
+            return await self._call(fn, *args)
+        finally:
+            self._moving = False
 
     def _build(self) -> None:
         """A fresh engine at t = 0, paused (worker thread)."""
@@ -255,7 +266,7 @@ class StudioRun:
                 raise StudioError(f"run to time: {until} is not a time >= 0 s")
             end = round(until / engine.controller.cycle_time)
             if end <= engine.position().cycle:
-                stop = await self._call(engine.go_to, Position(end))
+                stop = await self._move(engine.go_to, Position(end))
                 await self._stopped(stop)
                 return self.state()
         self.running, self._pause_asked = True, False
@@ -263,6 +274,8 @@ class StudioRun:
         return self.state()
 
     async def pause(self) -> dict:
+        if self._moving and self.engine is not None:
+            self.engine.pause()
         if self._task is not None and not self._task.done():
             self._pause_asked = True
             await asyncio.wait({self._task})
@@ -333,13 +346,13 @@ class StudioRun:
         engine = self._idle()
         if count < 1:
             raise StudioError(f"step cycle: count must be 1 or more, got {count}")
-        await self._stopped(await self._call(engine.step_cycle, count))
+        await self._stopped(await self._move(engine.step_cycle, count))
         return self.state()
 
     async def seek(self, cycle: int) -> dict:
         """Move the debugger to the start of `cycle` (a replay if it is earlier)."""
         engine = self._idle()
-        stop = await self._call(engine.go_to, Position(max(0, int(cycle))))
+        stop = await self._move(engine.go_to, Position(max(0, int(cycle))))
         self._sent_cycle = min(self._sent_cycle, stop.position.cycle)
         await self._stopped(stop)
         return self.state()
@@ -464,6 +477,8 @@ class StudioRun:
 
     async def close(self) -> None:
         self._pause_asked = True
+        if self._moving and self.engine is not None:
+            self.engine.pause()
         if self._task is not None and not self._task.done():
             self._task.cancel()
         engine = self.engine
