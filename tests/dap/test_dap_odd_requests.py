@@ -112,3 +112,18 @@ def test_disconnect_after_terminate_is_answered(dap, tmp_path):
     dap.wait_event("terminated")
     assert _error(dap, "continue", {"threadId": tid}) == "the debug session was terminated"
     dap.ok("disconnect")
+
+
+def test_a_body_that_is_not_json_is_skipped(dap, tmp_path):
+    for body in (b"{not json", b"[1, 2]"):
+        dap.proc.stdin.write(b"Content-Length: %d\r\n\r\n" % len(body) + body)
+    dap.proc.stdin.flush()
+    dap.launch([str(tmp_path / "main.hmpl")])
+    dap.ok("configurationDone")
+    assert dap.wait_event("exited")["exitCode"] == 0
+    errors = [e["body"]["output"] for e in dap.events if e["event"] == "output"]
+    assert errors[:2] == [
+        "motionvm debug: a message that is not JSON: Expecting property name enclosed in "
+        "double quotes: line 1 column 2 (char 1) (skipped)\n",
+        "motionvm debug: a message that is not a JSON object (skipped)\n",
+    ]

@@ -4,7 +4,8 @@
     \\r\\n
     {"seq": 1, "type": "request", "command": "initialize", "arguments": {...}}
 
-`read_message` reads one message from a binary stream (None at the end of the stream);
+`read_message` reads one message from a binary stream (None at the end of the stream;
+ProtocolError when the framing is lost, BadMessage for a body that is not a JSON object);
 `Writer` writes messages with increasing `seq` numbers from any thread, one at a time.
 """
 
@@ -20,6 +21,10 @@ MAX_MESSAGE = 16 * 1024 * 1024
 
 class ProtocolError(Exception):
     """A malformed frame: the connection cannot go on."""
+
+
+class BadMessage(Exception):
+    """A well-framed message that is not a JSON object: skipped, the connection goes on."""
 
 
 def read_message(stream: BinaryIO) -> dict | None:
@@ -51,9 +56,9 @@ def read_message(stream: BinaryIO) -> dict | None:
     try:
         message = json.loads(body.decode("utf-8"))
     except (UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise ProtocolError(f"a message that is not JSON: {exc}") from None
+        raise BadMessage(f"a message that is not JSON: {exc}") from None
     if not isinstance(message, dict):
-        raise ProtocolError("a message that is not a JSON object")
+        raise BadMessage("a message that is not a JSON object")
     return message
 
 

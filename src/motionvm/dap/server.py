@@ -19,7 +19,7 @@ import threading
 from collections.abc import Callable
 from typing import BinaryIO
 
-from motionvm.dap.protocol import ProtocolError, Writer, read_message
+from motionvm.dap.protocol import BadMessage, ProtocolError, Writer, read_message
 from motionvm.debug import BreakpointSpec, DebugEngine, ExpressionError, Stop
 from motionvm.session import CompileFailed, RunSpec, Session, SessionError, Source
 
@@ -69,6 +69,9 @@ class DapServer:
         while not self._done:
             try:
                 message = read_message(self.reader)
+            except BadMessage as exc:  # framed right: the next message can be read
+                self._stderr(f"motionvm debug: {exc} (skipped)")
+                continue
             except ProtocolError as exc:
                 self.out.event(
                     "output", {"category": "stderr", "output": f"motionvm debug: {exc}\n"}
