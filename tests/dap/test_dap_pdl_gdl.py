@@ -59,6 +59,25 @@ def test_a_breakpoint_in_a_pdl_drive_program(dap, tmp_path):
     assert dap.stdout() == _run(tmp_path, "d.pdl").stdout == "n=1\nn=2\nn=3\n"
 
 
+def test_a_pdl_program_s_globals_by_their_names(dap, tmp_path):
+    path = tmp_path / "d.pdl"
+    path.write_text(PDL)
+    dap.launch([str(path)])
+    bp = {"line": 6, "condition": "n == 2"}
+    dap.ok("setBreakpoints", {"source": {"path": str(path)}, "breakpoints": [bp]})
+    dap.ok("configurationDone")
+    stop = dap.wait_event("stopped")
+    frame = dap.ok("stackTrace", {"threadId": stop["threadId"]})["stackFrames"][0]
+    assert dap.ok("evaluate", {"expression": "n * 10", "frameId": frame["id"]})["result"] == "20"
+    scopes = dap.ok("scopes", {"frameId": frame["id"]})["scopes"]
+    shown = {
+        s["name"]: dap.ok("variables", {"variablesReference": s["variablesReference"]})
+        for s in scopes[:2]
+    }
+    assert shown["Locals"]["variables"] == []  # not the generated code's memory views
+    assert [(v["name"], v["value"]) for v in shown["Globals"]["variables"]] == [("n", "2")]
+
+
 def test_a_breakpoint_in_a_gdl_procedure_and_going_back(dap, tmp_path):
     for name in ("02_gdl_packer.gdl", "02_gdl_packer.toml"):
         shutil.copy(EXAMPLES / name, tmp_path / name)
@@ -101,3 +120,17 @@ def test_forcing_an_input_the_program_waits_for(dap, tmp_path):
     dap.ok("continue", {"threadId": 1})
     assert dap.wait_event("exited")["exitCode"] == 0
     assert dap.stdout() == "input 3 at 20 ms\n"
+
+
+def test_globals_of_a_drive_of_the_machine_file_by_their_names(dap):
+    counter = str(EXAMPLES / "03_pdl_drives.counter.pdl")
+    dap.launch([str(EXAMPLES / "03_pdl_drives.hmpl")],
+               machine=str(EXAMPLES / "03_pdl_drives.toml"))  # fmt: skip
+    bp = {"line": 7, "condition": "n == 2"}  # printl("drive 2: count %ld", n);
+    dap.ok("setBreakpoints", {"source": {"path": counter}, "breakpoints": [bp]})
+    dap.ok("configurationDone")
+    stop = dap.wait_event("stopped")
+    frame = dap.ok("stackTrace", {"threadId": stop["threadId"]})["stackFrames"][0]
+    assert frame["source"]["path"] == counter
+    assert dap.ok("evaluate", {"expression": "n", "frameId": frame["id"]})["result"] == "2"
+    assert dap.ok("evaluate", {"expression": "drive2.n", "frameId": frame["id"]})["result"] == "2"

@@ -59,6 +59,49 @@ class PdlSide(RunSide):
             if task.gen is not None
         ]
 
+    def frame_variables(self, frame) -> dict[str, object]:
+        """None: a PDL program's variables are the drive's globals (the generated code's
+        locals are its memory views)."""
+        return {}
+
+    def global_variables(self, frame) -> dict[str, object]:
+        """The globals of the program of the drive running `frame`, as KMI reads them
+        (an array as a list)."""
+        drive = self._drive_of(frame)
+        if drive is None:
+            return {}
+        return {name: _value(drive, g) for name, g in drive.program.globals.items()}
+
+    def variable(self, frame, name: str) -> object:
+        drive = self._drive_of(frame)
+        g = drive.program.globals.get(name) if drive is not None else None
+        if g is None:
+            raise KeyError(name)
+        return _value(drive, g)
+
+    def _drive_of(self, frame):
+        """The drive one of whose tasks runs or holds `frame` (or its callers)."""
+        outer = set()
+        f = frame
+        while f is not None:
+            outer.add(f)
+            f = f.f_back
+        for _axis_id, drive in self.drives.drives:
+            for task in drive.tasks:
+                gen = task.gen
+                while gen is not None:
+                    if getattr(gen, "gi_frame", None) in outer:
+                        return drive
+                    gen = getattr(gen, "gi_yieldfrom", None)
+        return None
+
+
+def _value(drive, g) -> object:
+    """A global of a drive's program: its value, or its elements' (an array)."""
+    if g.size == 1:
+        return drive.read(g.name)
+    return [drive.read(g.name, i) for i in range(g.size)]
+
 
 class Pdl(Language):
     name = "PDL"
