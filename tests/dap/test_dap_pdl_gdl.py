@@ -91,6 +91,9 @@ def test_a_breakpoint_in_a_gdl_procedure_and_going_back(dap, tmp_path):
     assert (frames[0]["name"], frames[0]["line"]) == ("fan_control", 74)
     assert [t["name"] for t in dap.ok("threads")["threads"]] == ["procedure fan_control"]
     first = dap.ok("evaluate", {"expression": "VALUE OF cell_index"})["result"]
+    # an element of an array object (its channel `photocell{3}.STATUS`), in any case
+    assert dap.ok("evaluate", {"expression": "status of photocell{ 3 }"})["result"] == "1"
+    assert dap.ok("evaluate", {"expression": "STATUS OF photocell{2}"})["result"] == "0"
     dap.ok("continue", {"threadId": stop["threadId"]})
     dap.wait_event("stopped")
     dap.ok("reverseContinue", {"threadId": stop["threadId"]})

@@ -19,7 +19,7 @@ from functools import lru_cache
 
 _TOKEN = re.compile(
     r"\s*(?:(?P<num>0[xX][0-9a-fA-F]+|\d+\.\d*(?:[eE][-+]?\d+)?|\.\d+(?:[eE][-+]?\d+)?|\d+(?:[eE][-+]?\d+)?)"
-    r"|(?P<of>[A-Za-z_][\w$]*\s+OF\s+[A-Za-z_]\w*(?:\{[^}]*\})?)"
+    r"|(?P<of>[A-Za-z_][\w$]*\s+(?i:OF)\s+[A-Za-z_]\w*(?:\{[^}]*\})?)"
     r"|(?P<item>[A-Za-z_][\w.$]*\s*\[\s*\d+\s*\])"
     r"|(?P<name>[A-Za-z_][\w.$]*)"
     r"|(?P<op>&&|\|\||==|!=|<=|>=|<<|>>|[-+*/%<>!()\[\]&|^~]))"
@@ -44,13 +44,10 @@ def to_python(text: str) -> str:
             num = m.group("num")
             out.append(str(int(num, 16)) if num[:2].lower() == "0x" else num)
         elif m.group("of"):
-            kw, _, obj = m.group("of").partition(" OF ")
-            obj = obj.strip()
-            index = ""
-            if "{" in obj:
-                obj, _, rest = obj.partition("{")
-                index = f"[{rest.rstrip('}')}]"
-            out.append(_name(f"{obj.strip()}.{kw.strip()}{index}"))
+            kw, obj = re.split(r"\s+OF\s+", m.group("of"), maxsplit=1, flags=re.IGNORECASE)
+            obj, brace, rest = obj.partition("{")
+            element = f"{{{rest.rstrip('}').strip()}}}" if brace else ""
+            out.append(_name(f"{obj.strip()}{element}.{kw}"))  # the channel: `cell{2}.STATUS`
         elif m.group("item"):
             out.append(_name(re.sub(r"\s+", "", m.group("item"))))
         elif m.group("name"):
