@@ -50,3 +50,12 @@ def test_an_incremental_edit_after_a_non_bmp_character(lsp, doc):
     cut = {"start": {"line": 3, "character": start}, "end": {"line": 3, "character": start + 6}}
     lsp.change(uri, 2, [{"range": cut, "text": "count"}])
     assert lsp.diagnostics(uri) == []
+
+
+def test_a_form_feed_does_not_start_a_line(lsp, doc):
+    text = "struct Pt { int x; double y; };\n\f\nvoid main() {\n    struct Pt p;\n    p.\n}\n"
+    uri = doc("ff.hmpl", text)
+    lsp.open(uri, text)
+    lsp.diagnostics(uri)
+    items = lsp.at("textDocument/completion", uri, 4, 6)["items"]
+    assert [i["label"] for i in items] == ["x", "y"]

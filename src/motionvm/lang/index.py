@@ -14,6 +14,8 @@ import bisect
 import re
 from dataclasses import dataclass, field
 
+from motionvm.source.files import text_lines
+
 
 @dataclass(frozen=True)
 class Symbol:
@@ -73,7 +75,7 @@ class SourceIndex:
     @property
     def lines(self) -> list[str]:
         if self._lines is None:
-            self._lines = self.text.splitlines()
+            self._lines = text_lines(self.text)
         return self._lines
 
     def line_text(self, line: int) -> str:
@@ -268,7 +270,7 @@ def snippet_of(name: str, prototype: str) -> str:
 def words(text: str, pattern: re.Pattern[str] = WORD) -> list[tuple[str, int, int]]:
     """(word, 1-based line, 1-based col) of every word of `text`."""
     out = []
-    for ln, line in enumerate(text.splitlines(), 1):
+    for ln, line in enumerate(text_lines(text), 1):
         for m in pattern.finditer(line):
             out.append((m.group(), ln, m.start() + 1))
     return out

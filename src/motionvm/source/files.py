@@ -30,6 +30,16 @@ class SourcePos:
         return f"{self.file}:{self.line}:{self.col}"
 
 
+def text_lines(text: str) -> list[str]:
+    """The lines of a source text as the lexers count them: at each "\\n" (a "\\r" before it
+    dropped). A form feed, a lone "\\r" or U+2028 stays inside its line (str.splitlines
+    would start a new one there, and every line after would be off by one)."""
+    lines = text.split("\n")
+    if lines[-1] == "":
+        lines.pop()  # no line after a final newline
+    return [line[:-1] if line.endswith("\r") else line for line in lines]
+
+
 class SourceFile:
     """The text of one source file, with its lines kept for caret rendering."""
 
@@ -38,7 +48,7 @@ class SourceFile:
     def __init__(self, path: str, text: str) -> None:
         self.path = path
         self.text = text
-        self.lines = text.splitlines()
+        self.lines = text_lines(text)
 
     @classmethod
     def read(cls, path: str | Path) -> SourceFile:

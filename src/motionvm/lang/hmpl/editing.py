@@ -20,7 +20,7 @@ from motionvm.lang.hmpl.tokens import KEYWORDS, Token
 from motionvm.lang.index import Completion, SourceIndex, Symbol, resolve
 from motionvm.lang.tools import nodes
 from motionvm.source.diagnostics import DiagnosticSink
-from motionvm.source.files import SourceFile
+from motionvm.source.files import SourceFile, text_lines
 
 _NO_SPACE_BEFORE = {",", ")", "]", "[", ";"}
 _NO_SPACE_AFTER = {"(", "["}
@@ -46,7 +46,7 @@ class _Tokens:
 
     def __init__(self, path: str, text: str) -> None:
         self.toks = scan(SourceFile(path, text)).tokens
-        self.lines = text.splitlines()
+        self.lines = text_lines(text)
         self.where = {(t.pos.line, t.pos.col): i for i, t in enumerate(self.toks)}
         self.close: dict[int, int] = {}
         self.block_end: list[int] = [0] * len(self.toks)
