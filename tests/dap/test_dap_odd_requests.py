@@ -127,3 +127,14 @@ def test_a_body_that_is_not_json_is_skipped(dap, tmp_path):
         "double quotes: line 1 column 2 (char 1) (skipped)\n",
         "motionvm debug: a message that is not a JSON object (skipped)\n",
     ]
+
+
+def test_stack_trace_pages_by_start_frame_and_levels(dap, tmp_path):
+    tid, _fid = _paused_in_twice(dap, tmp_path)
+    whole = dap.ok("stackTrace", {"threadId": tid})
+    assert [f["name"] for f in whole["stackFrames"]] == ["twice", "main"]
+    top = dap.ok("stackTrace", {"threadId": tid, "startFrame": 0, "levels": 1})
+    rest = dap.ok("stackTrace", {"threadId": tid, "startFrame": 1, "levels": 20})
+    assert [f["name"] for f in top["stackFrames"]] == ["twice"]
+    assert [f["name"] for f in rest["stackFrames"]] == ["main"]
+    assert top["totalFrames"] == rest["totalFrames"] == 2

@@ -375,7 +375,10 @@ class DapServer:
             }  # fmt: skip
             for f in frames
         ]
-        return {"stackFrames": out, "totalFrames": len(out)}
+        first = max(0, int(args.get("startFrame") or 0))
+        levels = int(args.get("levels") or 0)  # 0: all
+        shown = out[first : first + levels] if levels > 0 else out[first:]
+        return {"stackFrames": shown, "totalFrames": len(out)}
 
     def do_scopes(self, args: dict, request: dict) -> dict:
         self._paused()
