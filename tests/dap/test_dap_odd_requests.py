@@ -138,3 +138,13 @@ def test_stack_trace_pages_by_start_frame_and_levels(dap, tmp_path):
     assert [f["name"] for f in top["stackFrames"]] == ["twice"]
     assert [f["name"] for f in rest["stackFrames"]] == ["main"]
     assert top["totalFrames"] == rest["totalFrames"] == 2
+
+
+def test_a_pause_while_paused_does_not_stop_the_next_run(dap, tmp_path):
+    dap.launch([str(tmp_path / "main.hmpl")], stop_on_entry=True)
+    dap.ok("configurationDone")
+    tid = dap.wait_event("stopped")["threadId"]
+    dap.ok("pause", {"threadId": tid})
+    dap.ok("continue", {"threadId": tid})
+    assert dap.wait_event("exited")["exitCode"] == 0
+    assert [e["body"]["reason"] for e in dap.events if e["event"] == "stopped"] == ["entry"]

@@ -284,7 +284,9 @@ class DapServer:
         return {}
 
     def do_pause(self, args: dict, request: dict) -> dict:
-        self._engine().pause()
+        engine = self._engine()
+        if self._running:  # paused already: nothing to stop (the next run would stop at once)
+            engine.pause()
         return {}
 
     def do_lastChange(self, args: dict, request: dict) -> dict:
