@@ -148,3 +148,19 @@ def test_a_pause_while_paused_does_not_stop_the_next_run(dap, tmp_path):
     dap.ok("continue", {"threadId": tid})
     assert dap.wait_event("exited")["exitCode"] == 0
     assert [e["body"]["reason"] for e in dap.events if e["event"] == "stopped"] == ["entry"]
+
+
+def test_a_second_launch_and_values_of_the_wrong_kind_are_refused(dap, tmp_path):
+    dap.launch([str(tmp_path / "main.hmpl")], stop_on_entry=True)
+    message = _error(dap, "launch", {"program": str(tmp_path / "main.hmpl")})
+    assert message == "launch: a program was launched already (disconnect first)"
+    message = _error(dap, "setExceptionBreakpoints", {"filters": "runtime"})
+    assert message == "setExceptionBreakpoints: 'filters' must be a list"
+    dap.ok("configurationDone")
+    tid = dap.wait_event("stopped")["threadId"]
+    assert (
+        _error(dap, "goToTime", {"seconds": float("inf")})
+        == "goToTime: seconds must be >= 0, got inf"
+    )
+    dap.ok("continue", {"threadId": tid})
+    assert dap.wait_event("exited")["exitCode"] == 0

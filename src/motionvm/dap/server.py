@@ -14,6 +14,7 @@ answers when a value last changed.
 
 from __future__ import annotations
 
+import math
 import os
 import threading
 from collections.abc import Callable
@@ -114,6 +115,8 @@ class DapServer:
         return CAPABILITIES
 
     def do_launch(self, args: dict, request: dict) -> dict:
+        if self.engine is not None or self._no_debug:
+            raise ValueError("launch: a program was launched already (disconnect first)")
         self.launch_args = args
         cwd = args.get("cwd")
         if cwd:
@@ -224,7 +227,10 @@ class DapServer:
         }
 
     def do_setExceptionBreakpoints(self, args: dict, request: dict) -> dict:
-        self._engine().set_exception_filters(args.get("filters") or [])
+        filters = args.get("filters") or []
+        if not isinstance(filters, list):
+            raise ValueError("setExceptionBreakpoints: 'filters' must be a list")
+        self._engine().set_exception_filters([str(f) for f in filters])
         return {}
 
     def do_dataBreakpointInfo(self, args: dict, request: dict) -> dict:
@@ -278,7 +284,7 @@ class DapServer:
 
     def do_goToTime(self, args: dict, request: dict) -> dict:
         seconds = float(args.get("seconds", 0.0))
-        if not seconds >= 0:
+        if not (seconds >= 0 and math.isfinite(seconds)):
             raise ValueError(f"goToTime: seconds must be >= 0, got {seconds}")
         self._run_request(request, lambda e: e.go_to_time(seconds))
         return {}
