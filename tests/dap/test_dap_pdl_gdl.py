@@ -137,3 +137,11 @@ def test_globals_of_a_drive_of_the_machine_file_by_their_names(dap):
     assert frame["source"]["path"] == counter
     assert dap.ok("evaluate", {"expression": "n", "frameId": frame["id"]})["result"] == "2"
     assert dap.ok("evaluate", {"expression": "drive2.n", "frameId": frame["id"]})["result"] == "2"
+    scopes = dap.ok("scopes", {"frameId": frame["id"]})["scopes"]
+    globals_ = next(s for s in scopes if s["name"] == "Globals")["variablesReference"]
+    dap.ok("setVariable", {"variablesReference": globals_, "name": "n", "value": "5"})
+    assert dap.ok("evaluate", {"expression": "drive2.n"})["result"] == "5"
+    dap.ok("setBreakpoints", {"source": {"path": counter}, "breakpoints": []})
+    dap.ok("continue", {"threadId": stop["threadId"]})
+    dap.wait_event("exited")
+    assert "drive 2: count 6" in dap.stdout()

@@ -458,7 +458,10 @@ class DapServer:
         name = str(args.get("name", ""))
         value = _parse_value(str(args.get("value", "")))
         kind, fid = self._ref_kind.get(ref, ("machine", None))
-        engine.set_value(name, value, fid if kind == "local" else None)
+        if kind == "global":
+            engine.set_value(engine.global_channel(name, fid), value)
+        else:
+            engine.set_value(name, value, fid if kind == "local" else None)
         shown = engine.evaluate(name, fid) if kind != "machine" else value
         return {"value": _text(shown)}
 

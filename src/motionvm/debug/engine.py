@@ -526,6 +526,14 @@ class DebugEngine:
         self.timeline.inputs = [i for i in self.timeline.inputs if i.position <= here]
         self._lines_shown = self._lines_now  # the future differs: show what comes
 
+    def global_channel(self, name: str, frame_id: int | None) -> str:
+        """The run's name of the global `name` seen from a frame (a PDL drive's `n`:
+        `drive1.n`), which `set_value` records."""
+        frame = self._frames.get(frame_id) if frame_id is not None else None
+        pyframe = frame.python if frame is not None else self.timeline.paused_frame
+        side = self._side_of(pyframe) if pyframe is not None else None
+        return side.global_channel(pyframe, name) if side is not None else name
+
     def force_input(self, name: str, value: object) -> None:
         """Drive an input (`gpi3`, `slv8.di1`) from now on, as the machine would."""
         self.set_value(name, value)

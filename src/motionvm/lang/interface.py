@@ -281,6 +281,11 @@ class RunSide:
         """The user's global variables seen from a frame, by their names in the source."""
         return {}
 
+    def global_channel(self, frame, name: str) -> str:
+        """The run's name (a scope channel, what `Variables` writes) of the global `name`
+        seen from `frame`: the name itself unless the language qualifies it."""
+        return name
+
     def variable(self, frame, name: str) -> object:
         """One variable seen from a frame: a local, else a global (KeyError: neither)."""
         local = self.frame_variables(frame)

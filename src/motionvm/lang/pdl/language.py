@@ -72,6 +72,14 @@ class PdlSide(RunSide):
             return {}
         return {name: _value(drive, g) for name, g in drive.program.globals.items()}
 
+    def global_channel(self, frame, name: str) -> str:
+        """`driveN.name`: the global of the program of the drive running `frame`."""
+        drive = self._drive_of(frame)
+        for axis_id, d in self.drives.drives:
+            if d is drive and name.partition("[")[0] in drive.program.globals:
+                return f"drive{axis_id}.{name}"
+        return name
+
     def variable(self, frame, name: str) -> object:
         drive = self._drive_of(frame)
         g = drive.program.globals.get(name) if drive is not None else None
