@@ -93,6 +93,18 @@ def test_completion(lsp, doc):
     assert {i["kind"] for i in members} == {5}  # Field
 
 
+def test_no_completion_inside_a_comment_or_a_literal(lsp, doc):
+    text = 'struct Pt { int x; };\nvoid main() {\n    struct Pt p; // see p.\n    /* p.\n  p. */ Print("p.");\n    p.\n}\n'
+    uri = doc("quiet.hmpl", text)
+    lsp.open(uri, text)
+    lsp.diagnostics(uri)
+    for line, col in ((2, 26), (3, 9), (4, 4), (4, 17)):  # after a `p.` in each
+        assert lsp.at("textDocument/completion", uri, line, col)["items"] == [], (line, col)
+    members = lsp.at("textDocument/completion", uri, 5, 6)["items"]  # the code's `p.`
+    assert [i["label"] for i in members] == ["x"]
+    assert lsp.at("textDocument/completion", uri, 4, 12)["items"]  # after the comment
+
+
 def test_signature_help(lsp, doc):
     uri = open_program(lsp, doc)
     help_ = lsp.at("textDocument/signatureHelp", uri, 15, 15)

@@ -82,6 +82,18 @@ class SourceIndex:
         """The text of 1-based `line` ("" past the end)."""
         return self.lines[line - 1] if 0 < line <= len(self.lines) else ""
 
+    def offset(self, line: int, col: int) -> int:
+        """The character offset in `text` of 1-based (line, col), lines ending at
+        newlines (a column past its line's end: the line's end)."""
+        text = self.text
+        start = 0
+        for _ in range(line - 1):
+            start = text.find("\n", start) + 1
+            if not start:
+                return len(text)
+        end = text.find("\n", start)
+        return min(start + max(col, 1) - 1, len(text) if end < 0 else end)
+
     def at(self, line: int, col: int) -> Occurrence | None:
         """The occurrence under 1-based (line, col), or just before it (a cursor at a
         name's end still names it)."""

@@ -172,6 +172,25 @@ def tokenize(sf: SourceFile, sink: DiagnosticSink) -> list[Token]:
     return sc.tokens
 
 
+_OPEN_AT_END = frozenset(("lcom", "ustr", "uchr"))
+"""Groups of `_MASTER` that, ending where the text is cut, hold the cut inside them."""
+
+
+def inside_comment_or_literal(text: str, offset: int) -> bool:
+    """Whether the character offset `offset` of `text` lies inside a comment, a string or
+    a character literal, as the lexer reads the text before it (an editor's question:
+    no completion there). A `/*` without its `*/` before the offset holds it; so does a
+    `//` comment or a literal still open where the text is cut."""
+    last = None
+    for m in _MASTER.finditer(text, 0, offset):
+        g = m.lastgroup
+        if g == "ubcom":
+            return True
+        if g != "tail":  # (`\Z` matches where the text is cut)
+            last = m
+    return last is not None and last.end() == offset and last.lastgroup in _OPEN_AT_END
+
+
 def end_pos(sf: SourceFile) -> SourcePos:
     """The position just after the last character of a file."""
     if not sf.lines:
