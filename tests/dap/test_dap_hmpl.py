@@ -32,14 +32,6 @@ void main()
 """
 
 
-@pytest.fixture
-def dap(tmp_path):
-    (tmp_path / "main.hmpl").write_text(PROGRAM)
-    client = DapClient(tmp_path)
-    yield client
-    client.close()
-
-
 def _stop(dap: DapClient) -> dict:
     return dap.wait_event("stopped")
 

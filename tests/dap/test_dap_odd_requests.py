@@ -3,18 +3,7 @@ a response (an error with a clear message where it cannot be done) and the adapt
 
 from __future__ import annotations
 
-import pytest
-
 from tests.dap.dap_client import DapClient
-from tests.dap.test_dap_hmpl import PROGRAM
-
-
-@pytest.fixture
-def dap(tmp_path):
-    (tmp_path / "main.hmpl").write_text(PROGRAM)
-    client = DapClient(tmp_path)
-    yield client
-    client.close()
 
 
 def _error(dap: DapClient, command: str, arguments: dict | None = None) -> str:
