@@ -81,3 +81,44 @@ def test_gdl(lsp, doc):
     assert [s["name"] for s in symbols] == ["io"]
     children = [c["name"] for c in symbols[0]["children"]]
     assert children == ["button", "board", "run", "watch"]
+
+
+def _quiet(lsp, uri, spots_inside, spot_in_code):
+    for line, col in spots_inside:
+        assert lsp.at("textDocument/completion", uri, line, col)["items"] == [], (line, col)
+    assert lsp.at("textDocument/completion", uri, *spot_in_code)["items"]
+
+
+def test_no_completion_inside_a_pdl_comment_or_string(lsp, doc):
+    text = '#long count;\n#task/0;\n// see co\n/* co\n co */ printl("co %ld", count);\nco\nhalt;\n'
+    uri = doc("q.pdl", text)
+    lsp.open(uri, text)
+    lsp.diagnostics(uri)
+    # after `co` in the line comment, both lines of the block comment and the string
+    _quiet(lsp, uri, ((2, 9), (3, 5), (4, 3), (4, 18)), (5, 2))
+
+
+def test_no_completion_inside_a_gdl_comment_or_string(lsp, doc):
+    text = GDL.replace("BEGIN", "BEGIN | see ru\n    ru |").replace(
+        "STATUS OF run = STATUS OF button;", "STATUS OF run = STATUS OF button; | 'ru' |"
+    )
+    uri = doc("q.gdl", text)
+    lsp.open(uri, text)
+    lsp.diagnostics(uri)
+    lines = text.splitlines()
+    comment = next(i for i, x in enumerate(lines) if "| see ru" in x)
+    assert lines[comment + 1] == "    ru |"
+    status = next(i for i, x in enumerate(lines) if "'ru'" in x)
+    quoted = lines[status].index("'ru'") + 3  # (inside the comment's quotes: a comment)
+    inside = ((comment, len(lines[comment])), (comment + 1, 6), (status, quoted))
+    _quiet(lsp, uri, inside, (status, 8))
+
+
+def test_a_gdl_string_is_quiet_too(lsp, doc):
+    text = GDL.replace("END$PROCEDURE;", "    VALUE OF run = 'ru';\n  END$PROCEDURE;")
+    uri = doc("s.gdl", text)
+    lsp.open(uri, text)
+    lsp.diagnostics(uri)
+    lines = text.splitlines()
+    line = next(i for i, x in enumerate(lines) if "'ru'" in x)
+    _quiet(lsp, uri, ((line, lines[line].index("'ru'") + 3),), (line, 8))

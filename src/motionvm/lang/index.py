@@ -17,6 +17,22 @@ from dataclasses import dataclass, field
 from motionvm.source.files import text_lines
 
 
+def cut_inside(pattern: re.Pattern, text: str, offset: int, at_end: frozenset[str]) -> bool:
+    """Whether character `offset` of `text` lies inside a comment or a literal, as the
+    named groups of a language's `pattern` scan the text before it: a group named in
+    `at_end` (a line comment, a string still open) holds the offset when its match ends
+    there; a group named "unclosed" (a block comment's opening without its end before
+    the offset, tried after the closed form) holds every offset after it."""
+    last = None
+    for m in pattern.finditer(text, 0, offset):
+        g = m.lastgroup
+        if g == "unclosed":
+            return True
+        if m.end() > m.start():  # (`\Z` and the like match where the text is cut)
+            last = m
+    return last is not None and last.end() == offset and last.lastgroup in at_end
+
+
 @dataclass(frozen=True)
 class Symbol:
     """A declaration in a source file (outline, go to definition, rename)."""

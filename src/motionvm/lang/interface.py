@@ -459,6 +459,12 @@ class Language:
         doc = self.doc_of(w[0])
         return doc.markdown() if doc is not None else None
 
+    def inside_comment_or_literal(self, text: str, offset: int) -> bool:
+        """Whether character `offset` of `text` lies inside a comment or a string (or
+        another literal) of this language: an editor offers no completion there.
+        Default: never."""
+        return False
+
     def completions(self, index: SourceIndex, line: int, col: int) -> list[Completion]:
         """What may be written at 1-based (line, col). Default: the documented names and
         the file's declarations visible there."""

@@ -103,7 +103,10 @@ class Features:
         if found is None:
             return None
         doc, line, col = found
-        items = doc.language.completions(doc.index, line, col)
+        index = doc.index
+        if doc.language.inside_comment_or_literal(index.text, index.offset(line, col)):
+            return t.CompletionList(is_incomplete=False, items=[])  # (no code there)
+        items = doc.language.completions(index, line, col)
         return t.CompletionList(is_incomplete=False, items=[_item(c) for c in items])
 
     def signature_help(self, params: t.SignatureHelpParams) -> t.SignatureHelp | None:

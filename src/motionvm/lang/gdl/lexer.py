@@ -19,6 +19,7 @@ import re
 from dataclasses import dataclass
 
 from motionvm.lang.gdl.objects import CATALOG_WORDS
+from motionvm.lang.index import cut_inside
 from motionvm.source.diagnostics import DiagnosticSink
 from motionvm.source.files import SourcePos
 from motionvm.source.suggest import did_you_mean
@@ -263,3 +264,13 @@ class Lexer:
 def tokenize(path: str, text: str, sink: DiagnosticSink) -> list[Token]:
     """The tokens of `text` (file `path`), ending with 'eof'; errors go to `sink`."""
     return Lexer(path, text, sink).tokens()
+
+
+_QUIET = r"\|[^|]*+\||(?P<unclosed>\|)|'[^'\n]*+'|(?P<ustr>'[^'\n]*+)"
+"""GDL's comments (`|...|`, closed or not) and strings (`'...'`, a line's piece of one
+closed or not) as `cut_inside` reads them."""
+
+
+def inside_comment_or_literal(text: str, offset: int) -> bool:
+    """Whether character `offset` of `text` lies inside a comment or a string."""
+    return cut_inside(re.compile(_QUIET), text, offset, frozenset(("ustr",)))

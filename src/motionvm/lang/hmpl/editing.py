@@ -14,7 +14,7 @@ from functools import lru_cache
 from importlib import resources
 
 from motionvm.lang.hmpl import nodes as n
-from motionvm.lang.hmpl.lexer import inside_comment_or_literal, scan
+from motionvm.lang.hmpl.lexer import scan
 from motionvm.lang.hmpl.parser import parse_file
 from motionvm.lang.hmpl.tokens import KEYWORDS, Token
 from motionvm.lang.index import Completion, SourceIndex, Symbol, resolve
@@ -257,12 +257,6 @@ def struct_of(detail: str) -> str | None:
 
 
 # ------------------------------------------------------------------ completion
-
-
-def in_comment_or_literal(index: SourceIndex, line: int, col: int) -> bool:
-    """Whether 1-based (line, col) of the indexed text is inside a comment or a string or
-    character literal: nothing is completed there."""
-    return inside_comment_or_literal(index.text, index.offset(line, col))
 
 
 def member_completions(index: SourceIndex, line: int, col: int) -> list[Completion] | None:

@@ -279,15 +279,14 @@ class Hmpl(Language):
 
         return build_index(path, text)
 
-    def completions(self, index: SourceIndex, line: int, col: int) -> list[Completion]:
-        from motionvm.lang.hmpl.editing import (
-            in_comment_or_literal,
-            keyword_completions,
-            member_completions,
-        )
+    def inside_comment_or_literal(self, text: str, offset: int) -> bool:
+        from motionvm.lang.hmpl.lexer import inside_comment_or_literal
 
-        if in_comment_or_literal(index, line, col):
-            return []  # (a `.` typed in a comment is no member access)
+        return inside_comment_or_literal(text, offset)
+
+    def completions(self, index: SourceIndex, line: int, col: int) -> list[Completion]:
+        from motionvm.lang.hmpl.editing import keyword_completions, member_completions
+
         members = member_completions(index, line, col)
         if members is not None:
             return members

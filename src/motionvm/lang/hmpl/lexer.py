@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 
 from motionvm.lang.gc_hold import gc_held
 from motionvm.lang.hmpl.tokens import KEYWORDS, Token
+from motionvm.lang.index import cut_inside
 from motionvm.source.diagnostics import DiagnosticSink, TooManyErrors
 from motionvm.source.files import SourceFile, SourcePos
 
@@ -107,6 +108,9 @@ _MASTER = re.compile(
     + ")"
 )
 _NAME, _NL, _PUNCT, _DEC = (_MASTER.groupindex[g] for g in ("name", "nl", "punct", "dec"))
+_UNCLOSED = _MASTER.pattern.replace("(?P<ubcom>", "(?P<unclosed>")
+"""`_MASTER`'s pattern with its unclosed block comment named as `cut_inside` reads it
+(compiled on first use, by an editor's question only: `re` keeps it)."""
 
 _INT = re.compile(r"(0[xX][0-9a-fA-F]+|0[bB][01]+|[0-9]+)([A-Za-z_0-9.+-]*)")
 _FLOAT = re.compile(r"((?:[0-9]*\.[0-9]+|[0-9]+\.)(?:[eE][+-]?[0-9]+)?|[0-9]+[eE][+-]?[0-9]+)(.*)")
@@ -177,18 +181,10 @@ _OPEN_AT_END = frozenset(("lcom", "ustr", "uchr"))
 
 
 def inside_comment_or_literal(text: str, offset: int) -> bool:
-    """Whether the character offset `offset` of `text` lies inside a comment, a string or
-    a character literal, as the lexer reads the text before it (an editor's question:
-    no completion there). A `/*` without its `*/` before the offset holds it; so does a
-    `//` comment or a literal still open where the text is cut."""
-    last = None
-    for m in _MASTER.finditer(text, 0, offset):
-        g = m.lastgroup
-        if g == "ubcom":
-            return True
-        if g != "tail":  # (`\Z` matches where the text is cut)
-            last = m
-    return last is not None and last.end() == offset and last.lastgroup in _OPEN_AT_END
+    """Whether character `offset` of `text` lies inside a comment, a string or a
+    character literal, as the lexer reads the text before it (`cut_inside`; `_MASTER`'s
+    `ubcom` is the `/*` without its `*/`)."""
+    return cut_inside(re.compile(_UNCLOSED), text, offset, _OPEN_AT_END)
 
 
 def end_pos(sf: SourceFile) -> SourcePos:

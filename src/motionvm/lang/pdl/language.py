@@ -253,6 +253,11 @@ class Pdl(Language):
 
         return docs()
 
+    def inside_comment_or_literal(self, text: str, offset: int) -> bool:
+        from motionvm.lang.pdl.lexer import inside_comment_or_literal
+
+        return inside_comment_or_literal(text, offset)
+
     def completions(self, index: SourceIndex, line: int, col: int) -> list[Completion]:
         from motionvm.lang.pdl.editing import completions
 

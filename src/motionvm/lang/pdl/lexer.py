@@ -10,6 +10,7 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass
 
+from motionvm.lang.index import cut_inside
 from motionvm.source.diagnostics import DiagnosticSink
 from motionvm.source.files import SourcePos
 
@@ -402,3 +403,16 @@ class _Lexer:
 def tokenize(path: str, text: str, sink: DiagnosticSink) -> list[Token]:
     """All tokens of `text`, ending with one 'eof' token; lexical errors go to `sink`."""
     return _Lexer(path, text, sink).run()
+
+
+_QUIET = (
+    r"(?P<lcom>//[^\n]*)|/\*(?s:.*?)\*/|(?P<unclosed>/\*)"
+    r'|"(?:\\["\\]|[^"\n])*+"|(?P<ustr>"(?:\\["\\]|[^"\n])*+)'
+)
+"""PDL's comments and strings as `cut_inside` reads them (a line comment, a block
+comment, closed or not, a string closed on its line or not)."""
+
+
+def inside_comment_or_literal(text: str, offset: int) -> bool:
+    """Whether character `offset` of `text` lies inside a comment or a string."""
+    return cut_inside(re.compile(_QUIET), text, offset, frozenset(("lcom", "ustr")))
