@@ -4,6 +4,9 @@
   (checked as `motionvm check` does, converted and serialized to JSON), in-process;
 - hover and completion: CPU time of one request on an unchanged document, answer
   serialized, in-process (the document's index made once per version, before);
+- index: CPU time of building a document's index (every name resolved to its declaration,
+  what hover, completion, definition and rename read) of a 5,000- and a 20,000-line file:
+  about four times as long for four times the lines;
 - memory: resident size of a real `motionvm lsp` subprocess with 20 different 5,000-line
   files open, each hovered once (so each has its index), after their diagnostics came.
 Every time is `time.process_time`, the median of REPEAT runs after a warm-up; the
@@ -115,6 +118,20 @@ def in_process() -> tuple[float, float, float]:
     return statistics.median(d_all), statistics.median(h_all), statistics.median(c_all)
 
 
+def index_time(lines: int) -> float:
+    """CPU seconds of indexing a `lines`-line program (median of 3 after a warm-up)."""
+    from motionvm.lang.hmpl.language import LANGUAGE
+
+    text = program(1, lines)
+    times = []
+    for _ in range(4):
+        t0 = time.process_time()
+        index = LANGUAGE.index("big.hmpl", text)
+        times.append(time.process_time() - t0)
+        assert index.occurrences
+    return statistics.median(times[1:])
+
+
 def server_memory() -> float:
     """Resident size [MB] of `motionvm lsp` with FILES files of LINES lines open."""
     sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests" / "lsp"))
@@ -143,11 +160,16 @@ def main() -> None:
     diag, hover, completion = in_process()
     print(f"diagnostics after an edit of a {LINES}-line file: {diag * 1e3:.0f} ms (median)")
     print(f"hover: {hover * 1e3:.1f} ms, completion: {completion * 1e3:.1f} ms (medians)")
+    small, large = index_time(LINES), index_time(4 * LINES)
+    print(f"index of a {LINES}-line file: {small * 1e3:.0f} ms, of {4 * LINES} lines: "
+          f"{large * 1e3:.0f} ms")  # fmt: skip
     rss = server_memory()
     print(f"server with {FILES} open {LINES}-line files: {rss:.0f} MB resident")
     print(f"RESULT lsp_diagnostics_ms={diag * 1e3:.1f}")
     print(f"RESULT lsp_hover_ms={hover * 1e3:.2f}")
     print(f"RESULT lsp_completion_ms={completion * 1e3:.2f}")
+    print(f"RESULT lsp_index_ms={small * 1e3:.0f}")
+    print(f"RESULT lsp_index_4x_lines_ms={large * 1e3:.0f}")
     print(f"RESULT lsp_memory_20_files_mb={rss:.0f}")
 
 

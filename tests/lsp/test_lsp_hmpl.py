@@ -149,6 +149,22 @@ def test_definition_references_rename(lsp, doc):
     assert lsp.at("textDocument/definition", uri, 15, 6) is None  # a built-in
 
 
+def test_a_local_struct_s_members_are_renamed_once_each(lsp, doc):
+    # a struct defined in a block inside a loop of a function: its tag and members were
+    # indexed once per statement around it, and a rename sent each edit three times
+    text = (
+        "void main() {\n    int i;\n    for (i = 0; i < 2; i++) {\n        {\n"
+        "            struct Q { int a; } q;\n            q.a = i;\n        }\n    }\n}\n"
+    )
+    uri = doc("local.hmpl", text)
+    lsp.open(uri, text)
+    assert lsp.diagnostics(uri) == []
+    edit = lsp.at("textDocument/rename", uri, 5, 14, newName="count")
+    starts = [(c["range"]["start"]["line"], c["range"]["start"]["character"])
+              for c in edit["changes"][uri]]  # fmt: skip
+    assert sorted(starts) == [(4, 27), (5, 14)]
+
+
 def test_document_symbols(lsp, doc):
     uri = open_program(lsp, doc)
     symbols = lsp.result("textDocument/documentSymbol", {"textDocument": {"uri": uri}})

@@ -326,10 +326,17 @@ def resolve(
     unresolved. `fold`: names are case-insensitive."""
     key = str.lower if fold else (lambda s: s)
     at_place = {(s.line, s.col): s for s in symbols}
-    by_name: dict[str, list[Symbol]] = {}
+    named: set[str] = set()  # names some declaration (not a member) has
+    scoped: dict[tuple[str, str], list[Symbol]] = {}  # (name, container) -> its locals
+    wide: dict[str, list[Symbol]] = {}  # name -> its file-level declarations, in order
     for s in symbols:
         if s.kind != "member":
-            by_name.setdefault(key(s.name), []).append(s)
+            k = key(s.name)
+            named.add(k)
+            if s.container is not None and s.kind not in SCOPES:
+                scoped.setdefault((k, s.container), []).append(s)
+            if s.container is None or s.kind in ("object", "procedure"):
+                wide.setdefault(k, []).append(s)
     scopes = sorted((s for s in symbols if s.kind in SCOPES), key=lambda s: s.line)
     n_lines = text.count("\n") + 2
     scope_of_line: list[str | None] = [None] * (n_lines + 1)
@@ -342,30 +349,34 @@ def resolve(
         if found is not None and key(found.name) == key(word):
             out.append(Occurrence(word, line, col, found))
             continue
-        cands = by_name.get(key(word))
-        if not cands:
+        k = key(word)
+        if k not in named:
             continue
-        out.append(Occurrence(word, line, col, _pick(cands, line, col, scope_of_line)))
+        scope = scope_of_line[line] if line < len(scope_of_line) else None
+        out.append(Occurrence(word, line, col, _pick(k, scope, line, col, scoped, wide)))
     return SourceIndex(path, text, list(symbols), out)
 
 
 def _pick(
-    cands: list[Symbol], line: int, col: int, scope_of_line: list[str | None]
+    k: str,
+    scope: str | None,
+    line: int,
+    col: int,
+    scoped: dict[tuple[str, str], list[Symbol]],
+    wide: dict[str, list[Symbol]],
 ) -> Symbol | None:
-    scope = scope_of_line[line] if line < len(scope_of_line) else None
+    """What name `k` at (line, col) in `scope` names: the latest visible local of that
+    scope, else the first file-level declaration that is not one of its locals."""
     best = None
-    glob = None
-    for s in cands:
-        if s.container is not None and s.container == scope and s.kind not in SCOPES:
-            visible = s.kind in ("parameter", "label") or (
-                (s.line, s.col) <= (line, col) and (not s.end_line or line <= s.end_line)
-            )
-            if visible and (best is None or (s.line, s.col) > (best.line, best.col)):
-                best = s
-        elif glob is None and (s.container is None or s.kind in ("object", "procedure")):
-            glob = s
+    for s in scoped.get((k, scope), ()) if scope is not None else ():
+        visible = s.kind in ("parameter", "label") or (
+            (s.line, s.col) <= (line, col) and (not s.end_line or line <= s.end_line)
+        )
+        if visible and (best is None or (s.line, s.col) > (best.line, best.col)):
+            best = s
     if best is not None:
         return best
-    if glob is not None:
-        return glob
+    for s in wide.get(k, ()):
+        if not (s.container is not None and s.container == scope and s.kind not in SCOPES):
+            return s
     return None

@@ -162,7 +162,8 @@ def _symbols(path: str, tree: n.TranslationUnit | None, tokens: _Tokens) -> list
                             local_end(node.pos))  # fmt: skip
                     elif isinstance(node, n.Label):
                         add(node.name, "label", node.pos, container=d.name, detail=node.name)
-                    _structs(node, add, tokens)
+                    elif isinstance(node, n.StructDef):  # (the walk meets each one once)
+                        _struct(node, add, tokens)
             elif isinstance(d, n.VarDecl):
                 add(d.name, "variable", d.pos, d.type.pos)
                 _structs(d, add, tokens)
@@ -177,14 +178,21 @@ def _symbols(path: str, tree: n.TranslationUnit | None, tokens: _Tokens) -> list
 def _structs(node, add, tokens: _Tokens) -> None:
     """The struct and union tags and members declared in `node`."""
     for s in nodes(node):
-        if isinstance(s, n.StructDef) and s.tag:
-            i = tokens.index_of(s.pos)
-            toks = tokens.toks
-            if i is None or i + 1 >= len(toks) or toks[i + 1].text != s.tag:
-                continue
-            add(f"{s.kind} {s.tag}", "struct", toks[i + 1].pos, detail=f"{s.kind} {s.tag}")
-            for f in s.fields:
-                add(f.name, "member", f.pos, f.type.pos, f"{s.kind} {s.tag}")
+        if isinstance(s, n.StructDef):
+            _struct(s, add, tokens)
+
+
+def _struct(s: n.StructDef, add, tokens: _Tokens) -> None:
+    """The tag and members of struct or union definition `s` (none without a tag)."""
+    if not s.tag:
+        return
+    i = tokens.index_of(s.pos)
+    toks = tokens.toks
+    if i is None or i + 1 >= len(toks) or toks[i + 1].text != s.tag:
+        return
+    add(f"{s.kind} {s.tag}", "struct", toks[i + 1].pos, detail=f"{s.kind} {s.tag}")
+    for f in s.fields:
+        add(f.name, "member", f.pos, f.type.pos, f"{s.kind} {s.tag}")
 
 
 def _macros(path: str, tokens: _Tokens) -> list[Symbol]:
