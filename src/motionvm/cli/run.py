@@ -280,8 +280,7 @@ def _verdict(result, args) -> None:
     """The notes of a run that `--until` ended, the errors of one `--timeout` ended."""
     if result.reason == UNTIL:
         for w in result.still_running:
-            # (at the first cycle boundary at or after `--until`: the time it ended)
-            _report(w.render("note", f"still ran when the run ended at t={result.sim_time:g} s"))
+            _report(w.render("note", f"still ran when the run ended at t={result.end:g} s"))
     elif result.reason == TIMEOUT:
         for w in result.still_running:
             _report(w.render("error", f"had not finished after --timeout {args.timeout:g} s"))
